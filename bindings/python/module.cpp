@@ -1,0 +1,11 @@
+// The native part of the Python package `acuity`. Each area registers its own submodule.
+#include <pybind11/pybind11.h>
+
+#include "acuity/version.hpp"
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_acuity, m) {
+  m.doc() = "acuity native module; import the package `acuity` instead.";
+  m.attr("__version__") = ACUITY_VERSION_STRING;
+  acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
+}

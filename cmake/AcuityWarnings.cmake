@@ -1,0 +1,5 @@
+# Warnings for acuity's own targets only; third-party headers are included as SYSTEM.
+function(acuity_target_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
+                         -Wno-sign-conversion $<$<BOOL:${ACUITY_WERROR}>:-Werror>)
+endfunction()

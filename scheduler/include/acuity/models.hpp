@@ -1,0 +1,124 @@
+#pragma once
+// acuity/models.hpp — contrast-sensitivity and acuity models of the human visual system.
+//
+// Units: spatial frequency f in cycles/degree [cpd]; velocity v in [deg/s]; eccentricity e in
+// [deg]; contrast is threshold contrast CT (sensitivity S = 1/CT). Formulas, constants and sources
+// are in shared/reference/vision-models.md; each function names its source.
+//
+// Domain rules, the same for every function here:
+// - NaN in -> NaN out.
+// - Inputs are magnitudes: the sign of f, e and v is ignored.
+// - Finite in -> finite out. Thresholds are computed in the log domain and saturate at the largest
+//   finite value of T (meaning "invisible"); they never overflow to +inf.
+// - +inf in -> the mathematical limit (a threshold still saturates; a cutoff may be +inf only when
+//   the contrast given is +inf).
+// - Velocities are floored at ModelParams::drift (the 0.15 deg/s fixational drift), so v = 0 never
+//   reaches log10(0).
+// Every function is instantiated for float and double; the float path computes in float.
+#include <cstddef>
+#include <cstdint>
+
+namespace acuity {
+
+// Daly's fit of Kelly's spatio-velocity CSF.
+enum class CsfFit : std::uint8_t {
+  Daly1998,   // Daly 1998 as corrected by Myszkowski et al. 2000: c0 = 1.14, c1 = 0.67, c2 = 1.7
+  Laird2006,  // Laird et al. 2006 refit (FovVideoVDP): c0 = 0.6329, c1 = 0.8404, c2 = 0.7986, v >= 0.1
+};
+
+// Which threshold surface threshold() evaluates.
+enum class ThresholdModel : std::uint8_t {
+  Default,       // Daly CSF held at its peak below the peak frequency (low-pass) x Geisler-Perry
+                 // eccentricity factor exp(alpha f e / e2); design.md section 5
+  GeislerPerry,  // Geisler & Perry 1998 alone: CT0 exp(alpha f (e + e2) / e2); ignores velocity
+  KellyDaly,     // Daly's CSF, the exact band-pass surface, x the same eccentricity factor
+  Reddy,         // step: CT = reddy_contrast up to reddy_cutoff(v, e), invisible above [unverified]
+};
+
+// Every constant of every model, overridable. Defaults are the published values.
+struct ModelParams {
+  // Geisler & Perry 1998 [checked]
+  double ct0 = 1.0 / 64.0;  // minimum threshold contrast
+  double alpha = 0.106;     // spatial-frequency decay constant
+  double e2 = 2.3;          // half-resolution eccentricity [deg]
+  // Daly 1998 smooth-pursuit model [checked]
+  double pursuit_gain = 0.82;   // g
+  double pursuit_min = 0.15;    // v_min [deg/s]
+  double pursuit_max = 80.0;    // v_max [deg/s]
+  double drift = 0.15;          // retinal velocity floor [deg/s]
+  CsfFit fit = CsfFit::Daly1998;  // the CSF used by daly_csf() and the Default/KellyDaly models
+  // Reddy: the threshold contrast inside the visible region of the step model
+  double reddy_contrast = 1.0 / 64.0;
+};
+
+// ---- Geisler & Perry 1998 -----------------------------------------------------------------------
+// Threshold contrast at frequency f [cpd] and eccentricity e [deg]: CT0 exp(alpha f (e + e2) / e2).
+template <class T> T geisler_perry_threshold(T f, T e, const ModelParams& p = {});
+// Highest visible frequency [cpd] at contrast c: e2 ln(c / CT0) / (alpha (e + e2)).
+// Returns 0 when nothing is visible (c <= CT0). f_c(0, 1) = 39.2347 cpd.
+template <class T> T geisler_perry_cutoff(T e, T contrast = T(1), const ModelParams& p = {});
+
+// ---- Kelly 1979 ---------------------------------------------------------------------------------
+// Spatio-velocity sensitivity G(alpha, v) = k(v) v alpha^2 exp(-2 alpha / alpha_max(v)), alpha = 2 pi f,
+// k(v) = 6.1 + 7.3 |log10(v / 3)|^3, alpha_max = 45.9 / (v + 2). Kelly 1979 Eq. 8 (travelling waves).
+template <class T> T kelly_csf(T f, T v, const ModelParams& p = {});
+// Frequency of Kelly's peak sensitivity [cpd]: 45.9 / (2 pi (v + 2)).
+template <class T> T kelly_peak_frequency(T v, const ModelParams& p = {});
+
+// ---- Daly 1998 ----------------------------------------------------------------------------------
+// Smooth-pursuit eye velocity for an image velocity v_image [deg/s]: min(g v_image + v_min, v_max).
+template <class T> T daly_eye_velocity(T v_image, const ModelParams& p = {});
+// Retinal velocity |v_image - v_eye| [deg/s], floored at p.drift (it is exactly 0 at 0.8333 deg/s).
+template <class T> T daly_retinal_velocity(T v_image, const ModelParams& p = {});
+// Daly's spatio-velocity CSF at frequency f [cpd] and retinal velocity v [deg/s], fit p.fit:
+// c0 c2 v (2 pi c1 f)^2 exp(-4 pi c1 f / rho_max) k(c2 v), rho_max = 45.9 / (c2 v + 2)
+// (Laird2006: prefactor c0 c1 c2). v is floored at max(p.drift, 0.1 for Laird2006).
+template <class T> T daly_csf(T f, T v, const ModelParams& p = {});
+// Frequency of the peak of daly_csf [cpd]: 45.9 / (2 pi c1 (c2 v + 2)).
+template <class T> T daly_peak_frequency(T v, const ModelParams& p = {});
+
+// ---- Reddy 1997 / 2001 --------------------------------------------------------------------------
+// Eccentricity factor M(e): 1 for e <= 5.79 deg, else 7.49 / (0.3 e + 1)^2. [checked]
+template <class T> T reddy_eccentricity(T e);
+// Highest visible frequency for velocity v [cpd]: 60 for v <= 0.825; 57.69 - 27.78 log10(v) up to
+// 118.3 deg/s; 0.1 above. [unverified: constants from recollection of Reddy's thesis]
+template <class T> T reddy_velocity(T v);
+// Highest visible frequency H(v) M(e) [cpd]. [unverified combination]
+template <class T> T reddy_cutoff(T v, T e);
+
+// ---- Minimum angle of resolution (Guenter et al. 2012, Eq. 1) ------------------------------------
+// MAR [deg per cycle] = slope e + omega0. Acuity frequency is 1 / MAR [cpd].
+template <class T> T mar(T e, T slope = T(0.022), T omega0 = T(1.0 / 48.0));
+
+// ---- Combined threshold models ------------------------------------------------------------------
+// Natural log of the threshold contrast at frequency f [cpd], eccentricity e [deg] and retinal
+// velocity v_retinal [deg/s] (floored at p.drift). Saturates at ln(largest finite T).
+template <class T>
+T log_threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
+                const ModelParams& p = {});
+// Threshold contrast: exp(log_threshold), saturated at the largest finite T.
+template <class T>
+T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
+            const ModelParams& p = {});
+// The inverse: the highest frequency [cpd] whose threshold is at most `contrast`.
+// Returns 0 when no frequency above 0 is visible at that contrast, +inf when contrast is +inf.
+// Closed form for GeislerPerry, Reddy and the Default model's plateau; elsewhere a monotone Newton
+// solve in log frequency, bracketed from above (the log threshold is convex there).
+// For the continuous models threshold(max_visible_frequency(c, e, v), e, v) == c to ~1e-12 relative.
+template <class T>
+T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
+                        const ModelParams& p = {});
+
+// Batch form of threshold(): out[i] = threshold(f[i], e[i], v[i]) for i < count.
+template <class T>
+void threshold_batch(std::size_t count, const T* f, const T* e, const T* v_retinal, T* out,
+                     ThresholdModel model = ThresholdModel::Default, const ModelParams& p = {});
+
+// Names used by the command line and Python: "default", "geisler-perry", "kelly-daly", "reddy";
+// "daly1998", "laird2006". Return false for an unknown name (the output is left unchanged).
+bool parse_threshold_model(const char* name, ThresholdModel* out);
+bool parse_csf_fit(const char* name, CsfFit* out);
+const char* to_string(ThresholdModel model);
+const char* to_string(CsfFit fit);
+
+}  // namespace acuity

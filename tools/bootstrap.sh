@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# acuity's one setup script: installs the Debian packages, configures and builds, then runs a job.
+#   bash tools/bootstrap.sh demo   # set up, build, run the main job on its embedded default
+#   bash tools/bootstrap.sh test   # set up, build, run every test (what .ci/run runs)
+#   bash tools/bootstrap.sh deps   # only install the packages
+# Idempotent: packages already present are not reinstalled; the build is incremental.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Every package the project needs, in one list. Debian 12 names.
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config clang
+  libglm-dev                                  # runtime (scheduler/): header-only maths
+  libopenmesh-dev libcgal-dev libosd-dev      # lodgen/: mesh IO, repair, decimation, subdivision
+  libtinygltf-dev libstb-dev nlohmann-json3-dev
+  libfftw3-dev libtbb-dev                     # spectra/: analysis, parallelism
+  libcli11-dev                                # tools/: the acuity command
+  pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest   # bindings/
+  libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
+)
+
+install_packages() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "== installing: ${missing[*]}"
+    local sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  fi
+}
+
+JOBS=${JOBS:-$(nproc)}
+# Debian's python3, never a pyenv one found first on PATH: the bindings must load in it.
+PY=/usr/bin/python3
+
+configure_and_build() { # $1 build dir, rest: extra cmake args
+  local dir=$1; shift
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython3_EXECUTABLE=$PY "$@" >/dev/null
+  cmake --build "$dir" -j "$JOBS"
+}
+
+case "${1:-test}" in
+  deps) install_packages ;;
+  demo)
+    install_packages
+    configure_and_build build
+    ./build/tools/acuity demo
+    ;;
+  test)
+    install_packages
+    configure_and_build build
+    ctest --test-dir build --output-on-failure -j "$JOBS"
+    # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF
+    ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
+    ;;
+  *) echo "usage: $0 demo|test|deps" >&2; exit 2 ;;
+esac
