@@ -54,7 +54,7 @@ case "${1:-test}" in
     configure_and_build build
     ctest --test-dir build --output-on-failure -j "$JOBS"
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
-    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF
+    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
     ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
     ;;
   *) echo "usage: $0 demo|test|deps" >&2; exit 2 ;;
