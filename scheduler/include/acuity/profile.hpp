@@ -1,0 +1,111 @@
+#pragma once
+// acuity/profile.hpp — the profile blob: what each level of one object loses, per view, orientation
+// and frequency band (design.md section 4). The runtime reads it in place, without copying or
+// allocating; spectra/ writes it (acuity/spectra/profile_writer.hpp).
+//
+// Layout (version 1, little-endian, every section 8-byte aligned):
+//   header   {u32 magic "ACUP", u32 version, u64 total_size, u32 section_count, u32 zero, u64 checksum}
+//   table    section_count x {u32 id, u32 zero, u64 offset, u64 size}
+//   sections Meta, Levels, Views, Lookup, Orientations, Bands, Lost, Features (any order; unknown
+//            ids are skipped so a newer writer may add sections without a version bump)
+// checksum: FNV-1a 64 over the whole blob with the checksum field read as zero.
+// Compatibility: a reader accepts versions <= its own and rejects newer ones (re-bake on upgrade).
+#include <cstddef>
+#include <cstdint>
+
+namespace acuity {
+
+inline constexpr std::uint32_t kProfileMagic = 0x50554341u;  // bytes 'A' 'C' 'U' 'P'
+inline constexpr std::uint32_t kProfileVersion = 1;
+
+// Limits a valid profile stays within.
+inline constexpr std::uint32_t kMaxLevels = 32;
+inline constexpr std::uint32_t kMaxViews = 4096;
+inline constexpr std::uint32_t kMaxOrientations = 32;
+inline constexpr std::uint32_t kMaxBands = 32;
+inline constexpr std::uint32_t kMaxLookupResolution = 64;
+inline constexpr std::uint32_t kLookupCandidates = 3;  // nearest views stored per lookup cell
+
+enum class ProfileSection : std::uint32_t {
+  Meta = 1, Levels = 2, Views = 3, Lookup = 4, Orientations = 5, Bands = 6, Lost = 7, Features = 8,
+};
+
+enum class ProfileStatus : std::uint8_t {
+  Ok,
+  NullInput,        // data is null
+  Misaligned,       // data is not 8-byte aligned (memory from malloc/new always is)
+  TooSmall,         // shorter than the header, or than its own total_size
+  BadMagic,         // not a profile
+  NewerVersion,     // written by a newer acuity: re-bake or upgrade the runtime
+  BadChecksum,      // bytes changed after writing
+  BadSectionTable,  // a section out of bounds, overlapping, misaligned or repeated
+  MissingSection,   // a required section is absent
+  BadSize,          // a section's size does not match the counts in Meta
+  BadCounts,        // a count is 0 or above its limit
+  BadValue,         // a value is NaN, infinite, negative or otherwise out of its range
+};
+
+struct ProfileError {
+  ProfileStatus status = ProfileStatus::Ok;
+  char message[160] = {};  // what and where, e.g. "section Lost: size 1024, expected 2048"
+};
+
+struct ProfileLevel {
+  std::uint32_t triangles;  // cost of drawing this level
+  float geometric_error;    // Hausdorff distance to level 0 [object diameters]
+};
+
+struct ProfileView {
+  float direction[3];  // unit vector from the object's centre towards the camera, object space
+  float up[3];         // the snapshot's up vector, unit, orthogonal to direction
+};
+
+// The meta section's fixed layout (48 bytes).
+struct ProfileMeta {
+  std::uint32_t level_count;        // K >= 1; level 0 is the finest
+  std::uint32_t view_count;         // V >= 1
+  std::uint32_t orientation_count;  // T >= 1
+  std::uint32_t band_count;         // B >= 1
+  std::uint32_t lookup_resolution;  // R: the lookup is a cube map of 6 R x R cells
+  std::uint32_t snapshot_pixels;    // pixels across the bounding-sphere diameter in the snapshots
+  float sphere[4];                  // bounding sphere: centre xyz, radius [object units]
+  std::uint32_t reserved[2];
+};
+static_assert(sizeof(ProfileMeta) == 48, "ProfileMeta is part of the file format");
+static_assert(sizeof(ProfileLevel) == 8 && sizeof(ProfileView) == 24, "part of the file format");
+
+// A validated, read-only view of a profile blob; every pointer points into the caller's bytes,
+// which must outlive it.
+struct Profile {
+  ProfileMeta meta;
+  const ProfileLevel* levels;       // [K]
+  const ProfileView* views;         // [V]
+  const std::uint16_t* lookup;      // [6 R R][kLookupCandidates] view indices, nearest first
+  const float* orientations;        // [T] image-plane angle of the frequency vector [deg], [0, 180)
+  const float* bands;               // [B] band centre frequencies [cycles per object diameter], increasing
+  const float* lost;                // [(K-1) V T B] lost contrast of level k >= 1 against level 0
+  const float* features;            // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
+
+  // Lost contrast of level k (1 <= k < K) seen from view v, orientation t, band b.
+  float lost_contrast(std::uint32_t k, std::uint32_t v, std::uint32_t t, std::uint32_t b) const {
+    return lost[(((k - 1) * meta.view_count + v) * meta.orientation_count + t) * meta.band_count + b];
+  }
+  float feature_frequency(std::uint32_t k, std::uint32_t v, std::uint32_t t) const {
+    return features[(k * meta.view_count + v) * meta.orientation_count + t];
+  }
+};
+
+// Validates every offset, size, count and value before use. On failure returns the status and,
+// when error is given, fills it; out is left unchanged. Never reads outside [data, data + size).
+ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, ProfileError* error = nullptr);
+const char* to_string(ProfileStatus status);
+
+// FNV-1a 64 of the blob with the header's checksum field read as zero (writer and reader share it).
+std::uint64_t profile_checksum(const void* data, std::size_t size);
+
+// The view lookup's cube map: the cell a unit direction falls in, and a cell's centre direction
+// (unit). Cells are numbered face * R * R + row * R + column; faces +X -X +Y -Y +Z -Z.
+std::uint32_t cube_cell(const float direction[3], std::uint32_t resolution);
+void cube_cell_center(std::uint32_t cell, std::uint32_t resolution, float direction[3]);
+
+}  // namespace acuity

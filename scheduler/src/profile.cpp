@@ -1,0 +1,239 @@
+// Profile reader: validates everything before anything is used. See acuity/profile.hpp.
+#include "acuity/profile.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+
+static_assert(std::endian::native == std::endian::little, "profiles are little-endian; add byte swapping");
+
+namespace acuity {
+namespace {
+
+struct Header {
+  std::uint32_t magic, version;
+  std::uint64_t total_size;
+  std::uint32_t section_count, zero;
+  std::uint64_t checksum;
+};
+struct SectionEntry {
+  std::uint32_t id, zero;
+  std::uint64_t offset, size;
+};
+static_assert(sizeof(Header) == 32 && sizeof(SectionEntry) == 24, "part of the file format");
+constexpr std::size_t kChecksumOffset = offsetof(Header, checksum);
+constexpr std::uint32_t kMaxSections = 64;
+constexpr std::uint32_t kSectionIds = 8;
+const char* const kSectionNames[kSectionIds + 1] = {"?", "Meta", "Levels", "Views", "Lookup",
+                                                     "Orientations", "Bands", "Lost", "Features"};
+
+ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
+  if (error) {
+    error->status = status;
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(error->message, sizeof(error->message), format, args);
+    va_end(args);
+  }
+  return status;
+}
+
+bool finite_nonnegative(const float* values, std::size_t n, std::size_t* bad) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(std::isfinite(values[i]) && values[i] >= 0.0f)) { *bad = i; return false; }
+  return true;
+}
+
+bool unit(const float v[3]) {
+  const float n = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+  return std::isfinite(n) && std::abs(n - 1.0f) < 2e-3f;
+}
+
+}  // namespace
+
+std::uint64_t profile_checksum(const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  std::uint64_t hash = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i < size; ++i) {
+    const bool in_field = i >= kChecksumOffset && i < kChecksumOffset + 8;
+    hash = (hash ^ (in_field ? 0u : bytes[i])) * 0x100000001b3ull;
+  }
+  return hash;
+}
+
+ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, ProfileError* error) {
+  if (!data || !out) return fail(error, ProfileStatus::NullInput, "no data");
+  if (reinterpret_cast<std::uintptr_t>(data) % 8 != 0)
+    return fail(error, ProfileStatus::Misaligned, "data must be 8-byte aligned");
+  if (size < sizeof(Header))
+    return fail(error, ProfileStatus::TooSmall, "%zu bytes is shorter than the %zu-byte header", size, sizeof(Header));
+  const auto* base = static_cast<const unsigned char*>(data);
+  Header h;
+  std::memcpy(&h, base, sizeof h);
+  if (h.magic != kProfileMagic) return fail(error, ProfileStatus::BadMagic, "not an acuity profile (bad magic)");
+  if (h.version > kProfileVersion)
+    return fail(error, ProfileStatus::NewerVersion, "format version %u is newer than this reader's %u: re-bake the profile or upgrade acuity",
+                h.version, kProfileVersion);
+  if (h.version == 0) return fail(error, ProfileStatus::BadValue, "format version 0 is invalid");
+  if (h.total_size > size)
+    return fail(error, ProfileStatus::TooSmall, "truncated: header says %llu bytes, only %zu given",
+                static_cast<unsigned long long>(h.total_size), size);
+  if (h.section_count > kMaxSections)
+    return fail(error, ProfileStatus::BadSectionTable, "%u sections (at most %u)", h.section_count, kMaxSections);
+  const std::uint64_t table_end = sizeof(Header) + std::uint64_t(h.section_count) * sizeof(SectionEntry);
+  if (table_end > h.total_size)
+    return fail(error, ProfileStatus::BadSectionTable, "section table ends at byte %llu, past the blob's %llu",
+                static_cast<unsigned long long>(table_end), static_cast<unsigned long long>(h.total_size));
+  const std::size_t total = static_cast<std::size_t>(h.total_size);
+  if (profile_checksum(base, total) != h.checksum)
+    return fail(error, ProfileStatus::BadChecksum, "checksum mismatch: the file was changed or damaged");
+
+  // Section table: bounds, alignment, no overlap, each known id at most once.
+  SectionEntry found[kSectionIds + 1] = {};
+  SectionEntry all[kMaxSections];
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    SectionEntry s;
+    std::memcpy(&s, base + sizeof(Header) + i * sizeof(SectionEntry), sizeof s);
+    if (s.offset % 8 != 0 || s.offset < table_end || s.offset > total || s.size > total - s.offset)
+      return fail(error, ProfileStatus::BadSectionTable, "section %u (id %u): offset %llu size %llu outside the blob or misaligned",
+                  i, s.id, static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
+    for (std::uint32_t j = 0; j < i; ++j)
+      if (s.size && all[j].size && s.offset < all[j].offset + all[j].size && all[j].offset < s.offset + s.size)
+        return fail(error, ProfileStatus::BadSectionTable, "sections %u and %u overlap", j, i);
+    all[i] = s;
+    if (s.id >= 1 && s.id <= kSectionIds) {
+      if (found[s.id].id) return fail(error, ProfileStatus::BadSectionTable, "section %s appears twice", kSectionNames[s.id]);
+      found[s.id] = s;
+    }
+  }
+  for (std::uint32_t id = 1; id <= kSectionIds; ++id)
+    if (!found[id].id) return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
+
+  auto check_size = [&](ProfileSection id, std::uint64_t expected) {
+    const SectionEntry& s = found[static_cast<std::uint32_t>(id)];
+    if (s.size == expected) return true;
+    fail(error, ProfileStatus::BadSize, "section %s: size %llu, expected %llu", kSectionNames[s.id],
+         static_cast<unsigned long long>(s.size), static_cast<unsigned long long>(expected));
+    return false;
+  };
+  auto at = [&](ProfileSection id) { return base + found[static_cast<std::uint32_t>(id)].offset; };
+
+  Profile p;
+  if (!check_size(ProfileSection::Meta, sizeof(ProfileMeta))) return error ? error->status : ProfileStatus::BadSize;
+  std::memcpy(&p.meta, at(ProfileSection::Meta), sizeof p.meta);
+  const ProfileMeta& m = p.meta;
+  struct { std::uint32_t value, limit; const char* name; } counts[] = {
+      {m.level_count, kMaxLevels, "level_count"}, {m.view_count, kMaxViews, "view_count"},
+      {m.orientation_count, kMaxOrientations, "orientation_count"}, {m.band_count, kMaxBands, "band_count"},
+      {m.lookup_resolution, kMaxLookupResolution, "lookup_resolution"}};
+  for (const auto& c : counts)
+    if (c.value == 0 || c.value > c.limit)
+      return fail(error, ProfileStatus::BadCounts, "Meta: %s = %u (allowed 1..%u)", c.name, c.value, c.limit);
+  if (m.snapshot_pixels == 0) return fail(error, ProfileStatus::BadCounts, "Meta: snapshot_pixels = 0");
+  for (int i = 0; i < 4; ++i)
+    if (!std::isfinite(m.sphere[i]) || m.sphere[3] < 0)
+      return fail(error, ProfileStatus::BadValue, "Meta: bounding sphere is not finite or has a negative radius");
+
+  const std::uint64_t K = m.level_count, V = m.view_count, T = m.orientation_count, B = m.band_count;
+  const std::uint64_t cells = 6ull * m.lookup_resolution * m.lookup_resolution;
+  if (!check_size(ProfileSection::Levels, K * sizeof(ProfileLevel)) ||
+      !check_size(ProfileSection::Views, V * sizeof(ProfileView)) ||
+      !check_size(ProfileSection::Lookup, cells * kLookupCandidates * sizeof(std::uint16_t)) ||
+      !check_size(ProfileSection::Orientations, T * sizeof(float)) ||
+      !check_size(ProfileSection::Bands, B * sizeof(float)) ||
+      !check_size(ProfileSection::Lost, (K - 1) * V * T * B * sizeof(float)) ||
+      !check_size(ProfileSection::Features, K * V * T * sizeof(float)))
+    return error ? error->status : ProfileStatus::BadSize;
+
+  p.levels = reinterpret_cast<const ProfileLevel*>(at(ProfileSection::Levels));
+  p.views = reinterpret_cast<const ProfileView*>(at(ProfileSection::Views));
+  p.lookup = reinterpret_cast<const std::uint16_t*>(at(ProfileSection::Lookup));
+  p.orientations = reinterpret_cast<const float*>(at(ProfileSection::Orientations));
+  p.bands = reinterpret_cast<const float*>(at(ProfileSection::Bands));
+  p.lost = reinterpret_cast<const float*>(at(ProfileSection::Lost));
+  p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
+
+  for (std::uint64_t k = 0; k < K; ++k)
+    if (!std::isfinite(p.levels[k].geometric_error) || p.levels[k].geometric_error < 0)
+      return fail(error, ProfileStatus::BadValue, "Levels: level %llu has an invalid geometric error", static_cast<unsigned long long>(k));
+  for (std::uint64_t v = 0; v < V; ++v) {
+    const ProfileView& view = p.views[v];
+    const float d = view.direction[0] * view.up[0] + view.direction[1] * view.up[1] + view.direction[2] * view.up[2];
+    if (!unit(view.direction) || !unit(view.up) || !(std::abs(d) < 2e-3f))
+      return fail(error, ProfileStatus::BadValue, "Views: view %llu needs a unit direction and a unit up orthogonal to it",
+                  static_cast<unsigned long long>(v));
+  }
+  for (std::uint64_t i = 0; i < cells * kLookupCandidates; ++i)
+    if (p.lookup[i] >= V)
+      return fail(error, ProfileStatus::BadValue, "Lookup: entry %llu names view %u of %llu",
+                  static_cast<unsigned long long>(i), p.lookup[i], static_cast<unsigned long long>(V));
+  for (std::uint64_t t = 0; t < T; ++t)
+    if (!(p.orientations[t] >= 0 && p.orientations[t] < 180) || (t && !(p.orientations[t] > p.orientations[t - 1])))
+      return fail(error, ProfileStatus::BadValue, "Orientations: entry %llu must increase within [0, 180) deg",
+                  static_cast<unsigned long long>(t));
+  for (std::uint64_t b = 0; b < B; ++b)
+    if (!(std::isfinite(p.bands[b]) && p.bands[b] > 0) || (b && !(p.bands[b] > p.bands[b - 1])))
+      return fail(error, ProfileStatus::BadValue, "Bands: entry %llu must be finite, positive and increasing",
+                  static_cast<unsigned long long>(b));
+  std::size_t bad = 0;
+  if (!finite_nonnegative(p.lost, (K - 1) * V * T * B, &bad))
+    return fail(error, ProfileStatus::BadValue, "Lost: value %zu is negative or not finite", bad);
+  if (!finite_nonnegative(p.features, K * V * T, &bad))
+    return fail(error, ProfileStatus::BadValue, "Features: value %zu is negative or not finite", bad);
+
+  *out = p;
+  if (error) *error = ProfileError{};
+  return ProfileStatus::Ok;
+}
+
+const char* to_string(ProfileStatus status) {
+  switch (status) {
+    case ProfileStatus::Ok: return "ok";
+    case ProfileStatus::NullInput: return "null input";
+    case ProfileStatus::Misaligned: return "misaligned";
+    case ProfileStatus::TooSmall: return "too small";
+    case ProfileStatus::BadMagic: return "bad magic";
+    case ProfileStatus::NewerVersion: return "newer version";
+    case ProfileStatus::BadChecksum: return "bad checksum";
+    case ProfileStatus::BadSectionTable: return "bad section table";
+    case ProfileStatus::MissingSection: return "missing section";
+    case ProfileStatus::BadSize: return "bad size";
+    case ProfileStatus::BadCounts: return "bad counts";
+    case ProfileStatus::BadValue: return "bad value";
+  }
+  return "unknown";
+}
+
+std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
+  const float ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
+  std::uint32_t face;
+  float u, v, major;
+  if (ax >= ay && ax >= az) { face = d[0] >= 0 ? 0 : 1; major = ax; u = d[1]; v = d[2]; }
+  else if (ay >= az)        { face = d[1] >= 0 ? 2 : 3; major = ay; u = d[2]; v = d[0]; }
+  else                      { face = d[2] >= 0 ? 4 : 5; major = az; u = d[0]; v = d[1]; }
+  if (!(major > 0)) return 0;  // zero or NaN direction
+  auto index = [r](float t) {  // t in [-1, 1] -> [0, r)
+    const float x = (t + 1.0f) * 0.5f * static_cast<float>(r);
+    return x <= 0 ? 0u : (x >= static_cast<float>(r) ? r - 1 : static_cast<std::uint32_t>(x));
+  };
+  return face * r * r + index(v / major) * r + index(u / major);
+}
+
+void cube_cell_center(std::uint32_t cell, std::uint32_t r, float d[3]) {
+  const std::uint32_t face = cell / (r * r), row = (cell / r) % r, col = cell % r;
+  const float u = (static_cast<float>(col) + 0.5f) / static_cast<float>(r) * 2 - 1;
+  const float v = (static_cast<float>(row) + 0.5f) / static_cast<float>(r) * 2 - 1;
+  const float s = (face % 2 == 0) ? 1.0f : -1.0f;
+  float x, y, z;
+  switch (face / 2) {
+    case 0: x = s; y = u; z = v; break;
+    case 1: y = s; z = u; x = v; break;
+    default: z = s; x = u; y = v; break;
+  }
+  const float n = std::sqrt(x * x + y * y + z * z);
+  d[0] = x / n; d[1] = y / n; d[2] = z / n;
+}
+
+}  // namespace acuity

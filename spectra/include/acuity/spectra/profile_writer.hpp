@@ -1,0 +1,41 @@
+#pragma once
+// acuity/spectra/profile_writer.hpp — builds the profile blob of acuity/profile.hpp.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "acuity/file.hpp"
+#include "acuity/profile.hpp"
+
+namespace acuity::spectra {
+
+// Everything a profile holds, as plain arrays (layouts as in acuity::Profile).
+struct ProfileData {
+  float sphere[4] = {0, 0, 0, 1};          // centre xyz, radius [object units]
+  std::uint32_t snapshot_pixels = 256;     // pixels across the diameter in the snapshots
+  std::vector<ProfileLevel> levels;        // [K], level 0 finest
+  std::vector<ProfileView> views;          // [V]
+  std::vector<float> orientations;         // [T] degrees in [0, 180), increasing
+  std::vector<float> bands;                // [B] cycles per object diameter, increasing
+  std::vector<float> lost;                 // [(K-1) V T B]
+  std::vector<float> features;             // [K V T]
+  std::uint32_t lookup_resolution = 0;     // cube-map cells per face edge; 0 picks one from V
+};
+
+struct InvalidProfile : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+// A view looking from `direction` (any length > 0, object space) with the canonical up: the
+// object's +Y made orthogonal to the direction, or +Z when looking along Y.
+ProfileView make_view(float x, float y, float z);
+
+// Encodes data as a version-kProfileVersion blob (8-byte aligned sizes, checksummed). Throws
+// InvalidProfile naming the first inconsistency; the result always passes open_profile().
+Blob encode_profile(const ProfileData& data);
+
+// encode_profile() written atomically to path. Throws InvalidProfile or std::runtime_error.
+void write_profile(const std::string& path, const ProfileData& data);
+
+}  // namespace acuity::spectra

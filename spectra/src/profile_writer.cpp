@@ -1,0 +1,137 @@
+#include "acuity/spectra/profile_writer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace acuity::spectra {
+namespace {
+
+template <class T> void append(std::vector<unsigned char>& out, const T* values, std::size_t count) {
+  const auto* bytes = reinterpret_cast<const unsigned char*>(values);
+  out.insert(out.end(), bytes, bytes + count * sizeof(T));
+  out.resize((out.size() + 7) / 8 * 8, 0);  // every section starts 8-byte aligned
+}
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw InvalidProfile("profile: " + what);
+}
+
+// For each cube-map cell, the kLookupCandidates views nearest its centre (nearest first).
+std::vector<std::uint16_t> build_lookup(const std::vector<ProfileView>& views, std::uint32_t r) {
+  const std::uint32_t cells = 6 * r * r;
+  std::vector<std::uint16_t> lookup(std::size_t(cells) * kLookupCandidates);
+  for (std::uint32_t c = 0; c < cells; ++c) {
+    float d[3];
+    cube_cell_center(c, r, d);
+    std::uint16_t best[kLookupCandidates];
+    float best_dot[kLookupCandidates];
+    std::fill(best_dot, best_dot + kLookupCandidates, -2.0f);
+    std::fill(best, best + kLookupCandidates, std::uint16_t(0));
+    for (std::size_t v = 0; v < views.size(); ++v) {
+      const float* w = views[v].direction;
+      float dot = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
+      auto idx = static_cast<std::uint16_t>(v);
+      for (std::uint32_t i = 0; i < kLookupCandidates; ++i)  // insertion into the sorted short list
+        if (dot > best_dot[i]) { std::swap(dot, best_dot[i]); std::swap(idx, best[i]); }
+    }
+    for (std::uint32_t i = 0; i < kLookupCandidates; ++i)  // fewer views than candidates: repeat
+      lookup[c * kLookupCandidates + i] = best_dot[i] > -2.0f ? best[i] : best[0];
+  }
+  return lookup;
+}
+
+}  // namespace
+
+ProfileView make_view(float x, float y, float z) {
+  const float n = std::sqrt(x * x + y * y + z * z);
+  require(n > 0 && std::isfinite(n), "view direction must be finite and non-zero");
+  ProfileView v{{x / n, y / n, z / n}, {0, 1, 0}};
+  if (std::abs(v.direction[1]) > 0.999f) { v.up[1] = 0; v.up[2] = 1; }
+  const float d = v.up[0] * v.direction[0] + v.up[1] * v.direction[1] + v.up[2] * v.direction[2];
+  float len = 0;
+  for (int i = 0; i < 3; ++i) { v.up[i] -= d * v.direction[i]; len += v.up[i] * v.up[i]; }
+  len = std::sqrt(len);
+  for (float& u : v.up) u /= len;
+  return v;
+}
+
+Blob encode_profile(const ProfileData& data) {
+  const std::size_t K = data.levels.size(), V = data.views.size(), T = data.orientations.size(),
+                    B = data.bands.size();
+  require(K >= 1 && K <= kMaxLevels, "needs 1.." + std::to_string(kMaxLevels) + " levels, has " + std::to_string(K));
+  require(V >= 1 && V <= kMaxViews, "needs 1.." + std::to_string(kMaxViews) + " views, has " + std::to_string(V));
+  require(T >= 1 && T <= kMaxOrientations, "needs 1.." + std::to_string(kMaxOrientations) + " orientations");
+  require(B >= 1 && B <= kMaxBands, "needs 1.." + std::to_string(kMaxBands) + " bands");
+  require(data.lost.size() == (K - 1) * V * T * B, "lost has " + std::to_string(data.lost.size()) +
+          " values, expected (K-1) V T B = " + std::to_string((K - 1) * V * T * B));
+  require(data.features.size() == K * V * T, "features has " + std::to_string(data.features.size()) +
+          " values, expected K V T = " + std::to_string(K * V * T));
+  std::uint32_t r = data.lookup_resolution;
+  if (r == 0) r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
+  require(r <= kMaxLookupResolution, "lookup_resolution above " + std::to_string(kMaxLookupResolution));
+
+  ProfileMeta meta{};
+  meta.level_count = static_cast<std::uint32_t>(K);
+  meta.view_count = static_cast<std::uint32_t>(V);
+  meta.orientation_count = static_cast<std::uint32_t>(T);
+  meta.band_count = static_cast<std::uint32_t>(B);
+  meta.lookup_resolution = r;
+  meta.snapshot_pixels = data.snapshot_pixels;
+  std::copy(data.sphere, data.sphere + 4, meta.sphere);
+  const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
+
+  // Header and table are written last, once the offsets are known.
+  constexpr std::size_t kHeader = 32, kEntry = 24, kSections = 8;
+  std::vector<unsigned char> body(kHeader + kSections * kEntry, 0);
+  std::uint64_t table[kSections][3];  // id, offset, size
+  std::size_t n = 0;
+  auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
+    const std::size_t offset = body.size();
+    append(body, values, count);
+    table[n][0] = static_cast<std::uint64_t>(id);
+    table[n][1] = offset;
+    table[n][2] = count * sizeof(*values);
+    ++n;
+  };
+  section(ProfileSection::Meta, &meta, 1);
+  section(ProfileSection::Levels, data.levels.data(), K);
+  section(ProfileSection::Views, data.views.data(), V);
+  section(ProfileSection::Lookup, lookup.data(), lookup.size());
+  section(ProfileSection::Orientations, data.orientations.data(), T);
+  section(ProfileSection::Bands, data.bands.data(), B);
+  section(ProfileSection::Lost, data.lost.data(), data.lost.size());
+  section(ProfileSection::Features, data.features.data(), data.features.size());
+
+  const std::uint32_t magic = kProfileMagic, version = kProfileVersion, count = kSections;
+  const std::uint64_t total = body.size();
+  std::memcpy(&body[0], &magic, 4);
+  std::memcpy(&body[4], &version, 4);
+  std::memcpy(&body[8], &total, 8);
+  std::memcpy(&body[16], &count, 4);
+  for (std::size_t i = 0; i < kSections; ++i) {
+    const std::uint32_t id = static_cast<std::uint32_t>(table[i][0]);
+    std::memcpy(&body[kHeader + i * kEntry], &id, 4);
+    std::memcpy(&body[kHeader + i * kEntry + 8], &table[i][1], 8);
+    std::memcpy(&body[kHeader + i * kEntry + 16], &table[i][2], 8);
+  }
+  const std::uint64_t checksum = profile_checksum(body.data(), body.size());
+  std::memcpy(&body[24], &checksum, 8);
+
+  Blob blob;
+  blob.size = body.size();
+  blob.storage.assign((blob.size + 7) / 8, 0);
+  std::memcpy(blob.storage.data(), body.data(), blob.size);
+  Profile check;
+  ProfileError error;
+  require(open_profile(blob.data(), blob.size, &check, &error) == ProfileStatus::Ok, error.message);
+  return blob;
+}
+
+void write_profile(const std::string& path, const ProfileData& data) {
+  const Blob blob = encode_profile(data);
+  std::string error;
+  if (!write_file_atomically(path, blob.data(), blob.size, &error)) throw std::runtime_error(error);
+}
+
+}  // namespace acuity::spectra

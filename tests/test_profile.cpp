@@ -1,0 +1,217 @@
+// The profile blob: writer and reader agree; the reader rejects every damaged file cleanly.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+#include "acuity/file.hpp"
+#include "acuity/profile.hpp"
+#include "profile_fixture.hpp"
+
+using namespace acuity;
+using acuity::testing::refresh_checksum;
+using acuity::testing::small_profile;
+
+namespace {
+unsigned char* bytes(Blob& b) { return reinterpret_cast<unsigned char*>(b.storage.data()); }
+ProfileStatus open(const Blob& b, ProfileError* e = nullptr) {
+  Profile p;
+  return open_profile(b.data(), b.size, &p, e);
+}
+// Offset of section `id`'s data, read from the table.
+std::uint64_t section_offset(Blob& b, ProfileSection id) {
+  std::uint32_t count;
+  std::memcpy(&count, bytes(b) + 16, 4);
+  for (std::uint32_t i = 0; i < count; ++i) {
+    std::uint32_t sid;
+    std::memcpy(&sid, bytes(b) + 32 + i * 24, 4);
+    if (sid == static_cast<std::uint32_t>(id)) {
+      std::uint64_t off;
+      std::memcpy(&off, bytes(b) + 32 + i * 24 + 8, 8);
+      return off;
+    }
+  }
+  return 0;
+}
+}  // namespace
+
+TEST(Profile, RoundTrip) {
+  const spectra::ProfileData d = small_profile();
+  const Blob blob = spectra::encode_profile(d);
+  Profile p;
+  ProfileError e;
+  ASSERT_EQ(open_profile(blob.data(), blob.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.meta.level_count, 4u);
+  EXPECT_EQ(p.meta.view_count, 6u);
+  EXPECT_EQ(p.meta.orientation_count, 4u);
+  EXPECT_EQ(p.meta.band_count, 5u);
+  EXPECT_EQ(p.meta.sphere[3], 1.5f);
+  EXPECT_EQ(p.levels[2].triangles, 250u);
+  std::size_t i = 0;
+  for (std::uint32_t k = 1; k < 4; ++k)
+    for (std::uint32_t v = 0; v < 6; ++v)
+      for (std::uint32_t t = 0; t < 4; ++t)
+        for (std::uint32_t b = 0; b < 5; ++b) ASSERT_EQ(p.lost_contrast(k, v, t, b), d.lost[i++]);
+  EXPECT_EQ(p.feature_frequency(3, 5, 2), d.features[(3 * 6 + 5) * 4 + 2]);
+}
+
+TEST(Profile, LookupFindsTheNearestView) {
+  const spectra::ProfileData d = small_profile(2, 18);
+  const Blob blob = spectra::encode_profile(d);
+  Profile p;
+  ASSERT_EQ(open_profile(blob.data(), blob.size, &p), ProfileStatus::Ok);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> n;
+  int exact = 0;
+  for (int i = 0; i < 2000; ++i) {
+    float q[3] = {n(rng), n(rng), n(rng)};
+    const float len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+    for (float& x : q) x /= len;
+    int truth = 0;
+    float best = -2;
+    for (int v = 0; v < 18; ++v) {
+      const float* w = d.views[v].direction;
+      const float dot = q[0] * w[0] + q[1] * w[1] + q[2] * w[2];
+      if (dot > best) { best = dot; truth = v; }
+    }
+    const std::uint16_t* c = p.lookup + cube_cell(q, p.meta.lookup_resolution) * kLookupCandidates;
+    bool among = false;
+    for (std::uint32_t j = 0; j < kLookupCandidates; ++j) among |= c[j] == truth;
+    exact += among;
+  }
+  EXPECT_GE(exact, 1990);  // the true nearest is among the cell's candidates (cell-size approximation)
+}
+
+TEST(Profile, CubeCellsRoundTrip) {
+  for (std::uint32_t r : {1u, 3u, 8u})
+    for (std::uint32_t c = 0; c < 6 * r * r; ++c) {
+      float d[3];
+      cube_cell_center(c, r, d);
+      EXPECT_EQ(cube_cell(d, r), c);
+    }
+  const float zero[3] = {0, 0, 0}, nan[3] = {NAN, 0, 0};
+  EXPECT_EQ(cube_cell(zero, 4), 0u);
+  EXPECT_LT(cube_cell(nan, 4), 96u);
+}
+
+TEST(Profile, EveryTruncatedPrefixIsRejected) {
+  const Blob blob = spectra::encode_profile(small_profile());
+  for (std::size_t n = 0; n < blob.size; ++n) {
+    Blob prefix;
+    prefix.storage = blob.storage;
+    prefix.size = n;
+    ProfileError e;
+    ASSERT_NE(open(prefix, &e), ProfileStatus::Ok) << n;
+    ASSERT_EQ(e.status, ProfileStatus::TooSmall) << n << " " << e.message;  // total_size says more
+  }
+}
+
+TEST(Profile, RandomBitFlipsNeverCrash) {
+  const Blob clean = spectra::encode_profile(small_profile());
+  std::mt19937 rng(5);
+  int rejected_by_checksum = 0, rejected_by_structure = 0, accepted = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Blob b = clean;
+    const int flips = 1 + i % 4;
+    for (int f = 0; f < flips; ++f) {
+      const std::size_t at = rng() % b.size;
+      bytes(b)[at] ^= static_cast<unsigned char>(1u << (rng() % 8));
+    }
+    ProfileError e;
+    if (open(b, &e) != ProfileStatus::Ok) ++rejected_by_checksum;  // header damage is caught even earlier
+    // Now the same damage with a valid checksum: the structural checks must hold on their own.
+    refresh_checksum(b);
+    Profile p;
+    if (open_profile(b.data(), b.size, &p, &e) == ProfileStatus::Ok) {
+      ++accepted;  // a flip in a value that stays in range: the view must still be safe to read
+      float sum = 0;
+      for (std::uint32_t k = 1; k < p.meta.level_count; ++k)
+        for (std::uint32_t v = 0; v < p.meta.view_count; ++v)
+          sum += p.lost_contrast(k, v, 0, 0);
+      EXPECT_TRUE(std::isfinite(sum));
+    } else {
+      ++rejected_by_structure;
+      EXPECT_GT(std::strlen(e.message), 0u);
+    }
+  }
+  EXPECT_EQ(rejected_by_checksum, 3000);
+  EXPECT_GT(rejected_by_structure, 300);
+  EXPECT_GT(accepted, 300);
+}
+
+TEST(Profile, SpecificDamage) {
+  const Blob clean = spectra::encode_profile(small_profile());
+  ProfileError e;
+  {  // newer version
+    Blob b = clean;
+    bytes(b)[4] = kProfileVersion + 1;
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::NewerVersion);
+    EXPECT_NE(std::string(e.message).find("re-bake"), std::string::npos);
+  }
+  {  // not a profile
+    Blob b = clean;
+    bytes(b)[0] = 'X';
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadMagic);
+  }
+  {  // NaN in the lost contrast
+    Blob b = clean;
+    const float nan = NAN;
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Lost) + 12, &nan, 4);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
+    EXPECT_NE(std::string(e.message).find("Lost"), std::string::npos) << e.message;
+  }
+  {  // view count 0 in Meta
+    Blob b = clean;
+    std::memset(bytes(b) + section_offset(b, ProfileSection::Meta) + 4, 0, 4);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadCounts);
+  }
+  {  // lookup naming a view that does not exist
+    Blob b = clean;
+    const std::uint16_t big = 999;
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Lookup), &big, 2);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
+  }
+  {  // misaligned memory
+    std::vector<unsigned char> shifted(clean.size + 1);
+    std::memcpy(shifted.data() + 1, clean.data(), clean.size);
+    Profile p;
+    EXPECT_EQ(open_profile(shifted.data() + 1, clean.size, &p), ProfileStatus::Misaligned);
+  }
+  Profile p;
+  EXPECT_EQ(open_profile(nullptr, 100, &p), ProfileStatus::NullInput);
+}
+
+TEST(Profile, WriterRejectsInconsistentData) {
+  spectra::ProfileData d = small_profile();
+  d.lost.pop_back();
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+  d = small_profile();
+  d.bands[1] = d.bands[0];
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+  d = small_profile();
+  d.levels.clear();
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+}
+
+TEST(Profile, AtomicFileWriteAndRead) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "acuity_profile_test";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string path = (dir / "a.acuity").string();
+  spectra::write_profile(path, small_profile());
+  Blob b;
+  std::string error;
+  ASSERT_TRUE(read_file(path, &b, &error)) << error;
+  EXPECT_EQ(open(b), ProfileStatus::Ok);
+  // A failing write (directory missing) leaves nothing behind and says where.
+  EXPECT_THROW(spectra::write_profile((dir / "missing" / "b.acuity").string(), small_profile()), std::runtime_error);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
+  EXPECT_FALSE(read_file((dir / "nope").string(), &b, &error));
+  EXPECT_NE(error.find("nope"), std::string::npos);
+  fs::remove_all(dir);
+}
