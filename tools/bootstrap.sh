@@ -53,6 +53,9 @@ case "${1:-test}" in
     install_packages
     configure_and_build build
     ctest --test-dir build --output-on-failure -j "$JOBS"
+    # The runtime alone (standard library + GLM): what an engine links must build by itself.
+    configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF
+    ctest --test-dir build-runtime --output-on-failure -j "$JOBS"
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
     configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
     ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
