@@ -1,0 +1,216 @@
+#pragma once
+// acuity/scheduler.hpp — per-frame perceptual level-of-detail selection (design.md section 6).
+//
+// Shape: every array is sized at creation; begin_frame / update / end_frame allocate nothing, start
+// no threads and are deterministic (same inputs, same bits). update() takes an object range so a
+// host job system can split the work; ranges may run concurrently between begin_frame and
+// end_frame (they write disjoint objects).
+//
+//   acuity::Scheduler s(config);
+//   int p = s.add_profile(profile);                  // a validated acuity::Profile
+//   ObjectId id = s.add_object(p, transform);
+//   each frame: s.set_transform(id, ...); s.begin_frame(frame); s.update(0, s.object_capacity());
+//               s.end_frame(); draw level s.level(id)
+//
+// Conventions (design.md section 3): world positions in metres (double), angles in degrees,
+// angular velocities in deg/s. An eye looks along its local -Z with +Y up (OpenXR, OpenGL).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "acuity/models.hpp"
+#include "acuity/profile.hpp"
+
+namespace acuity {
+
+enum class SelectionRule : std::uint8_t {
+  Perceptual,  // coarsest level whose lost contrast stays below q x threshold in every band (default)
+  Reddy,       // coarsest level whose finer levels' smallest features all lie above H(v) M(e) [unverified]
+  Distance,    // OpenSceneGraph-style: level k from distance >= distance_scale x d_k (baseline)
+  ScreenSize,  // Unity-style screen-relative size: level k while its error covers <= pixel_error px (baseline)
+};
+
+// How the profile's nearest views are combined for a runtime direction.
+enum class ViewBlend : std::uint8_t {
+  Nearest,  // the nearest stored view
+  Max3,     // the largest lost contrast among the three nearest (conservative)
+};
+
+// Per-object status bits, set each frame.
+enum ObjectFlag : std::uint8_t {
+  kFlagInvalidInput = 1 << 0,   // non-finite transform or velocity, or a radius <= 0: fallback level
+  kFlagEyeInside = 1 << 1,      // an eye is inside the bounding sphere: finest level
+  kFlagNoGaze = 1 << 2,         // no usable gaze: fixed foveation was assumed
+  kFlagBudgetForced = 1 << 3,   // the triangle budget pushed the object to a visible loss
+  kFlagChanged = 1 << 4,        // the level changed this frame (a change event)
+  kFlagHeld = 1 << 5,           // a coarser level was allowed but hysteresis or saccade gating held it
+};
+
+struct SchedulerConfig {
+  std::uint32_t max_objects = 4096;      // capacity, fixed at creation
+  std::uint32_t max_profiles = 256;      // capacity, fixed at creation
+  SelectionRule rule = SelectionRule::Perceptual;
+  ThresholdModel model = ThresholdModel::Default;
+  ModelParams params;
+  ViewBlend view_blend = ViewBlend::Nearest;
+  float quality = 1.0f;                  // q: invisible when lost <= q CT (q < 1 is more conservative)
+  std::uint8_t fallback_level = 0;       // level for invalid input (finest by default)
+
+  // Gaze
+  float min_gaze_confidence = 0.5f;      // below it (or when invalid or non-finite) there is no gaze
+  float gaze_uncertainty_deg = 1.0f;     // tracker error: subtracted from every eccentricity [deg]
+  float no_gaze_radius_deg = 30.0f;      // without gaze the gaze may be anywhere this close to the
+                                         // view centre: eccentricity is measured from that disc [deg]
+  // Hysteresis and timing
+  float hysteresis_margin = 0.0f;        // coarsening needs a score <= 1 - margin
+  std::uint32_t hysteresis_frames = 0;   // ... on this many consecutive frames
+  float saccade_speed = 0.0f;            // > 0: coarsen only while gaze speed exceeds it [deg/s] ...
+  std::uint32_t max_coarsen_wait = 30;   // ... or after waiting this many frames for a saccade
+  float transition_seconds = 0.0f;       // cross-fade length reported by transition() [s]
+
+  // Budget (Funkhouser & Sequin): 0 = none; else coarsen greedily by least harm per triangle saved
+  std::uint64_t triangle_budget = 0;
+
+  // Baselines
+  float distance_scale = 1.0f;           // Distance: d_k = geometric error k / tan(1 arcmin), times this
+  float pixel_error = 1.0f;              // ScreenSize: allowed projected geometric error [px]
+
+  bool keep_scores = false;              // keep every level's score for scores() / explain()
+};
+
+struct Eye {
+  double position[3] = {0, 0, 0};          // world [m]
+  float orientation[4] = {0, 0, 0, 1};     // unit quaternion x y z w, eye to world
+  float fov_deg[4] = {-45, 45, 45, -45};   // half-angles left (<0), right, up, down (<0) [deg]
+  std::uint32_t viewport[2] = {1920, 1920};  // width, height [px]
+  float velocity[3] = {0, 0, 0};           // world [m/s]
+  float angular_velocity[3] = {0, 0, 0};   // head rotation, world axis times speed [deg/s]
+};
+
+struct Gaze {
+  float direction[3] = {0, 0, -1};         // unit, eye space
+  float confidence = 1.0f;                 // 0..1
+  float angular_velocity[3] = {0, 0, 0};   // eye-in-head rotation, eye-space axis times speed [deg/s]
+  bool valid = false;
+  bool has_velocity = false;               // else retinal velocity follows Daly's pursuit model
+};
+
+struct Frame {
+  Eye eyes[2];
+  Gaze gaze[2];
+  std::uint32_t eye_count = 1;             // 1 or 2
+  float dt = 0;                            // since the previous frame [s]; 0 derives no velocity
+};
+
+struct ObjectTransform {
+  double position[3] = {0, 0, 0};          // world [m]
+  float rotation[4] = {0, 0, 0, 1};        // unit quaternion x y z w, object to world
+  float scale = 1.0f;                      // uniform
+};
+
+using ObjectId = std::uint32_t;
+inline constexpr ObjectId kInvalidObject = 0xffffffffu;
+
+// Why a level was chosen: the score of one level and what limits it.
+struct LevelExplain {
+  float score;          // max over bands and orientations of lost / (q CT); <= 1 is invisible
+  std::uint8_t band;    // the limiting band and orientation
+  std::uint8_t orientation;
+  float frequency_cpd;  // that band's centre at the current distance
+  float threshold;      // CT there
+};
+
+struct ObjectExplain {
+  float distance_m, angular_diameter_deg, eccentricity_deg, image_velocity_deg_s, retinal_velocity_deg_s;
+  std::uint32_t view;                      // the profile view used
+  std::uint8_t level, level_count;
+  LevelExplain levels[kMaxLevels];         // [level_count]; level 0 has score 0
+};
+
+struct FrameStats {
+  std::uint64_t triangles = 0;             // drawn at the chosen levels
+  std::uint32_t changed = 0;               // objects whose level changed
+  std::uint32_t budget_forced = 0;         // objects the budget pushed past visibility
+  std::uint32_t invalid = 0;               // objects with kFlagInvalidInput
+  bool gaze_used = false;
+};
+
+class Scheduler {
+ public:
+  explicit Scheduler(const SchedulerConfig& config);
+  ~Scheduler();
+  Scheduler(const Scheduler&) = delete;
+  Scheduler& operator=(const Scheduler&) = delete;
+
+  // Registers a profile (its bytes must outlive the scheduler). Returns its index, or -1 when full.
+  int add_profile(const Profile& profile);
+
+  // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
+  // level; bias multiplies q for this object.
+  ObjectId add_object(int profile, const ObjectTransform& transform);
+  void remove_object(ObjectId id);
+  void set_transform(ObjectId id, const ObjectTransform& transform);
+  void set_velocity(ObjectId id, const float velocity[3]);  // world [m/s]; else derived from transforms and dt
+  void set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level);
+  void set_bias(ObjectId id, float quality_bias);
+
+  // The frame: begin, update ranges (any split), end (budget, transitions, statistics).
+  void begin_frame(const Frame& frame);
+  void update(std::uint32_t first, std::uint32_t count);
+  void end_frame();
+  void run_frame(const Frame& frame) { begin_frame(frame); update(0, object_capacity()); end_frame(); }
+
+  std::uint32_t object_capacity() const { return config_.max_objects; }
+  bool alive(ObjectId id) const { return id < config_.max_objects && profile_of_[id] >= 0; }
+  std::uint8_t level(ObjectId id) const { return level_[id]; }
+  std::uint8_t flags(ObjectId id) const { return flags_[id]; }
+  // Cross-fade: the previous level and how far the fade to the current one is (1 = done).
+  std::uint8_t previous_level(ObjectId id) const { return from_level_[id]; }
+  float transition(ObjectId id) const { return fade_[id]; }
+  // Every level's score this frame (needs keep_scores); nullptr otherwise.
+  const float* scores(ObjectId id) const;
+  const FrameStats& stats() const { return stats_; }
+  const SchedulerConfig& config() const { return config_; }
+
+  // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
+  // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].
+  float envelope_speed(float frequency_cpd) const;
+
+  // Recomputes one object for the current frame with full detail (allocation-free, not for every object).
+  bool explain(ObjectId id, ObjectExplain* out) const;
+
+ private:
+  struct ProfileCache;
+  struct EyeCache;
+  struct Envelope;
+  struct Choice { std::uint8_t fine, coarse, flags; };  // coarsest level at score <= 1 and <= 1 - margin
+  Choice evaluate(ObjectId id, const EyeCache& eye, float* scores, ObjectExplain* explain) const;
+  void select(ObjectId id);
+  void apply_budget();
+
+  SchedulerConfig config_;
+  std::vector<ProfileCache> profiles_;
+  std::uint32_t profile_count_ = 0;
+  // Objects, structure of arrays.
+  std::vector<int> profile_of_;            // -1: free slot
+  std::vector<double> position_, previous_position_;  // 3 per object
+  std::vector<float> rotation_, velocity_, scale_, bias_;
+  std::vector<std::uint8_t> explicit_velocity_, fresh_, min_level_, max_level_, flags_;
+  std::vector<std::uint8_t> chosen_;        // perceptual choice after hysteresis (before the budget)
+  std::vector<std::uint8_t> next_;          // this frame's level after the budget
+  std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
+  std::vector<std::uint32_t> calm_frames_, wait_frames_;
+  std::vector<float> fade_, scores_;
+  std::vector<std::uint32_t> free_list_;
+  std::vector<std::uint32_t> heap_;        // budget pass
+  // Frame state.
+  std::unique_ptr<Envelope> envelope_;
+  std::vector<EyeCache> eyes_;
+  float static_terms_[4] = {};             // Default-model velocity terms at the drift floor
+  std::uint32_t eye_count_ = 0;
+  float dt_ = 0;
+  bool saccade_ = false;
+  FrameStats stats_;
+};
+
+}  // namespace acuity

@@ -1,0 +1,752 @@
+// The scheduler: properties over random scenes, policies, hard cases, determinism, no allocation,
+// and agreement with a slow, independent reference that evaluates every band and orientation in
+// double precision through acuity::log_threshold().
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <memory>
+#include <random>
+
+#include "acuity/scheduler.hpp"
+#include "acuity/spectra/profile_writer.hpp"
+
+// ---- Allocation counter (for the no-allocation test) ---------------------------------------------
+static std::atomic<long> g_allocations{0};
+void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace acuity;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A profile shaped like a real one: level k loses contrast above about 256 / 2^k cpod, more at
+// some orientations and views than others.
+struct TestProfile {
+  spectra::ProfileData data;
+  Blob blob;
+  Profile profile;
+  explicit TestProfile(std::uint32_t K = 6, std::uint32_t T = 8, std::uint32_t B = 8, float orientation_bias = 0.5f) {
+    data.sphere[0] = 0.1f; data.sphere[1] = 0.2f; data.sphere[2] = -0.1f; data.sphere[3] = 1.0f;
+    for (std::uint32_t k = 0; k < K; ++k) data.levels.push_back({100000u >> k, 0.002f * float((1u << k) - 1)});
+    const float axes[14][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
+                               {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
+                               {-1, -1, 1}, {-1, -1, -1}};
+    for (const auto& a : axes) data.views.push_back(spectra::make_view(a[0], a[1], a[2]));
+    for (std::uint32_t t = 0; t < T; ++t) data.orientations.push_back(180.0f * float(t) / float(T));
+    for (std::uint32_t b = 0; b < B; ++b) data.bands.push_back(2.0f * std::pow(2.0f, float(b)));
+    for (std::uint32_t k = 1; k < K; ++k)
+      for (std::uint32_t v = 0; v < 14; ++v)
+        for (std::uint32_t t = 0; t < T; ++t)
+          for (std::uint32_t b = 0; b < B; ++b) {
+            const float edge = float(B) - float(k) * 1.3f;  // the band where level k starts losing
+            const float shape = 1.0f / (1.0f + std::exp(-2.0f * (float(b) - edge)));
+            const float angle = 1.0f + orientation_bias * std::cos(2.0f * float(t) * 3.14159f / float(T) + 0.3f * float(v));
+            data.lost.push_back(0.25f * shape * angle + 0.0005f * float(k));
+          }
+    for (std::uint32_t k = 0; k < K; ++k)
+      for (std::uint32_t v = 0; v < 14; ++v)
+        for (std::uint32_t t = 0; t < T; ++t) data.features.push_back(256.0f / float(1u << k) * (1.0f + 0.1f * float(t % 3)));
+    blob = spectra::encode_profile(data);
+    EXPECT_EQ(open_profile(blob.data(), blob.size, &profile), ProfileStatus::Ok);
+  }
+};
+
+Frame looking_forward(double x = 0, double y = 0, double z = 0) {
+  Frame f;
+  f.eyes[0].position[0] = x; f.eyes[0].position[1] = y; f.eyes[0].position[2] = z;
+  f.gaze[0].valid = true;
+  f.dt = 1.0f / 90;
+  return f;
+}
+
+// Gaze direction (eye space) pointing at world point p from an eye at the origin with identity pose.
+void gaze_at(Frame& f, double x, double y, double z) {
+  const double n = std::sqrt(x * x + y * y + z * z);
+  f.gaze[0].direction[0] = float(x / n); f.gaze[0].direction[1] = float(y / n); f.gaze[0].direction[2] = float(z / n);
+  f.gaze[0].valid = true;
+}
+
+struct Rng {
+  std::mt19937 g;
+  explicit Rng(unsigned seed) : g(seed) {}
+  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
+  void quaternion(float q[4]) {
+    std::normal_distribution<float> n;
+    float s = 0;
+    for (int i = 0; i < 4; ++i) { q[i] = n(g); s += q[i] * q[i]; }
+    s = std::sqrt(s);
+    for (int i = 0; i < 4; ++i) q[i] /= s;
+  }
+};
+
+// One object evaluated alone (hysteresis off): its level. A re-added object starts fresh.
+struct Single {
+  SchedulerConfig config;
+  std::unique_ptr<Scheduler> s;
+  int profile;
+  static SchedulerConfig small(SchedulerConfig c) { c.max_objects = 4; return c; }
+  Single(const TestProfile& p, SchedulerConfig c = {})
+      : config(small(c)), s(std::make_unique<Scheduler>(config)), profile(s->add_profile(p.profile)) {}
+  std::uint8_t level(const ObjectTransform& t, const float velocity[3], const Frame& frame, std::uint8_t* flags = nullptr) const {
+    const ObjectId id = s->add_object(profile, t);
+    if (velocity) s->set_velocity(id, velocity);
+    s->run_frame(frame);
+    if (flags) *flags = s->flags(id);
+    const std::uint8_t l = s->level(id);
+    s->remove_object(id);
+    return l;
+  }
+};
+
+ObjectTransform at(double x, double y, double z, const float* q = nullptr, float scale = 1.0f) {
+  ObjectTransform t;
+  t.position[0] = x; t.position[1] = y; t.position[2] = z;
+  if (q) for (int i = 0; i < 4; ++i) t.rotation[i] = q[i];
+  t.scale = scale;
+  return t;
+}
+
+}  // namespace
+
+// ---- Properties over random scenes -----------------------------------------------------------------
+
+TEST(SchedulerProperties, FartherNeverFiner) {
+  const TestProfile tp;
+  const Single one(tp);
+  Rng rng(1);
+  int coarsened = 0;
+  for (int i = 0; i < 1500; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const float dir[3] = {rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f), -1.0f};
+    const float dist = rng.uniform(2.0f, 200.0f), factor = rng.uniform(1.01f, 3.0f);
+    const float w[3] = {rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20)};
+    Frame f = looking_forward();
+    gaze_at(f, rng.uniform(-0.3f, 0.3f), rng.uniform(-0.3f, 0.3f), -1);
+    // The same angular velocity at both distances: world velocity scales with distance.
+    const float v1[3] = {w[0] * dist / 50, w[1] * dist / 50, w[2] * dist / 50};
+    const float v2[3] = {v1[0] * factor, v1[1] * factor, v1[2] * factor};
+    const auto near = one.level(at(dir[0] * dist, dir[1] * dist, dir[2] * dist, q), v1, f);
+    const auto far = one.level(at(dir[0] * dist * factor, dir[1] * dist * factor, dir[2] * dist * factor, q), v2, f);
+    ASSERT_GE(far, near) << i;
+    coarsened += far > near;
+  }
+  EXPECT_GT(coarsened, 300);  // the property is not vacuous
+}
+
+TEST(SchedulerProperties, FartherFromGazeNeverFiner) {
+  const TestProfile tp;
+  const Single one(tp);
+  Rng rng(2);
+  int coarsened = 0;
+  for (int i = 0; i < 1500; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const float dist = rng.uniform(2.0f, 60.0f);
+    const float v[3] = {rng.uniform(-3, 3), rng.uniform(-3, 3), 0};
+    const float a1 = rng.uniform(0, 40), a2 = a1 + rng.uniform(0.5f, 30);
+    Frame f1 = looking_forward(), f2 = looking_forward();
+    const float az = rng.uniform(0, 6.28f);
+    gaze_at(f1, std::sin(a1 * kPi / 180) * std::cos(az), std::sin(a1 * kPi / 180) * std::sin(az), -std::cos(a1 * kPi / 180));
+    gaze_at(f2, std::sin(a2 * kPi / 180) * std::cos(az), std::sin(a2 * kPi / 180) * std::sin(az), -std::cos(a2 * kPi / 180));
+    const auto l1 = one.level(at(0, 0, -dist, q), v, f1), l2 = one.level(at(0, 0, -dist, q), v, f2);
+    ASSERT_GE(l2, l1) << i;
+    coarsened += l2 > l1;
+  }
+  EXPECT_GT(coarsened, 300);
+}
+
+TEST(SchedulerProperties, FasterNeverFinerAboveThreeDegreesPerSecond) {
+  const TestProfile tp;
+  const Single one(tp);
+  Rng rng(3);
+  int coarsened = 0, checked = 0;
+  for (int i = 0; i < 3000; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const float dist = rng.uniform(2.0f, 40.0f);
+    const float dir[3] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.2f, 0.2f)};
+    const float speed = rng.uniform(0.1f, 5.0f) * dist, factor = rng.uniform(1.05f, 3.0f);
+    const float n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+    const float v1[3] = {dir[0] / n * speed, dir[1] / n * speed, dir[2] / n * speed};
+    const float v2[3] = {v1[0] * factor, v1[1] * factor, v1[2] * factor};
+    Frame f = looking_forward();
+    gaze_at(f, rng.uniform(-0.3f, 0.3f), rng.uniform(-0.3f, 0.3f), -1);
+    // Retinal speed (Daly) above 3 deg/s at the slower speed.
+    const double omega = speed / dist * 180 / kPi * std::sqrt(1 - std::pow(dir[2] / n, 2));
+    if (daly_retinal_velocity(omega) <= 3.0) continue;
+    ++checked;
+    const auto slow = one.level(at(0, 0, -dist, q), v1, f), fast = one.level(at(0, 0, -dist, q), v2, f);
+    ASSERT_GE(fast, slow) << i << " omega " << omega;
+    coarsened += fast > slow;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_GT(coarsened, 100);
+}
+
+TEST(SchedulerProperties, NoGazeNeverLessConservativeThanGazeAtTheObject) {
+  const TestProfile tp;
+  const Single one(tp);
+  Rng rng(4);
+  for (int i = 0; i < 1500; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    // Objects within the no-gaze disc (30 deg of the view centre), where the gaze could be.
+    const float ang = rng.uniform(0, 28) * float(kPi) / 180, az = rng.uniform(0, 6.28f), dist = rng.uniform(2, 80);
+    const double x = std::sin(ang) * std::cos(az) * dist, y = std::sin(ang) * std::sin(az) * dist, z = -std::cos(ang) * dist;
+    const float v[3] = {rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5)};
+    Frame with = looking_forward(), without = looking_forward();
+    gaze_at(with, x, y, z);
+    without.gaze[0].valid = false;
+    std::uint8_t flags = 0;
+    const auto lg = one.level(at(x, y, z, q), v, with), ln = one.level(at(x, y, z, q), v, without, &flags);
+    ASSERT_LE(ln, lg) << i;
+    EXPECT_TRUE(flags & kFlagNoGaze);
+  }
+}
+
+TEST(SchedulerProperties, BothEyesTheFinerNeedWins) {
+  const TestProfile tp;
+  Rng rng(5);
+  const Single one(tp);
+  for (int i = 0; i < 300; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const ObjectTransform t = at(rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(3, 30), q);
+    Frame left = looking_forward(-0.032), right = looking_forward(0.032), both = looking_forward();
+    gaze_at(left, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f), -1);
+    gaze_at(right, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f), -1);
+    both.eye_count = 2;
+    both.eyes[0] = left.eyes[0]; both.gaze[0] = left.gaze[0];
+    both.eyes[1] = right.eyes[0]; both.gaze[1] = right.gaze[0];
+    EXPECT_EQ(one.level(t, nullptr, both), std::min(one.level(t, nullptr, left), one.level(t, nullptr, right)));
+  }
+}
+
+// ---- Reddy's fence (section 5.2) -------------------------------------------------------------------
+
+TEST(SchedulerFence, VerticalStripesMovingHorizontallyCoarsenSooner) {
+  // All lost contrast is horizontal frequency (vertical stripes): orientation 0.
+  TestProfile tp(2, 8, 8, 0.0f);
+  for (std::size_t i = 0; i < tp.data.lost.size(); ++i) {
+    const std::size_t t = (i / 8) % 8;
+    tp.data.lost[i] = t == 0 ? 0.05f : 0.0f;
+  }
+  tp.blob = spectra::encode_profile(tp.data);
+  ASSERT_EQ(open_profile(tp.blob.data(), tp.blob.size, &tp.profile), ProfileStatus::Ok);
+  const Single one(tp);
+  Frame f = looking_forward();
+  gaze_at(f, 0, 0, -1);
+  auto coarsening_speed = [&](int axis) {
+    for (float speed = 0; speed < 200; speed += 0.25f) {
+      float v[3] = {0, 0, 0};
+      v[axis] = speed;
+      if (one.level(at(0, 0, -10), v, f) == 1) return speed;
+    }
+    return 1e9f;
+  };
+  const float horizontal = coarsening_speed(0), vertical = coarsening_speed(1);
+  EXPECT_LT(horizontal, 100.0f);
+  EXPECT_LT(horizontal * 3, vertical) << horizontal << " " << vertical;
+}
+
+// ---- Hard cases ------------------------------------------------------------------------------------
+
+TEST(SchedulerHardCases, DefinedLevelAndFlag) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.fallback_level = 0;
+  const Single one(tp, c);
+  const Frame f = looking_forward();
+  std::uint8_t flags = 0;
+  EXPECT_EQ(one.level(at(0, 0, -0.5), nullptr, f, &flags), 0);  // eye inside the sphere
+  EXPECT_TRUE(flags & kFlagEyeInside);
+  EXPECT_EQ(one.level(at(0, 0, -50, nullptr, 0.0f), nullptr, f, &flags), 0);  // radius 0
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  EXPECT_EQ(one.level(at(NAN, 0, -50), nullptr, f, &flags), 0);
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  EXPECT_EQ(one.level(at(INFINITY, 0, -50), nullptr, f, &flags), 0);
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  const float nan_v[3] = {NAN, 0, 0};
+  EXPECT_EQ(one.level(at(0, 0, -50), nan_v, f, &flags), 0);
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  float bad_q[4] = {0, 0, 0, 0};
+  EXPECT_EQ(one.level(at(0, 0, -50, bad_q), nullptr, f, &flags), 0);
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  Frame bad_eye = f;
+  bad_eye.eyes[0].position[1] = NAN;
+  EXPECT_EQ(one.level(at(0, 0, -50), nullptr, bad_eye, &flags), 0);
+  EXPECT_TRUE(flags & kFlagInvalidInput);
+  // A NaN or infinite gaze is no gaze: fixed foveation, flagged, and a normal level.
+  Frame bad_gaze = f;
+  bad_gaze.gaze[0].direction[0] = NAN;
+  const auto l = one.level(at(0, 0, -50), nullptr, bad_gaze, &flags);
+  EXPECT_TRUE(flags & kFlagNoGaze);
+  EXPECT_FALSE(flags & kFlagInvalidInput);
+  Frame no_gaze = f;
+  no_gaze.gaze[0].valid = false;
+  EXPECT_EQ(l, one.level(at(0, 0, -50), nullptr, no_gaze));
+  // The fallback level is configurable.
+  SchedulerConfig c2 = c;
+  c2.fallback_level = 3;
+  EXPECT_EQ(Single(tp, c2).level(at(NAN, 0, -50), nullptr, f), 3);
+}
+
+TEST(SchedulerHardCases, FarFromTheOriginBehavesLikeTheOrigin) {
+  const TestProfile tp;
+  const Single one(tp);
+  Rng rng(6);
+  for (int i = 0; i < 300; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const double x = rng.uniform(-5, 5), y = rng.uniform(-5, 5), z = -rng.uniform(2, 100);
+    const float v[3] = {rng.uniform(-2, 2), rng.uniform(-2, 2), 0};
+    const double far = 1e7;
+    Frame f0 = looking_forward(), f1 = looking_forward(far, -far, far);
+    gaze_at(f0, 0.1, 0, -1);
+    gaze_at(f1, 0.1, 0, -1);
+    std::uint8_t fl0 = 0, fl1 = 0;
+    EXPECT_EQ(one.level(at(x, y, z, q), v, f0, &fl0), one.level(at(x + far, y - far, z + far, q), v, f1, &fl1)) << i;
+    EXPECT_EQ(fl0, fl1);
+  }
+}
+
+TEST(SchedulerHardCases, ZeroDtDerivesNoVelocity) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 2;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -20));
+  Frame f = looking_forward();
+  f.dt = 0;
+  s.run_frame(f);
+  const auto still = s.level(id);
+  s.set_transform(id, at(5, 0, -20));  // moved, but no time passed
+  s.run_frame(f);
+  ObjectExplain ex;
+  ASSERT_TRUE(s.explain(id, &ex));
+  EXPECT_EQ(ex.image_velocity_deg_s, 0.0f);
+  EXPECT_GE(still, 0);
+}
+
+TEST(SchedulerDeterminism, TwoRunsAreBitIdentical) {
+  const TestProfile tp;
+  auto run = [&](std::vector<std::uint8_t>* levels, std::vector<float>* scores) {
+    SchedulerConfig c;
+    c.max_objects = 500;
+    c.keep_scores = true;
+    c.hysteresis_frames = 2;
+    Scheduler s(c);
+    const int p = s.add_profile(tp.profile);
+    Rng rng(7);
+    std::vector<ObjectId> ids;
+    for (int i = 0; i < 500; ++i) {
+      float q[4];
+      rng.quaternion(q);
+      ids.push_back(s.add_object(p, at(rng.uniform(-20, 20), rng.uniform(-5, 5), -rng.uniform(1, 80), q)));
+    }
+    for (int frame = 0; frame < 20; ++frame) {
+      Frame f = looking_forward(0, 0, -0.1 * frame);
+      gaze_at(f, std::sin(frame * 0.3), 0.1, -1);
+      for (ObjectId id : ids) {
+        ObjectTransform t = at(0, 0, 0);
+        t.position[0] = rng.uniform(-20, 20);
+        t.position[2] = -rng.uniform(1, 80);
+        s.set_transform(id, t);
+      }
+      s.run_frame(f);
+      for (ObjectId id : ids) {
+        levels->push_back(s.level(id));
+        scores->insert(scores->end(), s.scores(id), s.scores(id) + 6);
+      }
+    }
+  };
+  std::vector<std::uint8_t> l1, l2;
+  std::vector<float> s1, s2;
+  run(&l1, &s1);
+  run(&l2, &s2);
+  EXPECT_EQ(l1, l2);
+  ASSERT_EQ(s1.size(), s2.size());
+  EXPECT_EQ(std::memcmp(s1.data(), s2.data(), s1.size() * sizeof(float)), 0);
+}
+
+TEST(SchedulerRuntime, NoAllocationInsideTheFrame) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 1000;
+  c.triangle_budget = 2000000;  // exercise the budget pass too
+  c.hysteresis_frames = 3;
+  c.saccade_speed = 100;
+  Scheduler s(c);
+  const int p = s.add_profile(tp.profile);
+  Rng rng(8);
+  for (int i = 0; i < 1000; ++i) {
+    const ObjectId id = s.add_object(p, at(rng.uniform(-20, 20), 0, -rng.uniform(1, 50)));
+    const float v[3] = {rng.uniform(-3, 3), 0, 0};
+    if (i % 2) s.set_velocity(id, v);
+  }
+  Frame f = looking_forward();
+  f.eye_count = 2;
+  f.eyes[1] = f.eyes[0];
+  f.gaze[1] = f.gaze[0];
+  f.gaze[0].has_velocity = true;
+  f.gaze[0].angular_velocity[1] = 50;
+  s.run_frame(f);  // warm up
+  const long before = g_allocations.load();
+  for (int frame = 0; frame < 5; ++frame) {
+    s.begin_frame(f);
+    s.update(0, 400);
+    s.update(400, 600);
+    s.end_frame();
+    ObjectExplain ex;
+    s.explain(3, &ex);
+  }
+  EXPECT_EQ(g_allocations.load() - before, 0);
+}
+
+// ---- Agreement with a slow reference ---------------------------------------------------------------
+
+namespace {
+struct Vd { double x, y, z; };
+Vd operator-(Vd a, Vd b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Vd operator+(Vd a, Vd b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vd operator*(double s, Vd a) { return {s * a.x, s * a.y, s * a.z}; }
+double dotd(Vd a, Vd b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+Vd crossd(Vd a, Vd b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double lend(Vd a) { return std::sqrt(dotd(a, a)); }
+Vd rot(const float* q, Vd v) {  // rotation matrix form, independent of the scheduler's formula
+  const double x = q[0], y = q[1], z = q[2], w = q[3];
+  return {(1 - 2 * (y * y + z * z)) * v.x + 2 * (x * y - z * w) * v.y + 2 * (x * z + y * w) * v.z,
+          2 * (x * y + z * w) * v.x + (1 - 2 * (x * x + z * z)) * v.y + 2 * (y * z - x * w) * v.z,
+          2 * (x * z - y * w) * v.x + 2 * (y * z + x * w) * v.y + (1 - 2 * (x * x + y * y)) * v.z};
+}
+Vd rot_inv(const float* q, Vd v) { const float c[4] = {-q[0], -q[1], -q[2], q[3]}; return rot(c, v); }
+double angle(Vd a, Vd b) { return std::atan2(lend(crossd(a, b)), dotd(a, b)) * 180 / kPi; }
+
+// Level and the finest level's margin: the reference's largest |ln score| near a decision.
+struct RefResult { int level; double closest; int view; };
+
+RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTransform& t, const float* vel,
+                    const Frame& f, const Scheduler& envelope) {
+  const Eye& eye = f.eyes[0];
+  const Vd centre = rot(t.rotation, t.scale * Vd{p.meta.sphere[0], p.meta.sphere[1], p.meta.sphere[2]});
+  const Vd rel = Vd{t.position[0] - eye.position[0], t.position[1] - eye.position[1], t.position[2] - eye.position[2]} + centre;
+  const double d = lend(rel), r = t.scale * p.meta.sphere[3];
+  if (d <= r) return {0, 1e9, -1};
+  const Vd u = (1 / d) * rel;
+  const double radius = std::asin(r / d) * 180 / kPi, diam = 2 * radius;
+  const Vd gaze = rot(eye.orientation, Vd{f.gaze[0].direction[0], f.gaze[0].direction[1], f.gaze[0].direction[2]});
+  const double e = std::max(0.0, angle(u, gaze) - radius - c.gaze_uncertainty_deg);
+  const Vd v{vel[0], vel[1], vel[2]};
+  const Vd image = (180 / kPi / d) * (v - dotd(v, u) * u);
+  const double vi = lend(image);
+  const Vd slip = vi > 0 ? (daly_retinal_velocity(vi) / vi) * image : Vd{0, 0, 0};
+  // Every view: the nearest by brute force.
+  const Vd to_eye = rot_inv(t.rotation, -1.0 * u);
+  int view = 0;
+  double best = -2;
+  for (std::uint32_t k = 0; k < p.meta.view_count; ++k) {
+    const double dd = dotd(to_eye, Vd{p.views[k].direction[0], p.views[k].direction[1], p.views[k].direction[2]});
+    if (dd > best) { best = dd; view = int(k); }
+  }
+  const Vd dir{p.views[view].direction[0], p.views[view].direction[1], p.views[view].direction[2]};
+  const Vd up{p.views[view].up[0], p.views[view].up[1], p.views[view].up[2]};
+  const Vd right = crossd(-1.0 * dir, up);
+  const double vx = dotd(slip, rot(t.rotation, right)), vy = dotd(slip, rot(t.rotation, up));
+  const Vd u_eye = rot_inv(eye.orientation, u);
+  const double cphi = std::clamp(-u_eye.z, 0.05, 1.0);
+  const double focal = eye.viewport[0] / (std::tan(eye.fov_deg[1] * kPi / 180) - std::tan(eye.fov_deg[0] * kPi / 180));
+  const double nyquist = 0.5 * focal * kPi / 180 / (cphi * cphi);
+  int level = 0;
+  double closest = 1e9;
+  for (std::uint32_t k = 1; k < p.meta.level_count; ++k) {
+    double worst = -1e300;
+    for (std::uint32_t o = 0; o < p.meta.orientation_count; ++o) {
+      const double th = p.orientations[o] * kPi / 180;
+      const double vt = std::max(std::abs(vx * std::cos(th) + vy * std::sin(th)), 0.15);
+      for (std::uint32_t b = 0; b < p.meta.band_count; ++b) {
+        const double fr = p.bands[b] / diam;
+        if (fr > nyquist) continue;
+        // Moving components: the velocity envelope (checked on its own in SchedulerEnvelope).
+        const double v_eval = lend(slip) > 0 ? std::max<double>(vt, envelope.envelope_speed(float(fr))) : vt;
+        const double lost = p.lost_contrast(k, std::uint32_t(view), o, b);
+        if (lost <= 0) continue;
+        worst = std::max(worst, std::log(lost) - log_threshold(fr, e, v_eval, c.model, c.params) - std::log(c.quality));
+      }
+    }
+    if (worst <= 0) level = int(k);
+    closest = std::min(closest, std::abs(worst));
+  }
+  return {level, closest, view};
+}
+}  // namespace
+
+TEST(SchedulerReference, SameLevelsAsTheSlowReference) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  const Single one(tp, c);
+  const Scheduler envelope(c);
+  Rng rng(9);
+  int same = 0, boundary = 0, other_view = 0, total = 0;
+  for (int i = 0; i < 4000; ++i) {
+    float q[4];
+    rng.quaternion(q);
+    const ObjectTransform t = at(rng.uniform(-10, 10), rng.uniform(-10, 10), -rng.uniform(1.5f, 150), q, rng.uniform(0.3f, 3));
+    const float v[3] = {rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-8, 8)};
+    Frame f = looking_forward();
+    gaze_at(f, rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f), -1);
+    const RefResult ref = reference(tp.profile, c, t, v, f, envelope);
+    const int got = one.level(t, v, f);
+    ++total;
+    if (got == ref.level) { ++same; continue; }
+    // Allowed only where float and double round differently at a score of exactly 1 ...
+    if (ref.closest < 1e-4) { ++boundary; continue; }
+    // ... or where the cube-map lookup chose another of two nearly equidistant views.
+    Scheduler s(c);
+    const ObjectId id = s.add_object(s.add_profile(tp.profile), t);
+    s.set_velocity(id, v);
+    s.run_frame(f);
+    ObjectExplain ex;
+    s.explain(id, &ex);
+    if (int(ex.view) != ref.view) { ++other_view; continue; }
+    ADD_FAILURE() << "case " << i << ": scheduler " << got << ", reference " << ref.level;
+  }
+  EXPECT_GE(same, total * 995 / 1000) << "boundary " << boundary << ", other view " << other_view;
+}
+
+TEST(SchedulerEnvelope, BoundsTheArgmaxAndTheCsfFallsBeyondIt) {
+  const Scheduler s{SchedulerConfig{}};
+  int active = 0;
+  for (int i = 0; i < 400; ++i) {
+    const double f = 0.01 * std::pow(2e4, i / 399.0);
+    const double u_env = s.envelope_speed(float(f));
+    double best = -1e300, argmax = 0, previous = 1e300;
+    bool falling_beyond = true;
+    for (int j = 0; j <= 4000; ++j) {
+      const double u = 0.15 * std::pow(20 / 0.15, j / 4000.0);
+      const double ln_s = -log_threshold(f, 0.0, u);
+      if (ln_s > best) { best = ln_s; argmax = u; }
+      if (u >= std::max(u_env, 0.15) && ln_s > previous + 1e-12) falling_beyond = false;
+      if (u >= std::max(u_env, 0.15)) previous = ln_s;
+    }
+    EXPECT_GE(std::max(u_env, 0.15) * 1.0005, argmax) << f;
+    EXPECT_TRUE(falling_beyond) << "S(f, .) rises beyond the envelope speed at f = " << f;
+    EXPECT_LT(u_env, 4.0);  // the envelope only touches the slow range
+    active += u_env > 0;
+  }
+  EXPECT_GT(active, 100);
+}
+
+// ---- Policies --------------------------------------------------------------------------------------
+
+TEST(SchedulerPolicies, HysteresisStopsPingPong) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 2;
+  c.hysteresis_margin = 0.3f;
+  c.hysteresis_frames = 3;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -10));
+  Frame f = looking_forward();
+  gaze_at(f, 0, 0, -1);
+  // Find a distance where the level steps, then oscillate by 1% around it (VR head bob).
+  double step = 0;
+  std::uint8_t prev = 0;
+  for (double z = 2; z < 400; z *= 1.01) {
+    s.set_transform(id, at(0, 0, -z));
+    SchedulerConfig fresh_config;
+    fresh_config.max_objects = 2;
+    Scheduler fresh(fresh_config);
+    const ObjectId j = fresh.add_object(fresh.add_profile(tp.profile), at(0, 0, -z));
+    fresh.run_frame(f);
+    if (fresh.level(j) > prev && z > 5) { step = z; break; }
+    prev = fresh.level(j);
+  }
+  ASSERT_GT(step, 0);
+  int changes = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    s.set_transform(id, at(0, 0, -step * (frame % 2 ? 1.01 : 0.99)));
+    s.run_frame(f);
+    if (frame > 5) changes += (s.flags(id) & kFlagChanged) != 0;
+  }
+  EXPECT_EQ(changes, 0);
+  // Without hysteresis the same motion flips the level every frame.
+  SchedulerConfig plain_config;
+  plain_config.max_objects = 2;
+  Scheduler plain(plain_config);
+  const ObjectId k = plain.add_object(plain.add_profile(tp.profile), at(0, 0, -10));
+  int flips = 0;
+  for (int frame = 0; frame < 60; ++frame) {
+    plain.set_transform(k, at(0, 0, -step * (frame % 2 ? 1.01 : 0.99)));
+    plain.run_frame(f);
+    if (frame > 5) flips += (plain.flags(k) & kFlagChanged) != 0;
+  }
+  EXPECT_GT(flips, 40);
+}
+
+TEST(SchedulerPolicies, RefineAtOnceCoarsenAfterFramesOrInSaccades) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 2;
+  c.saccade_speed = 200;
+  c.max_coarsen_wait = 10;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -3));
+  Frame f = looking_forward();
+  gaze_at(f, 0, 0, -1);
+  f.gaze[0].has_velocity = true;
+  s.run_frame(f);
+  const auto near_level = s.level(id);
+  s.set_transform(id, at(0, 0, -300));
+  s.run_frame(f);  // far now, but no saccade: held
+  EXPECT_EQ(s.level(id), near_level);
+  EXPECT_TRUE(s.flags(id) & kFlagHeld);
+  Frame saccade = f;
+  saccade.gaze[0].angular_velocity[1] = 400;  // deg/s: a saccade
+  s.run_frame(saccade);
+  EXPECT_GT(s.level(id), near_level);
+  EXPECT_TRUE(s.flags(id) & kFlagChanged);
+  const float still[3] = {0, 0, 0};  // a teleport would otherwise derive a huge velocity
+  s.set_velocity(id, still);
+  s.set_transform(id, at(0, 0, -3));
+  s.run_frame(f);  // refinement never waits
+  EXPECT_EQ(s.level(id), near_level);
+  s.set_transform(id, at(0, 0, -300));
+  int waited = 0;
+  while (s.level(id) == near_level && waited < 50) { s.run_frame(f); ++waited; }
+  EXPECT_EQ(waited, 11);  // max_coarsen_wait frames, then it goes anyway
+}
+
+TEST(SchedulerPolicies, ClampsBiasAndQuality) {
+  const TestProfile tp;
+  const Frame f = looking_forward();
+  SchedulerConfig c;
+  c.max_objects = 2;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -1000));
+  s.run_frame(f);
+  EXPECT_EQ(s.level(id), 5);
+  s.set_clamps(id, 0, 2);
+  s.run_frame(f);
+  EXPECT_EQ(s.level(id), 2);
+  s.set_clamps(id, 1, 255);
+  s.set_transform(id, at(0, 0, -0.5));  // inside: finest allowed is the min clamp
+  s.run_frame(f);
+  EXPECT_EQ(s.level(id), 1);
+  // A lower quality factor is more conservative: never a coarser level.
+  Rng rng(10);
+  SchedulerConfig strict_config;
+  strict_config.quality = 0.5f;
+  const Single strict(tp, strict_config), normal(tp);
+  for (int i = 0; i < 300; ++i) {
+    const ObjectTransform t = at(rng.uniform(-5, 5), rng.uniform(-5, 5), -rng.uniform(2, 200));
+    EXPECT_LE(strict.level(t, nullptr, f), normal.level(t, nullptr, f));
+  }
+}
+
+TEST(SchedulerPolicies, BudgetCoarsensByLeastHarmPerTriangle) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 64;
+  Scheduler free_run(c);
+  c.triangle_budget = 400000;
+  Scheduler s(c);
+  const int p1 = s.add_profile(tp.profile), p2 = free_run.add_profile(tp.profile);
+  Rng rng(11);
+  for (int i = 0; i < 40; ++i) {
+    const ObjectTransform t = at(rng.uniform(-3, 3), rng.uniform(-3, 3), -rng.uniform(2, 20));
+    s.add_object(p1, t);
+    free_run.add_object(p2, t);
+  }
+  Frame f = looking_forward();
+  gaze_at(f, 0, 0, -1);
+  s.run_frame(f);
+  free_run.run_frame(f);
+  ASSERT_GT(free_run.stats().triangles, 400000u);
+  EXPECT_LE(s.stats().triangles, 400000u);
+  int forced = 0;
+  for (ObjectId id = 0; id < 40; ++id) {
+    EXPECT_GE(s.level(id), free_run.level(id));
+    const bool over = s.scores(id)[s.level(id)] > 1.0f;
+    EXPECT_EQ(over, (s.flags(id) & kFlagBudgetForced) != 0) << id;
+    forced += over;
+  }
+  EXPECT_EQ(int(s.stats().budget_forced), forced);
+  EXPECT_GT(forced, 0);
+}
+
+TEST(SchedulerPolicies, TransitionFactorAndChangeEvents) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 2;
+  c.transition_seconds = 0.1f;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -3));
+  Frame f = looking_forward();
+  f.dt = 0.025f;
+  s.run_frame(f);
+  s.set_transform(id, at(0, 0, -500));
+  s.run_frame(f);
+  ASSERT_TRUE(s.flags(id) & kFlagChanged);
+  const auto from = s.previous_level(id);
+  EXPECT_LT(from, s.level(id));
+  EXPECT_FLOAT_EQ(s.transition(id), 0.0f);
+  for (int i = 1; i <= 4; ++i) {
+    s.run_frame(f);
+    EXPECT_NEAR(s.transition(id), std::min(1.0f, 0.25f * float(i)), 1e-6f);
+    EXPECT_FALSE(s.flags(id) & kFlagChanged);
+  }
+}
+
+TEST(SchedulerBaselines, DistanceAndScreenSize) {
+  const TestProfile tp;  // geometric error of level k: 0.002 (2^k - 1) diameters, radius 1
+  const Frame f = looking_forward();
+  SchedulerConfig dc;
+  dc.rule = SelectionRule::Distance;
+  // Level 1 (error 0.004 m) is allowed from 0.004 / tan(1 arcmin) = 13.75 m.
+  const double d1 = 0.004 / std::tan(kPi / 180 / 60);
+  EXPECT_EQ(Single(tp, dc).level(at(0, 0, -(d1 * 0.99)), nullptr, f), 0);
+  EXPECT_EQ(Single(tp, dc).level(at(0, 0, -(d1 * 1.01)), nullptr, f), 1);
+  SchedulerConfig sc;
+  sc.rule = SelectionRule::ScreenSize;
+  // 1920 px over 90 deg: focal 960 px; level 1's 0.004 m is 1 px at 3.84 m from the sphere's
+  // centre, which sits at (0.1, 0.2, -0.1) from the object's origin.
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -3.70), nullptr, f), 0);  // centre at 3.806 m
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -3.78), nullptr, f), 1);  // centre at 3.886 m
+}
+
+TEST(SchedulerExplain, NamesTheLimitingBand) {
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.max_objects = 2;
+  c.keep_scores = true;
+  Scheduler s(c);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(1, 0, -12));
+  Frame f = looking_forward();
+  gaze_at(f, 0, 0, -1);
+  s.run_frame(f);
+  ObjectExplain ex;
+  ASSERT_TRUE(s.explain(id, &ex));
+  EXPECT_EQ(ex.level, s.level(id));
+  EXPECT_NEAR(ex.distance_m, std::sqrt(1.1 * 1.1 + 0.2 * 0.2 + 12.1 * 12.1), 1e-3);
+  for (int k = 1; k < 6; ++k) {
+    EXPECT_FLOAT_EQ(ex.levels[k].score, s.scores(id)[k]);
+    // The limiting component's own ratio is the score.
+    const float lost = tp.profile.lost_contrast(k, ex.view, ex.levels[k].orientation, ex.levels[k].band);
+    if (ex.levels[k].threshold < 1e30f) {
+      EXPECT_NEAR(lost / ex.levels[k].threshold, ex.levels[k].score, 1e-3f * ex.levels[k].score + 1e-6f);
+    }
+  }
+  EXPECT_LE(ex.levels[ex.level].score, 1.0f);
+}
