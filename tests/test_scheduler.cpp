@@ -750,3 +750,29 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
   }
   EXPECT_LE(ex.levels[ex.level].score, 1.0f);
 }
+
+TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
+  // Smallest features: level j's are 256 / 2^j cycles per diameter (plus 10 or 20% at some
+  // orientations). Level k is allowed when every finer level's features lie above the limit
+  // min(H(v) M(e), Nyquist) in cpd, i.e. 256 / 2^(k-1) > limit x angular diameter.
+  const TestProfile tp;
+  SchedulerConfig c;
+  c.rule = SelectionRule::Reddy;
+  const Single one(tp, c);
+  Frame f = looking_forward();
+  f.eyes[0].viewport[0] = f.eyes[0].viewport[1] = 16000;  // Nyquist 70 cpd: above Reddy's 60
+  for (double z : {5.0, 20.0, 60.0, 150.0, 400.0}) {
+    gaze_at(f, 0.1, 0.2, -z - 0.1);  // at the sphere's centre: eccentricity 0
+    const double d = std::sqrt(0.01 + 0.04 + (z + 0.1) * (z + 0.1));
+    const double diam = 2 * std::asin(1.0 / d) * 180 / kPi;
+    const double limit = reddy_cutoff(0.15, 0.0) * diam;  // static: the drift velocity
+    int expected = 0;
+    for (int k = 1; k < 6; ++k)
+      if (256.0 / (1 << (k - 1)) > limit) expected = k;
+    EXPECT_EQ(one.level(at(0, 0, -z), nullptr, f), expected) << z;
+    // A stricter quality factor never picks a coarser level.
+    SchedulerConfig strict = c;
+    strict.quality = 0.5f;
+    EXPECT_LE(Single(tp, strict).level(at(0, 0, -z), nullptr, f), expected);
+  }
+}

@@ -206,21 +206,6 @@ const char* to_string(ProfileStatus status) {
   return "unknown";
 }
 
-std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
-  const float ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
-  std::uint32_t face;
-  float u, v, major;
-  if (ax >= ay && ax >= az) { face = d[0] >= 0 ? 0 : 1; major = ax; u = d[1]; v = d[2]; }
-  else if (ay >= az)        { face = d[1] >= 0 ? 2 : 3; major = ay; u = d[2]; v = d[0]; }
-  else                      { face = d[2] >= 0 ? 4 : 5; major = az; u = d[0]; v = d[1]; }
-  if (!(major > 0)) return 0;  // zero or NaN direction
-  auto index = [r](float t) {  // t in [-1, 1] -> [0, r)
-    const float x = (t + 1.0f) * 0.5f * static_cast<float>(r);
-    return x <= 0 ? 0u : (x >= static_cast<float>(r) ? r - 1 : static_cast<std::uint32_t>(x));
-  };
-  return face * r * r + index(v / major) * r + index(u / major);
-}
-
 void cube_cell_center(std::uint32_t cell, std::uint32_t r, float d[3]) {
   const std::uint32_t face = cell / (r * r), row = (cell / r) % r, col = cell % r;
   const float u = (static_cast<float>(col) + 0.5f) / static_cast<float>(r) * 2 - 1;

@@ -25,17 +25,17 @@ constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 struct Vec3 { float x, y, z; };
-inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
-inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
+[[gnu::always_inline]] inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+[[gnu::always_inline]] inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+[[gnu::always_inline]] inline Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
+[[gnu::always_inline]] inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+[[gnu::always_inline]] inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+[[gnu::always_inline]] inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline bool finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
 
 // Rotates v by the unit quaternion q = (x, y, z, w).
-inline Vec3 rotate(const float* q, Vec3 v) {
+[[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) {
   const Vec3 u{q[0], q[1], q[2]};
   const Vec3 t = 2.0f * cross(u, v);
   return v + q[3] * t + cross(u, t);
@@ -44,8 +44,25 @@ inline Vec3 rotate_inverse(const float* q, Vec3 v) {
   const float c[4] = {-q[0], -q[1], -q[2], q[3]};
   return rotate(c, v);
 }
+// atan2(y, x) in degrees for y >= 0, in [0, 180]: exact reductions to |t| <= tan 15 deg, then the
+// odd Taylor series to t^9 (truncation below 6e-8 rad). Pure arithmetic: deterministic, ~4x libm's speed.
+[[gnu::always_inline]] inline float atan2_deg(float y, float x) {
+  constexpr float kTan15 = 0.26794919f, kSqrt3 = 1.7320508f;
+  const float ax = std::abs(x);
+  const bool swap = y > ax;  // atan(y/x) = 90 - atan(x/y)
+  float t = swap ? ax / y : (ax > 0 ? y / ax : 0.0f);
+  float base = 0;
+  if (t > kTan15) {  // atan(t) = 30 deg + atan((sqrt3 t - 1) / (sqrt3 + t))
+    t = (kSqrt3 * t - 1.0f) / (kSqrt3 + t);
+    base = 30.0f;
+  }
+  const float t2 = t * t;
+  const float a = base + kDeg * t * (1.0f + t2 * (-1.0f / 3 + t2 * (1.0f / 5 + t2 * (-1.0f / 7 + t2 * (1.0f / 9)))));
+  const float first = swap ? 90.0f - a : a;
+  return x < 0 ? 180.0f - first : first;
+}
 // Angle between unit vectors [deg], accurate at small angles.
-inline float angle_deg(Vec3 a, Vec3 b) { return std::atan2(length(cross(a, b)), dot(a, b)) * kDeg; }
+[[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) { return atan2_deg(length(cross(a, b)), dot(a, b)); }
 
 // Per-orientation terms of the Default model's ln S at velocity v (already floored).
 struct VelocityTerms {
@@ -96,24 +113,69 @@ double argmax_speed(double f, const ModelParams& p) {
   return std::exp(0.5 * (lo + hi));
 }
 
+// max over t < T, b < B of lost[t B + b] - ct[t stride + b], with stride B (one threshold row per
+// orientation) or 0 (one row for all). Eight independent accumulators keep the adds in flight.
+inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std::uint32_t B, std::uint32_t stride) {
+  float acc[8] = {-kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf};
+  for (std::uint32_t t = 0; t < T; ++t) {
+    const float* l = lost + std::size_t(t) * B;
+    const float* c = ct + std::size_t(t) * stride;
+    std::uint32_t b = 0;
+    for (; b + 8 <= B; b += 8)
+      for (int j = 0; j < 8; ++j) acc[j] = std::max(acc[j], l[b + j] - c[b + j]);
+    for (; b < B; ++b) acc[0] = std::max(acc[0], l[b] - c[b]);
+  }
+  float m = acc[0];
+  for (int j = 1; j < 8; ++j) m = std::max(m, acc[j]);
+  return m;
+}
+
 }  // namespace
 
 struct Scheduler::ProfileCache {
   Profile profile{};
   std::vector<float> ln_lost;     // [(K-1) V T B], -inf where nothing is lost
+  std::vector<float> ln_lost_any; // [(K-1) V B]: max over orientations (all a static object needs)
   std::vector<float> ln_band;     // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;  // [V][3] snapshot right = -direction x up, object space
 };
 
-struct Scheduler::Envelope {
-  float upper[kEnvelopeSize];  // u* bound for f in [f_j, f_j+1) [deg/s]
-  float largest = 0;           // max of upper: components at or above it need nothing
-  float speed_at(float ln_f) const {
-    const float x = (ln_f - kEnvelopeLnF0) * float(kEnvelopeSize - 1) / (kEnvelopeLnF1 - kEnvelopeLnF0);
-    if (!(x >= 0)) return upper[0];
-    return upper[x >= float(kEnvelopeSize - 1) ? kEnvelopeSize - 1 : int(x)];
+// Everything that depends only on the configuration, computed once at creation.
+struct Scheduler::Precomputed {
+  DalyConstants daly{};
+  VelocityTerms static_terms{};  // Default-model terms at the velocity floor
+  float floor_velocity = 0;      // [deg/s]
+  float ln_quality = 0, ln_margin = 0;
+  float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
+  // velocity_terms() tabulated over ln v, linear between nodes (error ~1e-5 in ln S).
+  static constexpr int kTermsSize = 2048;
+  static constexpr float kTermsLnV0 = -2.31f, kTermsLnV1 = 6.91f;  // 0.0993 .. 1000 deg/s
+  VelocityTerms terms[kTermsSize] = {};
+  VelocityTerms terms_at(float v) const {
+    const float x = (std::log(v) - kTermsLnV0) * float(kTermsSize - 1) / (kTermsLnV1 - kTermsLnV0);
+    if (!(x >= 0.0f && x < float(kTermsSize - 1))) return velocity_terms(v, daly);
+    const int i = int(x);
+    const float w = x - float(i);
+    const VelocityTerms& p = terms[i];
+    const VelocityTerms& q = terms[i + 1];
+    VelocityTerms out;
+    out.a_term = p.a_term + w * (q.a_term - p.a_term);
+    out.b = p.b + w * (q.b - p.b);
+    out.peak = 2.0f / out.b;
+    out.ln_s_peak = p.ln_s_peak + w * (q.ln_s_peak - p.ln_s_peak);
+    return out;
   }
+  // The velocity envelope: u* bound for f in [f_j, f_j+1) [deg/s], and its largest value.
+  float upper[kEnvelopeSize] = {};
+  VelocityTerms upper_terms[kEnvelopeSize] = {};  // velocity_terms(upper[j])
+  float largest = 0;
+  int envelope_index(float ln_f) const {
+    const float x = (ln_f - kEnvelopeLnF0) * float(kEnvelopeSize - 1) / (kEnvelopeLnF1 - kEnvelopeLnF0);
+    if (!(x >= 0)) return 0;
+    return x >= float(kEnvelopeSize - 1) ? kEnvelopeSize - 1 : int(x);
+  }
+  float speed_at(float ln_f) const { return upper[envelope_index(ln_f)]; }
 };
 
 struct Scheduler::EyeCache {
@@ -159,10 +221,18 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   for (std::uint32_t i = 0; i < n; ++i) free_list_.push_back(static_cast<std::uint32_t>(n - 1 - i));
   heap_.reserve(n);
   eyes_.resize(2);
-  const DalyConstants dc = daly_constants(config_.params);
-  const VelocityTerms st = velocity_terms(dc.v_floor > 0 ? dc.v_floor : 1e-3f, dc);
-  static_terms_[0] = st.a_term; static_terms_[1] = st.b; static_terms_[2] = st.peak; static_terms_[3] = st.ln_s_peak;
-  envelope_ = std::make_unique<Envelope>();
+  pre_ = std::make_unique<Precomputed>();
+  Precomputed& pre = *pre_;
+  pre.daly = daly_constants(config_.params);
+  const bool daly_model = config_.model == ThresholdModel::Default || config_.model == ThresholdModel::KellyDaly;
+  pre.floor_velocity = daly_model ? pre.daly.v_floor : static_cast<float>(config_.params.drift);
+  pre.static_terms = velocity_terms(std::max(pre.floor_velocity, 1e-3f), pre.daly);
+  pre.ln_quality = std::log(config_.quality);
+  pre.ln_margin = std::log(std::max(1e-6f, 1.0f - config_.hysteresis_margin));
+  pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
+  for (int i = 0; i < Precomputed::kTermsSize; ++i)
+    pre.terms[i] = velocity_terms(std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) *
+                                                                      float(i) / float(Precomputed::kTermsSize - 1)), pre.daly);
   const double step = (kEnvelopeLnF1 - kEnvelopeLnF0) / (kEnvelopeSize - 1);
   double previous = argmax_speed(std::exp(kEnvelopeLnF0), config_.params);
   for (int j = 0; j < kEnvelopeSize; ++j) {
@@ -170,13 +240,14 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     const double mid = argmax_speed(std::exp(ln_f + 0.5 * step), config_.params);
     const double next = argmax_speed(std::exp(ln_f + step), config_.params);
     const double u = std::max({previous, mid, next}) * 1.02;  // the interval's largest, plus a step
-    envelope_->upper[j] = u <= config_.params.drift * 1.02 ? 0.0f : float(u);
-    envelope_->largest = std::max(envelope_->largest, envelope_->upper[j]);
+    pre_->upper[j] = u <= config_.params.drift * 1.02 ? 0.0f : float(u);
+    if (pre_->upper[j] > 0) pre_->upper_terms[j] = velocity_terms(pre_->upper[j], pre_->daly);
+    pre_->largest = std::max(pre_->largest, pre_->upper[j]);
     previous = next;
   }
 }
 
-float Scheduler::envelope_speed(float frequency_cpd) const { return envelope_->speed_at(std::log(frequency_cpd)); }
+float Scheduler::envelope_speed(float frequency_cpd) const { return pre_->speed_at(std::log(frequency_cpd)); }
 
 Scheduler::~Scheduler() = default;
 
@@ -188,6 +259,11 @@ int Scheduler::add_profile(const Profile& p) {
                       B = p.meta.band_count;
   c.ln_lost.resize(std::size_t(K - 1) * V * T * B);
   for (std::size_t i = 0; i < c.ln_lost.size(); ++i) c.ln_lost[i] = p.lost[i] > 0 ? std::log(p.lost[i]) : -kInf;
+  c.ln_lost_any.assign(std::size_t(K - 1) * V * B, -kInf);
+  for (std::size_t kv = 0; kv < std::size_t(K - 1) * V; ++kv)
+    for (std::uint32_t t = 0; t < T; ++t)
+      for (std::uint32_t b = 0; b < B; ++b)
+        c.ln_lost_any[kv * B + b] = std::max(c.ln_lost_any[kv * B + b], c.ln_lost[(kv * T + t) * B + b]);
   c.ln_band.resize(B);
   for (std::uint32_t b = 0; b < B; ++b) c.ln_band[b] = std::log(p.bands[b]);
   c.cos_t.resize(T);
@@ -334,7 +410,8 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
   const float d = length(rel);
   if (!(d > r)) return {0, 0, kFlagEyeInside};
   const Vec3 u = (1.0f / d) * rel;
-  const float radius_deg = std::asin(r / d) * kDeg;
+  const float sin_radius = r / d;
+  const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
   const float diameter_deg = 2.0f * radius_deg;
 
   if (config_.rule == SelectionRule::Distance || config_.rule == SelectionRule::ScreenSize) {
@@ -349,14 +426,7 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     return {level, level, 0};
   }
 
-  Choice out{0, 0, 0};
-  float e;
-  if (eye.gaze) {
-    e = std::max(0.0f, angle_deg(u, eye.gaze_dir) - radius_deg - config_.gaze_uncertainty_deg);
-  } else {
-    e = std::max(0.0f, angle_deg(u, eye.forward) - radius_deg - config_.no_gaze_radius_deg);
-    out.flags |= kFlagNoGaze;
-  }
+  Choice out{0, 0, eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze)};
 
   // Image-plane angular velocity [deg/s] (world tangent vector), then retinal slip.
   const Vec3 v_rel = vel - eye.velocity;
@@ -369,6 +439,27 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     if (vi > 0) slip = (daly_retinal_velocity(vi, config_.params) / vi) * image;
   }
 
+  // Display limit: radial pixels per degree at the object's direction, halved.
+  const float cos_phi = std::clamp(dot(u, eye.forward), 0.05f, 1.0f);
+  const float nyquist_cpd = 0.5f * eye.focal_px * kRad / (cos_phi * cos_phi);
+  const Precomputed& pre = *pre_;
+  const float inv_diam = 1.0f / diameter_deg, ln_diam = std::log(diameter_deg);
+  const float ln_q = pre.ln_quality + (bias_[id] != 1.0f ? std::log(bias_[id]) : 0.0f);
+  const float ln_q_coarse = ln_q + pre.ln_margin;
+  const bool all_levels = scores_out || ex;
+  // ln CT of the Default model at band b for velocity terms vt and eccentricity slope a [per cpd].
+  auto default_ln_ct = [&](const VelocityTerms& vt, std::uint32_t b, float a) {
+    const float f = p.bands[b] * inv_diam;
+    const float ln_f = pc.ln_band[b] - ln_diam;
+    const float above = -vt.a_term - 2.0f * (pre.daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f;
+    const float below = -vt.ln_s_peak + a * f;
+    return f > nyquist_cpd ? kInf : (f >= vt.peak ? above : below);
+  };
+
+  float e;
+  if (eye.gaze) e = std::max(0.0f, angle_deg(u, eye.gaze_dir) - radius_deg - config_.gaze_uncertainty_deg);
+  else e = std::max(0.0f, angle_deg(u, eye.forward) - radius_deg - config_.no_gaze_radius_deg);
+
   // The profile's view nearest to the direction from the object to the eye.
   const Vec3 to_eye = rotate_inverse(q, -1.0f * u);
   const float dir[3] = {to_eye.x, to_eye.y, to_eye.z};
@@ -380,47 +471,33 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     if (dd > best) { best = dd; view = cand[j]; }
   }
   // Slip in the snapshot's image axes, so it meets the profile's orientations in one frame.
-  const Vec3 right_w = rotate(q, load(&pc.view_right[3 * std::size_t(view)]));
-  const Vec3 up_w = rotate(q, load(p.views[view].up));
-  const float vx = dot(slip, right_w), vy = dot(slip, up_w);
+  float vx = 0, vy = 0;
+  if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
+    vx = dot(slip, rotate(q, load(&pc.view_right[3 * std::size_t(view)])));
+    vy = dot(slip, rotate(q, load(p.views[view].up)));
+  }
   const bool moving = vx != 0.0f || vy != 0.0f;
 
-  // Display limit: radial pixels per degree at the object's direction, halved.
-  const Vec3 u_eye = rotate_inverse(eye.rotation, u);
-  const float cos_phi = std::clamp(-u_eye.z, 0.05f, 1.0f);
-  const float nyquist_cpd = 0.5f * eye.focal_px * kRad / (cos_phi * cos_phi);
+  const float a = pre.ecc_slope * e;  // ln CT grows by a per cpd with eccentricity
 
-  const DalyConstants dc = daly_constants(config_.params);
-  const float floor_v = config_.model == ThresholdModel::Default || config_.model == ThresholdModel::KellyDaly
-                            ? dc.v_floor : static_cast<float>(config_.params.drift);
-  const float inv_diam = 1.0f / diameter_deg, ln_diam = std::log(diameter_deg);
-  const float a = static_cast<float>(config_.params.alpha / config_.params.e2) * e;
-
+  // ln CT per (orientation, band). A static object's velocity is the drift floor in every
+  // orientation, so one row serves all of them (rows = 1).
   float ln_ct[kMaxOrientations * kMaxBands];
   float v_t[kMaxOrientations];
-  for (std::uint32_t t = 0; t < T; ++t) {
-    v_t[t] = std::max(std::abs(vx * pc.cos_t[t] + vy * pc.sin_t[t]), floor_v);
+  const std::uint32_t rows = moving || config_.model != ThresholdModel::Default ? T : 1;
+  for (std::uint32_t t = 0; t < rows; ++t) {
+    v_t[t] = moving ? std::max(std::abs(vx * pc.cos_t[t] + vy * pc.sin_t[t]), pre.floor_velocity) : pre.floor_velocity;
     float* row = ln_ct + t * B;
     if (config_.rule == SelectionRule::Reddy) {  // the visible limit per orientation, in cpod
-      const float limit = std::min(reddy_cutoff(v_t[t], e), nyquist_cpd) * diameter_deg;
-      row[0] = limit;
+      row[0] = std::min(reddy_cutoff(v_t[t], e), nyquist_cpd) * diameter_deg;
       continue;
     }
     if (config_.model == ThresholdModel::Default) {
-      const VelocityTerms own = moving ? velocity_terms(v_t[t], dc)
-                                       : VelocityTerms{static_terms_[0], static_terms_[1], static_terms_[2], static_terms_[3]};
-      const bool enveloped = moving && v_t[t] < envelope_->largest;
+      const VelocityTerms own = moving ? pre.terms_at(v_t[t]) : pre.static_terms;
+      const bool enveloped = moving && v_t[t] < pre_->largest;
       for (std::uint32_t b = 0; b < B; ++b) {
-        const float f = p.bands[b] * inv_diam;
-        const float ln_f = pc.ln_band[b] - ln_diam;
-        VelocityTerms vt = own;
-        if (enveloped) {
-          const float slowest = envelope_->speed_at(ln_f);
-          if (slowest > v_t[t]) vt = velocity_terms(slowest, dc);
-        }
-        const float above = -vt.a_term - 2.0f * (dc.ln_2pi_c1 + ln_f) + (vt.b + a) * f;
-        const float below = -vt.ln_s_peak + a * f;
-        row[b] = f > nyquist_cpd ? kInf : (f >= vt.peak ? above : below);
+        const int j = enveloped ? pre.envelope_index(pc.ln_band[b] - ln_diam) : 0;
+        row[b] = default_ln_ct(enveloped && pre.upper[j] > v_t[t] ? pre.upper_terms[j] : own, b, a);
       }
     } else {
       for (std::uint32_t b = 0; b < B; ++b) {
@@ -429,53 +506,67 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
       }
     }
   }
+  const std::uint32_t stride = rows == 1 ? 0 : B;  // a static object's one row serves every orientation
 
-  // Scores in the log domain: ln(score_k q) = max over (t, b) of ln lost - ln CT.
-  const float ln_q = std::log(bias);
-  const float ln_q_coarse = ln_q + std::log(std::max(1e-6f, 1.0f - config_.hysteresis_margin));
+  // ln(score_k q) = max over (t, b) of ln lost - ln CT. Levels are scanned from the coarsest; without
+  // scores or explain, the scan stops at the first level that passes even the hysteresis margin.
   const std::size_t TB = std::size_t(T) * B;
-  for (std::uint32_t k = 1; k < K; ++k) {
+  // Reddy: a finer level's smallest feature F is visible when it lies at or below the limit, so
+  // level k's score is the largest limit / F over the levels j < k and every orientation.
+  float reddy_prefix[kMaxLevels] = {};
+  if (config_.rule == SelectionRule::Reddy)
+    for (std::uint32_t j = 0; j + 1 < K; ++j) {
+      float worst = reddy_prefix[j];
+      for (std::uint32_t t = 0; t < T; ++t) {
+        const float F = p.feature_frequency(j, view, t);
+        if (F > 0) worst = std::max(worst, ln_ct[t * stride] / F);
+      }
+      reddy_prefix[j + 1] = worst;
+    }
+  bool fine_found = false;
+  for (std::uint32_t k = K - 1; k >= 1; --k) {
     float m = -kInf;
-    std::uint32_t arg = 0;
     if (config_.rule == SelectionRule::Reddy) {
-      // Visible when a finer level's smallest feature lies at or below the limit: score = limit / F.
-      for (std::uint32_t j = 0; j < k; ++j)
-        for (std::uint32_t t = 0; t < T; ++t) {
-          const float F = p.feature_frequency(j, view, t);
-          const float x = F > 0 ? std::log(ln_ct[t * B] / F) : -kInf;
-          if (x > m) { m = x; arg = t * B; }
-        }
-      m += ln_q;  // Reddy has no contrast: q scales the limit ratio alike
+      m = reddy_prefix[k] > 0 ? std::log(reddy_prefix[k]) : -kInf;
     } else {
-      const std::size_t stride = TB;
-      const float* lost0 = &pc.ln_lost[((k - 1) * std::size_t(V) + view) * stride];
-      if (config_.view_blend == ViewBlend::Max3) {
-        const float* l1 = &pc.ln_lost[((k - 1) * std::size_t(V) + cand[1]) * stride];
-        const float* l2 = &pc.ln_lost[((k - 1) * std::size_t(V) + cand[2]) * stride];
-        const float* l0 = &pc.ln_lost[((k - 1) * std::size_t(V) + cand[0]) * stride];
-        for (std::size_t i = 0; i < TB; ++i) {
-          const float x = std::max(std::max(l0[i], l1[i]), l2[i]) - ln_ct[i];
-          if (x > m) { m = x; arg = static_cast<std::uint32_t>(i); }
-        }
-      } else {
-        for (std::size_t i = 0; i < TB; ++i) {
-          const float x = lost0[i] - ln_ct[i];
-          if (x > m) { m = x; arg = static_cast<std::uint32_t>(i); }
-        }
+      // A static object's thresholds do not depend on orientation: its per-band maxima suffice.
+      const std::vector<float>& lost = stride ? pc.ln_lost : pc.ln_lost_any;
+      const std::uint32_t t_count = stride ? T : 1;
+      const std::size_t per_view = std::size_t(t_count) * B;
+      const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
+      for (std::uint32_t j = 0; j < blended; ++j) {
+        const std::uint32_t w = blended == 1 ? view : cand[j];
+        m = std::max(m, max_excess(&lost[((k - 1) * std::size_t(V) + w) * per_view], ln_ct, t_count, B, stride));
       }
     }
-    const float ln_score = m - ln_q;  // ln of lost / (q CT)
-    if (ln_score <= 0.0f) out.fine = static_cast<std::uint8_t>(k);
-    if (m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
-    if (scores_out) scores_out[k] = std::exp(ln_score);
+    if (!fine_found && m <= ln_q) { out.fine = static_cast<std::uint8_t>(k); fine_found = true; }
+    if (out.coarse == 0 && m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
+    if (scores_out) scores_out[k] = std::exp(m - ln_q);
     if (ex) {
       LevelExplain& le = ex->levels[k];
-      le.score = std::exp(ln_score);
+      le.score = std::exp(m - ln_q);
+      std::uint32_t arg = 0;  // the limiting component, found again (explain is not the hot path)
+      if (config_.rule == SelectionRule::Reddy) {
+        float best_ratio = -kInf;
+        for (std::uint32_t j = 0; j < k; ++j)
+          for (std::uint32_t t = 0; t < T; ++t) {
+            const float F = p.feature_frequency(j, view, t);
+            if (F > 0 && ln_ct[t * stride] / F > best_ratio) { best_ratio = ln_ct[t * stride] / F; arg = t * B; }
+          }
+      } else {
+        const float* lost = &pc.ln_lost[((k - 1) * std::size_t(V) + view) * TB];
+        float best_x = -kInf;
+        for (std::uint32_t i = 0; i < T * B; ++i) {
+          const float x = lost[i] - ln_ct[(i / B) * stride + i % B];
+          if (x > best_x) { best_x = x; arg = i; }
+        }
+      }
       le.orientation = static_cast<std::uint8_t>(arg / B);
       le.band = static_cast<std::uint8_t>(arg % B);
       le.frequency_cpd = p.bands[le.band] * inv_diam;
-      le.threshold = config_.rule == SelectionRule::Reddy ? 0.0f : std::exp(std::min(ln_ct[arg], 80.0f));
+      le.threshold = config_.rule == SelectionRule::Reddy ? 0.0f : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
     }
+    if (out.coarse != 0 && !all_levels) break;
   }
   if (ex) {
     ex->distance_m = d;

@@ -105,7 +105,26 @@ std::uint64_t profile_checksum(const void* data, std::size_t size);
 
 // The view lookup's cube map: the cell a unit direction falls in, and a cell's centre direction
 // (unit). Cells are numbered face * R * R + row * R + column; faces +X -X +Y -Y +Z -Z.
-std::uint32_t cube_cell(const float direction[3], std::uint32_t resolution);
+inline std::uint32_t cube_cell(const float direction[3], std::uint32_t resolution);
 void cube_cell_center(std::uint32_t cell, std::uint32_t resolution, float direction[3]);
+
+// ---- inline definitions ----
+inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
+  const float ax = d[0] < 0 ? -d[0] : d[0], ay = d[1] < 0 ? -d[1] : d[1], az = d[2] < 0 ? -d[2] : d[2];
+  std::uint32_t face;
+  float u, v, major;
+  if (ax >= ay && ax >= az) { face = d[0] >= 0 ? 0 : 1; major = ax; u = d[1]; v = d[2]; }
+  else if (ay >= az)        { face = d[1] >= 0 ? 2 : 3; major = ay; u = d[2]; v = d[0]; }
+  else                      { face = d[2] >= 0 ? 4 : 5; major = az; u = d[0]; v = d[1]; }
+  if (!(major > 0)) return 0;  // zero or NaN direction
+  const float scale = 0.5f * static_cast<float>(r) / major;  // [-major, major] -> [0, r]
+  const float half = 0.5f * static_cast<float>(r);
+  const float fr = static_cast<float>(r);
+  auto index = [&](float t) {
+    const float x = t * scale + half;
+    return x <= 0 ? 0u : (x >= fr ? r - 1 : static_cast<std::uint32_t>(x));
+  };
+  return face * r * r + index(v) * r + index(u);
+}
 
 }  // namespace acuity

@@ -182,7 +182,7 @@ class Scheduler {
  private:
   struct ProfileCache;
   struct EyeCache;
-  struct Envelope;
+  struct Precomputed;
   struct Choice { std::uint8_t fine, coarse, flags; };  // coarsest level at score <= 1 and <= 1 - margin
   Choice evaluate(ObjectId id, const EyeCache& eye, float* scores, ObjectExplain* explain) const;
   void select(ObjectId id);
@@ -204,9 +204,8 @@ class Scheduler {
   std::vector<std::uint32_t> free_list_;
   std::vector<std::uint32_t> heap_;        // budget pass
   // Frame state.
-  std::unique_ptr<Envelope> envelope_;
+  std::unique_ptr<Precomputed> pre_;      // model constants and the velocity envelope
   std::vector<EyeCache> eyes_;
-  float static_terms_[4] = {};             // Default-model velocity terms at the drift floor
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
   bool saccade_ = false;

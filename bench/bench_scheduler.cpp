@@ -1,0 +1,159 @@
+// Scheduler::update throughput for 1k .. 1M objects sharing 100 profiles (6 levels, 8 orientations,
+// 8 bands), beside the plain loops an engine would write for distance LOD and screen-size LOD, in
+// the same run. Single thread. Run:
+//   build/bench/bench_scheduler --benchmark_min_time=0.5
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "acuity/scheduler.hpp"
+#include "acuity/spectra/profile_writer.hpp"
+
+using namespace acuity;
+
+namespace {
+
+constexpr int kProfiles = 100, kLevels = 6, kOrientations = 8, kBands = 8;
+
+struct Library {
+  std::vector<Blob> blobs;
+  std::vector<Profile> profiles;
+  Library() {
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(0, 1);
+    for (int i = 0; i < kProfiles; ++i) {
+      spectra::ProfileData d;
+      d.sphere[3] = 0.5f + u(rng);
+      for (int k = 0; k < kLevels; ++k) d.levels.push_back({20000u >> k, 0.002f * float((1 << k) - 1)});
+      const float axes[14][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
+                                 {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
+                                 {-1, -1, 1}, {-1, -1, -1}};
+      for (const auto& a : axes) d.views.push_back(spectra::make_view(a[0], a[1], a[2]));
+      for (int t = 0; t < kOrientations; ++t) d.orientations.push_back(180.0f * float(t) / kOrientations);
+      for (int b = 0; b < kBands; ++b) d.bands.push_back(2.0f * std::pow(2.0f, float(b)));
+      for (int k = 1; k < kLevels; ++k)
+        for (int v = 0; v < 14; ++v)
+          for (int t = 0; t < kOrientations; ++t)
+            for (int b = 0; b < kBands; ++b)
+              d.lost.push_back(0.25f * u(rng) / (1.0f + std::exp(-2.0f * (float(b) - float(kBands) + 1.3f * float(k)))));
+      for (int k = 0; k < kLevels; ++k)
+        for (int v = 0; v < 14 * kOrientations; ++v) d.features.push_back(256.0f / float(1 << k));
+      blobs.push_back(spectra::encode_profile(d));
+      Profile p;
+      open_profile(blobs.back().data(), blobs.back().size, &p);
+      profiles.push_back(p);
+    }
+  }
+};
+
+const Library& library() {
+  static const Library lib;
+  return lib;
+}
+
+// A field of objects 2..200 m ahead, the gaze sweeping; `moving` of them with velocities.
+struct Scene {
+  std::unique_ptr<Scheduler> scheduler;
+  Frame frame;
+  std::vector<double> x, y, z;      // for the baseline loops
+  std::vector<int> profile_of;
+  Scene(std::uint32_t n, SelectionRule rule, float moving) {
+    SchedulerConfig c;
+    c.max_objects = n;
+    c.max_profiles = kProfiles;
+    c.rule = rule;
+    scheduler = std::make_unique<Scheduler>(c);
+    for (const Profile& p : library().profiles) scheduler->add_profile(p);
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> u(0, 1);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      ObjectTransform t;
+      t.position[0] = (u(rng) - 0.5) * 200;
+      t.position[1] = (u(rng) - 0.5) * 20;
+      t.position[2] = -2 - u(rng) * 200;
+      float q[4] = {u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f};
+      const float len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+      for (int k = 0; k < 4; ++k) t.rotation[k] = q[k] / len;
+      const int p = static_cast<int>(i % kProfiles);
+      const ObjectId id = scheduler->add_object(p, t);
+      const float v[3] = {u(rng) < moving ? (u(rng) - 0.5f) * 20 : 0.0f, 0, 0};
+      scheduler->set_velocity(id, v);
+      x.push_back(t.position[0]); y.push_back(t.position[1]); z.push_back(t.position[2]);
+      profile_of.push_back(p);
+    }
+    frame.gaze[0].valid = true;
+    frame.gaze[0].direction[0] = 0.2f;
+    frame.gaze[0].direction[2] = -0.98f;
+    frame.dt = 1.0f / 90;
+  }
+};
+
+void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving);
+  for (auto _ : state) {
+    scene.scheduler->run_frame(scene.frame);
+    benchmark::DoNotOptimize(scene.scheduler->stats().triangles);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+// What an engine's distance LOD is: per object a distance and a threshold table.
+void BM_distance_loop(benchmark::State& state) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), SelectionRule::Distance, 0);
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::vector<std::uint8_t> level(n);
+  float thresholds[kProfiles][kLevels];
+  for (int p = 0; p < kProfiles; ++p)
+    for (int k = 0; k < kLevels; ++k) thresholds[p][k] = 10.0f * float(k);
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const float d = static_cast<float>(std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
+      std::uint8_t l = 0;
+      for (int k = 1; k < kLevels; ++k) l = d >= thresholds[scene.profile_of[i]][k] ? std::uint8_t(k) : l;
+      level[i] = l;
+    }
+    benchmark::DoNotOptimize(level.data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+// Unity-style screen-relative height: projected diameter / viewport height against a table.
+void BM_screen_size_loop(benchmark::State& state) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), SelectionRule::ScreenSize, 0);
+  const auto n = static_cast<std::size_t>(state.range(0));
+  std::vector<std::uint8_t> level(n);
+  float thresholds[kProfiles][kLevels];
+  for (int p = 0; p < kProfiles; ++p)
+    for (int k = 0; k < kLevels; ++k) thresholds[p][k] = 0.5f / float(1 << k);
+  const float radius = 1.0f, half_tan = 1.0f;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const float d = static_cast<float>(std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
+      const float height = radius / (d * half_tan);
+      std::uint8_t l = 0;
+      for (int k = 1; k < kLevels; ++k) l = height <= thresholds[scene.profile_of[i]][k] ? std::uint8_t(k) : l;
+      level[i] = l;
+    }
+    benchmark::DoNotOptimize(level.data());
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int n : {1000, 10000, 100000, 1000000}) b->Arg(n);
+  b->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace
+
+BENCHMARK(BM_distance_loop)->Apply(sizes);
+BENCHMARK(BM_screen_size_loop)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, reddy_static, SelectionRule::Reddy, 0.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, distance_rule, SelectionRule::Distance, 0.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, screen_size_rule, SelectionRule::ScreenSize, 0.0f)->Apply(sizes);
+BENCHMARK_MAIN();
