@@ -8,4 +8,6 @@ PYBIND11_MODULE(_acuity, m) {
   m.doc() = "acuity native module; import the package `acuity` instead.";
   m.attr("__version__") = ACUITY_VERSION_STRING;
   acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
+  acuity::python::bind_scheduler(m);
+  acuity::python::bind_spectra(m.def_submodule("spectra", "Profiles, snapshots and analysis (see acuity.spectra)"));
 }

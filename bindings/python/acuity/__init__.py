@@ -1,7 +1,9 @@
 """acuity: draw only the geometric detail a viewer can see.
 
+Top level: Profile, Scheduler, SchedulerConfig, Eye, Gaze, Frame (the runtime).
 Submodules:
-    acuity.models  vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
+    acuity.models   vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
+    acuity.spectra  building and writing profiles
 
 Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3).
 """
@@ -11,6 +13,13 @@ from . import _acuity
 
 __version__ = _acuity.__version__
 models = _acuity.models
-_sys.modules[__name__ + ".models"] = models
+spectra = _acuity.spectra
+for _name in ("models", "spectra"):
+    _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
-__all__ = ["models", "__version__"]
+from ._acuity import (Eye, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
+                      ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
+                      FLAG_INVALID_INPUT, FLAG_NO_GAZE)
+
+__all__ = ["models", "spectra", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+           "SelectionRule", "ViewBlend", "__version__"]

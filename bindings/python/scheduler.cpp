@@ -1,0 +1,308 @@
+// acuity.Profile, acuity.Scheduler and the frame structs, with numpy batch arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "acuity/file.hpp"
+#include "acuity/profile.hpp"
+#include "acuity/scheduler.hpp"
+#include "bindings.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace acuity::python {
+namespace {
+
+// A profile that owns its bytes (a Profile only points into them).
+struct OwnedProfile {
+  Blob blob;
+  Profile view{};
+};
+
+std::shared_ptr<OwnedProfile> open_owned(Blob blob, const std::string& where) {
+  auto p = std::make_shared<OwnedProfile>();
+  p->blob = std::move(blob);
+  ProfileError error;
+  if (open_profile(p->blob.data(), p->blob.size, &p->view, &error) != ProfileStatus::Ok)
+    throw py::value_error(where + ": " + to_string(error.status) + ": " + error.message);
+  return p;
+}
+
+std::shared_ptr<OwnedProfile> profile_from_bytes(const py::bytes& bytes) {
+  const std::string s = bytes;
+  Blob blob;
+  blob.size = s.size();
+  blob.storage.assign((s.size() + 7) / 8, 0);
+  std::memcpy(blob.storage.data(), s.data(), s.size());
+  return open_owned(std::move(blob), "profile bytes");
+}
+
+std::shared_ptr<OwnedProfile> profile_from_file(const std::string& path) {
+  Blob blob;
+  std::string error;
+  if (!read_file(path, &blob, &error)) throw py::value_error(error);
+  return open_owned(std::move(blob), path);
+}
+
+template <std::size_t N, class T> void set_array(T (&dst)[N], const std::array<T, N>& src) {
+  for (std::size_t i = 0; i < N; ++i) dst[i] = src[i];
+}
+template <std::size_t N, class T> std::array<T, N> get_array(const T (&src)[N]) {
+  std::array<T, N> out;
+  for (std::size_t i = 0; i < N; ++i) out[i] = src[i];
+  return out;
+}
+
+#define ACUITY_ARRAY_PROPERTY(Class, field, T, N, doc)                                            \
+  def_property(#field, [](const Class& c) { return get_array<N, T>(c.field); },                   \
+               [](Class& c, const std::array<T, N>& v) { set_array<N, T>(c.field, v); }, doc)
+
+using F64 = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
+
+void require_rows(const py::array& a, py::ssize_t n, py::ssize_t cols, const char* name) {
+  const bool ok = cols == 0 ? (a.ndim() == 1 && a.shape(0) == n) : (a.ndim() == 2 && a.shape(0) == n && a.shape(1) == cols);
+  if (!ok)
+    throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) +
+                          (cols ? ", " + std::to_string(cols) : std::string()) + ")");
+}
+
+// Holds the profiles it was given so their bytes outlive the scheduler.
+struct PyScheduler {
+  Scheduler scheduler;
+  std::vector<std::shared_ptr<OwnedProfile>> profiles;
+  explicit PyScheduler(const SchedulerConfig& c) : scheduler(c) {}
+
+  py::array_t<std::uint32_t> add_objects(U32 profile, F64 position, F32 rotation, F32 scale) {
+    const py::ssize_t n = profile.shape(0);
+    require_rows(profile, n, 0, "profile");
+    require_rows(position, n, 3, "position");
+    require_rows(rotation, n, 4, "rotation");
+    require_rows(scale, n, 0, "scale");
+    py::array_t<std::uint32_t> ids(n);
+    auto out = ids.mutable_unchecked<1>();
+    auto pr = profile.unchecked<1>();
+    auto po = position.unchecked<2>();
+    auto ro = rotation.unchecked<2>();
+    auto sc = scale.unchecked<1>();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      ObjectTransform t;
+      for (int k = 0; k < 3; ++k) t.position[k] = po(i, k);
+      for (int k = 0; k < 4; ++k) t.rotation[k] = ro(i, k);
+      t.scale = sc(i);
+      out(i) = scheduler.add_object(static_cast<int>(pr(i)), t);
+      if (out(i) == kInvalidObject) throw py::value_error("add_objects: full, or a bad profile index at row " + std::to_string(i));
+    }
+    return ids;
+  }
+
+  void set_transforms(U32 ids, F64 position, F32 rotation, F32 scale) {
+    const py::ssize_t n = ids.shape(0);
+    require_rows(position, n, 3, "position");
+    require_rows(rotation, n, 4, "rotation");
+    require_rows(scale, n, 0, "scale");
+    auto id = ids.unchecked<1>();
+    auto po = position.unchecked<2>();
+    auto ro = rotation.unchecked<2>();
+    auto sc = scale.unchecked<1>();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      ObjectTransform t;
+      for (int k = 0; k < 3; ++k) t.position[k] = po(i, k);
+      for (int k = 0; k < 4; ++k) t.rotation[k] = ro(i, k);
+      t.scale = sc(i);
+      scheduler.set_transform(id(i), t);
+    }
+  }
+
+  void set_velocities(U32 ids, F32 velocity) {
+    require_rows(velocity, ids.shape(0), 3, "velocity");
+    auto id = ids.unchecked<1>();
+    auto v = velocity.unchecked<2>();
+    for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
+      const float w[3] = {v(i, 0), v(i, 1), v(i, 2)};
+      scheduler.set_velocity(id(i), w);
+    }
+  }
+
+  template <class Get> py::array_t<std::uint8_t> per_object(U32 ids, Get get) const {
+    py::array_t<std::uint8_t> out(ids.shape(0));
+    auto o = out.mutable_unchecked<1>();
+    auto id = ids.unchecked<1>();
+    for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
+      if (!scheduler.alive(id(i))) throw py::index_error("object " + std::to_string(id(i)) + " does not exist");
+      o(i) = get(id(i));
+    }
+    return out;
+  }
+};
+
+py::dict explain_dict(const ObjectExplain& e) {
+  py::list levels;
+  for (int k = 0; k < e.level_count; ++k) {
+    const LevelExplain& l = e.levels[k];
+    levels.append(py::dict("score"_a = l.score, "band"_a = l.band, "orientation"_a = l.orientation,
+                           "frequency_cpd"_a = l.frequency_cpd, "threshold"_a = l.threshold));
+  }
+  return py::dict("level"_a = e.level, "distance_m"_a = e.distance_m, "angular_diameter_deg"_a = e.angular_diameter_deg,
+                  "eccentricity_deg"_a = e.eccentricity_deg, "image_velocity_deg_s"_a = e.image_velocity_deg_s,
+                  "retinal_velocity_deg_s"_a = e.retinal_velocity_deg_s, "view"_a = e.view, "levels"_a = levels);
+}
+
+}  // namespace
+
+void bind_scheduler(py::module_ m) {
+  py::class_<OwnedProfile, std::shared_ptr<OwnedProfile>>(m, "Profile",
+      "A validated profile (.acuity blob). Build with Profile.from_bytes or Profile.load.")
+      .def_static("from_bytes", &profile_from_bytes, "data"_a, "Validate and wrap profile bytes (ValueError when bad).")
+      .def_static("load", &profile_from_file, "path"_a, "Read and validate a .acuity file (ValueError when bad).")
+      .def_property_readonly("level_count", [](const OwnedProfile& p) { return p.view.meta.level_count; })
+      .def_property_readonly("view_count", [](const OwnedProfile& p) { return p.view.meta.view_count; })
+      .def_property_readonly("orientation_count", [](const OwnedProfile& p) { return p.view.meta.orientation_count; })
+      .def_property_readonly("band_count", [](const OwnedProfile& p) { return p.view.meta.band_count; })
+      .def_property_readonly("size_bytes", [](const OwnedProfile& p) { return p.blob.size; })
+      .def_property_readonly("sphere", [](const OwnedProfile& p) { return get_array<4, float>(p.view.meta.sphere); },
+                             "bounding sphere: centre xyz, radius [object units]")
+      .def_property_readonly("triangles", [](const OwnedProfile& p) {
+        std::vector<std::uint32_t> t;
+        for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k) t.push_back(p.view.levels[k].triangles);
+        return t;
+      })
+      .def_property_readonly("geometric_error", [](const OwnedProfile& p) {
+        std::vector<float> t;
+        for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k) t.push_back(p.view.levels[k].geometric_error);
+        return t;
+      }, "Hausdorff distance to level 0 per level [object diameters]")
+      .def_property_readonly("bands", [](const OwnedProfile& p) {
+        return std::vector<float>(p.view.bands, p.view.bands + p.view.meta.band_count);
+      }, "band centres [cycles per object diameter]")
+      .def_property_readonly("orientations", [](const OwnedProfile& p) {
+        return std::vector<float>(p.view.orientations, p.view.orientations + p.view.meta.orientation_count);
+      }, "orientations [deg]")
+      .def_property_readonly("lost", [](const OwnedProfile& p) {
+        const auto& m = p.view.meta;
+        py::array_t<float> a({py::ssize_t(m.level_count - 1), py::ssize_t(m.view_count),
+                              py::ssize_t(m.orientation_count), py::ssize_t(m.band_count)});
+        std::memcpy(a.mutable_data(), p.view.lost, a.size() * sizeof(float));
+        return a;
+      }, "lost contrast, shape (levels - 1, views, orientations, bands); index 0 is level 1")
+      .def("to_bytes", [](const OwnedProfile& p) {
+        return py::bytes(static_cast<const char*>(p.blob.data()), p.blob.size);
+      });
+
+  py::enum_<SelectionRule>(m, "SelectionRule")
+      .value("perceptual", SelectionRule::Perceptual).value("reddy", SelectionRule::Reddy)
+      .value("distance", SelectionRule::Distance).value("screen_size", SelectionRule::ScreenSize);
+  py::enum_<ViewBlend>(m, "ViewBlend").value("nearest", ViewBlend::Nearest).value("max3", ViewBlend::Max3);
+
+  py::class_<SchedulerConfig>(m, "SchedulerConfig", "Scheduler settings (see acuity/scheduler.hpp).")
+      .def(py::init<>())
+      .def_readwrite("max_objects", &SchedulerConfig::max_objects)
+      .def_readwrite("max_profiles", &SchedulerConfig::max_profiles)
+      .def_readwrite("rule", &SchedulerConfig::rule)
+      .def_readwrite("params", &SchedulerConfig::params)
+      .def_readwrite("view_blend", &SchedulerConfig::view_blend)
+      .def_readwrite("quality", &SchedulerConfig::quality)
+      .def_readwrite("fallback_level", &SchedulerConfig::fallback_level)
+      .def_readwrite("min_gaze_confidence", &SchedulerConfig::min_gaze_confidence)
+      .def_readwrite("gaze_uncertainty_deg", &SchedulerConfig::gaze_uncertainty_deg)
+      .def_readwrite("no_gaze_radius_deg", &SchedulerConfig::no_gaze_radius_deg)
+      .def_readwrite("hysteresis_margin", &SchedulerConfig::hysteresis_margin)
+      .def_readwrite("hysteresis_frames", &SchedulerConfig::hysteresis_frames)
+      .def_readwrite("saccade_speed", &SchedulerConfig::saccade_speed)
+      .def_readwrite("max_coarsen_wait", &SchedulerConfig::max_coarsen_wait)
+      .def_readwrite("transition_seconds", &SchedulerConfig::transition_seconds)
+      .def_readwrite("triangle_budget", &SchedulerConfig::triangle_budget)
+      .def_readwrite("distance_scale", &SchedulerConfig::distance_scale)
+      .def_readwrite("pixel_error", &SchedulerConfig::pixel_error)
+      .def_readwrite("keep_scores", &SchedulerConfig::keep_scores)
+      .def_property("model", [](const SchedulerConfig& c) { return std::string(to_string(c.model)); },
+                    [](SchedulerConfig& c, const std::string& name) {
+                      if (!parse_threshold_model(name.c_str(), &c.model)) throw py::value_error("unknown model '" + name + "'");
+                    }, "threshold model name: default, geisler-perry, kelly-daly, reddy");
+
+  py::class_<Eye>(m, "Eye", "One eye: world position [m], orientation quaternion xyzw (looks along -Z), FOV half-angles [deg].")
+      .def(py::init<>())
+      .ACUITY_ARRAY_PROPERTY(Eye, position, double, 3, "world [m]")
+      .ACUITY_ARRAY_PROPERTY(Eye, orientation, float, 4, "unit quaternion x y z w, eye to world")
+      .ACUITY_ARRAY_PROPERTY(Eye, fov_deg, float, 4, "left (<0), right, up, down (<0) [deg]")
+      .ACUITY_ARRAY_PROPERTY(Eye, viewport, std::uint32_t, 2, "width, height [px]")
+      .ACUITY_ARRAY_PROPERTY(Eye, velocity, float, 3, "world [m/s]")
+      .ACUITY_ARRAY_PROPERTY(Eye, angular_velocity, float, 3, "head rotation, world axis x speed [deg/s]");
+  py::class_<Gaze>(m, "Gaze", "Gaze of one eye: direction in eye space, validity, confidence, optional velocity.")
+      .def(py::init<>())
+      .ACUITY_ARRAY_PROPERTY(Gaze, direction, float, 3, "unit, eye space")
+      .ACUITY_ARRAY_PROPERTY(Gaze, angular_velocity, float, 3, "eye-in-head rotation [deg/s]")
+      .def_readwrite("confidence", &Gaze::confidence)
+      .def_readwrite("valid", &Gaze::valid)
+      .def_readwrite("has_velocity", &Gaze::has_velocity);
+  py::class_<Frame>(m, "Frame", "One frame's input: one or two eyes, their gaze, and dt [s].")
+      .def(py::init<>())
+      .def_property("eyes", [](const Frame& f) { return std::vector<Eye>(f.eyes, f.eyes + f.eye_count); },
+                    [](Frame& f, const std::vector<Eye>& eyes) {
+                      if (eyes.empty() || eyes.size() > 2) throw py::value_error("one or two eyes");
+                      for (std::size_t i = 0; i < eyes.size(); ++i) f.eyes[i] = eyes[i];
+                      f.eye_count = static_cast<std::uint32_t>(eyes.size());
+                    })
+      .def_property("gaze", [](const Frame& f) { return std::vector<Gaze>(f.gaze, f.gaze + f.eye_count); },
+                    [](Frame& f, const std::vector<Gaze>& gaze) {
+                      if (gaze.size() > 2) throw py::value_error("at most two gaze entries");
+                      for (std::size_t i = 0; i < gaze.size(); ++i) f.gaze[i] = gaze[i];
+                    })
+      .def_readwrite("dt", &Frame::dt);
+
+  py::class_<PyScheduler>(m, "Scheduler",
+      "Per-frame perceptual LOD selection. Arrays are numpy: positions (N, 3) float64 [m],\n"
+      "rotations (N, 4) quaternions xyzw, scales (N,), velocities (N, 3) [m/s].")
+      .def(py::init<const SchedulerConfig&>(), "config"_a = SchedulerConfig{})
+      .def("add_profile", [](PyScheduler& s, std::shared_ptr<OwnedProfile> p) {
+        const int index = s.scheduler.add_profile(p->view);
+        if (index < 0) throw py::value_error("add_profile: max_profiles reached");
+        s.profiles.push_back(std::move(p));
+        return index;
+      }, "profile"_a)
+      .def("add_objects", &PyScheduler::add_objects, "profile"_a, "position"_a, "rotation"_a, "scale"_a,
+           "Add N objects; returns their ids (uint32).")
+      .def("remove_objects", [](PyScheduler& s, U32 ids) {
+        auto id = ids.unchecked<1>();
+        for (py::ssize_t i = 0; i < ids.shape(0); ++i) s.scheduler.remove_object(id(i));
+      }, "ids"_a)
+      .def("set_transforms", &PyScheduler::set_transforms, "ids"_a, "position"_a, "rotation"_a, "scale"_a)
+      .def("set_velocities", &PyScheduler::set_velocities, "ids"_a, "velocity"_a)
+      .def("set_clamps", [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) { s.scheduler.set_clamps(id, lo, hi); })
+      .def("set_bias", [](PyScheduler& s, std::uint32_t id, float bias) { s.scheduler.set_bias(id, bias); })
+      .def("run_frame", [](PyScheduler& s, const Frame& f) { s.scheduler.run_frame(f); }, "frame"_a,
+           "begin_frame, update every object, end_frame.")
+      .def("levels", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); }); }, "ids"_a)
+      .def("flags", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.flags(i); }); }, "ids"_a)
+      .def("scores", [](const PyScheduler& s, std::uint32_t id) -> py::object {
+        const float* sc = s.scheduler.scores(id);
+        if (!sc) return py::none();
+        return py::array_t<float>(kMaxLevels, sc);
+      }, "id"_a, "Every level's score this frame (config.keep_scores), else None.")
+      .def("explain", [](const PyScheduler& s, std::uint32_t id) -> py::object {
+        ObjectExplain e;
+        if (!s.scheduler.explain(id, &e)) return py::none();
+        return explain_dict(e);
+      }, "id"_a)
+      .def_property_readonly("stats", [](const PyScheduler& s) {
+        const FrameStats& st = s.scheduler.stats();
+        return py::dict("triangles"_a = st.triangles, "changed"_a = st.changed, "budget_forced"_a = st.budget_forced,
+                        "invalid"_a = st.invalid, "gaze_used"_a = st.gaze_used);
+      });
+
+  m.attr("FLAG_INVALID_INPUT") = int(kFlagInvalidInput);
+  m.attr("FLAG_EYE_INSIDE") = int(kFlagEyeInside);
+  m.attr("FLAG_NO_GAZE") = int(kFlagNoGaze);
+  m.attr("FLAG_BUDGET_FORCED") = int(kFlagBudgetForced);
+  m.attr("FLAG_CHANGED") = int(kFlagChanged);
+  m.attr("FLAG_HELD") = int(kFlagHeld);
+}
+
+}  // namespace acuity::python

@@ -1,0 +1,79 @@
+"""acuity.Scheduler and profiles from Python, numpy in and out."""
+import numpy as np
+import pytest
+
+import acuity
+
+
+def make_profile(levels=5, orientations=8, bands=8):
+    dirs = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float32)
+    band = 2.0 * 2.0 ** np.arange(bands, dtype=np.float32)
+    k = np.arange(1, levels, dtype=np.float32)[:, None, None, None]
+    b = np.arange(bands, dtype=np.float32)[None, None, None, :]
+    lost = 0.2 / (1 + np.exp(-2 * (b - bands + 1.3 * k))) * np.ones((1, len(dirs), orientations, 1), np.float32)
+    features = np.ones((levels, len(dirs), orientations), np.float32) * (256.0 / 2.0 ** np.arange(levels))[:, None, None]
+    return acuity.spectra.encode_profile(
+        sphere=[0, 0, 0, 1], triangles=[10000 >> i for i in range(levels)],
+        geometric_error=[0.002 * (2 ** i - 1) for i in range(levels)], view_directions=dirs,
+        orientations=np.arange(orientations) * 180.0 / orientations, bands=band, lost=lost, features=features)
+
+
+def frame_looking_forward():
+    f = acuity.Frame()
+    g = acuity.Gaze()
+    g.valid = True
+    f.eyes = [acuity.Eye()]
+    f.gaze = [g]
+    f.dt = 1 / 90
+    return f
+
+
+def test_profile_round_trip(tmp_path):
+    data = make_profile()
+    p = acuity.Profile.from_bytes(data)
+    assert (p.level_count, p.view_count, p.orientation_count, p.band_count) == (5, 6, 8, 8)
+    assert p.lost.shape == (4, 6, 8, 8)
+    assert p.triangles == [10000, 5000, 2500, 1250, 625]
+    path = tmp_path / "a.acuity"
+    path.write_bytes(p.to_bytes())
+    assert acuity.Profile.load(str(path)).to_bytes() == data
+    with pytest.raises(ValueError, match="checksum|too small|magic"):
+        acuity.Profile.from_bytes(data[:-9] + b"\x00" * 9)
+    with pytest.raises(ValueError, match="no-such"):
+        acuity.Profile.load(str(tmp_path / "no-such.acuity"))
+
+
+def test_levels_coarsen_with_distance():
+    config = acuity.SchedulerConfig()
+    config.max_objects = 64
+    s = acuity.Scheduler(config)
+    pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+    z = -np.geomspace(2, 2000, 40)
+    pos = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
+    rot = np.tile([0, 0, 0, 1], (40, 1)).astype(np.float32)
+    ids = s.add_objects(np.full(40, pid), pos, rot, np.ones(40))
+    s.run_frame(frame_looking_forward())
+    levels = s.levels(ids)
+    assert levels.dtype == np.uint8 and levels.shape == (40,)
+    assert np.all(np.diff(levels.astype(int)) >= 0)
+    assert levels[0] < levels[-1] == 4
+    assert s.stats["triangles"] == sum(10000 >> int(l) for l in levels)
+    e = s.explain(int(ids[10]))
+    assert e["level"] == levels[10]
+    assert e["distance_m"] == pytest.approx(-z[10], rel=1e-5)
+    assert len(e["levels"]) == 5
+
+
+def test_bad_input_is_flagged_not_fatal():
+    s = acuity.Scheduler()
+    pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+    ids = s.add_objects([pid, pid], [[0, 0, -10], [np.nan, 0, -10]], [[0, 0, 0, 1]] * 2, [1, 1])
+    s.run_frame(frame_looking_forward())
+    flags = s.flags(ids)
+    assert not flags[0] & acuity.FLAG_INVALID_INPUT
+    assert flags[1] & acuity.FLAG_INVALID_INPUT
+    assert s.levels(ids)[1] == 0
+    with pytest.raises(ValueError, match="position"):
+        s.add_objects([pid], [[0, 0]], [[0, 0, 0, 1]], [1])
+    with pytest.raises(IndexError):
+        s.levels([9999])
