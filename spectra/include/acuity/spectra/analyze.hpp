@@ -1,0 +1,72 @@
+#pragma once
+// acuity/spectra/analyze.hpp — what a coarser level loses, per orientation and frequency band.
+//
+// Lost contrast (Peli 1990, vision-models.md section 7): for band b and orientation t,
+//   c(x) = |(D * G_bt)(x)| / max((R * L_b)(x), mean_floor),   D = level - reference,
+// G_bt a one-sided (analytic) filter: a cos window one band wide in log2 frequency times a cos
+// window one orientation step wide in angle, gain 2 so a grating of amplitude A reads A; L_b the
+// low-pass of everything below band b. The profile keeps max_x c(x). Frequencies are in cycles
+// per image = cycles per object diameter (the snapshot frames the diameter). Windows of
+// neighbouring bands (orientations) overlap by half: a grating at a band centre reads its full
+// contrast there and exactly 0 one band spacing away; between two centres each reads 0.71 of it.
+// Orientation t is the angle of the frequency vector from image +x (right) towards +y (up), in
+// [0, 180). Images wrap around in the FFT: the object sits inside the frame with background at the
+// edges, which keeps the wrap harmless (a documented limitation for objects touching the frame).
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "acuity/spectra/render.hpp"
+
+namespace acuity::spectra {
+
+struct AnalysisSettings {
+  std::uint32_t orientations = 8;  // over [0, 180)
+  float lowest_band = 2.0f;        // centre of the lowest band [cycles per diameter]
+  float bands_per_octave = 1.0f;   // 1: octave bands; 2: half-octave
+  std::uint32_t bands = 0;         // 0: every band whose centre is at most pixels / 4
+  float mean_floor = 0.02f;        // floor of the local mean luminance (black backgrounds)
+};
+
+// Band centres [cycles per diameter] for snapshots of `pixels` across.
+std::vector<float> band_centres(std::uint32_t pixels, const AnalysisSettings& settings);
+// Orientations [deg].
+std::vector<float> orientation_angles(const AnalysisSettings& settings);
+
+class LostContrast {
+ public:
+  LostContrast(std::uint32_t pixels, const AnalysisSettings& settings);
+  ~LostContrast();
+  LostContrast(const LostContrast&) = delete;
+  LostContrast& operator=(const LostContrast&) = delete;
+
+  std::uint32_t band_count() const { return static_cast<std::uint32_t>(bands_.size()); }
+  std::uint32_t orientation_count() const { return settings_.orientations; }
+  const std::vector<float>& bands() const { return bands_; }
+
+  // The reference's spectrum and per-band local means, computed once per view.
+  struct Reference;
+  std::shared_ptr<const Reference> prepare(const Image& reference) const;
+  // out[t * B + b] = max over the image of the lost contrast. Thread-safe. Images must be
+  // pixels x pixels.
+  void measure(const Image& level, const Reference& reference, float* out) const;
+  // The same in one call.
+  std::vector<float> measure(const Image& level, const Image& reference) const;
+
+ private:
+  struct Plans;
+  std::uint32_t n_;
+  AnalysisSettings settings_;
+  std::vector<float> bands_;
+  std::vector<std::uint32_t> crop_;  // per band: the size of the cropped inverse FFT
+  std::unique_ptr<Plans> plans_;
+};
+
+// Reddy (section 5.2): per orientation t, the fundamental frequency of the smallest feature,
+// 1 / (2 x its cross-sectional length), in cycles per diameter (image width = diameter). A feature
+// is a run between two luminance edges (steps above edge_step, located at sub-pixel precision at
+// the midpoint of the ramp) along lines at angle t; runs touching the image border and runs under
+// 1.5 px (edge ramps) are not features. 0 when an orientation has none.
+std::vector<float> reddy_features(const Image& image, const AnalysisSettings& settings, float edge_step = 0.04f);
+
+}  // namespace acuity::spectra
