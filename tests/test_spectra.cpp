@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 #include "acuity/spectra/analyze.hpp"
@@ -150,4 +151,92 @@ TEST(Renderer, DeterministicAndSphereSilhouette) {
   EXPECT_GT(outside, 10000);
   // Headlight Lambert: the centre faces the camera, so it is the albedo's luminance.
   EXPECT_NEAR(a.at(N / 2, N / 2), 0.8f, 0.01f);
+}
+
+// ---- Profile building ----------------------------------------------------------------------------
+
+namespace {
+// A sphere chain, or a bumpy "statue" whose detail depends on the direction.
+std::vector<acuity::testing::TestMesh> chain(bool bumpy) {
+  std::vector<acuity::testing::TestMesh> out;
+  for (int s : {5, 3, 2, 1}) {
+    auto m = acuity::testing::icosphere(s);
+    if (bumpy) {
+      for (std::size_t i = 0; i < m.positions.size(); i += 3) {
+        const float x = m.positions[i], y = m.positions[i + 1], z = m.positions[i + 2];
+        const float r = 1.0f + 0.25f * std::max(0.0f, x) * std::sin(9 * y) * std::cos(7 * z);
+        for (int k = 0; k < 3; ++k) m.positions[i + k] *= r;
+      }
+      m.normals.clear();  // flat shading shows the facets
+    }
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+std::vector<LevelInput> inputs(const std::vector<acuity::testing::TestMesh>& meshes) {
+  std::vector<LevelInput> levels;
+  for (const auto& m : meshes) levels.push_back({m.view(), 0, 0.0f});
+  return levels;
+}
+ProfileSettings small_settings() {
+  ProfileSettings s;
+  s.render.pixels = 128;
+  s.render.supersample = 2;
+  return s;
+}
+}  // namespace
+
+TEST(ProfileBuilder, ASphereNeedsFewViewsAStatueMore) {
+  const auto sphere = chain(false), statue = chain(true);
+  ProfileReport rs, rt;
+  const ProfileData ps = build_profile(inputs(sphere), Material{}, small_settings(), {}, &rs);
+  const ProfileData pt = build_profile(inputs(statue), Material{}, small_settings(), {}, &rt);
+  EXPECT_LE(rs.views_kept, 3u) << "sphere measured " << rs.views_measured;
+  std::printf("sphere: %u of %u views kept; statue: %u of %u\n", rs.views_kept, rs.views_measured, rt.views_kept, rt.views_measured);
+  EXPECT_GT(rt.views_kept, rs.views_kept) << "statue measured " << rt.views_measured;
+  EXPECT_LE(rs.prediction_error, 0.25f);
+  EXPECT_LE(rt.prediction_error, 0.25f + 1e-6f);
+  EXPECT_EQ(ps.views.size(), rs.views_kept);
+  // The blob is valid and as small as the object allows.
+  const Blob bs = encode_profile(ps), bt = encode_profile(pt);
+  Profile p;
+  ASSERT_EQ(open_profile(bs.data(), bs.size, &p), ProfileStatus::Ok);
+  EXPECT_EQ(p.meta.level_count, 4u);
+  EXPECT_EQ(p.levels[0].triangles, sphere[0].indices.size() / 3);
+  EXPECT_LT(bs.size, bt.size);
+}
+
+TEST(ProfileBuilder, StoredValuesAreTheDirectMeasurementAndThreadsDoNotMatter) {
+  const auto statue = chain(true);
+  ProfileSettings s = small_settings();
+  s.views = 6;
+  s.jobs = 1;
+  const ProfileData one = build_profile(inputs(statue), Material{}, s);
+  s.jobs = 2;
+  std::size_t calls = 0;
+  const ProfileData two = build_profile(inputs(statue), Material{}, s, [&](const char*, std::size_t done, std::size_t total) {
+    ++calls;
+    EXPECT_LE(done, total);
+  });
+  EXPECT_EQ(calls, 6u);
+  const Blob a = encode_profile(one), b = encode_profile(two);
+  ASSERT_EQ(a.size, b.size);
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size), 0);
+  const ProfileMeasurer measurer(inputs(statue), Material{}, s);
+  const ViewMeasurement m = measurer.measure(one.views[3]);
+  const std::size_t T = one.orientations.size(), B = one.bands.size();
+  for (std::size_t k = 1; k < 4; ++k)
+    for (std::size_t i = 0; i < T * B; ++i) EXPECT_EQ(one.lost[((k - 1) * 6 + 3) * T * B + i], m.lost[(k - 1) * T * B + i]);
+}
+
+TEST(ProfileBuilder, BadChains) {
+  EXPECT_THROW(build_profile({}, Material{}, small_settings()), std::invalid_argument);
+  const float nan_points[9] = {NAN, 0, 0, NAN, 1, 0, NAN, 0, 1};
+  const std::uint32_t tri[3] = {0, 1, 2};
+  LevelInput bad;
+  bad.mesh.positions = nan_points;
+  bad.mesh.vertex_count = 3;
+  bad.mesh.indices = tri;
+  bad.mesh.index_count = 3;
+  EXPECT_THROW(build_profile({bad}, Material{}, small_settings()), std::invalid_argument);
 }
