@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     throw CLI::Success();
   }, "Print the version and the libraries it was built with");
   acuity::tools::add_models_report(app);
+  acuity::tools::add_profile_command(app);
+  acuity::tools::add_inspect_command(app);
   try {
     app.parse(argc, argv);
     if (app.get_subcommands().empty()) {

@@ -1,0 +1,85 @@
+// `acuity profile LEVEL0 LEVEL1 ... -o OUT.acuity`: snapshots, lost-contrast spectra, profile.
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acuity/lodgen/mesh.hpp"
+#include "acuity/spectra/profile_builder.hpp"
+#include "commands.hpp"
+
+namespace acuity::tools {
+namespace {
+
+struct ProfileOptions {
+  std::vector<std::string> levels;
+  std::string output;
+  std::string views = "auto";
+  std::uint32_t pixels = 256, orientations = 8, bands = 0;
+  unsigned jobs = 0;
+  float tolerance = 0.25f;
+};
+
+void progress_bar(const char* stage, std::size_t done, std::size_t total) {
+  const int width = 30, filled = total ? int(width * done / total) : width;
+  std::fprintf(stderr, "\r%-6s [%.*s%*s] %zu/%zu", stage, filled, "##############################", width - filled, "", done, total);
+  if (done == total) std::fputc('\n', stderr);
+}
+
+void run(const ProfileOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<lodgen::Mesh> meshes;
+  for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh(path));
+  std::vector<spectra::LevelInput> levels;
+  for (const lodgen::Mesh& m : meshes) {
+    spectra::LevelInput l;
+    l.mesh.positions = m.positions.data();
+    l.mesh.vertex_count = m.vertex_count();
+    l.mesh.indices = m.indices.data();
+    l.mesh.index_count = m.indices.size();
+    levels.push_back(l);
+  }
+  spectra::ProfileSettings s;
+  s.render.pixels = o.pixels;
+  s.analysis.orientations = o.orientations;
+  s.analysis.bands = o.bands;
+  s.jobs = o.jobs;
+  s.view_tolerance = o.tolerance;
+  if (o.views != "auto") {
+    try { s.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { s.views = 0; }
+    if (s.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
+  }
+  const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  spectra::ProfileReport report;
+  const spectra::ProfileData data = spectra::build_profile(levels, spectra::Material{}, s, progress_bar, &report);
+  spectra::write_profile(o.output, data);
+  const Blob blob = spectra::encode_profile(data);
+  std::printf("profile   %s\n", o.output.c_str());
+  std::printf("levels    %zu (triangles", levels.size());
+  for (const auto& l : data.levels) std::printf(" %u", l.triangles);
+  std::printf(")\nviews     %u kept of %u measured (%s); worst switching-distance error %.1f%%\n", report.views_kept,
+              report.views_measured, s.views ? "fixed" : "adaptive", 100.0 * report.prediction_error);
+  std::printf("spectra   %zu orientations x %zu bands (%.3g .. %.3g cycles per diameter), %u px snapshots\n",
+              data.orientations.size(), data.bands.size(), data.bands.front(), data.bands.back(), o.pixels);
+  std::printf("size      %zu bytes\n", blob.size);
+  std::printf("time      load %.2f s, profile %.2f s\n", load_seconds, report.seconds);
+}
+
+}  // namespace
+
+void add_profile_command(CLI::App& app) {
+  auto o = std::make_shared<ProfileOptions>();
+  CLI::App* cmd = app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
+  cmd->add_option("levels", o->levels, "Mesh files, finest level first (OFF, OBJ, PLY, STL)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", o->output, "Output profile")->required();
+  cmd->add_option("--views", o->views, "'auto' (adaptive) or a number of views")->capture_default_str();
+  cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")->capture_default_str();
+  cmd->add_option("--bands", o->bands, "Number of octave bands (0: all up to res / 4)")->capture_default_str();
+  cmd->add_option("--orientations", o->orientations, "Orientations over 180 deg")->capture_default_str()->check(CLI::Range(1, 32));
+  cmd->add_option("--jobs", o->jobs, "Worker threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")->capture_default_str();
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace acuity::tools
