@@ -4,6 +4,8 @@ include_guard(GLOBAL)
 
 find_package(OpenMesh REQUIRED)             # libopenmesh-dev: OpenMeshCore, OpenMeshTools
 find_package(CGAL REQUIRED)                 # libcgal-dev: header-only CGAL::CGAL
+find_package(Eigen3 REQUIRED)               # libeigen3-dev: CGAL's Garland-Heckbert policies
+include(CGAL_Eigen3_support)                # -> CGAL::Eigen3_support
 find_package(TinyGLTF REQUIRED)             # libtinygltf-dev: shared TinyGLTF::TinyGLTF
 find_package(nlohmann_json REQUIRED)        # nlohmann-json3-dev
 find_package(TBB REQUIRED)                  # libtbb-dev: oneTBB
@@ -21,5 +23,6 @@ if(NOT TARGET acuity_opensubdiv)
     INTERFACE_LINK_LIBRARIES "${OPENSUBDIV_CPU_LIBRARY}")
 endif()
 
-# stb (image read/write for snapshots): header-only, /usr/include/stb (libstb-dev).
+# stb (PNG encoding): Debian's libstb-dev, the shared library tinygltf itself links.
 find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
+find_library(STB_LIBRARY stb REQUIRED)

@@ -12,11 +12,13 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config clang
   libglm-dev                                  # runtime (scheduler/): header-only maths
   libopenmesh-dev libcgal-dev libosd-dev      # lodgen/: mesh IO, repair, decimation, subdivision
+  libeigen3-dev                               # CGAL's Garland-Heckbert quadrics need Eigen
   libtinygltf-dev libstb-dev nlohmann-json3-dev
   libfftw3-dev libtbb-dev                     # spectra/: analysis, parallelism
   libcli11-dev                                # tools/: the acuity command
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest   # bindings/
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
+  libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
 )
 
 install_packages() {
@@ -58,7 +60,7 @@ case "${1:-test}" in
     ctest --test-dir build-runtime --output-on-failure -j "$JOBS"
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
     configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
-    ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
+    ACUITY_QUICK_TESTS=1 ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
     ;;
   *) echo "usage: $0 demo|test|deps" >&2; exit 2 ;;
 esac

@@ -6,4 +6,5 @@ namespace acuity::tools {
 void add_models_report(CLI::App& app);   // `acuity models`, and `acuity demo` until the demo scene exists
 void add_profile_command(CLI::App& app);  // `acuity profile`
 void add_inspect_command(CLI::App& app);  // `acuity inspect`
+void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
 }  // namespace acuity::tools

@@ -1,0 +1,47 @@
+#pragma once
+// acuity/lodgen/chain.hpp — a chain of levels of detail from one mesh, measured.
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+#include "acuity/lodgen/decimate.hpp"
+#include "acuity/lodgen/mesh.hpp"
+
+namespace acuity::lodgen {
+
+struct ChainOptions {
+  std::size_t levels = 0;         // 0: halve (ratio) until about 1% or min_triangles
+  double ratio = 0.5;             // triangles of level k+1 over level k
+  double max_error = 0;           // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
+                                  // Hausdorff distance [object diameters]
+  std::size_t min_triangles = 64;
+  DecimateOptions decimate;
+  bool repair = true;             // repair bad input (with a warning) instead of rejecting it
+};
+
+struct Level {
+  Mesh mesh;
+  std::size_t target_triangles = 0;
+  double hausdorff = 0;           // to level 0 [object diameters]
+  double seconds = 0;             // to build this level
+};
+
+struct Chain {
+  std::vector<Level> levels;      // finest first
+  double diameter = 0;            // level 0's bounding-sphere diameter [object units]
+  std::vector<std::string> warnings;
+};
+
+// stage, done, total
+using ChainProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
+
+// Each level is decimated from level 0 (not from the previous level), so errors do not compound;
+// the Hausdorff error is made non-decreasing along the chain (a level is never reported better
+// than a finer one). Throws InputError for unusable input.
+Chain build_chain(const Mesh& mesh, const std::string& where, const ChainOptions& options,
+                  const ChainProgress& progress = {});
+
+// A chain from given levels (refinement output): measures Hausdorff errors only.
+Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress = {});
+
+}  // namespace acuity::lodgen

@@ -1,0 +1,37 @@
+#pragma once
+// acuity/lodgen/gltf.hpp — glTF 2.0 input and LOD output with MSFT_lod (KhronosGroup glTF,
+// extensions/2.0/Vendor/MSFT_lod): the finest level's node lists the coarser levels' nodes in
+// extensions.MSFT_lod.ids; extras.MSFT_screencoverage gives, per level, the smallest screen
+// coverage it is drawn at. acuity's coverage is the bounding sphere's projected diameter over the
+// screen height; level k takes over from level k-1 where its geometric error e_k (fraction of the
+// diameter) covers one pixel at the reference height: coverage = 1 / (e_k x height).
+#include <string>
+#include <vector>
+
+#include "acuity/lodgen/mesh.hpp"
+
+namespace acuity::lodgen {
+
+// One object's levels (finest first) with their geometric errors [object diameters].
+struct LodObject {
+  std::string name;
+  std::vector<Mesh> levels;
+  std::vector<double> geometric_error;
+  std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  int material = -1;  // into the materials passed to write_lod_gltf
+};
+
+struct GltfWriteOptions {
+  double reference_height = 1080;  // pixels, for MSFT_screencoverage
+  bool binary = true;              // .glb; false writes .gltf with the buffer embedded as a data URI
+};
+
+// Screen coverages for write_lod_gltf: one per level, non-increasing, the last 0.
+std::vector<double> screen_coverage(const std::vector<double>& geometric_error, double reference_height);
+
+// Writes the objects as one scene, atomically (a temporary renamed into place). Throws
+// std::runtime_error naming the path on failure; nothing is left behind.
+void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects,
+                    const std::vector<Material>& materials, const GltfWriteOptions& options = {});
+
+}  // namespace acuity::lodgen

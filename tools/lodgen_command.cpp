@@ -1,0 +1,133 @@
+// `acuity lodgen INPUT -o OUTPUT`: a measured chain of levels, written as glTF with MSFT_lod.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "acuity/file.hpp"
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/gltf.hpp"
+#include "acuity/lodgen/refine.hpp"
+#include "commands.hpp"
+
+namespace acuity::tools {
+namespace {
+
+struct LodgenOptions {
+  std::string input, output, backend = "openmesh";
+  std::size_t levels = 0;
+  double ratio = 0.5, max_error = 0, reference_height = 1080;
+  int refine = 0;
+  bool lock_border = false, quiet = false;
+};
+
+void progress(const char* stage, std::size_t done, std::size_t total) {
+  std::fprintf(stderr, "\r%-10s %zu/%zu", stage, done, total);
+  if (done == total) std::fputc('\n', stderr);
+}
+
+void run(const LodgenOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  lodgen::ChainOptions co;
+  co.levels = o.levels;
+  co.ratio = o.ratio;
+  co.max_error = o.max_error;
+  co.decimate.lock_border = o.lock_border;
+  if (!lodgen::parse_backend(o.backend, &co.decimate.backend))
+    throw std::runtime_error("--backend: openmesh, cgal or cgal-lt, not '" + o.backend + "'");
+  const lodgen::ChainProgress report = o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress);
+
+  lodgen::Scene scene;
+  std::vector<lodgen::Chain> chains;  // one per scene mesh (instances share it)
+  if (o.refine > 0) {
+    const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(o.input);
+    chains.push_back(lodgen::measure_chain(lodgen::refine(cage, o.refine), report));
+    scene.mesh_names.push_back(std::filesystem::path(o.input).stem().string());
+    scene.nodes.push_back({scene.mesh_names[0], 0, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {}, {}, {}});
+    scene.roots.push_back(0);
+  } else {
+    scene = lodgen::load_scene(o.input);
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+      chains.push_back(lodgen::build_chain(scene.meshes[m], o.input + ": mesh '" + scene.mesh_names[m] + "'", co, report));
+  }
+  for (const auto& c : chains)
+    for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+
+  // One LOD object per node that draws a mesh; instances reuse that mesh's chain.
+  std::vector<lodgen::LodObject> objects;
+  std::function<void(int, const std::array<double, 16>&)> walk = [&](int n, const std::array<double, 16>& parent) {
+    const lodgen::Node& node = scene.nodes[std::size_t(n)];
+    std::array<double, 16> world{};
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) world[c * 4 + r] += parent[k * 4 + r] * node.matrix[c * 4 + k];
+    if (node.mesh >= 0) {
+      lodgen::LodObject obj;
+      obj.name = node.name.empty() ? scene.mesh_names[std::size_t(node.mesh)] : node.name;
+      obj.matrix = world;
+      for (const lodgen::Level& l : chains[std::size_t(node.mesh)].levels) {
+        obj.levels.push_back(l.mesh);
+        obj.geometric_error.push_back(l.hausdorff);
+      }
+      obj.material = obj.levels[0].material;
+      objects.push_back(std::move(obj));
+    }
+    for (int child : node.children) walk(child, world);
+  };
+  for (int r : scene.roots) walk(r, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+  if (objects.empty()) throw std::runtime_error(o.input + ": the scene draws no mesh");
+
+  lodgen::GltfWriteOptions wo;
+  wo.reference_height = o.reference_height;
+  wo.binary = std::filesystem::path(o.output).extension() != ".gltf";
+  lodgen::write_lod_gltf(o.output, objects, scene.materials, wo);
+
+  // Summary table, and the same as JSON beside the output.
+  nlohmann::json summary;
+  summary["input"] = o.input;
+  summary["output"] = o.output;
+  summary["backend"] = o.refine > 0 ? "opensubdiv" : o.backend;
+  std::printf("%-24s %5s %10s %10s %12s %8s\n", "mesh", "level", "target", "triangles", "hausdorff", "seconds");
+  for (std::size_t m = 0; m < chains.size(); ++m) {
+    nlohmann::json jm;
+    jm["name"] = scene.mesh_names[m];
+    jm["diameter"] = chains[m].diameter;
+    for (std::size_t k = 0; k < chains[m].levels.size(); ++k) {
+      const lodgen::Level& l = chains[m].levels[k];
+      std::printf("%-24.24s %5zu %10zu %10zu %12.6f %8.3f\n", scene.mesh_names[m].c_str(), k, l.target_triangles,
+                  l.mesh.triangle_count(), l.hausdorff, l.seconds);
+      jm["levels"].push_back({{"target", l.target_triangles}, {"triangles", l.mesh.triangle_count()},
+                              {"hausdorff_diameters", l.hausdorff}, {"seconds", l.seconds}});
+    }
+    summary["meshes"].push_back(jm);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  summary["seconds"] = seconds;
+  const std::string text = summary.dump(2) + "\n";
+  std::string error;
+  if (!write_file_atomically(o.output + ".json", text.data(), text.size(), &error)) throw std::runtime_error(error);
+  std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), objects.size(), o.output.c_str(), seconds);
+}
+
+}  // namespace
+
+void add_lodgen_command(CLI::App& app) {
+  auto o = std::make_shared<LodgenOptions>();
+  CLI::App* cmd = app.add_subcommand("lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
+  cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
+  cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
+  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%)")->capture_default_str();
+  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")->capture_default_str()->check(CLI::Range(0.01, 0.99));
+  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")->capture_default_str();
+  cmd->add_option("--backend", o->backend, "openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")->capture_default_str();
+  cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")->capture_default_str()->check(CLI::Range(0, 6));
+  cmd->add_flag("--lock-border", o->lock_border, "Keep border vertices in place");
+  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")->capture_default_str();
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace acuity::tools
