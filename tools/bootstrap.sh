@@ -34,6 +34,15 @@ install_packages() {
   fi
 }
 
+# The Khronos glTF validator, for the test that checks lodgen's output (when npm is there).
+install_node_tools() {
+  if command -v npm >/dev/null && [ ! -d build/node/node_modules/gltf-validator ]; then
+    mkdir -p build/node
+    npm install --silent --no-audit --no-fund --prefix build/node gltf-validator >/dev/null || \
+      echo "warning: npm could not install gltf-validator; its test will be skipped" >&2
+  fi
+}
+
 JOBS=${JOBS:-$(nproc)}
 # Debian's python3, never a pyenv one found first on PATH: the bindings must load in it.
 PY=/usr/bin/python3
@@ -54,6 +63,7 @@ case "${1:-test}" in
   test)
     install_packages
     configure_and_build build
+    install_node_tools
     ctest --test-dir build --output-on-failure -j "$JOBS"
     # The runtime alone (standard library + GLM): what an engine links must build by itself.
     configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF

@@ -1,0 +1,128 @@
+"""The acuity command end to end: lodgen output passes the Khronos glTF validator; bad input fails
+cleanly with a message naming the file and leaves no output; profile and inspect agree."""
+import base64
+import io
+import json
+import os
+import shutil
+import struct
+import subprocess
+
+import numpy as np
+import pytest
+
+ACUITY = os.environ.get("ACUITY_BIN", "")
+MESHES = os.environ.get("ACUITY_MESH_DIR", "")
+NODE_MODULES = os.environ.get("ACUITY_NODE_MODULES", "")
+VALIDATE = os.path.join(os.path.dirname(__file__), "..", "gltf_validate.mjs")
+
+pytestmark = pytest.mark.skipif(not os.path.exists(ACUITY), reason="ACUITY_BIN not set")
+
+
+def run(*args):
+    return subprocess.run([ACUITY, *map(str, args)], capture_output=True, text=True, timeout=600)
+
+
+def textured_gltf(path):
+    """A 16 x 16 grid with texture coordinates and a PNG checkerboard, as .gltf with data URIs."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = 16
+    u, v = np.meshgrid(np.linspace(0, 1, n + 1), np.linspace(0, 1, n + 1))
+    pos = np.stack([u.ravel(), 0.1 * np.sin(6 * u.ravel()) * np.cos(5 * v.ravel()), v.ravel()], 1).astype(np.float32)
+    uv = np.stack([u.ravel(), v.ravel()], 1).astype(np.float32)
+    idx = []
+    for r in range(n):
+        for c in range(n):
+            a = r * (n + 1) + c
+            idx += [a, a + n + 1, a + 1, a + 1, a + n + 1, a + n + 2]
+    idx = np.array(idx, np.uint32)
+    png = io.BytesIO()
+    plt.imsave(png, (np.indices((8, 8)).sum(0) % 2).astype(float), cmap="gray", format="png")
+    buf = pos.tobytes() + uv.tobytes() + idx.tobytes()
+    views = [(0, pos.nbytes, 34962), (pos.nbytes, uv.nbytes, 34962), (pos.nbytes + uv.nbytes, idx.nbytes, 34963)]
+    doc = {
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": o, "byteLength": l, "target": t} for o, l, t in views],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": len(pos), "type": "VEC3",
+             "min": pos.min(0).tolist(), "max": pos.max(0).tolist()},
+            {"bufferView": 1, "componentType": 5126, "count": len(uv), "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5125, "count": len(idx), "type": "SCALAR"},
+        ],
+        "images": [{"uri": "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()}],
+        "textures": [{"source": 0}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "baseColorFactor": [0.9, 0.8, 0.7, 1]}}],
+        "meshes": [{"name": "grid", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "nodes": [{"name": "grid", "mesh": 0, "translation": [1, 2, 3]}, {"name": "grid_instance", "mesh": 0, "translation": [-1, 0, 0]}],
+        "scenes": [{"nodes": [0, 1]}],
+        "scene": 0,
+    }
+    path.write_text(json.dumps(doc))
+
+
+@pytest.mark.skipif(not shutil.which("node") or not os.path.isdir(os.path.join(NODE_MODULES, "gltf-validator")),
+                    reason="node and the gltf-validator npm package are needed")
+def test_lodgen_output_passes_the_khronos_validator(tmp_path):
+    inputs = [os.path.join(MESHES, m) for m in ("elephant.off", "camel.off", "fandisk.off", "ChineseDragon-10kv.off", "cow.off")]
+    textured = tmp_path / "textured.gltf"
+    textured_gltf(textured)
+    outputs = []
+    for i, src in enumerate(inputs + [str(textured)]):
+        out = tmp_path / f"out{i}.glb"
+        r = run("lodgen", src, "-o", out, "--levels", "4", "-q")
+        assert r.returncode == 0, r.stderr
+        outputs.append(str(out))
+    env = dict(os.environ, NODE_PATH=NODE_MODULES)
+    res = subprocess.run(["node", VALIDATE, *outputs], capture_output=True, text=True, env=env, timeout=300)
+    assert res.returncode == 0, res.stderr
+    reports = [json.loads(line) for line in res.stdout.splitlines()]
+    assert len(reports) == len(outputs)
+    for rep in reports:
+        assert rep["errors"] == 0, rep
+    # The textured scene keeps its texture and both instances.
+    data = open(outputs[-1], "rb").read()
+    length = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20:20 + length])
+    assert len(doc["images"]) == 1 and len(doc["scenes"][0]["nodes"]) == 2
+    assert "MSFT_lod" in doc["extensionsUsed"]
+    top = doc["nodes"][doc["scenes"][0]["nodes"][0]]
+    assert len(top["extensions"]["MSFT_lod"]["ids"]) == 3
+    assert len(top["extras"]["MSFT_screencoverage"]) == 4
+
+
+@pytest.mark.parametrize("name,text", [
+    ("truncated.off", "OFF\n3 1 0\n0 0 0\n1 0"),
+    ("absurd.off", "OFF\n3 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+    ("nan.obj", "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+    ("truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"),
+    ("empty.stl", ""),
+    ("broken.gltf", '{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 3}}]}]'),
+    ("short.glb", "glTF"),
+])
+def test_bad_input_fails_cleanly(tmp_path, name, text):
+    src = tmp_path / name
+    src.write_text(text)
+    out = tmp_path / "out.glb"
+    r = run("lodgen", src, "-o", out, "-q")
+    assert r.returncode != 0
+    assert name in r.stderr and "acuity:" in r.stderr
+    assert not out.exists() and not list(tmp_path.glob("out.glb*"))
+
+
+def test_profile_then_inspect(tmp_path):
+    chain = tmp_path / "chain.glb"
+    assert run("lodgen", os.path.join(MESHES, "elephant.off"), "-o", chain, "--levels", "3", "-q").returncode == 0
+    off = os.path.join(MESHES, "elephant.off")
+    prof = tmp_path / "e.acuity"
+    r = run("profile", off, off, "-o", prof, "--res", "64", "--views", "4")
+    assert r.returncode == 0, r.stderr
+    j = json.loads(run("inspect", prof, "--json").stdout)
+    assert len(j["views"]) == 4 and len(j["levels"]) == 2
+    assert max(j["levels"][1]["max_lost_contrast_per_band"]) == 0.0  # a level compared with itself
+    bad = tmp_path / "bad.acuity"
+    bad.write_bytes(prof.read_bytes()[:-10])
+    r = run("inspect", bad)
+    assert r.returncode != 0 and "bad.acuity" in r.stderr
