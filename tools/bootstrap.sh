@@ -47,9 +47,10 @@ JOBS=${JOBS:-$(nproc)}
 # Debian's python3, never a pyenv one found first on PATH: the bindings must load in it.
 PY=/usr/bin/python3
 
-configure_and_build() { # $1 build dir, rest: extra cmake args
+configure_and_build() { # $1 build dir, rest: extra cmake args; CC/CXX pick the compiler
   local dir=$1; shift
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython3_EXECUTABLE=$PY "$@" >/dev/null
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPython3_EXECUTABLE=$PY \
+    ${CXX:+-DCMAKE_CXX_COMPILER=$CXX} ${CC:+-DCMAKE_C_COMPILER=$CC} "$@" >/dev/null
   cmake --build "$dir" -j "$JOBS"
 }
 
@@ -71,6 +72,11 @@ case "${1:-test}" in
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
     configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
     ACUITY_QUICK_TESTS=1 ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
+    # libFuzzer (Debian's clang): a short, seeded run of the profile reader and the importers.
+    if command -v clang++ >/dev/null; then
+      CC=clang CXX=clang++ configure_and_build build-fuzz -DACUITY_FUZZ=ON
+      ctest --test-dir build-fuzz --output-on-failure
+    fi
     ;;
   *) echo "usage: $0 demo|test|deps" >&2; exit 2 ;;
 esac

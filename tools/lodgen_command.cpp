@@ -17,7 +17,7 @@ namespace acuity::tools {
 namespace {
 
 struct LodgenOptions {
-  std::string input, output, backend = "openmesh";
+  std::string input, output, backend = "cgal";
   std::size_t levels = 0;
   double ratio = 0.5, max_error = 0, reference_height = 1080;
   int refine = 0;

@@ -5,6 +5,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -42,59 +50,65 @@ std::size_t declared_faces(const std::string& path, std::uintmax_t size) {
     check("faces", static_cast<unsigned long long>(nf), binary ? 16 : 7);
     faces = static_cast<std::size_t>(nf);
   } else if (ext == ".ply") {
-    // OpenMesh's PLY reader loops forever on a header that never ends: check it here first.
+    // OpenMesh's PLY reader loops forever on some malformed headers (no end_header, junk after
+    // the format or end_header line, a non-numeric count): accept only well-formed ones.
     std::string line;
     std::getline(in, line);
-    if (line.rfind("ply", 0) != 0) throw InputError(path + ": not a PLY file (no 'ply' magic)");
-    bool format = false, ended = false;
+    if (line != "ply" && line != "ply\r") throw InputError(path + ": not a PLY file (no 'ply' line)");
+    bool format = false, ended = false, vertices = false;
+    std::string element;
     int properties = 0;
-    unsigned long long pending = 0;
-    std::string pending_name;
+    long long count = 0;
     auto flush = [&] {
-      if (!pending_name.empty()) check(pending_name.c_str(), pending, static_cast<unsigned long long>(std::max(1, properties)));
-      if (pending_name == "faces") faces = static_cast<std::size_t>(pending);
+      if (element.empty()) return;
+      check(element.c_str(), static_cast<unsigned long long>(count), static_cast<unsigned long long>(std::max(1, properties)));
+      if (element == "face") faces = static_cast<std::size_t>(count);
     };
+    auto malformed = [&](const std::string& l) { throw InputError(path + ": malformed PLY header line '" + l + "'"); };
+    static const char* const kTypes[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
+                                         "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+    auto is_type = [&](const std::string& t) { return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes); };
     while (std::getline(in, line)) {
-      if (line.rfind("end_header", 0) == 0) { ended = true; break; }
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (line == "end_header") { ended = true; break; }
       std::istringstream words(line);
-      std::string key, name;
+      std::string key, a, b, c, extra;
       words >> key;
+      if (key == "comment" || key == "obj_info") continue;
       if (key == "format") {
-        words >> name;
-        format = name == "ascii" || name == "binary_little_endian" || name == "binary_big_endian";
-        if (!format) throw InputError(path + ": unknown PLY format '" + name + "'");
-      } else if (key == "property") {
-        std::string type;
-        words >> type;
-        static const char* const kTypes[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
-                                             "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32",
-                                             "float64", "list"};
-        if (std::find(std::begin(kTypes), std::end(kTypes), type) == std::end(kTypes))
-          throw InputError(path + ": PLY property type '" + type + "' is not supported");
-      } else if (!key.empty() && key != "element" && key != "comment" && key != "obj_info") {
-        throw InputError(path + ": unexpected PLY header line '" + line + "'");
-      }
-      if (key == "element") {
+        if (!(words >> a >> b) || (words >> extra) || b != "1.0" ||
+            (a != "ascii" && a != "binary_little_endian" && a != "binary_big_endian"))
+          malformed(line);
+        format = true;
+      } else if (key == "element") {
         flush();
-        unsigned long long count = 0;
-        words >> name >> count;
-        pending_name = name == "face" ? "faces" : name;
-        pending = count;
+        long long n = -1;
+        if (!(words >> a >> n) || n < 0 || (words >> extra)) malformed(line);
+        element = a;
+        count = n;
         properties = 0;
+        vertices |= a == "vertex";
       } else if (key == "property") {
+        if (element.empty() || !(words >> a)) malformed(line);
+        if (a == "list" ? !(words >> b >> c >> extra) || !is_type(b) || !is_type(c) || (words >> extra)
+                        : !is_type(a) || !(words >> b) || (words >> extra))
+          malformed(line);
         ++properties;
+      } else {
+        malformed(line);
       }
     }
-    if (!format || !ended) throw InputError(path + ": PLY header is incomplete (no format line or no end_header)");
+    if (!format || !ended || !vertices) throw InputError(path + ": PLY header is incomplete (format, a vertex element and end_header are needed)");
     flush();
   }
   return faces;
 }
 }  // namespace
 
-Mesh load_mesh(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
-  const std::size_t declared = declared_faces(path, std::filesystem::file_size(path));
+namespace {
+
+// OpenMesh's read, in whichever process runs it. Throws InputError.
+Mesh read_openmesh(const std::string& path, std::size_t declared) {
   OmMesh om;
   OpenMesh::IO::Options options;
   if (!OpenMesh::IO::read_mesh(om, path, options))
@@ -117,6 +131,103 @@ Mesh load_mesh(const std::string& path) {
     for (const auto vh : om.fv_range(fh)) mesh.indices.push_back(static_cast<std::uint32_t>(vh.idx()));
   if (mesh.indices.empty())
     throw InputError(path + ": no triangles could be read (faces with missing vertices or malformed lines are dropped)");
+  return mesh;
+}
+
+bool write_all(int fd, const void* data, std::size_t size) {
+  const auto* p = static_cast<const char*>(data);
+  while (size) {
+    const ssize_t n = ::write(fd, p, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    p += n;
+    size -= std::size_t(n);
+  }
+  return true;
+}
+
+}  // namespace
+
+// OpenMesh's readers abort (a library assert) or loop forever on some malformed files (found by
+// fuzzing), so they run in a child process with a time limit; the mesh comes back through a pipe.
+// Message: u8 ok, then u64 float count + floats and u64 index count + indices, or u64 length + text.
+Mesh load_mesh(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
+  const std::uintmax_t size = std::filesystem::file_size(path);
+  const std::size_t declared = declared_faces(path, size);
+  int fds[2];
+  if (::pipe(fds) != 0) return read_openmesh(path, declared);  // no isolation possible: read here
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return read_openmesh(path, declared);
+  }
+  if (pid == 0) {  // child: read, send, leave without running the parent's destructors
+    ::close(fds[0]);
+    std::uint8_t ok = 1;
+    try {
+      const Mesh m = read_openmesh(path, declared);
+      const std::uint64_t nf = m.positions.size(), ni = m.indices.size();
+      const bool sent = write_all(fds[1], &ok, 1) && write_all(fds[1], &nf, 8) && write_all(fds[1], m.positions.data(), nf * 4) &&
+                        write_all(fds[1], &ni, 8) && write_all(fds[1], m.indices.data(), ni * 4);
+      ::_exit(sent ? 0 : 2);
+    } catch (const std::exception& e) {
+      ok = 0;
+      const std::string text = e.what();
+      const std::uint64_t n = text.size();
+      ::_exit(write_all(fds[1], &ok, 1) && write_all(fds[1], &n, 8) && write_all(fds[1], text.data(), n) ? 0 : 2);
+    }
+  }
+  ::close(fds[1]);
+  // Generous for real files (a second per 4 MB on top of 3 s), short for a stuck reader.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(3000 + size / 4000);
+  std::string bytes;
+  char chunk[65536];
+  bool timed_out = false;
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+    if (left <= 0) { timed_out = true; break; }
+    pollfd pfd{fds[0], POLLIN, 0};
+    const int r = ::poll(&pfd, 1, int(std::min<long long>(left, 1000)));
+    if (r < 0 && errno == EINTR) continue;
+    if (r < 0) break;
+    if (r == 0) continue;
+    const ssize_t n = ::read(fds[0], chunk, sizeof chunk);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    bytes.append(chunk, std::size_t(n));
+  }
+  ::close(fds[0]);
+  if (timed_out) ::kill(pid, SIGKILL);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+  if (timed_out) throw InputError(path + ": the reader did not finish in time (a malformed file)");
+  if (WIFSIGNALED(status)) throw InputError(path + ": the reader failed on this file (malformed; signal " + std::to_string(WTERMSIG(status)) + ")");
+  auto take = [&](std::size_t& at, void* out, std::size_t n) {
+    if (bytes.size() - at < n) throw InputError(path + ": the reader failed on this file (incomplete result)");
+    std::memcpy(out, bytes.data() + at, n);
+    at += n;
+  };
+  std::size_t at = 0;
+  std::uint8_t ok = 0;
+  std::uint64_t n = 0;
+  take(at, &ok, 1);
+  take(at, &n, 8);
+  if (!ok) {
+    std::string text(n <= bytes.size() - at ? n : 0, '\0');
+    take(at, text.data(), text.size());
+    throw InputError(text);
+  }
+  Mesh mesh;
+  if (n > (bytes.size() - at) / 4) throw InputError(path + ": the reader failed on this file (incomplete result)");
+  mesh.positions.resize(n);
+  take(at, mesh.positions.data(), n * 4);
+  take(at, &n, 8);
+  if (n > (bytes.size() - at) / 4) throw InputError(path + ": the reader failed on this file (incomplete result)");
+  mesh.indices.resize(n);
+  take(at, mesh.indices.data(), n * 4);
   return mesh;
 }
 

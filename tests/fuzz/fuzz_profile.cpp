@@ -1,0 +1,21 @@
+// libFuzzer: the profile reader must reject or accept any bytes without crashing.
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "acuity/profile.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::uint64_t> aligned((size + 7) / 8 + 1);
+  std::memcpy(aligned.data(), data, size);
+  acuity::Profile p;
+  acuity::ProfileError e;
+  if (acuity::open_profile(aligned.data(), size, &p, &e) == acuity::ProfileStatus::Ok) {
+    volatile float sum = 0;  // a valid profile's every value is safe to read
+    for (std::uint32_t k = 1; k < p.meta.level_count; ++k)
+      for (std::uint32_t v = 0; v < p.meta.view_count; ++v)
+        for (std::uint32_t t = 0; t < p.meta.orientation_count; ++t)
+          for (std::uint32_t b = 0; b < p.meta.band_count; ++b) sum = sum + p.lost_contrast(k, v, t, b);
+  }
+  return 0;
+}
