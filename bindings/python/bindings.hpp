@@ -5,4 +5,5 @@ namespace acuity::python {
 void bind_models(pybind11::module_ m);
 void bind_scheduler(pybind11::module_ m);  // into the package's top level
 void bind_spectra(pybind11::module_ m);
+void bind_lodgen(pybind11::module_ m);
 }  // namespace acuity::python

@@ -10,4 +10,5 @@ PYBIND11_MODULE(_acuity, m) {
   acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
   acuity::python::bind_scheduler(m);
   acuity::python::bind_spectra(m.def_submodule("spectra", "Profiles, snapshots and analysis (see acuity.spectra)"));
+  acuity::python::bind_lodgen(m.def_submodule("lodgen", "Chains of levels of detail (see acuity.lodgen)"));
 }

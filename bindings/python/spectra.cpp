@@ -1,22 +1,28 @@
 // acuity.spectra: building and writing profiles from numpy arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
+#include <array>
 #include <cstring>
 
+#include "acuity/spectra/analyze.hpp"
+#include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/profile_writer.hpp"
+#include "acuity/spectra/render.hpp"
 #include "bindings.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
 
 namespace acuity::python {
+using namespace acuity::spectra;
 namespace {
 
 using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
 
-spectra::ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 view_directions,
+ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 view_directions,
                                   F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
   spectra::ProfileData d;
   if (sphere.size() != 4) throw py::value_error("sphere: expected 4 values (centre xyz, radius)");
@@ -36,9 +42,114 @@ spectra::ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error
   return d;
 }
 
+MeshView mesh_view(const F32& positions, const U32& indices, const py::object& normals_obj, std::vector<float>& normals) {
+  if (positions.ndim() != 2 || positions.shape(1) != 3) throw py::value_error("positions: expected shape (N, 3)");
+  if (indices.size() % 3) throw py::value_error("indices: a multiple of 3 expected");
+  for (py::ssize_t i = 0; i < indices.size(); ++i)
+    if (indices.data()[i] >= std::uint32_t(positions.shape(0))) throw py::value_error("indices: out of range");
+  MeshView v;
+  v.positions = positions.data();
+  v.vertex_count = std::size_t(positions.shape(0));
+  v.indices = indices.data();
+  v.index_count = std::size_t(indices.size());
+  if (!normals_obj.is_none()) {
+    const F32 n = normals_obj.cast<F32>();
+    if (n.size() != positions.size()) throw py::value_error("normals: same shape as positions expected");
+    normals.assign(n.data(), n.data() + n.size());
+    v.normals = normals.data();
+  }
+  return v;
+}
+
+Image to_image(const F32& a) {
+  if (a.ndim() != 2 || a.shape(0) != a.shape(1)) throw py::value_error("image: a square 2-D array expected");
+  Image im;
+  im.width = im.height = std::uint32_t(a.shape(0));
+  im.pixels.assign(a.data(), a.data() + a.size());
+  return im;
+}
+
+AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+  AnalysisSettings s;
+  s.orientations = orientations;
+  s.bands = bands;
+  s.bands_per_octave = bands_per_octave;
+  return s;
+}
+
 }  // namespace
 
 void bind_spectra(py::module_ m) {
+  m.def("render", [](F32 positions, U32 indices, std::array<float, 3> direction, py::object normals,
+                     std::uint32_t pixels, std::uint32_t supersample, float background) {
+    std::vector<float> nbuf;
+    const MeshView mesh = mesh_view(positions, indices, normals, nbuf);
+    RenderSettings rs;
+    rs.pixels = pixels;
+    rs.supersample = supersample;
+    rs.background = background;
+    bounding_sphere(mesh, rs.sphere);
+    const Image im = render_snapshot(mesh, Material{}, make_view(direction[0], direction[1], direction[2]), rs);
+    py::array_t<float> out({py::ssize_t(im.height), py::ssize_t(im.width)});
+    std::memcpy(out.mutable_data(), im.pixels.data(), im.pixels.size() * sizeof(float));
+    return out;
+  }, "positions"_a, "indices"_a, "direction"_a = std::array<float, 3>{0, 0, 1}, "normals"_a = py::none(),
+     "pixels"_a = 256, "supersample"_a = 4, "background"_a = 0.5f,
+  "Snapshot (linear luminance, row 0 at the top) of a mesh framed by its bounding sphere, seen from\n"
+  "`direction` (object to camera), headlight Lambert + ambient, grey albedo 0.8.");
+
+  m.def("lost_contrast", [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+    const Image a = to_image(level), b = to_image(reference);
+    const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave));
+    const std::vector<float> v = analyzer.measure(a, b);
+    py::array_t<float> out({py::ssize_t(orientations), py::ssize_t(analyzer.band_count())});
+    std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(float));
+    return py::make_tuple(out, analyzer.bands());
+  }, "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
+  "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
+  "(array [orientations, bands] of maxima over the image, band centres [cycles per image]).");
+
+  m.def("reddy_features", [](F32 image, std::uint32_t orientations) {
+    return reddy_features(to_image(image), analysis(orientations, 0, 1.0f));
+  }, "image"_a, "orientations"_a = 8,
+  "Reddy's smallest-feature fundamental frequency per orientation [cycles per image]; 0 where none.");
+
+  m.def("build_profile", [](py::list levels, std::uint32_t views, std::uint32_t pixels, std::uint32_t orientations,
+                            std::uint32_t bands, float tolerance, unsigned jobs) {
+    std::vector<F32> keep_p;
+    std::vector<U32> keep_i;
+    std::vector<LevelInput> inputs;
+    for (py::handle h : levels) {
+      const py::tuple t = h.cast<py::tuple>();
+      keep_p.push_back(t[0].cast<F32>());
+      keep_i.push_back(t[1].cast<U32>());
+    }
+    std::vector<std::vector<float>> no_normals(keep_p.size());
+    for (std::size_t k = 0; k < keep_p.size(); ++k) {
+      LevelInput l;
+      l.mesh = mesh_view(keep_p[k], keep_i[k], py::none(), no_normals[k]);
+      inputs.push_back(l);
+    }
+    ProfileSettings s;
+    s.views = views;
+    s.render.pixels = pixels;
+    s.analysis = analysis(orientations, bands, 1.0f);
+    s.view_tolerance = tolerance;
+    s.jobs = jobs;
+    ProfileReport report;
+    ProfileData data;
+    {
+      py::gil_scoped_release release;
+      data = build_profile(inputs, Material{}, s, {}, &report);
+    }
+    const Blob b = encode_profile(data);
+    return py::make_tuple(py::bytes(static_cast<const char*>(b.data()), b.size),
+                          py::dict("views_measured"_a = report.views_measured, "views_kept"_a = report.views_kept,
+                                   "prediction_error"_a = report.prediction_error, "seconds"_a = report.seconds));
+  }, "levels"_a, "views"_a = 0, "pixels"_a = 256, "orientations"_a = 8, "bands"_a = 0, "view_tolerance"_a = 0.25f,
+     "jobs"_a = 0,
+  "Profile a chain: levels = [(positions (N, 3), indices), ...], finest first. Returns (bytes, report).");
+
   py::register_exception<spectra::InvalidProfile>(m, "InvalidProfile", PyExc_ValueError);
   const char* doc =
       "Build a profile blob. sphere (4,); triangles, geometric_error (K,); view_directions (V, 3) from\n"

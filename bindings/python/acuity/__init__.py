@@ -3,7 +3,8 @@
 Top level: Profile, Scheduler, SchedulerConfig, Eye, Gaze, Frame (the runtime).
 Submodules:
     acuity.models   vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
-    acuity.spectra  building and writing profiles
+    acuity.spectra  snapshots, lost-contrast analysis, Reddy features, profiling, profile files
+    acuity.lodgen   chains of levels of detail (decimation, Hausdorff error, glTF with MSFT_lod)
 
 Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3).
 """
@@ -14,12 +15,13 @@ from . import _acuity
 __version__ = _acuity.__version__
 models = _acuity.models
 spectra = _acuity.spectra
-for _name in ("models", "spectra"):
+lodgen = _acuity.lodgen
+for _name in ("models", "spectra", "lodgen"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
 from ._acuity import (Eye, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
-__all__ = ["models", "spectra", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+__all__ = ["models", "spectra", "lodgen", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
            "SelectionRule", "ViewBlend", "__version__"]

@@ -52,7 +52,7 @@ struct SchedulerConfig {
   SelectionRule rule = SelectionRule::Perceptual;
   ThresholdModel model = ThresholdModel::Default;
   ModelParams params;
-  ViewBlend view_blend = ViewBlend::Nearest;
+  ViewBlend view_blend = ViewBlend::Nearest;  // lowest measured error (docs/spectra.md); Max3 errs safe
   float quality = 1.0f;                  // q: invisible when lost <= q CT (q < 1 is more conservative)
   std::uint8_t fallback_level = 0;       // level for invalid input (finest by default)
 

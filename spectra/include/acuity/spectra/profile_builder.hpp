@@ -30,7 +30,8 @@ struct ProfileSettings {
   AnalysisSettings analysis;
   std::uint32_t views = 0;         // 0: adaptive; else exactly this many (Fibonacci sphere)
   float view_tolerance = 0.25f;    // adaptive: largest relative error of a switching distance
-  std::uint32_t max_views = 162;   // adaptive: stop refining here (12, 42 or 162)
+  std::uint32_t max_views = 42;    // adaptive: stop refining here (12, 42 or 162); past 42 the
+                                   // per-view spread of the image maximum dominates (docs/spectra.md)
   bool prune = true;               // adaptive: drop views their neighbours predict
   unsigned jobs = 0;               // worker threads; 0: all cores
 };

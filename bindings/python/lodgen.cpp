@@ -1,0 +1,69 @@
+// acuity.lodgen: the chain of levels from Python, as the command builds it.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/gltf.hpp"
+#include "bindings.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace acuity::python {
+
+void bind_lodgen(py::module_ m) {
+  py::register_exception<lodgen::InputError>(m, "InputError", PyExc_ValueError);
+  m.def("build", [](const std::string& input, const std::string& output, std::size_t levels, double ratio,
+                    double max_error, const std::string& backend, bool lock_border) {
+    lodgen::ChainOptions o;
+    o.levels = levels;
+    o.ratio = ratio;
+    o.max_error = max_error;
+    o.decimate.lock_border = lock_border;
+    if (!lodgen::parse_backend(backend, &o.decimate.backend)) throw py::value_error("backend: openmesh, cgal or cgal-lt");
+    py::dict summary;
+    py::list meshes;
+    {
+      lodgen::Scene scene;
+      std::vector<lodgen::Chain> chains;
+      {
+        py::gil_scoped_release release;
+        scene = lodgen::load_scene(input);
+        for (std::size_t i = 0; i < scene.meshes.size(); ++i)
+          chains.push_back(lodgen::build_chain(scene.meshes[i], input + ": mesh '" + scene.mesh_names[i] + "'", o));
+        std::vector<lodgen::LodObject> objects;
+        for (std::size_t i = 0; i < chains.size(); ++i) {
+          lodgen::LodObject obj;
+          obj.name = scene.mesh_names[i];
+          for (const auto& l : chains[i].levels) {
+            obj.levels.push_back(l.mesh);
+            obj.geometric_error.push_back(l.hausdorff);
+          }
+          obj.material = obj.levels[0].material;
+          objects.push_back(std::move(obj));
+        }
+        if (!output.empty()) lodgen::write_lod_gltf(output, objects, scene.materials);
+      }
+      for (std::size_t i = 0; i < chains.size(); ++i) {
+        py::list lv;
+        for (const auto& l : chains[i].levels)
+          lv.append(py::dict("target"_a = l.target_triangles, "triangles"_a = l.mesh.triangle_count(),
+                             "hausdorff_diameters"_a = l.hausdorff, "seconds"_a = l.seconds));
+        meshes.append(py::dict("name"_a = scene.mesh_names[i], "diameter"_a = chains[i].diameter, "levels"_a = lv,
+                               "warnings"_a = chains[i].warnings));
+      }
+    }
+    summary["input"] = input;
+    summary["output"] = output;
+    summary["backend"] = backend;
+    summary["meshes"] = meshes;
+    return summary;
+  }, "input"_a, "output"_a = "", "levels"_a = 0, "ratio"_a = 0.5, "max_error"_a = 0.0, "backend"_a = "cgal",
+     "lock_border"_a = false,
+  "Build a measured chain of levels for every mesh of `input` (OFF/OBJ/PLY/STL/glTF/GLB); write\n"
+  "it as glTF with MSFT_lod when `output` is given. Returns the summary as a dict. Raises\n"
+  "acuity.lodgen.InputError (a ValueError) for bad input.");
+}
+
+}  // namespace acuity::python
