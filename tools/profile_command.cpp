@@ -1,12 +1,16 @@
 // `acuity profile LEVEL0 LEVEL1 ... -o OUT.acuity`: snapshots, lost-contrast spectra, profile.
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/spectra/profile_builder.hpp"
+#include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -14,6 +18,7 @@ namespace {
 
 struct ProfileOptions {
   std::vector<std::string> levels;
+  std::string snapshots;
   std::string output;
   std::string views = "auto";
   std::uint32_t pixels = 256, orientations = 8, bands = 0;
@@ -27,17 +32,70 @@ void progress_bar(const char* stage, std::size_t done, std::size_t total) {
   if (done == total) std::fputc('\n', stderr);
 }
 
+bool is_gltf(const std::string& path) {
+  const std::string ext = std::filesystem::path(path).extension().string();
+  return ext == ".glb" || ext == ".gltf";
+}
+
+void run_snapshots(const ProfileOptions& o) {
+  spectra::AnalysisSettings a;
+  a.orientations = o.orientations;
+  a.bands = o.bands;
+  const spectra::ProfileData data = spectra::profile_from_snapshots(o.snapshots, a);
+  spectra::write_profile(o.output, data);
+  std::printf("profile   %s from %zu views x %zu levels of user snapshots (%u px)\n", o.output.c_str(), data.views.size(),
+              data.levels.size(), data.snapshot_pixels);
+}
+
 void run(const ProfileOptions& o) {
+  if (!o.snapshots.empty()) return run_snapshots(o);
+  if (o.levels.empty()) throw std::runtime_error("profile: give the levels (mesh files or a glTF), or --snapshots MANIFEST");
   const auto start = std::chrono::steady_clock::now();
   std::vector<lodgen::Mesh> meshes;
-  for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh(path));
+  std::vector<float> errors;
+  spectra::Material material;
+  lodgen::Scene scene;
+  if (o.levels.size() == 1 && is_gltf(o.levels[0])) {
+    // lodgen's output: the first node with MSFT_lod holds the chain; errors from its coverage.
+    scene = lodgen::load_scene(o.levels[0]);
+    const lodgen::Node* top = nullptr;
+    for (const lodgen::Node& n : scene.nodes)
+      if (n.mesh >= 0 && !n.lods.empty()) { top = &n; break; }
+    if (!top) throw std::runtime_error(o.levels[0] + ": no node with MSFT_lod levels");
+    meshes.push_back(scene.meshes[std::size_t(top->mesh)]);
+    for (int id : top->lods)
+      if (scene.nodes[std::size_t(id)].mesh >= 0) meshes.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
+    errors.push_back(0);
+    for (std::size_t k = 1; k < meshes.size(); ++k) {  // coverage[k-1] = 1 / (e_k x 1080)
+      const double c = k - 1 < top->screen_coverage.size() ? top->screen_coverage[k - 1] : 0;
+      errors.push_back(c > 0 ? float(1.0 / (c * 1080.0)) : 0.0f);
+    }
+    const int mi = meshes[0].material;
+    if (mi >= 0 && std::size_t(mi) < scene.materials.size()) {
+      const lodgen::Material& m = scene.materials[std::size_t(mi)];
+      std::copy(m.base_color, m.base_color + 4, material.base_color);
+      if (!m.pixels.empty()) {
+        material.texture = m.pixels.data();
+        material.texture_width = m.width;
+        material.texture_height = m.height;
+        material.texture_channels = 4;
+      }
+    }
+  } else {
+    for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh(path));
+    errors.assign(meshes.size(), 0.0f);
+  }
   std::vector<spectra::LevelInput> levels;
-  for (const lodgen::Mesh& m : meshes) {
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const lodgen::Mesh& m = meshes[k];
     spectra::LevelInput l;
     l.mesh.positions = m.positions.data();
     l.mesh.vertex_count = m.vertex_count();
     l.mesh.indices = m.indices.data();
     l.mesh.index_count = m.indices.size();
+    l.mesh.normals = m.normals.empty() ? nullptr : m.normals.data();
+    l.mesh.texcoords = m.texcoords.empty() ? nullptr : m.texcoords.data();
+    l.geometric_error = errors[k];
     levels.push_back(l);
   }
   spectra::ProfileSettings s;
@@ -52,7 +110,7 @@ void run(const ProfileOptions& o) {
   }
   const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spectra::ProfileReport report;
-  const spectra::ProfileData data = spectra::build_profile(levels, spectra::Material{}, s, progress_bar, &report);
+  const spectra::ProfileData data = spectra::build_profile(levels, material, s, progress_bar, &report);
   spectra::write_profile(o.output, data);
   const Blob blob = spectra::encode_profile(data);
   std::printf("profile   %s\n", o.output.c_str());
@@ -71,7 +129,10 @@ void run(const ProfileOptions& o) {
 void add_profile_command(CLI::App& app) {
   auto o = std::make_shared<ProfileOptions>();
   CLI::App* cmd = app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
-  cmd->add_option("levels", o->levels, "Mesh files, finest level first (OFF, OBJ, PLY, STL)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("levels", o->levels, "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (OFF, OBJ, PLY, STL)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--snapshots", o->snapshots, "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", o->output, "Output profile")->required();
   cmd->add_option("--views", o->views, "'auto' (adaptive) or a number of views")->capture_default_str();
   cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")->capture_default_str();

@@ -126,3 +126,44 @@ def test_profile_then_inspect(tmp_path):
     bad.write_bytes(prof.read_bytes()[:-10])
     r = run("inspect", bad)
     assert r.returncode != 0 and "bad.acuity" in r.stderr
+
+
+def test_profile_from_user_snapshots(tmp_path):
+    """Two views of a level that adds a vertical grating (16 cycles per diameter, contrast 0.2) to
+    a flat grey reference: the lost contrast is in band 16, orientation 0, and nowhere else."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = 64
+    x = np.arange(n)[None, :].repeat(n, 0)
+    grey = 0.5 ** (1 / 2.2)  # sRGB code for linear 0.5 (close enough: only the ratio matters below)
+    flat = np.full((n, n), grey)
+    srgb = lambda lin: np.where(lin <= 0.0031308, lin * 12.92, 1.055 * lin ** (1 / 2.4) - 0.055)
+    lin_grating = 0.5 * (1 + 0.2 * np.cos(2 * np.pi * 16 * x / n))
+    views = []
+    for v in range(2):
+        a, b = tmp_path / f"v{v}_0.png", tmp_path / f"v{v}_1.png"
+        plt.imsave(a, srgb(np.full((n, n), 0.5)), cmap="gray", vmin=0, vmax=1)
+        plt.imsave(b, srgb(lin_grating), cmap="gray", vmin=0, vmax=1)
+        views.append({"direction": [0, 0, 1] if v == 0 else [1, 0, 0], "up": [0, 1, 0], "images": [a.name, b.name]})
+    manifest = tmp_path / "manifest.json"
+    manifest.write_text(json.dumps({"pixels_per_diameter": n, "levels": [{"triangles": 1000}, {"triangles": 10}], "views": views}))
+    out = tmp_path / "snap.acuity"
+    r = run("profile", "--snapshots", manifest, "-o", out)
+    assert r.returncode == 0, r.stderr
+    p = acuity_profile(out)
+    lost = p.lost[0]  # level 1: (views, orientations, bands)
+    b = list(p.bands).index(16.0)
+    assert lost[:, 0, b] == pytest.approx([0.2, 0.2], rel=0.08)  # 8-bit quantisation
+    assert lost.sum() - lost[:, 0, b].sum() < 0.05
+    # A manifest naming a missing image fails and says which.
+    views[1]["images"][1] = "missing.png"
+    manifest.write_text(json.dumps({"pixels_per_diameter": n, "levels": [{}, {}], "views": views}))
+    r = run("profile", "--snapshots", manifest, "-o", tmp_path / "bad.acuity")
+    assert r.returncode != 0 and "missing.png" in r.stderr
+    assert not (tmp_path / "bad.acuity").exists()
+
+
+def acuity_profile(path):
+    import acuity
+    return acuity.Profile.load(str(path))

@@ -1,0 +1,104 @@
+#include "acuity/spectra/snapshots.hpp"
+
+#include <stb_image.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace acuity::spectra {
+namespace {
+[[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
+
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+std::array<float, 3> vec3(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+    fail(where, "expected [x, y, z]");
+  return {j[0].get<float>(), j[1].get<float>(), j[2].get<float>()};
+}
+}  // namespace
+
+Image load_png_luminance(const std::string& path) {
+  int w = 0, h = 0, c = 0;
+  unsigned char* data = stbi_load(path.c_str(), &w, &h, &c, 0);
+  if (!data) fail(path, std::string("not a readable image: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown"));
+  Image im;
+  im.width = std::uint32_t(w);
+  im.height = std::uint32_t(h);
+  im.pixels.resize(std::size_t(w) * h);
+  for (std::size_t i = 0; i < im.pixels.size(); ++i) {
+    const unsigned char* p = data + i * std::size_t(c);
+    const float r = srgb_to_linear(p[0] / 255.0f);
+    im.pixels[i] = c >= 3 ? 0.2126f * r + 0.7152f * srgb_to_linear(p[1] / 255.0f) + 0.0722f * srgb_to_linear(p[2] / 255.0f) : r;
+  }
+  stbi_image_free(data);
+  return im;
+}
+
+ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSettings& settings) {
+  std::ifstream in(manifest);
+  if (!in) fail(manifest, "cannot be opened");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const std::exception& e) {
+    fail(manifest, std::string("not valid JSON: ") + e.what());
+  }
+  const std::filesystem::path base = std::filesystem::path(manifest).parent_path();
+  if (!j.contains("pixels_per_diameter") || !j["pixels_per_diameter"].is_number_unsigned()) fail(manifest, "needs pixels_per_diameter");
+  const std::uint32_t n = j["pixels_per_diameter"].get<std::uint32_t>();
+  if (!j.contains("levels") || !j["levels"].is_array() || j["levels"].size() < 2) fail(manifest, "needs two or more levels");
+  if (!j.contains("views") || !j["views"].is_array() || j["views"].empty()) fail(manifest, "needs one or more views");
+  ProfileData out;
+  out.snapshot_pixels = n;
+  if (j.contains("sphere")) {
+    if (!j["sphere"].is_array() || j["sphere"].size() != 4) fail(manifest, "sphere: expected [cx, cy, cz, r]");
+    for (int k = 0; k < 4; ++k) out.sphere[k] = j["sphere"][std::size_t(k)].get<float>();
+  }
+  for (const auto& l : j["levels"])
+    out.levels.push_back({l.value("triangles", 0u), l.value("geometric_error", 0.0f)});
+  const std::size_t K = out.levels.size();
+  const LostContrast analyzer(n, settings);
+  out.orientations = orientation_angles(settings);
+  out.bands = analyzer.bands();
+  const std::size_t T = out.orientations.size(), B = out.bands.size(), V = j["views"].size();
+  out.lost.assign((K - 1) * V * T * B, 0.0f);
+  out.features.assign(K * V * T, 0.0f);
+  for (std::size_t v = 0; v < V; ++v) {
+    const auto& view = j["views"][v];
+    const std::string where = manifest + ": views[" + std::to_string(v) + "]";
+    const auto d = vec3(view.value("direction", nlohmann::json()), where + ".direction");
+    auto u = vec3(view.value("up", nlohmann::json()), where + ".up");
+    ProfileView pv = make_view(d[0], d[1], d[2]);
+    // The user's up, made orthogonal to the direction.
+    const float dot = u[0] * pv.direction[0] + u[1] * pv.direction[1] + u[2] * pv.direction[2];
+    float len = 0;
+    for (int k = 0; k < 3; ++k) { u[std::size_t(k)] -= dot * pv.direction[k]; len += u[std::size_t(k)] * u[std::size_t(k)]; }
+    if (!(len > 1e-8f)) fail(where, "up is parallel to direction");
+    for (int k = 0; k < 3; ++k) pv.up[k] = u[std::size_t(k)] / std::sqrt(len);
+    out.views.push_back(pv);
+    if (!view.contains("images") || !view["images"].is_array() || view["images"].size() != K)
+      fail(where, "needs one image per level (" + std::to_string(K) + ")");
+    std::vector<Image> images;
+    for (const auto& name : view["images"]) {
+      const std::string path = (base / name.get<std::string>()).string();
+      images.push_back(load_png_luminance(path));
+      if (images.back().width != n || images.back().height != n)
+        fail(path, "is " + std::to_string(images.back().width) + "x" + std::to_string(images.back().height) +
+                       ", expected " + std::to_string(n) + "x" + std::to_string(n));
+    }
+    const auto reference = analyzer.prepare(images[0]);
+    for (std::size_t k = 0; k < K; ++k) {
+      if (k > 0) analyzer.measure(images[k], *reference, &out.lost[((k - 1) * V + v) * T * B]);
+      const std::vector<float> f = reddy_features(images[k], settings);
+      std::copy(f.begin(), f.end(), &out.features[(k * V + v) * T]);
+    }
+  }
+  return out;
+}
+
+}  // namespace acuity::spectra
