@@ -1,0 +1,110 @@
+/* acuity.h — the C ABI of acuity's runtime, for engines' native plugins (Unity, Unreal, Godot).
+ *
+ * Plain C: no C++ types cross this boundary and no exception does; every call returns a status
+ * and acuity_last_error() says what went wrong (per thread). Units as in the C++ headers: metres,
+ * degrees, degrees per second, pixels. An eye looks along its local -Z with +Y up.
+ *
+ *   acuity_config c; acuity_config_default(&c);
+ *   acuity_scheduler* s; acuity_create(&c, &s);
+ *   int32_t p; acuity_load_profile(s, bytes, size, &p);        // the bytes are copied
+ *   acuity_add_objects(s, n, profiles, positions, 0, rotations, 0, scales, ids);
+ *   each frame: acuity_set_transforms(...); acuity_begin_frame(s, eyes, 2, dt);
+ *               acuity_update_range(s, 0, n);  (split across jobs as you like)
+ *               acuity_end_frame(s); acuity_get_levels(s, n, ids, levels, flags);
+ *   acuity_destroy(s);
+ */
+#ifndef ACUITY_H
+#define ACUITY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ACUITY_C_API_VERSION 1
+
+typedef struct acuity_scheduler acuity_scheduler;
+
+typedef enum acuity_status {
+  ACUITY_OK = 0,
+  ACUITY_INVALID_ARGUMENT = 1,  /* a null pointer, a bad id or index, a count out of range */
+  ACUITY_BAD_PROFILE = 2,       /* the profile bytes failed validation (see acuity_last_error) */
+  ACUITY_FULL = 3,              /* max_objects or max_profiles reached */
+  ACUITY_OUT_OF_MEMORY = 4,
+  ACUITY_INTERNAL_ERROR = 5
+} acuity_status;
+
+enum { ACUITY_RULE_PERCEPTUAL = 0, ACUITY_RULE_REDDY = 1, ACUITY_RULE_DISTANCE = 2, ACUITY_RULE_SCREEN_SIZE = 3 };
+
+/* Per-object flags returned by acuity_get_levels. */
+enum {
+  ACUITY_FLAG_INVALID_INPUT = 1, ACUITY_FLAG_EYE_INSIDE = 2, ACUITY_FLAG_NO_GAZE = 4,
+  ACUITY_FLAG_BUDGET_FORCED = 8, ACUITY_FLAG_CHANGED = 16, ACUITY_FLAG_HELD = 32
+};
+
+typedef struct acuity_config {
+  uint32_t max_objects;          /* capacity */
+  uint32_t max_profiles;         /* capacity */
+  uint32_t rule;                 /* ACUITY_RULE_* */
+  float quality;                 /* q: invisible when lost <= q CT */
+  float gaze_uncertainty_deg;
+  float no_gaze_radius_deg;
+  float hysteresis_margin;
+  uint32_t hysteresis_frames;
+  float saccade_speed_deg_s;     /* > 0: coarsen during saccades */
+  uint64_t triangle_budget;      /* 0: none */
+} acuity_config;
+
+typedef struct acuity_eye {
+  double position[3];            /* world [m] */
+  float orientation[4];          /* unit quaternion x y z w, eye to world */
+  float fov_deg[4];              /* left (<0), right, up, down (<0) */
+  uint32_t viewport[2];          /* width, height [px] */
+  float velocity[3];             /* world [m/s] */
+  float angular_velocity[3];     /* head rotation [deg/s], world axis x speed */
+  float gaze_direction[3];       /* unit, eye space */
+  float gaze_confidence;         /* 0..1 */
+  float gaze_angular_velocity[3];/* [deg/s], eye space */
+  uint8_t gaze_valid;
+  uint8_t gaze_has_velocity;
+} acuity_eye;
+
+uint32_t acuity_version(void);                    /* ACUITY_VERSION of the library */
+const char* acuity_last_error(void);              /* this thread's last message, "" if none */
+void acuity_config_default(acuity_config* config);
+void acuity_eye_default(acuity_eye* eye);         /* origin, identity, 90 deg, 1920 px, no gaze */
+
+acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);
+void acuity_destroy(acuity_scheduler* scheduler);
+
+/* Validates and copies a profile (.acuity bytes); *index receives its index. */
+acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index);
+
+/* Arrays of `count`; strides in bytes between elements, 0 for tightly packed. ids_out: uint32. */
+acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
+                                 const double* positions, size_t position_stride,
+                                 const float* rotations, size_t rotation_stride,
+                                 const float* scales, uint32_t* ids_out);
+acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids);
+acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                    const double* positions, size_t position_stride,
+                                    const float* rotations, size_t rotation_stride, const float* scales);
+acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                    const float* velocities, size_t velocity_stride);
+
+acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt);
+acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count);
+acuity_status acuity_end_frame(acuity_scheduler* s);
+
+/* levels_out and flags_out (nullable) receive one byte per id. */
+acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                uint8_t* levels_out, uint8_t* flags_out);
+/* Triangles drawn at this frame's levels. */
+uint64_t acuity_frame_triangles(const acuity_scheduler* s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* ACUITY_H */

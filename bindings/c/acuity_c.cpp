@@ -1,0 +1,232 @@
+// The C ABI over acuity::Scheduler: every entry point catches everything.
+#include "acuity.h"
+
+#include <cstring>
+#include <deque>
+#include <new>
+#include <string>
+
+#include "acuity/file.hpp"
+#include "acuity/scheduler.hpp"
+#include "acuity/version.hpp"
+
+struct acuity_scheduler {
+  acuity::Scheduler scheduler;
+  std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
+  explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c) {}
+};
+
+namespace {
+thread_local std::string g_error;
+
+acuity_status fail(acuity_status status, std::string message) {
+  g_error = std::move(message);
+  return status;
+}
+
+template <class Fn> acuity_status guarded(Fn fn) {
+  try {
+    g_error.clear();
+    return fn();
+  } catch (const std::bad_alloc&) {
+    return fail(ACUITY_OUT_OF_MEMORY, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(ACUITY_INTERNAL_ERROR, e.what());
+  } catch (...) {
+    return fail(ACUITY_INTERNAL_ERROR, "unknown error");
+  }
+}
+
+template <class T> const T* element(const T* base, std::size_t stride, std::size_t i, std::size_t packed) {
+  return reinterpret_cast<const T*>(reinterpret_cast<const char*>(base) + i * (stride ? stride : packed));
+}
+
+acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* r, std::size_t rs, const float* s, std::size_t i) {
+  acuity::ObjectTransform t;
+  const double* pi = element(p, ps, i, 3 * sizeof(double));
+  const float* ri = element(r, rs, i, 4 * sizeof(float));
+  for (int k = 0; k < 3; ++k) t.position[k] = pi[k];
+  for (int k = 0; k < 4; ++k) t.rotation[k] = ri[k];
+  t.scale = s ? s[i] : 1.0f;
+  return t;
+}
+}  // namespace
+
+extern "C" {
+
+uint32_t acuity_version(void) { return ACUITY_VERSION; }
+const char* acuity_last_error(void) { return g_error.c_str(); }
+
+void acuity_config_default(acuity_config* c) {
+  if (!c) return;
+  const acuity::SchedulerConfig d;
+  c->max_objects = d.max_objects;
+  c->max_profiles = d.max_profiles;
+  c->rule = ACUITY_RULE_PERCEPTUAL;
+  c->quality = d.quality;
+  c->gaze_uncertainty_deg = d.gaze_uncertainty_deg;
+  c->no_gaze_radius_deg = d.no_gaze_radius_deg;
+  c->hysteresis_margin = d.hysteresis_margin;
+  c->hysteresis_frames = d.hysteresis_frames;
+  c->saccade_speed_deg_s = d.saccade_speed;
+  c->triangle_budget = d.triangle_budget;
+}
+
+void acuity_eye_default(acuity_eye* e) {
+  if (!e) return;
+  const acuity::Eye d;
+  const acuity::Gaze g;
+  std::memset(e, 0, sizeof *e);
+  std::memcpy(e->position, d.position, sizeof e->position);
+  std::memcpy(e->orientation, d.orientation, sizeof e->orientation);
+  std::memcpy(e->fov_deg, d.fov_deg, sizeof e->fov_deg);
+  std::memcpy(e->viewport, d.viewport, sizeof e->viewport);
+  std::memcpy(e->gaze_direction, g.direction, sizeof e->gaze_direction);
+  e->gaze_confidence = g.confidence;
+}
+
+acuity_status acuity_create(const acuity_config* c, acuity_scheduler** out) {
+  return guarded([&] {
+    if (!c || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: null argument");
+    if (c->rule > ACUITY_RULE_SCREEN_SIZE || c->max_objects == 0) return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: bad rule or capacity");
+    acuity::SchedulerConfig sc;
+    sc.max_objects = c->max_objects;
+    sc.max_profiles = c->max_profiles;
+    sc.rule = static_cast<acuity::SelectionRule>(c->rule);
+    sc.quality = c->quality;
+    sc.gaze_uncertainty_deg = c->gaze_uncertainty_deg;
+    sc.no_gaze_radius_deg = c->no_gaze_radius_deg;
+    sc.hysteresis_margin = c->hysteresis_margin;
+    sc.hysteresis_frames = c->hysteresis_frames;
+    sc.saccade_speed = c->saccade_speed_deg_s;
+    sc.triangle_budget = c->triangle_budget;
+    *out = new acuity_scheduler(sc);
+    return ACUITY_OK;
+  });
+}
+
+void acuity_destroy(acuity_scheduler* s) { delete s; }
+
+acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
+  return guarded([&] {
+    if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, "acuity_load_profile: null argument");
+    acuity::Blob blob;
+    blob.size = size;
+    blob.storage.assign((size + 7) / 8, 0);
+    std::memcpy(blob.storage.data(), data, size);
+    acuity::Profile p;
+    acuity::ProfileError e;
+    if (acuity::open_profile(blob.data(), blob.size, &p, &e) != acuity::ProfileStatus::Ok)
+      return fail(ACUITY_BAD_PROFILE, std::string(acuity::to_string(e.status)) + ": " + e.message);
+    s->profiles.push_back(std::move(blob));
+    acuity::open_profile(s->profiles.back().data(), s->profiles.back().size, &p);  // point into the kept copy
+    const int i = s->scheduler.add_profile(p);
+    if (i < 0) {
+      s->profiles.pop_back();
+      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles reached");
+    }
+    *index = i;
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles, const double* positions,
+                                 size_t ps, const float* rotations, size_t rs, const float* scales, uint32_t* ids) {
+  return guarded([&] {
+    if (!s || (count && (!profiles || !positions || !rotations || !ids))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
+    for (uint32_t i = 0; i < count; ++i) {
+      ids[i] = s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
+      if (ids[i] == acuity::kInvalidObject)
+        return fail(ACUITY_FULL, "acuity_add_objects: object " + std::to_string(i) + ": full, or profile " + std::to_string(profiles[i]) + " does not exist");
+    }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids) {
+  return guarded([&] {
+    if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: null argument");
+    for (uint32_t i = 0; i < count; ++i) s->scheduler.remove_object(ids[i]);
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const double* positions,
+                                    size_t ps, const float* rotations, size_t rs, const float* scales) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !positions || !rotations))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: null argument");
+    for (uint32_t i = 0; i < count; ++i) {
+      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: no object " + std::to_string(ids[i]));
+      s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
+    }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* v, size_t vs) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !v))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: null argument");
+    for (uint32_t i = 0; i < count; ++i) {
+      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: no object " + std::to_string(ids[i]));
+      s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
+    }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt) {
+  return guarded([&] {
+    if (!s || !eyes || eye_count < 1 || eye_count > 2) return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: one or two eyes");
+    acuity::Frame f;
+    f.eye_count = eye_count;
+    f.dt = dt;
+    for (uint32_t i = 0; i < eye_count; ++i) {
+      const acuity_eye& e = eyes[i];
+      std::memcpy(f.eyes[i].position, e.position, sizeof e.position);
+      std::memcpy(f.eyes[i].orientation, e.orientation, sizeof e.orientation);
+      std::memcpy(f.eyes[i].fov_deg, e.fov_deg, sizeof e.fov_deg);
+      std::memcpy(f.eyes[i].viewport, e.viewport, sizeof e.viewport);
+      std::memcpy(f.eyes[i].velocity, e.velocity, sizeof e.velocity);
+      std::memcpy(f.eyes[i].angular_velocity, e.angular_velocity, sizeof e.angular_velocity);
+      std::memcpy(f.gaze[i].direction, e.gaze_direction, sizeof e.gaze_direction);
+      std::memcpy(f.gaze[i].angular_velocity, e.gaze_angular_velocity, sizeof e.gaze_angular_velocity);
+      f.gaze[i].confidence = e.gaze_confidence;
+      f.gaze[i].valid = e.gaze_valid != 0;
+      f.gaze[i].has_velocity = e.gaze_has_velocity != 0;
+    }
+    s->scheduler.begin_frame(f);
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count) {
+  return guarded([&] {
+    if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: null scheduler");
+    s->scheduler.update(first, count);
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_end_frame(acuity_scheduler* s) {
+  return guarded([&] {
+    if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: null scheduler");
+    s->scheduler.end_frame();
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* levels, uint8_t* flags) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !levels))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
+    for (uint32_t i = 0; i < count; ++i) {
+      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: no object " + std::to_string(ids[i]));
+      levels[i] = s->scheduler.level(ids[i]);
+      if (flags) flags[i] = s->scheduler.flags(ids[i]);
+    }
+    return ACUITY_OK;
+  });
+}
+
+uint64_t acuity_frame_triangles(const acuity_scheduler* s) { return s ? s->scheduler.stats().triangles : 0; }
+
+}  // extern "C"
