@@ -74,6 +74,15 @@ void require_rows(const py::array& a, py::ssize_t n, py::ssize_t cols, const cha
                           (cols ? ", " + std::to_string(cols) : std::string()) + ")");
 }
 
+// Row i of shape-checked (N, 3) positions, (N, 4) rotations and (N,) scales.
+ObjectTransform transform_at(const F64& position, const F32& rotation, const F32& scale, py::ssize_t i) {
+  ObjectTransform t;
+  for (int k = 0; k < 3; ++k) t.position[k] = position.at(i, k);
+  for (int k = 0; k < 4; ++k) t.rotation[k] = rotation.at(i, k);
+  t.scale = scale.at(i);
+  return t;
+}
+
 // Holds the profiles it was given so their bytes outlive the scheduler.
 struct PyScheduler {
   Scheduler scheduler;
@@ -89,15 +98,8 @@ struct PyScheduler {
     py::array_t<std::uint32_t> ids(n);
     auto out = ids.mutable_unchecked<1>();
     auto pr = profile.unchecked<1>();
-    auto po = position.unchecked<2>();
-    auto ro = rotation.unchecked<2>();
-    auto sc = scale.unchecked<1>();
     for (py::ssize_t i = 0; i < n; ++i) {
-      ObjectTransform t;
-      for (int k = 0; k < 3; ++k) t.position[k] = po(i, k);
-      for (int k = 0; k < 4; ++k) t.rotation[k] = ro(i, k);
-      t.scale = sc(i);
-      out(i) = scheduler.add_object(static_cast<int>(pr(i)), t);
+      out(i) = scheduler.add_object(static_cast<int>(pr(i)), transform_at(position, rotation, scale, i));
       if (out(i) == kInvalidObject) throw py::value_error("add_objects: full, or a bad profile index at row " + std::to_string(i));
     }
     return ids;
@@ -109,16 +111,7 @@ struct PyScheduler {
     require_rows(rotation, n, 4, "rotation");
     require_rows(scale, n, 0, "scale");
     auto id = ids.unchecked<1>();
-    auto po = position.unchecked<2>();
-    auto ro = rotation.unchecked<2>();
-    auto sc = scale.unchecked<1>();
-    for (py::ssize_t i = 0; i < n; ++i) {
-      ObjectTransform t;
-      for (int k = 0; k < 3; ++k) t.position[k] = po(i, k);
-      for (int k = 0; k < 4; ++k) t.rotation[k] = ro(i, k);
-      t.scale = sc(i);
-      scheduler.set_transform(id(i), t);
-    }
+    for (py::ssize_t i = 0; i < n; ++i) scheduler.set_transform(id(i), transform_at(position, rotation, scale, i));
   }
 
   void set_velocities(U32 ids, F32 velocity) {
