@@ -167,3 +167,20 @@ def test_profile_from_user_snapshots(tmp_path):
 def acuity_profile(path):
     import acuity
     return acuity.Profile.load(str(path))
+
+
+def test_profile_reads_lodgens_gltf(tmp_path):
+    """lodgen's .glb goes straight into profile: the levels, their triangle counts and their
+    geometric errors (recovered from MSFT_screencoverage) arrive in the profile."""
+    chain = tmp_path / "e.glb"
+    assert run("lodgen", os.path.join(MESHES, "elephant.off"), "-o", chain, "--levels", "3", "-q").returncode == 0
+    summary = json.loads((tmp_path / "e.glb.json").read_text())
+    prof = tmp_path / "e.acuity"
+    r = run("profile", chain, "-o", prof, "--res", "64", "--views", "6")
+    assert r.returncode == 0, r.stderr
+    j = json.loads(run("inspect", prof, "--json").stdout)
+    levels = summary["meshes"][0]["levels"]
+    assert [l["triangles"] for l in j["levels"]] == [l["triangles"] for l in levels]
+    for got, want in zip(j["levels"][1:], levels[1:]):
+        assert got["geometric_error"] == pytest.approx(want["hausdorff_diameters"], rel=1e-4)
+    assert max(j["levels"][2]["max_lost_contrast_per_band"]) > 0
