@@ -605,7 +605,7 @@ void Scheduler::select(ObjectId id) {
   const std::uint8_t hi = static_cast<std::uint8_t>(std::min<std::uint32_t>(max_level_[id], K - 1));
   const std::uint8_t lo = std::min(min_level_[id], hi);
   fine = std::clamp(fine, lo, hi);
-  coarse = std::clamp(std::max(coarse, std::uint8_t(0)), lo, hi);
+  coarse = std::clamp(coarse, lo, hi);
 
   const std::uint8_t current = chosen_[id];
   std::uint8_t next = current;
