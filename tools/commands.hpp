@@ -3,7 +3,9 @@
 #include <CLI/CLI.hpp>
 
 namespace acuity::tools {
-void add_models_report(CLI::App& app);   // `acuity models`, and `acuity demo` until the demo scene exists
+void add_models_report(CLI::App& app);   // `acuity models`
+void print_models_report();              // the same tables with the defaults
+void add_demo_command(CLI::App& app);     // `acuity demo`: the README's main job
 void add_profile_command(CLI::App& app);  // `acuity profile`
 void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`

@@ -68,19 +68,16 @@ void report(double contrast, const std::string& model_name, const std::string& f
 
 }  // namespace
 
+void print_models_report() { report(1.0, "default", "daly1998"); }
+
 void add_models_report(CLI::App& app) {
   struct Options { double contrast = 1.0; std::string model = "default", fit = "daly1998"; };
   auto opts = std::make_shared<Options>();
-  for (const char* name : {"models", "demo"}) {
-    CLI::App* cmd = app.add_subcommand(name, std::string(name) == "models"
-        ? "Print thresholds and cutoff frequencies over eccentricity and velocity"
-        : "Run the main job on its embedded default (for now: the models report)");
-    cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--model", opts->model, "default | geisler-perry | kelly-daly | reddy");
-    cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
-    cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });
-  }
+  CLI::App* cmd = app.add_subcommand("models", "Print thresholds and cutoff frequencies over eccentricity and velocity");
+  cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")->check(CLI::PositiveNumber);
+  cmd->add_option("--model", opts->model, "default | geisler-perry | kelly-daly | reddy");
+  cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
+  cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });
 }
 
 }  // namespace acuity::tools
