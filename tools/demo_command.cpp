@@ -19,6 +19,7 @@
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 #include "commands.hpp"
+#include "level_input.hpp"
 
 namespace acuity::tools {
 namespace {
@@ -58,13 +59,7 @@ Asset prepare(const std::string& name, const DemoOptions& o) {
       obj.geometric_error.push_back(l.hausdorff);
     }
     lodgen::write_lod_gltf(glb.string(), {obj}, {});
-    for (std::size_t k = 0; k < obj.levels.size(); ++k) {
-      spectra::LevelInput in;
-      const lodgen::Mesh& m = obj.levels[k];
-      in.mesh = {m.positions.data(), m.vertex_count(), m.indices.data(), m.indices.size(), m.normals.data(), nullptr};
-      in.geometric_error = float(obj.geometric_error[k]);
-      levels.push_back(in);
-    }
+    for (std::size_t k = 0; k < obj.levels.size(); ++k) levels.push_back(level_input(obj.levels[k], float(obj.geometric_error[k])));
     spectra::ProfileSettings ps;
     ps.render.pixels = 128;
     spectra::ProfileReport report;

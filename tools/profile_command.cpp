@@ -12,6 +12,7 @@
 #include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
+#include "level_input.hpp"
 
 namespace acuity::tools {
 namespace {
@@ -86,18 +87,7 @@ void run(const ProfileOptions& o) {
     errors.assign(meshes.size(), 0.0f);
   }
   std::vector<spectra::LevelInput> levels;
-  for (std::size_t k = 0; k < meshes.size(); ++k) {
-    const lodgen::Mesh& m = meshes[k];
-    spectra::LevelInput l;
-    l.mesh.positions = m.positions.data();
-    l.mesh.vertex_count = m.vertex_count();
-    l.mesh.indices = m.indices.data();
-    l.mesh.index_count = m.indices.size();
-    l.mesh.normals = m.normals.empty() ? nullptr : m.normals.data();
-    l.mesh.texcoords = m.texcoords.empty() ? nullptr : m.texcoords.data();
-    l.geometric_error = errors[k];
-    levels.push_back(l);
-  }
+  for (std::size_t k = 0; k < meshes.size(); ++k) levels.push_back(level_input(meshes[k], errors[k]));
   spectra::ProfileSettings s;
   s.render.pixels = o.pixels;
   s.analysis.orientations = o.orientations;
