@@ -25,21 +25,6 @@ template <class T> T saturating_exp(T x) {
   return x >= log_max<T>() ? std::numeric_limits<T>::max() : std::exp(x);
 }
 
-// The constants of one fit of Daly's CSF.
-struct DalyFit {
-  double c0, c1, c2;
-  double prefactor;  // c0 c2 (Daly 1998) or c0 c1 c2 (Laird 2006)
-  double v_floor;    // the fit's own lowest velocity [deg/s]
-};
-
-DalyFit daly_fit(CsfFit fit) {
-  switch (fit) {
-    case CsfFit::Laird2006: return {0.6329, 0.8404, 0.7986, 0.6329 * 0.8404 * 0.7986, 0.1};
-    case CsfFit::Daly1998: break;
-  }
-  return {1.14, 0.67, 1.7, 1.14 * 1.7, 0.0};
-}
-
 // Kelly's velocity factor k(v) = 6.1 + 7.3 |log10(v / 3)|^3, v > 0 finite.
 template <class T> T kelly_k(T v) {
   const T l = std::abs(std::log10(v / T(3)));
@@ -53,7 +38,7 @@ template <class T> T floored_velocity(T v, double floor) {
 }
 
 // ln of Daly's CSF at frequency rho [cpd] and floored velocity v [deg/s]; -inf where S = 0.
-template <class T> T log_daly_csf(T rho, T v, const DalyFit& c) {
+template <class T> T log_daly_csf(T rho, T v, const DalyFitConstants& c) {
   const T x = T(c.c2) * v;
   if (rho == T(0) || std::isinf(rho) || std::isinf(x)) return -kInf<T>;
   // Each term stays finite for finite input; only the exponent may reach -inf (then S = 0).
@@ -62,11 +47,11 @@ template <class T> T log_daly_csf(T rho, T v, const DalyFit& c) {
          decay + std::log(kelly_k(x));
 }
 
-template <class T> T daly_peak(T v, const DalyFit& c) {
+template <class T> T daly_peak(T v, const DalyFitConstants& c) {
   return T(45.9) / (T(2) * kPi<T> * T(c.c1) * (T(c.c2) * v + T(2)));
 }
 
-template <class T> T daly_velocity(T v, const ModelParams& p, const DalyFit& c) {
+template <class T> T daly_velocity(T v, const ModelParams& p, const DalyFitConstants& c) {
   return floored_velocity(v, std::max(p.drift, c.v_floor));
 }
 
@@ -79,7 +64,7 @@ template <class T> T eccentricity_exponent(T f, T e, const ModelParams& p) {
 // Newton's method on h(x) = ln CT(e^x) - ln c for the Daly-based models, where
 // ln CT(rho) = -ln S(rho, v) + a rho is convex and increasing in x = ln rho above x_lo.
 // Starting to the right of the root, the iterates decrease monotonically onto it.
-template <class T> T solve_above(T rho_lo, T log_c, T v, T a, const DalyFit& c) {
+template <class T> T solve_above(T rho_lo, T log_c, T v, T a, const DalyFitConstants& c) {
   const T b = T(4) * kPi<T> * T(c.c1) * (T(c.c2) * v + T(2)) / T(45.9);
   auto h = [&](T x) {
     const T rho = std::exp(x);
@@ -156,7 +141,7 @@ template <class T> T daly_retinal_velocity(T v_image, const ModelParams& p) {
 }
 
 template <class T> T daly_csf(T f, T v, const ModelParams& p) {
-  const DalyFit c = daly_fit(p.fit);
+  const DalyFitConstants c = daly_fit_constants(p.fit);
   f = std::abs(f);
   v = daly_velocity(v, p, c);
   if (std::isnan(f) || std::isnan(v)) return kNaN<T>;
@@ -164,8 +149,16 @@ template <class T> T daly_csf(T f, T v, const ModelParams& p) {
 }
 
 template <class T> T daly_peak_frequency(T v, const ModelParams& p) {
-  const DalyFit c = daly_fit(p.fit);
+  const DalyFitConstants c = daly_fit_constants(p.fit);
   return daly_peak(daly_velocity(v, p, c), c);
+}
+
+DalyFitConstants daly_fit_constants(CsfFit fit) {
+  switch (fit) {
+    case CsfFit::Laird2006: return {0.6329, 0.8404, 0.7986, 0.6329 * 0.8404 * 0.7986, 0.1};
+    case CsfFit::Daly1998: break;
+  }
+  return {1.14, 0.67, 1.7, 1.14 * 1.7, 0.0};
 }
 
 // ---- Reddy ----------------------------------------------------------------------------------------
@@ -209,7 +202,7 @@ T log_threshold_unsaturated(T f, T e, T v_retinal, ThresholdModel model, const M
       return f <= reddy_cutoff(v_retinal, e) ? std::log(T(p.reddy_contrast)) : log_max<T>();
     case ThresholdModel::KellyDaly:
     case ThresholdModel::Default: {
-      const DalyFit c = daly_fit(p.fit);
+      const DalyFitConstants c = daly_fit_constants(p.fit);
       const T v = daly_velocity(v_retinal, p, c);
       const T rho = model == ThresholdModel::Default ? std::max(f, daly_peak(v, c)) : f;
       return -log_daly_csf(rho, v, c) + eccentricity_exponent(f, e, p);
@@ -245,7 +238,7 @@ T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model, cons
       return contrast >= T(p.reddy_contrast) ? reddy_cutoff(v_retinal, e) : T(0);
     case ThresholdModel::KellyDaly:
     case ThresholdModel::Default: {
-      const DalyFit c = daly_fit(p.fit);
+      const DalyFitConstants c = daly_fit_constants(p.fit);
       const T v = daly_velocity(v_retinal, p, c);
       if (std::isinf(v) || std::isinf(e)) return T(0);  // sensitivity 0 at every f > 0
       const T log_c = std::log(contrast);

@@ -74,12 +74,11 @@ struct VelocityTerms {
 
 struct DalyConstants { float ln_prefactor, c1, c2, ln_2pi_c1, v_floor; };
 
+// The fit's constants (from models.cpp, the one place they are written) in the fast path's form.
 DalyConstants daly_constants(const ModelParams& p) {
-  const bool laird = p.fit == CsfFit::Laird2006;
-  const double c0 = laird ? 0.6329 : 1.14, c1 = laird ? 0.8404 : 0.67, c2 = laird ? 0.7986 : 1.7;
-  const double pre = laird ? c0 * c1 * c2 : c0 * c2;
-  return {float(std::log(pre)), float(c1), float(c2), float(std::log(2 * std::numbers::pi * c1)),
-          float(std::max(p.drift, laird ? 0.1 : 0.0))};
+  const DalyFitConstants f = daly_fit_constants(p.fit);
+  return {float(std::log(f.prefactor)), float(f.c1), float(f.c2), float(std::log(2 * std::numbers::pi * f.c1)),
+          float(std::max(p.drift, f.v_floor))};
 }
 
 VelocityTerms velocity_terms(float v, const DalyConstants& c) {

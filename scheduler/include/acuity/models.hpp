@@ -76,6 +76,13 @@ template <class T> T daly_retinal_velocity(T v_image, const ModelParams& p = {})
 template <class T> T daly_csf(T f, T v, const ModelParams& p = {});
 // Frequency of the peak of daly_csf [cpd]: 45.9 / (2 pi c1 (c2 v + 2)).
 template <class T> T daly_peak_frequency(T v, const ModelParams& p = {});
+// The constants of one fit, the one place they are written (the scheduler's fast path uses them too).
+struct DalyFitConstants {
+  double c0, c1, c2;
+  double prefactor;  // c0 c2 (Daly 1998) or c0 c1 c2 (Laird 2006)
+  double v_floor;    // the fit's own lowest velocity [deg/s]
+};
+DalyFitConstants daly_fit_constants(CsfFit fit);
 
 // ---- Reddy 1997 / 2001 --------------------------------------------------------------------------
 // Eccentricity factor M(e): 1 for e <= 5.79 deg, else 7.49 / (0.3 e + 1)^2. [checked]
