@@ -2,6 +2,8 @@
 // covered exactly once; depth test keeps the sample nearest the camera; samples are averaged.
 #include "acuity/spectra/render.hpp"
 
+#include "color.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,8 +21,8 @@ V3 normalize(V3 a) {
 }
 V3 at3(const float* p, std::size_t i) { return {p[3 * i], p[3 * i + 1], p[3 * i + 2]}; }
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
-float luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+using detail::luminance;
+using detail::srgb_to_linear;
 
 // Texture luminance (linear) at uv, nearest texel, wrapping (glTF REPEAT).
 float texture_luminance(const Material& m, float u, float v, const float* lut) {

@@ -1,5 +1,7 @@
 #include "acuity/spectra/snapshots.hpp"
 
+#include "color.hpp"
+
 #include <stb_image.h>
 
 #include <nlohmann/json.hpp>
@@ -13,7 +15,8 @@ namespace acuity::spectra {
 namespace {
 [[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
 
-float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+using detail::luminance;
+using detail::srgb_to_linear;
 
 std::array<float, 3> vec3(const nlohmann::json& j, const std::string& where) {
   if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -33,7 +36,7 @@ Image load_png_luminance(const std::string& path) {
   for (std::size_t i = 0; i < im.pixels.size(); ++i) {
     const unsigned char* p = data + i * std::size_t(c);
     const float r = srgb_to_linear(p[0] / 255.0f);
-    im.pixels[i] = c >= 3 ? 0.2126f * r + 0.7152f * srgb_to_linear(p[1] / 255.0f) + 0.0722f * srgb_to_linear(p[2] / 255.0f) : r;
+    im.pixels[i] = c >= 3 ? luminance(r, srgb_to_linear(p[1] / 255.0f), srgb_to_linear(p[2] / 255.0f)) : r;
   }
   stbi_image_free(data);
   return im;
