@@ -1,6 +1,8 @@
 // glTF input (tinygltf) with every accessor bounds-checked, and LOD output with MSFT_lod.
 #include "acuity/lodgen/gltf.hpp"
 
+#include "path.hpp"
+
 #include <stb_image_write.h>
 #include <tiny_gltf.h>
 
@@ -219,11 +221,7 @@ Scene convert(const Model& model, const std::string& path) {
   return scene;
 }
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
+using detail::lower_extension;
 
 // --- writing ---
 

@@ -1,5 +1,7 @@
 #include "acuity/lodgen/mesh.hpp"
 
+#include "path.hpp"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -21,11 +23,7 @@ namespace acuity::lodgen {
 namespace {
 using OmMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
+using detail::lower_extension;
 
 // The element counts an OFF or PLY header declares (0 when there is none), checked against what
 // the file's size can hold, so a lying header cannot make the reader reserve absurd memory.
