@@ -147,6 +147,7 @@ struct Scheduler::Precomputed {
   float floor_velocity = 0;      // [deg/s]
   float ln_quality = 0, ln_margin = 0;
   float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
+  float distance_per_error = 0;  // Distance rule: distance_scale / tan(1 arcmin)
   // velocity_terms() tabulated over ln v, linear between nodes (error ~1e-5 in ln S).
   static constexpr int kTermsSize = 2048;
   static constexpr float kTermsLnV0 = -2.31f, kTermsLnV1 = 6.91f;  // 0.0993 .. 1000 deg/s
@@ -229,6 +230,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.ln_quality = std::log(config_.quality);
   pre.ln_margin = std::log(std::max(1e-6f, 1.0f - config_.hysteresis_margin));
   pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
+  pre.distance_per_error = config_.distance_scale / std::tan(kRad / 60.0f);
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
     pre.terms[i] = velocity_terms(std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) *
                                                                       float(i) / float(Precomputed::kTermsSize - 1)), pre.daly);
@@ -418,7 +420,7 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     for (std::uint32_t k = 1; k < K; ++k) {
       const float error = p.levels[k].geometric_error * 2.0f * r;  // world units
       const bool ok = config_.rule == SelectionRule::Distance
-                          ? d >= config_.distance_scale * error / std::tan(kRad / 60.0f)
+                          ? d >= pre_->distance_per_error * error
                           : error / d * eye.focal_px <= config_.pixel_error;
       if (ok) level = static_cast<std::uint8_t>(k);
     }
