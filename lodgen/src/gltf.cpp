@@ -316,7 +316,7 @@ std::vector<double> screen_coverage(const std::vector<double>& error, double hei
 }
 
 void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects, const std::vector<Material>& materials,
-                    const GltfWriteOptions& options) {
+                    const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "acuity lodgen";
@@ -343,10 +343,10 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
     }
     model.materials.push_back(m);
   }
-  tinygltf::Scene scene;
-  for (const LodObject& o : objects) {
-    const std::vector<double> coverage = screen_coverage(o.geometric_error, options.reference_height);
-    std::vector<int> node_ids;
+  // Meshes once per object and level; nodes once per instance (instances share the meshes).
+  std::vector<std::vector<int>> mesh_ids(objects.size());
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const LodObject& o = objects[i];
     for (std::size_t k = 0; k < o.levels.size(); ++k) {
       const Mesh& mesh = o.levels[k];
       tinygltf::Primitive prim;
@@ -360,14 +360,28 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
       gm.name = o.name + (k ? "_LOD" + std::to_string(k) : std::string());
       gm.primitives.push_back(prim);
       model.meshes.push_back(gm);
+      mesh_ids[i].push_back(int(model.meshes.size() - 1));
+    }
+  }
+  std::vector<LodInstance> placed = instances;
+  if (placed.empty())
+    for (std::size_t i = 0; i < objects.size(); ++i) placed.push_back({int(i), objects[i].name, objects[i].matrix});
+  tinygltf::Scene scene;
+  for (const LodInstance& in : placed) {
+    if (in.object < 0 || in.object >= int(objects.size()))
+      throw std::runtime_error(path + ": instance '" + in.name + "' names object " + std::to_string(in.object) + ", which does not exist");
+    const LodObject& o = objects[std::size_t(in.object)];
+    const std::vector<double> coverage = screen_coverage(o.geometric_error, options.reference_height);
+    std::vector<int> node_ids;
+    for (std::size_t k = 0; k < o.levels.size(); ++k) {
       tinygltf::Node node;
-      node.name = gm.name;
-      node.mesh = int(model.meshes.size() - 1);
-      if (!identity(o.matrix)) node.matrix.assign(o.matrix.begin(), o.matrix.end());
+      node.name = in.name + (k ? "_LOD" + std::to_string(k) : std::string());
+      node.mesh = mesh_ids[std::size_t(in.object)][k];
+      if (!identity(in.matrix)) node.matrix.assign(in.matrix.begin(), in.matrix.end());
       model.nodes.push_back(node);
       node_ids.push_back(int(model.nodes.size() - 1));
     }
-    tinygltf::Node& top = model.nodes[node_ids[0]];
+    tinygltf::Node& top = model.nodes[std::size_t(node_ids[0])];
     if (node_ids.size() > 1) {
       tinygltf::Value::Array ids, cov;
       for (std::size_t k = 1; k < node_ids.size(); ++k) ids.emplace_back(node_ids[k]);

@@ -21,6 +21,14 @@ struct LodObject {
   int material = -1;  // into the materials passed to write_lod_gltf
 };
 
+// One placement of objects[object]: a node group of its own (the finest level's node with MSFT_lod,
+// one node per coarser level) referring to the object's meshes, which instances share.
+struct LodInstance {
+  int object = 0;
+  std::string name;
+  std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // world, column-major
+};
+
 struct GltfWriteOptions {
   double reference_height = 1080;  // pixels, for MSFT_screencoverage
   bool binary = true;              // .glb; false writes .gltf with the buffer embedded as a data URI
@@ -29,9 +37,11 @@ struct GltfWriteOptions {
 // Screen coverages for write_lod_gltf: one per level, non-increasing, the last 0.
 std::vector<double> screen_coverage(const std::vector<double>& geometric_error, double reference_height);
 
-// Writes the objects as one scene, atomically (a temporary renamed into place). Throws
-// std::runtime_error naming the path on failure; nothing is left behind.
+// Writes the objects as one scene, atomically (a temporary renamed into place): each object once at
+// its own matrix, or, when instances are given, each instance. Throws std::runtime_error naming the
+// path on failure; nothing is left behind.
 void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects,
-                    const std::vector<Material>& materials, const GltfWriteOptions& options = {});
+                    const std::vector<Material>& materials, const GltfWriteOptions& options = {},
+                    const std::vector<LodInstance>& instances = {});
 
 }  // namespace acuity::lodgen
