@@ -9,4 +9,5 @@ void add_demo_command(CLI::App& app);     // `acuity demo`: the README's main jo
 void add_profile_command(CLI::App& app);  // `acuity profile`
 void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
+void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
 }  // namespace acuity::tools

@@ -13,6 +13,7 @@
 #include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
 #include "level_input.hpp"
+#include "scene_assets.hpp"
 
 namespace acuity::tools {
 namespace {
@@ -63,25 +64,10 @@ void run(const ProfileOptions& o) {
     for (const lodgen::Node& n : scene.nodes)
       if (n.mesh >= 0 && !n.lods.empty()) { top = &n; break; }
     if (!top) throw std::runtime_error(o.levels[0] + ": no node with MSFT_lod levels");
-    meshes.push_back(scene.meshes[std::size_t(top->mesh)]);
-    for (int id : top->lods)
-      if (scene.nodes[std::size_t(id)].mesh >= 0) meshes.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
-    errors.push_back(0);
-    for (std::size_t k = 1; k < meshes.size(); ++k) {  // coverage[k-1] = 1 / (e_k x 1080)
-      const double c = k - 1 < top->screen_coverage.size() ? top->screen_coverage[k - 1] : 0;
-      errors.push_back(c > 0 ? float(1.0 / (c * 1080.0)) : 0.0f);
-    }
-    const int mi = meshes[0].material;
-    if (mi >= 0 && std::size_t(mi) < scene.materials.size()) {
-      const lodgen::Material& m = scene.materials[std::size_t(mi)];
-      std::copy(m.base_color, m.base_color + 4, material.base_color);
-      if (!m.pixels.empty()) {
-        material.texture = m.pixels.data();
-        material.texture_width = m.width;
-        material.texture_height = m.height;
-        material.texture_channels = 4;
-      }
-    }
+    LodChain chain = chain_of_node(scene, *top);
+    meshes = std::move(chain.levels);
+    errors = std::move(chain.errors);
+    material = spectra_material(scene, meshes[0].material);
   } else {
     for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh(path));
     errors.assign(meshes.size(), 0.0f);

@@ -184,3 +184,41 @@ def test_profile_reads_lodgens_gltf(tmp_path):
     for got, want in zip(j["levels"][1:], levels[1:]):
         assert got["geometric_error"] == pytest.approx(want["hausdorff_diameters"], rel=1e-4)
     assert max(j["levels"][2]["max_lost_contrast_per_band"]) > 0
+
+
+def test_simulate_then_explain_a_plain_mesh_scene(tmp_path):
+    """A glTF of plain meshes (no LOD levels): simulate chains and profiles them on the fly, runs the
+    rules and writes its outputs; explain reports the level simulate recorded for that frame."""
+    scene = tmp_path / "grid.gltf"
+    textured_gltf(scene)
+    out, profiles = tmp_path / "out", tmp_path / "profiles"
+    common = ["--profiles", profiles, "--res", "64", "--seconds", "1", "--seed", "3"]
+    r = run("simulate", scene, *common, "--validate", "4", "--images", "1", "--no-plots", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "visible losses" in r.stdout and "tuned to" in r.stdout
+    frames = (out / "frames.csv").read_text().splitlines()
+    assert len(frames) == 61 and frames[0].startswith("frame,seconds,saccade")
+    assert (out / "frame_0030.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert (profiles / "grid.acuity").exists()  # built here, reused next time
+    rows = [l.split(",") for l in (out / "levels.csv").read_text().splitlines()]
+    header = rows[0]
+    recorded = next(row for row in rows[1:] if row[0] == "30" and row[2] == "grid")
+    e = run("explain", scene, *common, "--frame", "30", "--object", "grid")
+    assert e.returncode == 0, e.stderr
+    assert "profile from" not in e.stdout  # quiet about assets
+    assert f"chosen: level {recorded[header.index('perceptual')]} " in e.stdout, e.stdout
+    assert "retinal velocity" in e.stdout and "eccentricity" in e.stdout
+    bad = run("explain", scene, *common, "--frame", "30", "--object", "nothing")
+    assert bad.returncode != 0 and "no object 'nothing'" in bad.stderr
+
+
+def test_simulate_bad_track_fails_cleanly(tmp_path):
+    scene = tmp_path / "grid.gltf"
+    textured_gltf(scene)
+    gaze = tmp_path / "gaze.csv"
+    gaze.write_text("t,x,y,z\n0,0,0,-1\n0.1,zero,0,-1\n")
+    out = tmp_path / "out"
+    r = run("simulate", scene, "--res", "64", "--seconds", "1", "--gaze", gaze, "-o", out, "--no-plots")
+    assert r.returncode != 0
+    assert "gaze.csv:3: column 'x': 'zero' is not a finite number" in r.stderr
+    assert not out.exists()

@@ -1,0 +1,304 @@
+// acuity simulate / explain: the table reader and its errors, the resampled tracks, the gaze
+// generator against the main sequence and its own phases, scene instancing through glTF, the
+// ground truth, the frame pictures, and that a fixed seed reproduces every output byte.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cmath>
+#include <functional>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "acuity/lodgen/gltf.hpp"
+#include "frame_image.hpp"
+#include "mesh_fixture.hpp"
+#include "simulation.hpp"
+
+namespace fs = std::filesystem;
+using namespace acuity;
+using namespace acuity::tools;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+fs::path scratch(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("acuity_test_simulate_" + std::to_string(::getpid())) / name;
+  fs::create_directories(p.parent_path());
+  return p;
+}
+
+// Removes the scratch directory after the last test.
+struct ScratchCleanup : ::testing::Environment {
+  void TearDown() override { fs::remove_all(scratch("x").parent_path()); }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try { f(); } catch (const std::exception& e) { return e.what(); }
+  return "no error";
+}
+
+lodgen::Mesh sphere_mesh(int subdivisions) {
+  const acuity::testing::TestMesh t = acuity::testing::icosphere(subdivisions, 1.0f);
+  lodgen::Mesh m;
+  m.positions = t.positions;
+  m.normals = t.normals;
+  m.indices = t.indices;
+  return m;
+}
+
+// A 3 x 3 field of sphere chains (icospheres 3, 2, 1 subdivisions) 4 m apart, radius 0.5 m, written
+// once as an instanced glTF; profiles at 64 px cached beside it.
+const SceneAssets& small_scene() {
+  static std::unique_ptr<SceneAssets> scene = [] {
+    lodgen::LodObject obj;
+    obj.name = "ball";
+    for (int s : {3, 2, 1}) obj.levels.push_back(sphere_mesh(s));
+    obj.geometric_error = {0, 0.004, 0.02};
+    std::vector<lodgen::LodInstance> field;
+    for (int i = 0; i < 9; ++i) {
+      lodgen::LodInstance in;
+      in.name = "ball_" + std::to_string(i);
+      in.matrix = {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, (i % 3 - 1) * 4.0, 0.5, -(3.0 + (i / 3) * 4.0), 1};
+      field.push_back(in);
+    }
+    const fs::path path = scratch("field.glb");
+    lodgen::write_lod_gltf(path.string(), {obj}, {}, {}, field);
+    AssetOptions o;
+    o.profiles = scratch("profiles").string();
+    o.profile_pixels = 64;
+    o.quiet = true;
+    return load_scene_assets(path.string(), o);
+  }();
+  return *scene;
+}
+
+SimulationOptions small_options(const std::string& output) {
+  SimulationOptions o;
+  o.seconds = 3;
+  o.movers = 2;
+  o.validate = std::getenv("ACUITY_QUICK_TESTS") ? 4 : 12;  // the sanitizer run judges fewer
+  o.images = 1;
+  o.plots = false;
+  o.output = output.empty() ? std::string() : scratch(output).string();
+  return o;
+}
+
+}  // namespace
+
+TEST(Table, ReadsCsvAndJsonByColumnName) {
+  write(scratch("t.csv"), "# comment\nt, x ,y\n0,1,2\n0.5,-3e-1,4\n");
+  const Table c = read_table(scratch("t.csv").string());
+  ASSERT_EQ(c.columns.size(), 3u);
+  EXPECT_EQ(c.column("x", true), 1);
+  EXPECT_EQ(c.column("confidence", false), -1);
+  EXPECT_DOUBLE_EQ(c.rows[1][1], -0.3);
+  write(scratch("t.json"), R"([{"t": 0, "x": 1}, {"t": 1, "x": 2.5}])");
+  const Table j = read_table(scratch("t.json").string());
+  EXPECT_DOUBLE_EQ(j.rows[1][std::size_t(j.column("x", true))], 2.5);
+}
+
+TEST(Table, BadInputNamesFileLineAndColumn) {
+  const std::string p = scratch("bad.csv").string();
+  write(p, "t,x\n0,1\n1,abc\n");
+  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:3: column 'x': 'abc'"), std::string::npos) << error_of([&] { read_table(p); });
+  write(p, "t,x\n0,1,2\n");
+  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:2: 3 fields, the header has 2"), std::string::npos);
+  write(p, "t,x\n0,nan\n");
+  EXPECT_NE(error_of([&] { read_table(p); }).find("not a finite number"), std::string::npos);
+  write(p, "");
+  EXPECT_NE(error_of([&] { read_table(p); }).find("no header"), std::string::npos);
+  const std::string j = scratch("bad.json").string();
+  write(j, R"({"t": 0})");
+  EXPECT_NE(error_of([&] { read_table(j); }).find("expected an array"), std::string::npos);
+  write(j, R"([{"t": 0, "x": 1}, {"t": 1, "y": 1}])");
+  EXPECT_NE(error_of([&] { read_table(j); }).find("row 1: has no 'x'"), std::string::npos);
+  write(j, R"([{"t": 0, "x": "1"}])");
+  EXPECT_NE(error_of([&] { read_table(j); }).find("row 0: 'x' is not a finite number"), std::string::npos);
+  write(j, "[{\"t\": 0,");
+  EXPECT_NE(error_of([&] { read_table(j); }).find("not valid JSON"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_table(scratch("missing.csv").string()); }).find("cannot open"), std::string::npos);
+  // Tracks: missing columns, time not increasing, zero quaternion.
+  write(p, "t,x,y,z\n0,0,0,-1\n");
+  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("no column 'qx'"), std::string::npos);
+  write(p, "t,x,y,z\n0,0,0,-1\n0,0,0,-1\n");
+  EXPECT_NE(error_of([&] { gaze_trace_from(read_table(p), 60, 10); }).find("does not increase"), std::string::npos);
+  write(p, "t,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,0\n");
+  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("quaternion is zero"), std::string::npos);
+}
+
+TEST(Tracks, ResampleLinearlyAndHoldBlinks) {
+  const std::string p = scratch("head.csv").string();
+  const double s = std::sin(kPi / 4), c = std::cos(kPi / 4);  // 0 -> 90 deg about +y over 1 s
+  write(p, "t,x,y,z,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n1,2,1.6,0,0," + std::to_string(s) + ",0," + std::to_string(c) + "\n");
+  const std::vector<HeadPose> head = head_path_from(read_table(p), 4, 6);
+  ASSERT_EQ(head.size(), 6u);
+  EXPECT_NEAR(head[2].position.x, 1.0, 1e-12);       // t = 0.5 s: halfway
+  const glm::dvec3 fwd = head[2].orientation * glm::dvec3(0, 0, -1);
+  EXPECT_NEAR(std::atan2(-fwd.x, -fwd.z), kPi / 4, 1e-6);  // slerp: 45 deg
+  EXPECT_NEAR(head[5].position.x, 2.0, 1e-12);       // held past the end
+  const std::string g = scratch("gaze.csv").string();
+  write(g, "t,x,y,z,confidence\n0,0,0,-1,1\n0.5,0,0,-2,0\n1,1,0,-1,1\n1.5,0,0,0,1\n");
+  const std::vector<GazeSample> gaze = gaze_trace_from(read_table(g), 4, 7);
+  EXPECT_FLOAT_EQ(gaze[0].confidence, 1.0f);
+  EXPECT_FLOAT_EQ(gaze[1].confidence, 0.0f);          // between a tracked and a lost sample: lost
+  EXPECT_FLOAT_EQ(gaze[3].confidence, 0.0f);
+  EXPECT_NEAR(glm::length(gaze[3].direction), 1.0, 1e-12);
+  EXPECT_FLOAT_EQ(gaze[6].confidence, 0.0f);          // a zero direction is no gaze
+}
+
+TEST(GazeGenerator, FollowsMainSequencePursuesAndBlinks) {
+  const SceneAssets& scene = small_scene();
+  const double fps = 1000;  // fine sampling to time the phases
+  const std::vector<HeadPose> head = flythrough(scene, 12, fps);
+  const std::vector<Mover> movers = choose_movers(scene, 3, 4);
+  const GeneratedGaze g = generate_gaze(scene, head, movers, fps, 4);
+  ASSERT_EQ(g.samples.size(), head.size());
+  int saccades = 0, blinks = 0, pursuit_frames = 0;
+  for (std::size_t f = 0; f < g.phases.size();) {
+    std::size_t e = f;
+    while (e < g.phases.size() && g.phases[e] == g.phases[f]) ++e;
+    const double ms = double(e - f) * 1000 / fps;
+    if (g.phases[f] == GazePhase::Saccade && f > 0 && e < g.phases.size()) {
+      const double amplitude = std::acos(std::clamp(glm::dot(g.samples[f - 1].direction, g.samples[e].direction), -1.0, 1.0)) * 180 / kPi;
+      EXPECT_NEAR(ms, 21 + 2.2 * amplitude, 3.0) << "saccade of " << amplitude << " deg";  // head motion moves the ends slightly
+      ++saccades;
+    }
+    if (g.phases[f] == GazePhase::Blink && e < g.phases.size()) {
+      EXPECT_NEAR(ms, 150, 2);
+      for (std::size_t i = f; i < e; ++i) EXPECT_EQ(g.samples[i].confidence, 0.0f);
+      ++blinks;
+    }
+    if (g.phases[f] == GazePhase::Fixation && e < g.phases.size() && (f == 0 || g.phases[f - 1] == GazePhase::Saccade) &&
+        g.phases[e] == GazePhase::Saccade) {
+      EXPECT_TRUE(ms >= 199 && ms <= 451) << ms;
+    }
+    f = e;
+  }
+  for (std::size_t f = 0; f < g.phases.size(); ++f) {
+    if (g.phases[f] != GazePhase::Pursuit) continue;
+    ++pursuit_frames;  // the gaze stays on the moving object: within its angular radius
+    const auto it = std::find_if(movers.begin(), movers.end(), [&](const Mover& m) { return int(m.instance) == g.targets[f]; });
+    ASSERT_NE(it, movers.end());
+    const glm::dvec3 h = glm::inverse(head[f].orientation) * (it->position(double(f) / fps) - head[f].position);
+    const double angle = std::acos(std::clamp(glm::dot(glm::normalize(h), g.samples[f].direction), -1.0, 1.0));
+    EXPECT_LE(angle, std::asin(std::min(1.0, scene.instances[it->instance].radius / glm::length(h))));
+  }
+  EXPECT_GT(saccades, 10);
+  EXPECT_GE(blinks, 1);
+  EXPECT_GT(pursuit_frames, 0);
+}
+
+TEST(Scene, InstancesShareMeshesAndKeepTheirPlacement) {
+  const SceneAssets& scene = small_scene();
+  ASSERT_EQ(scene.assets.size(), 1u);
+  ASSERT_EQ(scene.instances.size(), 9u);
+  EXPECT_EQ(scene.scene.meshes.size(), 3u);  // one chain, shared by nine instances
+  EXPECT_EQ(scene.assets[0].chain.levels.size(), 3u);
+  EXPECT_NEAR(scene.assets[0].chain.errors[2], 0.02f, 1e-4f);  // through MSFT_screencoverage
+  EXPECT_EQ(scene.instances[4].name, "ball_4");
+  EXPECT_DOUBLE_EQ(scene.instances[4].transform.position[2], -7.0);
+  EXPECT_FLOAT_EQ(scene.instances[4].transform.scale, 0.5f);
+  EXPECT_NEAR(scene.instances[4].radius, 0.5, 1e-6);
+  // A rotated, scaled and mirrored matrix decomposes to a unit quaternion and the largest scale.
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  const ObjectTransform t = decompose({2 * c, 0, -2 * s, 0, 0, 3, 0, 0, 2 * s, 0, 2 * c, 0, 1, 2, 3, 1});
+  EXPECT_FLOAT_EQ(t.scale, 3.0f);
+  EXPECT_NEAR(t.rotation[1], std::sin(0.15), 1e-6);
+  EXPECT_NEAR(t.rotation[3], std::cos(0.15), 1e-6);
+}
+
+TEST(Simulate, FixedSeedReproducesEveryOutputByte) {
+  const SceneAssets& scene = small_scene();
+  run_simulation(scene, small_options("run_a"));
+  run_simulation(scene, small_options("run_b"));
+  SimulationOptions other = small_options("run_c");
+  other.seed = 2;
+  run_simulation(scene, other);
+  for (const char* f : {"frames.csv", "levels.csv", "sweep.csv", "judged.csv", "gaze.csv", "head.csv", "summary.json", "frame_0090.png"}) {
+    const std::string a = slurp(scratch("run_a") / f);
+    ASSERT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, slurp(scratch("run_b") / f)) << f;
+  }
+  EXPECT_NE(slurp(scratch("run_a") / "gaze.csv"), slurp(scratch("run_c") / "gaze.csv"));
+  // The written tracks read back as --head and --gaze give the same levels.
+  SimulationOptions replay = small_options("run_d");
+  replay.head_file = (scratch("run_a") / "head.csv").string();
+  replay.gaze_file = (scratch("run_a") / "gaze.csv").string();
+  run_simulation(scene, replay);
+  EXPECT_EQ(slurp(scratch("run_a") / "levels.csv"), slurp(scratch("run_d") / "levels.csv"));
+}
+
+TEST(Simulate, RulesAndGroundTruthAgreeWhereTheyMust) {
+  const SceneAssets& scene = small_scene();
+  Simulation sim(scene, small_options(""));
+  sim.run();
+  const std::vector<Judged> judged = judge_decisions(sim, 20, 1);
+  ASSERT_EQ(judged.size(), 20u);
+  for (const Judged& j : judged) {
+    EXPECT_TRUE(sim.in_view(j.object, j.frame));
+    EXPECT_EQ(j.scores[0], 0.0f);                   // the finest level loses nothing
+    EXPECT_LE(j.scores[1], j.scores[2] * 1.5f + 0.05f);  // coarser loses more (up to view noise)
+    EXPECT_TRUE(j.pixels >= 64 && j.pixels <= 512);
+  }
+  // Every frame: the screen-size sweep is monotone in its pixel error (a looser tolerance never finer).
+  const RuleRun* previous = nullptr;
+  for (const RuleRun& r : sim.rules()) {
+    if (!r.sweep || r.name != "screen-size") continue;
+    if (previous) {
+      EXPECT_GE(previous->triangles, r.triangles);
+    }
+    previous = &r;
+  }
+  // explain: the chosen level is invisible by its own score, and the text names it.
+  for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
+    const std::string text = explain_text(sim, i);
+    const int level = sim.rule("perceptual").scheduler->level(i);
+    EXPECT_NE(text.find("chosen: level " + std::to_string(level)), std::string::npos) << text;
+    ObjectExplain e{};
+    ASSERT_TRUE(sim.rule("perceptual").scheduler->explain(i, &e));
+    EXPECT_LE(e.levels[level].score, 1.0f) << text;
+  }
+}
+
+TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {
+  const SceneAssets& scene = small_scene();
+  SimulationOptions o = small_options("");
+  o.movers = 0;
+  Simulation sim(scene, o);
+  sim.step();
+  auto count = [&](const std::uint8_t* levels, int channel_high, int channel_low) {
+    RgbImage im;
+    im.width = im.height = 200;
+    im.pixels.assign(200 * 200 * 3, 0);
+    draw_levels(sim, 0, levels, &im, 0);
+    int n = 0, white = 0;
+    for (int y = 0; y < 180; ++y)  // above the swatches
+      for (int x = 0; x < 200; ++x) {
+        const std::uint8_t* p = &im.pixels[std::size_t(y * 200 + x) * 3];
+        n += p[channel_high] > 2 * p[channel_low] + 20;
+        white += p[0] == 255 && p[1] == 255 && p[2] == 255;
+      }
+    return std::pair{n, white};
+  };
+  const std::vector<std::uint8_t> finest(9, 0), coarse(9, 2);
+  const auto blue = count(finest.data(), 2, 0), green_as_blue = count(coarse.data(), 2, 0), green = count(coarse.data(), 1, 0);
+  EXPECT_GT(blue.first, 200);        // level 0: blue objects
+  EXPECT_LT(green_as_blue.first, 20);
+  EXPECT_GT(green.first, 200);       // level 2: green
+  EXPECT_GT(blue.second, 20);        // the gaze ring
+}

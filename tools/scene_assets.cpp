@@ -1,0 +1,182 @@
+#include "scene_assets.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/spectra/profile_writer.hpp"
+#include "level_input.hpp"
+
+namespace acuity::tools {
+namespace fs = std::filesystem;
+namespace {
+
+using Matrix = std::array<double, 16>;
+
+Matrix multiply(const Matrix& a, const Matrix& b) {  // column-major a * b
+  Matrix m{};
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) m[std::size_t(c * 4 + r)] += a[std::size_t(k * 4 + r)] * b[std::size_t(c * 4 + k)];
+  return m;
+}
+
+std::string file_safe(const std::string& name) {
+  std::string s;
+  for (char c : name) s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return s.empty() ? "object" : s;
+}
+
+// The cached profile when it describes this chain (same level count and triangles), else empty.
+bool load_matching_profile(const std::string& path, const LodChain& chain, Asset* a) {
+  if (!fs::exists(path)) return false;
+  std::string error;
+  Blob blob;
+  if (!read_file(path, &blob, &error)) return false;
+  Profile p;
+  if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size()) return false;
+  for (std::size_t k = 0; k < chain.levels.size(); ++k)
+    if (p.levels[k].triangles != chain.levels[k].triangle_count()) return false;
+  a->blob = std::move(blob);
+  return open_profile(a->blob.data(), a->blob.size, &a->profile) == ProfileStatus::Ok;
+}
+
+}  // namespace
+
+ObjectTransform decompose(const Matrix& m) {
+  ObjectTransform t;
+  for (int k = 0; k < 3; ++k) t.position[k] = m[std::size_t(12 + k)];
+  glm::dmat3 r;
+  double largest = 0;
+  for (int c = 0; c < 3; ++c) {
+    const glm::dvec3 axis(m[std::size_t(4 * c)], m[std::size_t(4 * c + 1)], m[std::size_t(4 * c + 2)]);
+    const double len = glm::length(axis);
+    largest = std::max(largest, len);
+    r[c] = len > 0 ? axis / len : glm::dvec3(c == 0, c == 1, c == 2);
+  }
+  if (glm::determinant(r) < 0) r[2] = -r[2];  // a mirror: keep a rotation (the bounding sphere is unaffected)
+  const glm::dquat q = glm::normalize(glm::quat_cast(r));
+  t.rotation[0] = float(q.x);
+  t.rotation[1] = float(q.y);
+  t.rotation[2] = float(q.z);
+  t.rotation[3] = float(q.w);
+  t.scale = float(largest);
+  return t;
+}
+
+LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top) {
+  LodChain c;
+  c.levels.push_back(scene.meshes[std::size_t(top.mesh)]);
+  for (int id : top.lods)
+    if (scene.nodes[std::size_t(id)].mesh >= 0) c.levels.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
+  c.errors.push_back(0);
+  for (std::size_t k = 1; k < c.levels.size(); ++k) {
+    const double cov = k - 1 < top.screen_coverage.size() ? top.screen_coverage[k - 1] : 0;
+    c.errors.push_back(cov > 0 ? float(1.0 / (cov * 1080.0)) : 0.0f);
+  }
+  return c;
+}
+
+spectra::Material spectra_material(const lodgen::Scene& scene, int index) {
+  spectra::Material material;
+  if (index < 0 || std::size_t(index) >= scene.materials.size()) return material;
+  const lodgen::Material& m = scene.materials[std::size_t(index)];
+  std::copy(m.base_color, m.base_color + 4, material.base_color);
+  if (!m.pixels.empty()) {
+    material.texture = m.pixels.data();
+    material.texture_width = m.width;
+    material.texture_height = m.height;
+    material.texture_channels = 4;
+  }
+  return material;
+}
+
+std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const AssetOptions& o) {
+  auto out = std::make_unique<SceneAssets>();
+  out->scene = lodgen::load_scene(path);
+  const lodgen::Scene& scene = out->scene;
+  std::vector<bool> is_lod(scene.nodes.size(), false);
+  for (const lodgen::Node& n : scene.nodes)
+    for (int l : n.lods) is_lod[std::size_t(l)] = true;
+
+  // Instances: every node with a mesh reached from the roots that is not another node's coarser level.
+  std::map<int, int> asset_of_mesh;
+  std::map<std::string, int> names;
+  std::vector<const lodgen::Node*> tops;
+  const Matrix identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  std::vector<std::pair<int, Matrix>> stack;
+  for (auto r = scene.roots.rbegin(); r != scene.roots.rend(); ++r) stack.push_back({*r, identity});
+  std::size_t visited = 0;
+  while (!stack.empty()) {
+    auto [id, parent] = stack.back();
+    stack.pop_back();
+    if (++visited > 1000000) throw lodgen::InputError(path + ": the node hierarchy has a cycle");
+    const lodgen::Node& n = scene.nodes[std::size_t(id)];
+    if (is_lod[std::size_t(id)]) continue;
+    const Matrix world = multiply(parent, n.matrix);
+    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world});
+    if (n.mesh < 0 || scene.meshes[std::size_t(n.mesh)].indices.empty()) continue;
+    auto [it, fresh] = asset_of_mesh.try_emplace(n.mesh, int(tops.size()));
+    if (fresh) tops.push_back(&n);
+    Instance in;
+    in.asset = it->second;
+    in.name = n.name.empty() ? "node" + std::to_string(id) : n.name;
+    in.transform = decompose(world);
+    out->instances.push_back(in);
+  }
+  if (out->instances.empty()) throw lodgen::InputError(path + ": the scene has no mesh to simulate");
+
+  if (!o.profiles.empty()) fs::create_directories(o.profiles);
+  for (const lodgen::Node* top : tops) {
+    Asset a;
+    std::string base = file_safe(scene.mesh_names[std::size_t(top->mesh)]);
+    const int seen = names[base]++;
+    a.name = seen ? base + "_" + std::to_string(seen) : base;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string what;
+    if (!top->lods.empty()) {
+      a.chain = chain_of_node(scene, *top);
+    } else {  // a plain mesh: lodgen builds its chain
+      lodgen::ChainOptions co;
+      co.levels = o.lod_levels;
+      const lodgen::Chain chain = lodgen::build_chain(scene.meshes[std::size_t(top->mesh)], path + ": mesh " + a.name, co);
+      for (const lodgen::Level& l : chain.levels) {
+        a.chain.levels.push_back(l.mesh);
+        a.chain.errors.push_back(float(l.hausdorff));
+      }
+      what = "lodgen + ";
+    }
+    a.material = spectra_material(scene, a.chain.levels[0].material);
+    const std::string file = o.profiles.empty() ? std::string() : (fs::path(o.profiles) / (a.name + ".acuity")).string();
+    if (file.empty() || !load_matching_profile(file, a.chain, &a)) {
+      std::vector<spectra::LevelInput> levels;
+      for (std::size_t k = 0; k < a.chain.levels.size(); ++k) levels.push_back(level_input(a.chain.levels[k], a.chain.errors[k]));
+      spectra::ProfileSettings ps;
+      ps.render.pixels = o.profile_pixels;
+      spectra::ProfileReport report;
+      const spectra::ProfileData data = spectra::build_profile(levels, a.material, ps, {}, &report);
+      if (!file.empty()) spectra::write_profile(file, data);
+      a.blob = spectra::encode_profile(data);
+      ProfileError pe;
+      if (open_profile(a.blob.data(), a.blob.size, &a.profile, &pe) != ProfileStatus::Ok) throw std::runtime_error(a.name + ": " + pe.message);
+      what += "profile (" + std::to_string(report.views_kept) + " views)";
+    } else {
+      what = "profile from " + file;
+    }
+    if (!o.quiet)
+      std::printf("  %-12s %zu levels, %zu -> %zu triangles: %s, %.1f s\n", a.name.c_str(), a.chain.levels.size(),
+                  a.chain.levels.front().triangle_count(), a.chain.levels.back().triangle_count(), what.c_str(),
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    out->assets.push_back(std::move(a));
+  }
+  for (Instance& in : out->instances) in.radius = double(out->assets[std::size_t(in.asset)].profile.meta.sphere[3]) * in.transform.scale;
+  return out;
+}
+
+}  // namespace acuity::tools

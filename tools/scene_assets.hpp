@@ -1,0 +1,64 @@
+#pragma once
+// A glTF scene as the scheduler sees it: distinct LOD chains (assets) with their profiles, and the
+// instances placing them in the world. Shared by `simulate`, `explain`, `demo` and `profile`.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acuity/file.hpp"
+#include "acuity/lodgen/mesh.hpp"
+#include "acuity/scheduler.hpp"
+#include "acuity/spectra/profile_builder.hpp"
+
+namespace acuity::tools {
+
+// One object's levels, finest first, with their geometric errors [object diameters].
+struct LodChain {
+  std::vector<lodgen::Mesh> levels;
+  std::vector<float> errors;
+};
+
+// The chain a node with MSFT_lod holds (itself, then its lods); errors from MSFT_screencoverage,
+// which lodgen writes as 1 / (e_k x 1080).
+LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top);
+// The renderer's material for scene material `index` (-1: default); points into the scene.
+spectra::Material spectra_material(const lodgen::Scene& scene, int index);
+
+struct Asset {
+  std::string name;            // file-safe, unique in the scene
+  LodChain chain;
+  spectra::Material material;  // points into SceneAssets::scene
+  Blob blob;                   // the profile's bytes
+  Profile profile{};
+};
+
+struct Instance {
+  std::string name;
+  int asset = 0;
+  ObjectTransform transform;   // position, rotation, the largest axis scale of the world matrix
+  double radius = 0;           // world bounding-sphere radius [m]
+};
+
+struct SceneAssets {
+  lodgen::Scene scene;
+  std::vector<Asset> assets;
+  std::vector<Instance> instances;
+};
+
+struct AssetOptions {
+  std::string profiles;             // directory of <asset>.acuity: used when they match, else built and saved
+  std::uint32_t profile_pixels = 256;
+  std::uint32_t lod_levels = 5;     // for meshes without MSFT_lod levels (built by lodgen)
+  bool quiet = false;
+};
+
+// Loads the scene, builds LOD chains for plain meshes and profiles where none match. Throws
+// lodgen::InputError or std::runtime_error naming the file.
+std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const AssetOptions& options);
+
+// A world transform (column-major 4x4) as position, rotation and uniform scale (the largest axis).
+ObjectTransform decompose(const std::array<double, 16>& matrix);
+
+}  // namespace acuity::tools

@@ -1,0 +1,86 @@
+// `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
+// head path with a gaze trace (given or generated), four rules per frame (simulation.hpp).
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "simulation.hpp"
+
+namespace acuity::tools {
+namespace {
+
+struct SimulateOptions {
+  std::string scene;
+  AssetOptions assets;
+  SimulationOptions sim;
+  std::size_t frame = 0;
+  std::string object;
+};
+
+// The options simulate and explain share.
+void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
+  cmd->add_option("scene", o->scene, "glTF/GLB scene (nodes with MSFT_lod levels, or plain meshes lodgen will chain)")
+      ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--profiles", o->assets.profiles, "Directory of <mesh>.acuity profiles: used when they match, else built and saved there");
+  cmd->add_option("--res", o->assets.profile_pixels, "Snapshot pixels of profiles built here")->capture_default_str();
+  cmd->add_option("--head", o->sim.head_file, "Head path, CSV or JSON: t,x,y,z,qx,qy,qz,qw (default: a fly-through)")->check(CLI::ExistingFile);
+  cmd->add_option("--gaze", o->sim.gaze_file, "Gaze trace, CSV or JSON: t,x,y,z[,confidence] in head space (default: generated)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
+  cmd->add_option("--fps", o->sim.fps, "Frame rate")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--seed", o->sim.seed, "Seed of the generators and of the judged sample")->capture_default_str();
+  cmd->add_option("--movers", o->sim.movers, "Objects moving on circles (pursuit targets)")->capture_default_str();
+  cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")->capture_default_str()->check(CLI::Range(16u, 16384u));
+  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")->capture_default_str()->check(CLI::Range(10.0f, 170.0f));
+  cmd->add_option("--saccade-speed", o->sim.saccade_speed, "Gaze speed above which a frame is a saccade [deg/s]")->capture_default_str();
+}
+
+void simulate(const SimulateOptions& o) {
+  std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
+  const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
+  run_simulation(*scene, o.sim);
+}
+
+void explain(const SimulateOptions& o) {
+  AssetOptions quiet = o.assets;
+  quiet.quiet = true;
+  const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, quiet);
+  std::uint32_t object = 0;
+  while (object < scene->instances.size() && scene->instances[object].name != o.object) ++object;
+  if (object == scene->instances.size()) {
+    try { object = std::uint32_t(std::stoul(o.object)); } catch (...) { object = std::uint32_t(scene->instances.size()); }
+    if (object >= scene->instances.size())
+      throw std::runtime_error("explain: no object '" + o.object + "' (a node name or an index below " +
+                               std::to_string(scene->instances.size()) + ")");
+  }
+  SimulationOptions so = o.sim;
+  so.validate = 0;
+  Simulation sim(*scene, so);
+  if (o.frame >= sim.frame_count())
+    throw std::runtime_error("explain: frame " + std::to_string(o.frame) + " is past the run's " + std::to_string(sim.frame_count()) + " frames");
+  while (sim.frame_index() <= o.frame) sim.step();
+  std::fputs(explain_text(sim, object).c_str(), stdout);
+}
+
+}  // namespace
+
+void add_simulate_commands(CLI::App& app) {
+  auto o = std::make_shared<SimulateOptions>();
+  CLI::App* cmd = app.add_subcommand("simulate", "Run a scene along a head path and gaze trace through four LOD rules");
+  add_scene_options(cmd, o.get());
+  cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, plots and frame images")->capture_default_str();
+  cmd->add_option("--validate", o->sim.validate, "Decisions judged by rendering both levels at the exact view (0: none)")->capture_default_str();
+  cmd->add_option("--images", o->sim.images, "Frames rendered as PNG")->capture_default_str();
+  cmd->add_flag("!--no-plots", o->sim.plots, "Do not run the matplotlib script");
+  cmd->callback([o] { simulate(*o); });
+
+  auto e = std::make_shared<SimulateOptions>();
+  CLI::App* ex = app.add_subcommand("explain", "Why one object got its level in one simulated frame");
+  add_scene_options(ex, e.get());
+  ex->add_option("--frame", e->frame, "Frame index")->required();
+  ex->add_option("--object", e->object, "Node name or instance index")->required();
+  ex->callback([e] { explain(*e); });
+}
+
+}  // namespace acuity::tools

@@ -1,0 +1,158 @@
+#pragma once
+// `acuity simulate`: a scene, a head path and a gaze trace, run frame by frame through four rules
+// (perceptual, Reddy, distance, screen-size) plus the two baselines at a sweep of their tuning,
+// with the chosen levels judged afterwards by rendering both levels at the exact view.
+//
+// Conventions as in acuity/scheduler.hpp: metres, degrees, seconds; the head (camera) looks along
+// its local -Z with +Y up; gaze directions are unit vectors in head space (both eyes share the
+// head's orientation, so head space is eye space; vergence is ignored).
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "acuity/scheduler.hpp"
+#include "scene_assets.hpp"
+
+namespace acuity::tools {
+
+// A table of numbers with named columns: CSV with a header line, or JSON: an array of flat objects.
+// Throws std::runtime_error naming the file and the line (CSV) or row (JSON) at fault.
+struct Table {
+  std::string source;
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  int column(const std::string& name, bool required) const;  // -1 when absent and not required
+};
+Table read_table(const std::string& path);
+
+struct HeadPose {
+  glm::dvec3 position{0.0};                  // world [m]
+  glm::dquat orientation{1, 0, 0, 0};        // head to world (w, x, y, z as GLM stores it)
+};
+struct GazeSample {
+  glm::dvec3 direction{0, 0, -1};            // unit, head space
+  float confidence = 1;                      // 0: no gaze (blink, tracking lost)
+};
+enum class GazePhase : std::uint8_t { Fixation, Saccade, Pursuit, Blink, Recorded };
+const char* to_string(GazePhase phase);
+
+// Sampled tracks: columns t,x,y,z,qx,qy,qz,qw (head path) and t,x,y,z[,confidence] (gaze), with
+// t strictly increasing [s]. Resampled to frames (linear, normalised; held past the ends).
+std::vector<HeadPose> head_path_from(const Table& table, double fps, std::size_t frames);
+std::vector<GazeSample> gaze_trace_from(const Table& table, double fps, std::size_t frames);
+
+// An object that moves on a horizontal circle (so gaze can pursue it).
+struct Mover {
+  std::uint32_t instance = 0;
+  glm::dvec3 centre{0.0};
+  double radius = 1, speed = 1, phase = 0;   // [m], [m/s], [rad]
+  glm::dvec3 position(double t) const;
+};
+
+struct SimulationOptions {
+  double seconds = 20, fps = 60;
+  unsigned seed = 1;
+  std::string head_file, gaze_file;          // empty: the built-in fly-through and gaze generator
+  std::uint32_t movers = 3;                  // objects moving on circles (pursuit targets)
+  double eye_separation = 0.064;             // [m]
+  std::uint32_t viewport = 1920;             // per eye, square [px]
+  float fov_deg = 90;                        // per eye, full angle
+  float saccade_speed = 100;                 // gaze faster than this is a saccade [deg/s]
+  std::uint32_t validate = 200;              // decisions judged by render-and-analyze (0: none)
+  std::uint32_t images = 3;                  // frames rendered as PNG
+  std::string output;                        // directory for CSV, plots, images; empty: none
+  bool plots = true;                         // run tools/plot_simulation.py with Debian's python3
+};
+
+// The built-in generators. A fly-through walks the long horizontal axis of the scene's bounds at
+// eye height 1.6 m with a slow yaw sway; the gaze fixates objects in view (200-450 ms), moves
+// between them by saccades on the main sequence (21 ms + 2.2 ms/deg, cosine velocity profile),
+// pursues movers (0.6-1.5 s) and blinks every 2-6 s (150 ms, confidence 0).
+std::vector<HeadPose> flythrough(const SceneAssets& scene, double seconds, double fps);
+std::vector<Mover> choose_movers(const SceneAssets& scene, std::uint32_t count, unsigned seed);
+struct GeneratedGaze {
+  std::vector<GazeSample> samples;
+  std::vector<GazePhase> phases;
+  std::vector<std::int32_t> targets;         // instance looked at, -1 none
+};
+GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
+                            const std::vector<Mover>& movers, double fps, unsigned seed);
+
+// One rule at one tuning, run on every frame.
+struct RuleRun {
+  std::string name;                          // "perceptual", "screen-size", ...
+  double parameter = 0;                      // pixel_error or distance_scale (baselines); else 0
+  bool sweep = false;                        // part of the tuning sweep, not a main rule
+  std::unique_ptr<Scheduler> scheduler;
+  std::vector<std::uint8_t> levels;          // [frame * objects + object]
+  std::vector<double> drawn;                 // [frame] triangles of the objects in view
+  double triangles = 0;                      // sum of drawn
+  std::uint64_t switches = 0, switches_outside_saccades = 0;
+  std::uint32_t visible_losses = 0;          // among the judged decisions
+};
+
+class Simulation {
+ public:
+  Simulation(const SceneAssets& scene, const SimulationOptions& options);
+  ~Simulation();
+  std::size_t frame_count() const { return head_.size(); }
+  std::size_t frame_index() const { return next_; }
+  bool step();                               // runs the next frame; false when done
+  void run();                                // every remaining frame
+
+  const SceneAssets& scene() const { return scene_; }
+  const SimulationOptions& options() const { return options_; }
+  std::vector<RuleRun>& rules() { return rules_; }
+  const RuleRun& rule(const std::string& name) const;
+  const Frame& frame(std::size_t f) const { return frames_[f]; }
+  ObjectTransform transform(std::uint32_t object, std::size_t frame) const;
+  glm::dvec3 velocity(std::uint32_t object, std::size_t frame) const;  // world [m/s]
+  bool in_view(std::uint32_t object, std::size_t frame) const { return in_view_[frame * objects_ + object] != 0; }
+  bool saccade(std::size_t f) const { return saccade_[f] != 0; }
+  const std::vector<HeadPose>& head() const { return head_; }
+  const std::vector<GazeSample>& gaze() const { return gaze_; }
+  const GeneratedGaze& generated() const { return generated_; }  // empty for a recorded gaze
+  double all_finest() const { return all_finest_; }  // triangles over frames, objects in view at level 0
+
+ private:
+  const SceneAssets& scene_;
+  SimulationOptions options_;
+  std::size_t objects_ = 0, next_ = 0;
+  std::vector<HeadPose> head_;
+  std::vector<GazeSample> gaze_;
+  GeneratedGaze generated_;
+  std::vector<Mover> movers_;
+  std::vector<int> mover_of_;                // per object: index into movers_, or -1
+  std::vector<Frame> frames_;
+  std::vector<std::uint8_t> in_view_, saccade_;
+  std::vector<RuleRun> rules_;
+  double all_finest_ = 0;
+};
+
+// Ground truth: for sampled (frame, object) decisions in view, the exact view (from the eyes'
+// midpoint, the head's up, the object's pose at that frame) rendered at
+// the display's resolution (capped), lost contrast analysed, every level scored by the perceptual
+// rule's thresholds. A rule's decision is a visible loss when its level scores above 1.
+struct Judged {
+  std::uint32_t frame, object, pixels;
+  std::array<float, kMaxLevels> scores;      // [level]; level 0 is 0
+};
+std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, unsigned seed);
+
+// Why the perceptual rule chose the level of `object` in the last frame run: every level's score,
+// limiting band and orientation, distance, eccentricity, retinal velocity; the other rules' levels.
+std::string explain_text(const Simulation& sim, std::uint32_t object);
+
+// Runs every frame, judges options.validate decisions, writes and prints the report.
+std::vector<std::string> run_simulation(const SceneAssets& scene, const SimulationOptions& options);
+
+// Writes frames.csv, levels.csv, sweep.csv, judged.csv, gaze.csv, frame PNGs and plots into
+// options.output and prints the summary; returns the paths written.
+std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judged);
+
+}  // namespace acuity::tools
