@@ -63,15 +63,16 @@ def plot_sweep(out, sweep):
     if judged == 0:
         return
     fig, ax = plt.subplots(figsize=(7, 5))
-    for rule, marker in (("screen-size", "o-"), ("distance", "s-")):
+    for rule, marker in (("perceptual", "^-"), ("screen-size", "o-"), ("distance", "s-")):
         rows = [r for r in sweep if r["rule"] == rule and r["sweep"] == "1"]
         x = [100.0 * int(r["visible_losses"]) / judged for r in rows]
         y = [float(r["triangles_per_frame"]) for r in rows]
-        ax.plot(x, y, marker, color=COLOURS[rule], ms=4, label=f"{rule} (sweep of its tuning)")
+        label = "perceptual (quality q swept)" if rule == "perceptual" else f"{rule} (sweep of its tuning)"
+        ax.plot(x, y, marker, color=COLOURS[rule], ms=4, label=label)
     for r in sweep:
         if r["sweep"] == "0" and r["rule"] in ("perceptual", "reddy"):
             ax.plot(100.0 * int(r["visible_losses"]) / judged, float(r["triangles_per_frame"]), "*", ms=14,
-                    color=COLOURS[r["rule"]], label=r["rule"])
+                    color=COLOURS[r["rule"]], label=r["rule"] + (" (q = 1)" if r["rule"] == "perceptual" else ""))
     ax.set_xlabel(f"visible-loss decisions [% of {judged} judged by render-and-analyze]")
     ax.set_ylabel("triangles per frame (objects in view)")
     ax.set_yscale("log")

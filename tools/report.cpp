@@ -48,13 +48,13 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
   const double n_judged = double(judged.size());
   auto fraction = [&](const RuleRun& r) { return n_judged > 0 ? r.visible_losses / n_judged : 0.0; };
 
-  // The baselines tuned to the perceptual rule's rate of visible losses: the cheapest sweep entry at or below it.
+  // A baseline tuned to a rate of visible losses: its cheapest sweep entry at or below that rate.
   struct Match { const RuleRun* run = nullptr; double ratio = 0; };
-  auto tuned = [&](const std::string& name) {
+  auto tuned = [&](const std::string& name, const RuleRun& to) {
     Match m;
     for (const RuleRun& r : rules)
-      if (r.sweep && r.name == name && r.visible_losses <= perceptual.visible_losses && (!m.run || r.triangles < m.run->triangles)) m.run = &r;
-    if (m.run) m.ratio = m.run->triangles / perceptual.triangles;
+      if (r.sweep && r.name == name && r.visible_losses <= to.visible_losses && (!m.run || r.triangles < m.run->triangles)) m.run = &r;
+    if (m.run) m.ratio = m.run->triangles / to.triangles;
     return m;
   };
 
@@ -83,7 +83,7 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
     std::printf("\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering both levels at the exact view):\n",
                 100.0 * fraction(perceptual), judged.size());
     for (const char* name : {"screen-size", "distance"}) {
-      const Match m = tuned(name);
+      const Match m = tuned(name, perceptual);
       const char* unit = std::string(name) == "screen-size" ? "pixel error" : "distance scale";
       if (m.run) {
         std::printf("  %-12s tuned to %s %.3g: %.0f triangles/frame (%.1f%% visible) = %.2fx the perceptual rule's\n", name, unit,
@@ -93,6 +93,20 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
       } else {
         std::printf("  %-12s no tuning in the sweep is that safe\n", name);
       }
+    }
+  }
+  if (!judged.empty()) {
+    std::printf("\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
+    std::printf("  %6s %16s %15s %30s\n", "q", "triangles/frame", "visible losses", "screen-size at that rate: ratio");
+    for (const RuleRun& r : rules) {
+      if (!r.sweep || r.name != "perceptual") continue;
+      const Match m = tuned("screen-size", r);
+      std::printf("  %6.3g %16.0f %14.1f%%", r.parameter, r.triangles * per_frame, 100.0 * fraction(r));
+      if (m.run) std::printf(" %14.3g px: %.2fx\n", m.run->parameter, m.ratio);
+      else std::printf(" %30s\n", "none as safe in the sweep");
+      summary["quality_sweep"].push_back({{"quality", r.parameter}, {"triangles_per_frame", r.triangles * per_frame},
+                                         {"visible_losses", r.visible_losses},
+                                         {"screen_size_ratio", m.run ? m.ratio : 0.0}});
     }
   }
   if (o.output.empty()) return {};
@@ -174,7 +188,7 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
   save((out / "summary.json").string(), summary.dump(2) + "\n", &written);
 
   // Frames: the perceptual rule beside the screen-size rule tuned to the same visible losses (or at 1 px).
-  const Match ss = tuned("screen-size");
+  const Match ss = tuned("screen-size", perceptual);
   const RuleRun& right = ss.run ? *ss.run : sim.rule("screen-size");
   for (std::uint32_t k = 0; k < o.images && frames > 0; ++k) {
     const std::size_t i = frames * (2 * k + 1) / (2 * o.images);

@@ -272,7 +272,8 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
       in_view_[f * objects_ + i] = c * h.x + s * h.z < r && -c * h.x + s * h.z < r && c * h.y + s * h.z < r && -c * h.y + s * h.z < r;
     }
 
-  // Rules: the four, then the baselines' sweeps in quarter octaves (screen-size 1/32..8 px, distance scale 1/4..32).
+  // Rules: the four, then sweeps in quarter octaves: the perceptual rule's quality q 0.35..1.4, the
+  // baselines' screen-size 1/32..8 px and distance scale 1/4..32.
   auto add = [&](const std::string& name, SelectionRule rule, double parameter, bool sweep) {
     RuleRun r;
     r.name = name;
@@ -285,6 +286,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     c2.hysteresis_margin = 0.1f;
     c2.hysteresis_frames = 3;
     c2.saccade_speed = o.saccade_speed;
+    if (rule == SelectionRule::Perceptual) c2.quality = float(parameter);
     if (rule == SelectionRule::ScreenSize) c2.pixel_error = float(parameter);
     if (rule == SelectionRule::Distance) c2.distance_scale = float(parameter);
     r.scheduler = std::make_unique<Scheduler>(c2);
@@ -293,10 +295,11 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     r.levels.assign(frames * objects_, 0);
     rules_.push_back(std::move(r));
   };
-  add("perceptual", SelectionRule::Perceptual, 0, false);
+  add("perceptual", SelectionRule::Perceptual, 1, false);
   add("reddy", SelectionRule::Reddy, 0, false);
   add("distance", SelectionRule::Distance, 1, false);
   add("screen-size", SelectionRule::ScreenSize, 1, false);
+  for (int i = -6; i <= 2; ++i) add("perceptual", SelectionRule::Perceptual, std::exp2(0.25 * i), true);
   for (int i = -20; i <= 12; ++i) add("screen-size", SelectionRule::ScreenSize, std::exp2(0.25 * i), true);
   for (int i = -8; i <= 20; ++i) add("distance", SelectionRule::Distance, std::exp2(0.25 * i), true);
 }

@@ -58,7 +58,7 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
 // One rule at one tuning, run on every frame.
 struct RuleRun {
   std::string name;                          // "perceptual", "screen-size", ...
-  double parameter = 0;                      // pixel_error or distance_scale (baselines); else 0
+  double parameter = 0;                      // quality q (perceptual), pixel_error, distance_scale; else 0
   bool sweep = false;                        // part of the tuning sweep, not a main rule
   std::unique_ptr<Scheduler> scheduler;
   std::vector<std::uint8_t> levels;          // [frame * objects + object]
