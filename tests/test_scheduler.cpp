@@ -595,6 +595,38 @@ TEST(SchedulerPolicies, HysteresisStopsPingPong) {
   EXPECT_GT(flips, 40);
 }
 
+// A saccade is when levels may change, not a reason to coarsen: its retinal sweep lasts a few frames
+// and the level it allows would pop back at landing. Levels chosen during a saccade are those of a
+// fixating eye; without saccade gating the measured gaze speed still counts as eye motion.
+TEST(SchedulerPolicies, ASaccadeDoesNotSpendItsOwnBlur) {
+  const TestProfile tp;
+  // The level after five frames of a 400 deg/s gaze sweep, from a fixation on an object z m away.
+  auto after_sweep = [&](double z, float gate, std::uint8_t* fixating) {
+    SchedulerConfig c;
+    c.max_objects = 1;
+    c.saccade_speed = gate;
+    Scheduler s(c);
+    const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -z));
+    Frame f = looking_forward();
+    gaze_at(f, 0, 0, -1);
+    f.gaze[0].has_velocity = true;
+    s.run_frame(f);
+    *fixating = s.level(id);
+    Frame saccade = f;
+    saccade.gaze[0].angular_velocity[1] = 400;
+    for (int i = 0; i < 5; ++i) s.run_frame(saccade);
+    return s.level(id);
+  };
+  int blur_coarsens = 0;
+  for (double z : {3.0, 6.0, 12.0, 24.0, 48.0, 96.0}) {
+    std::uint8_t fixating = 0;
+    if (after_sweep(z, 0.0f, &fixating) <= fixating) continue;  // measured eye motion: the blur counts
+    ++blur_coarsens;
+    EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating) << z << " m";  // a gated saccade does not spend it
+  }
+  EXPECT_GT(blur_coarsens, 0);  // the case exists at some distance
+}
+
 TEST(SchedulerPolicies, RefineAtOnceCoarsenAfterFramesOrInSaccades) {
   const TestProfile tp;
   SchedulerConfig c;

@@ -366,11 +366,17 @@ void Scheduler::begin_frame(const Frame& frame) {
     c.gaze_dir = c.gaze ? rotate(c.rotation, (1.0f / gl) * gd) : c.forward;
     const Vec3 gw = load(g.angular_velocity);
     c.gaze_moving = c.gaze && g.has_velocity && finite(gw);
+    if (c.gaze_moving && config_.saccade_speed > 0 && length(gw) > config_.saccade_speed) {
+      // A saccade: the time to switch, but its own sweep of the retina lasts a few frames while the
+      // level chosen now is seen in the fixation after it. So the eye counts as fixating (Daly's
+      // pursuit model), not as moving at saccade speed.
+      saccade_ = true;
+      c.gaze_moving = false;
+    }
     if (c.gaze_moving) {
       // d(gaze)/dt in the world: eye-in-head rotation carried by the head, plus the head's own.
       const Vec3 in_head = rotate(c.rotation, cross(gw, (1.0f / gl) * gd));
       c.gaze_velocity = in_head + kDeg * cross(c.omega, c.gaze_dir);
-      if (config_.saccade_speed > 0 && length(gw) > config_.saccade_speed) saccade_ = true;
     }
     stats_.gaze_used |= c.gaze;
   }

@@ -64,7 +64,9 @@ struct SchedulerConfig {
   // Hysteresis and timing
   float hysteresis_margin = 0.0f;        // coarsening needs a score <= 1 - margin
   std::uint32_t hysteresis_frames = 0;   // ... on this many consecutive frames
-  float saccade_speed = 0.0f;            // > 0: coarsen only while gaze speed exceeds it [deg/s] ...
+  float saccade_speed = 0.0f;            // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
+                                         // such a saccade the eye counts as fixating (the level is seen
+                                         // after it, so the saccade's retinal blur is not spent) ...
   std::uint32_t max_coarsen_wait = 30;   // ... or after waiting this many frames for a saccade
   float transition_seconds = 0.0f;       // cross-fade length reported by transition() [s]
 
