@@ -235,6 +235,9 @@ TEST(Simulate, FixedSeedReproducesEveryOutputByte) {
     EXPECT_EQ(a, slurp(scratch("run_b") / f)) << f;
   }
   EXPECT_NE(slurp(scratch("run_a") / "gaze.csv"), slurp(scratch("run_c") / "gaze.csv"));
+  // Outputs are ordinary readable files (written through a private temporary).
+  EXPECT_EQ(fs::status(scratch("run_a") / "frame_0090.png").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read);
   // The written tracks read back as --head and --gaze give the same levels.
   SimulationOptions replay = small_options("run_d");
   replay.head_file = (scratch("run_a") / "head.csv").string();

@@ -60,11 +60,12 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
 
   std::printf("\n%zu frames at %.0f Hz (%.1f s), two eyes, %zu objects; all in-view objects at their finest: %.0f triangles per frame\n\n",
               frames, o.fps, double(frames) / o.fps, objects, finest);
-  std::printf("%-12s %16s %14s %12s %14s %18s\n", "rule", "triangles/frame", "of all-finest", "switches", "outside sacc.",
-              judged.empty() ? "" : "visible losses");
+  std::printf("%-12s %16s %14s %14s %10s %14s %18s\n", "rule", "triangles/frame", "of all-finest", "of perceptual", "switches",
+              "outside sacc.", judged.empty() ? "" : "visible losses");
   for (const RuleRun& r : rules) {
     if (r.sweep) continue;
-    std::printf("%-12s %16.0f %13.1f%% %12llu %14llu", r.name.c_str(), r.triangles * per_frame, 100.0 * r.triangles / sim.all_finest(),
+    std::printf("%-12s %16.0f %13.1f%% %13.2fx %10llu %14llu", r.name.c_str(), r.triangles * per_frame, 100.0 * r.triangles / sim.all_finest(),
+                r.triangles / perceptual.triangles,
                 static_cast<unsigned long long>(r.switches), static_cast<unsigned long long>(r.switches_outside_saccades));
     if (!judged.empty()) std::printf(" %10.1f%% (%u/%zu)", 100.0 * fraction(r), r.visible_losses, judged.size());
     std::printf("\n");

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace acuity {
@@ -28,6 +29,7 @@ bool write_file_atomically(const std::string& path, const void* data, std::size_
   std::string tmp = path + ".tmp.XXXXXX";
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0) { *error = path + ": cannot create a temporary beside it: " + std::strerror(errno); return false; }
+  ::fchmod(fd, 0644);  // mkstemp makes it private; the result is an ordinary file others may read
   const auto* bytes = static_cast<const unsigned char*>(data);
   std::size_t done = 0;
   while (done < size) {

@@ -19,7 +19,7 @@ bool read_file(const std::string& path, Blob* out, std::string* error);
 
 // Writes to a temporary file beside `path`, flushes it, then renames it over `path`: readers see
 // the old file or the whole new one, never a part. Returns false and sets *error on failure, and
-// then leaves no temporary behind.
+// then leaves no temporary behind. The file gets mode 0644.
 bool write_file_atomically(const std::string& path, const void* data, std::size_t size, std::string* error);
 
 }  // namespace acuity
