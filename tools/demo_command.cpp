@@ -109,10 +109,15 @@ void run(const DemoOptions& o) {
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(scene_path, ao);
   std::printf("\nsimulate: %.0f s at %.0f Hz, fixations, saccades, pursuit of %u moving objects, blinks\n", o.sim.seconds,
               o.sim.fps, o.sim.movers);
-  run_simulation(*scene, so);
-  std::printf("\nacuity demo finished in %.1f s. Explain one decision, e.g.:\n  acuity explain %s --profiles %s --frame 600 --object %s\n",
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), scene_path.c_str(),
-              ao.profiles.c_str(), scene->instances[20].name.c_str());
+  const RunResult result = run_simulation(*scene, so);
+  std::printf("\nacuity demo finished in %.1f s.\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (result.example_object >= 0) {
+    std::error_code ec;
+    const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+    std::printf("Why the object looked at in frame %zu got its level:\n  %s explain %s --profiles %s --seconds %g --seed %u --frame %zu --object %s\n",
+                result.example_frame, ec ? "acuity" : self.string().c_str(), scene_path.c_str(), ao.profiles.c_str(),
+                so.seconds, so.seed, result.example_frame, scene->instances[std::size_t(result.example_object)].name.c_str());
+  }
 }
 
 }  // namespace

@@ -230,7 +230,7 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
 
 namespace acuity::tools {
 
-std::vector<std::string> run_simulation(const SceneAssets& scene, const SimulationOptions& options) {
+RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   Simulation sim(scene, options);
   sim.run();
@@ -241,7 +241,16 @@ std::vector<std::string> run_simulation(const SceneAssets& scene, const Simulati
   std::printf("\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in %.1f s\n",
               sim.frame_count(), sim.rules().size(), std::chrono::duration<double>(t1 - t0).count(), judged.size(),
               std::chrono::duration<double>(t2 - t1).count());
-  return report(sim, judged);
+  RunResult result;
+  result.written = report(sim, judged);
+  if (sim.frame_count() > 0) {
+    const std::size_t f = result.example_frame = sim.frame_count() / 2;
+    const std::vector<std::int32_t>& targets = sim.generated().targets;
+    if (!targets.empty() && targets[f] >= 0) result.example_object = targets[f];
+    for (std::uint32_t i = 0; i < scene.instances.size() && result.example_object < 0; ++i)
+      if (sim.in_view(i, f)) result.example_object = i;
+  }
+  return result;
 }
 
 }  // namespace acuity::tools

@@ -120,8 +120,16 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
 // limiting band and orientation, distance, eccentricity, retinal velocity; the other rules' levels.
 std::string explain_text(const Simulation& sim, std::uint32_t object);
 
+// What a run leaves: the files written, and a decision worth explaining (the middle frame and the
+// object looked at then, or the first object in view; -1 when none).
+struct RunResult {
+  std::vector<std::string> written;
+  std::size_t example_frame = 0;
+  std::int64_t example_object = -1;
+};
+
 // Runs every frame, judges options.validate decisions, writes and prints the report.
-std::vector<std::string> run_simulation(const SceneAssets& scene, const SimulationOptions& options);
+RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options);
 
 // Writes frames.csv, levels.csv, sweep.csv, judged.csv, gaze.csv, frame PNGs and plots into
 // options.output and prints the summary; returns the paths written.
