@@ -209,6 +209,28 @@ TEST(Gltf, RoundTripKeepsLevelsCountsAndAttributes) {
   EXPECT_EQ(cov[2], 0.0);
 }
 
+// The errors come back exactly whatever reference height the coverage was written for; a node from
+// another writer (coverage only) is inverted at the default height.
+TEST(Gltf, GeometricErrorsSurviveAnyReferenceHeight) {
+  LodObject obj;
+  obj.name = "tri";
+  Mesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  m.indices = {0, 1, 2};
+  obj.levels = {m, m, m};
+  obj.geometric_error = {0, 0.003, 0.02};
+  GltfWriteOptions wo;
+  wo.reference_height = 720;
+  const fs::path path = scratch("heights.glb");
+  write_lod_gltf(path.string(), {obj}, {}, wo);
+  Node top = load_scene(path.string()).nodes[0];
+  EXPECT_EQ(lod_geometric_errors(top, 3), obj.geometric_error);
+  top.geometric_error.clear();  // as another writer leaves it
+  top.screen_coverage = screen_coverage(obj.geometric_error, GltfWriteOptions{}.reference_height);
+  const std::vector<double> inverted = lod_geometric_errors(top, 3);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(inverted[k], obj.geometric_error[k], 1e-12);
+}
+
 TEST(Refine, OpenSubdivCounts) {
   SKIP_IF_QUICK();
   const fs::path cube = scratch("cube.off");

@@ -46,7 +46,10 @@ void run(const LodgenOptions& o) {
     const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(o.input);
     chains.push_back(lodgen::measure_chain(lodgen::refine(cage, o.refine), report));
     scene.mesh_names.push_back(std::filesystem::path(o.input).stem().string());
-    scene.nodes.push_back({scene.mesh_names[0], 0, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, {}, {}, {}});
+    lodgen::Node node;  // identity matrix by default
+    node.name = scene.mesh_names[0];
+    node.mesh = 0;
+    scene.nodes.push_back(node);
     scene.roots.push_back(0);
   } else {
     scene = lodgen::load_scene(o.input);

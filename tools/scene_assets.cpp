@@ -10,6 +10,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/gltf.hpp"
 #include "acuity/spectra/profile_writer.hpp"
 #include "level_input.hpp"
 
@@ -75,11 +76,7 @@ LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top) {
   c.levels.push_back(scene.meshes[std::size_t(top.mesh)]);
   for (int id : top.lods)
     if (scene.nodes[std::size_t(id)].mesh >= 0) c.levels.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
-  c.errors.push_back(0);
-  for (std::size_t k = 1; k < c.levels.size(); ++k) {
-    const double cov = k - 1 < top.screen_coverage.size() ? top.screen_coverage[k - 1] : 0;
-    c.errors.push_back(cov > 0 ? float(1.0 / (cov * 1080.0)) : 0.0f);
-  }
+  for (double e : lodgen::lod_geometric_errors(top, c.levels.size())) c.errors.push_back(float(e));
   return c;
 }
 

@@ -20,8 +20,7 @@ struct LodChain {
   std::vector<float> errors;
 };
 
-// The chain a node with MSFT_lod holds (itself, then its lods); errors from MSFT_screencoverage,
-// which lodgen writes as 1 / (e_k x 1080).
+// The chain a node with MSFT_lod holds (itself, then its lods), with lodgen::lod_geometric_errors.
 LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top);
 // The renderer's material for scene material `index` (-1: default); points into the scene.
 spectra::Material spectra_material(const lodgen::Scene& scene, int index);

@@ -192,6 +192,15 @@ Scene convert(const Model& model, const std::string& path) {
       const tinygltf::Value& c = src.extras.Get("MSFT_screencoverage");
       for (std::size_t i = 0; i < c.ArrayLen(); ++i) n.screen_coverage.push_back(c.Get(int(i)).GetNumberAsDouble());
     }
+    if (src.extras.Has("acuity_geometric_error")) {
+      const tinygltf::Value& e = src.extras.Get("acuity_geometric_error");
+      for (std::size_t i = 0; i < e.ArrayLen(); ++i) {
+        const double x = e.Get(int(i)).GetNumberAsDouble();
+        if (!(x >= 0) || !std::isfinite(x))
+          fail(path + ": node " + std::to_string(ni), "acuity_geometric_error[" + std::to_string(i) + "] is not a finite error >= 0");
+        n.geometric_error.push_back(x);
+      }
+    }
     scene.nodes.push_back(std::move(n));
   }
   // Extra primitives of a multi-primitive mesh hang under the node as children.
@@ -315,6 +324,17 @@ std::vector<double> screen_coverage(const std::vector<double>& error, double hei
   return out;
 }
 
+std::vector<double> lod_geometric_errors(const Node& top, std::size_t levels) {
+  std::vector<double> out(levels, 0.0);
+  if (top.geometric_error.size() == levels) return top.geometric_error;
+  const double height = GltfWriteOptions{}.reference_height;
+  for (std::size_t k = 1; k < levels; ++k) {  // coverage[k - 1] = 1 / (e_k x height)
+    const double c = k - 1 < top.screen_coverage.size() ? top.screen_coverage[k - 1] : 0;
+    out[k] = c > 0 ? 1.0 / (c * height) : 0.0;
+  }
+  return out;
+}
+
 void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects, const std::vector<Material>& materials,
                     const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
   tinygltf::Model model;
@@ -383,14 +403,16 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
     }
     tinygltf::Node& top = model.nodes[std::size_t(node_ids[0])];
     if (node_ids.size() > 1) {
-      tinygltf::Value::Array ids, cov;
+      tinygltf::Value::Array ids, cov, err;
       for (std::size_t k = 1; k < node_ids.size(); ++k) ids.emplace_back(node_ids[k]);
       for (double c : coverage) cov.emplace_back(c);
+      for (double e : o.geometric_error) err.emplace_back(e);
       tinygltf::Value::Object lod;
       lod["ids"] = tinygltf::Value(ids);
       top.extensions["MSFT_lod"] = tinygltf::Value(lod);
       tinygltf::Value::Object extras;
       extras["MSFT_screencoverage"] = tinygltf::Value(cov);
+      extras["acuity_geometric_error"] = tinygltf::Value(err);
       top.extras = tinygltf::Value(extras);
     }
     scene.nodes.push_back(node_ids[0]);

@@ -4,7 +4,9 @@
 // extensions.MSFT_lod.ids; extras.MSFT_screencoverage gives, per level, the smallest screen
 // coverage it is drawn at. acuity's coverage is the bounding sphere's projected diameter over the
 // screen height; level k takes over from level k-1 where its geometric error e_k (fraction of the
-// diameter) covers one pixel at the reference height: coverage = 1 / (e_k x height).
+// diameter) covers one pixel at the reference height: coverage = 1 / (e_k x height). Since the
+// coverage depends on that height and is clamped, lodgen also writes the errors themselves as
+// extras.acuity_geometric_error on the same node.
 #include <string>
 #include <vector>
 
@@ -36,6 +38,11 @@ struct GltfWriteOptions {
 
 // Screen coverages for write_lod_gltf: one per level, non-increasing, the last 0.
 std::vector<double> screen_coverage(const std::vector<double>& geometric_error, double reference_height);
+
+// The geometric errors [object diameters] of the `levels` levels an MSFT_lod node holds: as lodgen
+// recorded them, else inverted from MSFT_screencoverage at the default reference height (other
+// writers); 0 where neither says.
+std::vector<double> lod_geometric_errors(const Node& top, std::size_t levels);
 
 // Writes the objects as one scene, atomically (a temporary renamed into place): each object once at
 // its own matrix, or, when instances are given, each instance. Throws std::runtime_error naming the

@@ -34,6 +34,7 @@ struct Node {
   std::vector<int> children;
   std::vector<int> lods;               // MSFT_lod: coarser levels' node indices (read back from glTF)
   std::vector<double> screen_coverage; // MSFT_screencoverage, when present
+  std::vector<double> geometric_error; // extras.acuity_geometric_error (per level, object diameters), when present
 };
 
 // A scene: meshes are shared by the nodes that instance them.
