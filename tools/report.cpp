@@ -122,11 +122,8 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
   f << "\n";
   const GeneratedGaze& gen = sim.generated();
   for (std::size_t i = 0; i < frames; ++i) {
-    double finest_i = 0;
-    for (std::uint32_t k = 0; k < objects; ++k)
-      if (sim.in_view(k, i)) finest_i += scene.assets[std::size_t(scene.instances[k].asset)].profile.levels[0].triangles;
     f << i << "," << double(i) / o.fps << "," << sim.saccade(i) << "," << sim.gaze()[i].confidence << ","
-      << (gen.phases.empty() ? "recorded" : to_string(gen.phases[i])) << "," << (gen.targets.empty() ? -1 : gen.targets[i]) << "," << finest_i;
+      << (gen.phases.empty() ? "recorded" : to_string(gen.phases[i])) << "," << (gen.targets.empty() ? -1 : gen.targets[i]) << "," << sim.finest(i);
     for (const RuleRun& r : rules)
       if (!r.sweep) f << "," << r.drawn[i];
     f << "\n";

@@ -263,6 +263,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
 
   // Objects in view (bounding sphere against the head's frustum), for counting what is drawn.
   in_view_.assign(frames * objects_, 0);
+  finest_.assign(frames, 0.0);
   const double c = 1.0 / std::sqrt(1.0 + double(tan_half) * tan_half), s = double(tan_half) * c;
   for (std::size_t f = 0; f < frames; ++f)
     for (std::uint32_t i = 0; i < objects_; ++i) {
@@ -270,6 +271,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
       const glm::dvec3 h = to_head(head_[f], world_centre(scene.assets[std::size_t(in.asset)], transform(i, f)));
       const double r = in.radius;
       in_view_[f * objects_ + i] = c * h.x + s * h.z < r && -c * h.x + s * h.z < r && c * h.y + s * h.z < r && -c * h.y + s * h.z < r;
+      if (in_view_[f * objects_ + i]) finest_[f] += scene.assets[std::size_t(in.asset)].profile.levels[0].triangles;
     }
 
   // Rules: the four, then sweeps in quarter octaves: the perceptual rule's quality q 0.35..1.4, the
@@ -331,16 +333,16 @@ glm::dvec3 Simulation::velocity(std::uint32_t object, std::size_t frame) const {
 bool Simulation::step() {
   if (next_ >= frames_.size()) return false;
   const std::size_t f = next_++;
-  double finest = 0;
-  for (std::uint32_t i = 0; i < objects_; ++i)
-    if (in_view(i, f)) finest += scene_.assets[std::size_t(scene_.instances[i].asset)].profile.levels[0].triangles;
-  all_finest_ += finest;
+  struct Moved { ObjectTransform transform; float velocity[3]; };
+  std::vector<Moved> moved(movers_.size());
+  for (std::size_t k = 0; k < movers_.size(); ++k) {
+    const glm::dvec3 v = velocity(movers_[k].instance, f);
+    moved[k] = {transform(movers_[k].instance, f), {float(v.x), float(v.y), float(v.z)}};
+  }
   for (RuleRun& r : rules_) {
-    for (const Mover& m : movers_) {
-      const glm::dvec3 v = velocity(m.instance, f);
-      const float vf[3] = {float(v.x), float(v.y), float(v.z)};
-      r.scheduler->set_transform(m.instance, transform(m.instance, f));
-      r.scheduler->set_velocity(m.instance, vf);
+    for (std::size_t k = 0; k < movers_.size(); ++k) {
+      r.scheduler->set_transform(movers_[k].instance, moved[k].transform);
+      r.scheduler->set_velocity(movers_[k].instance, moved[k].velocity);
     }
     r.scheduler->run_frame(frames_[f]);
     double drawn = 0;
@@ -355,6 +357,12 @@ bool Simulation::step() {
     if (!saccade_[f]) r.switches_outside_saccades += r.scheduler->stats().changed;
   }
   return true;
+}
+
+double Simulation::all_finest() const {
+  double sum = 0;
+  for (std::size_t f = 0; f < next_; ++f) sum += finest_[f];
+  return sum;
 }
 
 void Simulation::run() {

@@ -89,7 +89,8 @@ class Simulation {
   const std::vector<HeadPose>& head() const { return head_; }
   const std::vector<GazeSample>& gaze() const { return gaze_; }
   const GeneratedGaze& generated() const { return generated_; }  // empty for a recorded gaze
-  double all_finest() const { return all_finest_; }  // triangles over frames, objects in view at level 0
+  double finest(std::size_t f) const { return finest_[f]; }  // triangles of the objects in view at level 0
+  double all_finest() const;                 // the same summed over the frames run
 
  private:
   const SceneAssets& scene_;
@@ -103,7 +104,7 @@ class Simulation {
   std::vector<Frame> frames_;
   std::vector<std::uint8_t> in_view_, saccade_;
   std::vector<RuleRun> rules_;
-  double all_finest_ = 0;
+  std::vector<double> finest_;               // [frame]
 };
 
 // Ground truth: for sampled (frame, object) decisions in view, the exact view (from the eyes'
