@@ -34,18 +34,16 @@ std::string file_safe(const std::string& name) {
   return s.empty() ? "object" : s;
 }
 
-// The cached profile when it describes this chain (same level count and triangles), else empty.
+// Reads the cached profile into a when it describes this chain (same level count and triangles).
 bool load_matching_profile(const std::string& path, const LodChain& chain, Asset* a) {
-  if (!fs::exists(path)) return false;
   std::string error;
-  Blob blob;
-  if (!read_file(path, &blob, &error)) return false;
-  Profile p;
-  if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size()) return false;
+  if (!fs::exists(path) || !read_file(path, &a->blob, &error)) return false;
+  const Profile& p = a->profile;
+  if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size())
+    return false;
   for (std::size_t k = 0; k < chain.levels.size(); ++k)
     if (p.levels[k].triangles != chain.levels[k].triangle_count()) return false;
-  a->blob = std::move(blob);
-  return open_profile(a->blob.data(), a->blob.size, &a->profile) == ProfileStatus::Ok;
+  return true;
 }
 
 }  // namespace
