@@ -495,6 +495,7 @@ RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTran
 TEST(SchedulerReference, SameLevelsAsTheSlowReference) {
   const TestProfile tp;
   SchedulerConfig c;
+  c.evaluation = Evaluation::Exact;  // the tabulated path is held against this one below
   const Single one(tp, c);
   const Scheduler envelope(c);
   Rng rng(9);
@@ -600,31 +601,34 @@ TEST(SchedulerPolicies, HysteresisStopsPingPong) {
 // fixating eye; without saccade gating the measured gaze speed still counts as eye motion.
 TEST(SchedulerPolicies, ASaccadeDoesNotSpendItsOwnBlur) {
   const TestProfile tp;
-  // The level after five frames of a 400 deg/s gaze sweep, from a fixation on an object z m away.
-  auto after_sweep = [&](double z, float gate, std::uint8_t* fixating) {
-    SchedulerConfig c;
-    c.max_objects = 1;
-    c.saccade_speed = gate;
-    Scheduler s(c);
-    const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -z));
-    Frame f = looking_forward();
-    gaze_at(f, 0, 0, -1);
-    f.gaze[0].has_velocity = true;
-    s.run_frame(f);
-    *fixating = s.level(id);
-    Frame saccade = f;
-    saccade.gaze[0].angular_velocity[1] = 400;
-    for (int i = 0; i < 5; ++i) s.run_frame(saccade);
-    return s.level(id);
-  };
-  int blur_coarsens = 0;
-  for (double z : {3.0, 6.0, 12.0, 24.0, 48.0, 96.0}) {
-    std::uint8_t fixating = 0;
-    if (after_sweep(z, 0.0f, &fixating) <= fixating) continue;  // measured eye motion: the blur counts
-    ++blur_coarsens;
-    EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating) << z << " m";  // a gated saccade does not spend it
+  for (const Evaluation evaluation : {Evaluation::Exact, Evaluation::Tabulated}) {
+    // The level after five frames of a 400 deg/s gaze sweep, from a fixation on an object z m away.
+    auto after_sweep = [&](double z, float gate, std::uint8_t* fixating) {
+      SchedulerConfig c;
+      c.max_objects = 1;
+      c.saccade_speed = gate;
+      c.evaluation = evaluation;
+      Scheduler s(c);
+      const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -z));
+      Frame f = looking_forward();
+      gaze_at(f, 0, 0, -1);
+      f.gaze[0].has_velocity = true;
+      s.run_frame(f);
+      *fixating = s.level(id);
+      Frame saccade = f;
+      saccade.gaze[0].angular_velocity[1] = 400;
+      for (int i = 0; i < 5; ++i) s.run_frame(saccade);
+      return s.level(id);
+    };
+    int blur_coarsens = 0;
+    for (double z = 3.0; z < 300.0; z *= 1.2) {
+      std::uint8_t fixating = 0;
+      if (after_sweep(z, 0.0f, &fixating) <= fixating) continue;  // measured eye motion: the blur counts
+      ++blur_coarsens;
+      EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating) << z << " m";  // a gated saccade does not spend it
+    }
+    EXPECT_GT(blur_coarsens, 0) << to_string(evaluation);  // the case exists at some distance
   }
-  EXPECT_GT(blur_coarsens, 0);  // the case exists at some distance
 }
 
 TEST(SchedulerPolicies, RefineAtOnceCoarsenAfterFramesOrInSaccades) {
@@ -763,6 +767,7 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
   SchedulerConfig c;
   c.max_objects = 2;
   c.keep_scores = true;
+  c.evaluation = Evaluation::Exact;  // explain() is exact; so are the kept scores here
   Scheduler s(c);
   const ObjectId id = s.add_object(s.add_profile(tp.profile), at(1, 0, -12));
   Frame f = looking_forward();
@@ -806,5 +811,97 @@ TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
     SchedulerConfig strict = c;
     strict.quality = 0.5f;
     EXPECT_LE(Single(tp, strict).level(at(0, 0, -z), nullptr, f), expected);
+  }
+}
+
+// ---- The tabulated path against the exact one ----------------------------------------------------
+
+namespace {
+
+struct Agreement { int coarser = 0, differ = 0, total = 0; };
+
+// Random objects (0.3-40 deg across, up to 300 deg/s of image motion, random poses) seen by the same
+// frames through both evaluations; hysteresis off, so every level is that frame's choice.
+Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed, int objects, int frames,
+                        int moving_percent, bool gaze, bool two_eyes) {
+  c.max_objects = std::uint32_t(objects);
+  SchedulerConfig exact_config = c;
+  exact_config.evaluation = Evaluation::Exact;
+  c.evaluation = Evaluation::Tabulated;
+  Scheduler tab(c), exact(exact_config);
+  const int pt = tab.add_profile(tp.profile), pe = exact.add_profile(tp.profile);
+  Rng rng(seed);
+  Agreement a;
+  for (int f = 0; f < frames; ++f) {
+    for (int i = 0; i < objects; ++i) {
+      float q[4];
+      rng.quaternion(q);
+      const float scale = rng.uniform(0.2f, 3.0f);
+      const float diameter = std::exp(rng.uniform(std::log(0.3f), std::log(40.0f)));  // [deg]
+      const double d = scale / std::sin(0.5 * diameter * kPi / 180);
+      const float yaw = rng.uniform(-50, 50) * float(kPi / 180), pitch = rng.uniform(-40, 40) * float(kPi / 180);
+      const ObjectTransform t = at(d * std::sin(yaw) * std::cos(pitch) - 0.1, d * std::sin(pitch) - 0.2,
+                                   -d * std::cos(yaw) * std::cos(pitch) + 0.1, q, scale);
+      float v[3] = {0, 0, 0};
+      if (int(rng.uniform(0, 100)) < moving_percent) {
+        const float speed = std::exp(rng.uniform(std::log(0.05f), std::log(300.0f))) * float(kPi / 180) * float(d);
+        float dir[4];
+        rng.quaternion(dir);
+        for (int k = 0; k < 3; ++k) v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+      }
+      const ObjectId it = tab.add_object(pt, t), ie = exact.add_object(pe, t);
+      tab.set_velocity(it, v);
+      exact.set_velocity(ie, v);
+    }
+    Frame fr = looking_forward();
+    fr.eye_count = two_eyes ? 2 : 1;
+    fr.eyes[1] = fr.eyes[0];
+    fr.eyes[1].position[0] = 0.064;
+    fr.gaze[1] = fr.gaze[0];
+    gaze_at(fr, rng.uniform(-0.6f, 0.6f), rng.uniform(-0.4f, 0.4f), -1);
+    fr.gaze[1].direction[0] = fr.gaze[0].direction[0] - 0.01f;
+    fr.gaze[1].direction[1] = fr.gaze[0].direction[1];
+    fr.gaze[1].direction[2] = fr.gaze[0].direction[2];
+    fr.gaze[0].valid = fr.gaze[1].valid = gaze;
+    tab.run_frame(fr);
+    exact.run_frame(fr);
+    for (ObjectId id = 0; id < ObjectId(objects); ++id) {
+      ++a.total;
+      a.coarser += tab.level(id) > exact.level(id);
+      a.differ += tab.level(id) != exact.level(id);
+      tab.remove_object(id);
+      exact.remove_object(id);
+    }
+  }
+  return a;
+}
+
+}  // namespace
+
+TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
+  const TestProfile tp;
+  struct Case { const char* name; ThresholdModel model; float q; ViewBlend blend; int moving; bool gaze, two_eyes; };
+  const Case cases[] = {
+      {"default still gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 0, true, false},
+      {"default moving gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 100, true, false},
+      {"default mixed no gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 50, false, false},
+      {"default mixed two eyes", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 50, true, true},
+      {"default q 0.5 max3", ThresholdModel::Default, 0.5f, ViewBlend::Max3, 50, true, false},
+      {"default q 2", ThresholdModel::Default, 2.0f, ViewBlend::Nearest, 50, true, false},
+      {"default q 1.37", ThresholdModel::Default, 1.37f, ViewBlend::Nearest, 50, true, true},
+      {"geisler-perry", ThresholdModel::GeislerPerry, 1.0f, ViewBlend::Nearest, 50, true, false},
+      {"kelly-daly", ThresholdModel::KellyDaly, 1.0f, ViewBlend::Nearest, 50, true, false},
+      {"reddy model", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 50, true, false},
+  };
+  unsigned seed = 100;
+  for (const Case& k : cases) {
+    SchedulerConfig c;
+    c.model = k.model;
+    c.quality = k.q;
+    c.view_blend = k.blend;
+    const Agreement a = compare_paths(tp, c, ++seed, 1000, 10, k.moving, k.gaze, k.two_eyes);
+    EXPECT_EQ(a.coarser, 0) << k.name;
+    EXPECT_LE(a.differ * 1000, a.total * 5) << k.name << ": " << a.differ << " of " << a.total << " differ";
+    std::printf("%-24s %5d of %d differ (%.2f%%)\n", k.name, a.differ, a.total, 100.0 * a.differ / a.total);
   }
 }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstring>
 #include <memory>
 #include <numbers>
 
@@ -129,6 +130,58 @@ inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std
   return m;
 }
 
+// ---- Tabulated path: grid and threshold curves ----------------------------------------------------
+// Eccentricity nodes e_j = kTableMaxE (j / (n - 1))^2 (dense near the fovea), speed nodes
+// s_i = floor 2^i; beyond the last node the last one (thresholds never fall with e or speed).
+constexpr std::uint32_t kStillE = 24, kMovingE = 16, kMovingS = 13;
+constexpr float kTableMaxE = 90.0f;
+// A threshold curve: ln CT against u = ln f [cpd] on kCurveSamples points, made non-decreasing
+// (a suffix minimum: a band-pass CSF counts as its low-pass envelope, which is conservative).
+constexpr int kCurveSamples = 4096;
+constexpr float kCurveU0 = -7.0f, kCurveU1 = 14.0f;
+constexpr float kCurveStep = (kCurveU1 - kCurveU0) / float(kCurveSamples - 1);
+constexpr float kNever = -1e30f;  // a table entry no size passes
+// The moving tables' cells are checked at their centres only; this much more [ln deg] covers what
+// the bilinear surface can still cut above the truth between centre and edges (measured: < 0.003).
+constexpr float kBilinearMargin = 0.001f;
+
+inline float e_node(std::uint32_t j, std::uint32_t n) { const float t = float(j) / float(n - 1); return kTableMaxE * t * t; }
+inline float still_e_node(std::uint32_t j) { return e_node(j, kStillE); }
+inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
+
+// A position on a grid axis: the cell's lower node and the weight of the upper one. The weight is
+// linear in the physical quantity (eccentricity, speed), where the largest invisible ln size is
+// concave (ln of an affine function of e or v for the CSF's exponential fall-off), so the
+// interpolation stays below it; a sqrt or log weight would cut above it.
+struct Cell { std::uint32_t j; float w; };
+[[gnu::always_inline]] inline Cell e_cell(float e, std::uint32_t n) {
+  const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
+  const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
+  const float lo = e_node(j, n), hi = e_node(j + 1, n);
+  return {j, std::clamp((e - lo) / (hi - lo), 0.0f, 1.0f)};
+}
+// Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
+// linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
+// fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
+[[gnu::always_inline]] inline float speed_weight(float v, float lo, float hi, float v0) {
+  auto g = [](float r) { return (r - 1.0f) / (r + 1.0f); };
+  return g((v + v0) / (lo + v0)) / g((hi + v0) / (lo + v0));
+}
+[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, std::uint32_t n) {
+  const float r = v / floor;  // >= 1
+  std::uint32_t bits;
+  std::memcpy(&bits, &r, sizeof bits);
+  const int octave = int((bits >> 23) & 255u) - 127;
+  const std::uint32_t j = std::min(static_cast<std::uint32_t>(std::max(octave, 0)), n - 2);
+  const float lo = floor * std::ldexp(1.0f, int(j));
+  return {j, std::clamp(speed_weight(v, lo, 2.0f * lo, v0), 0.0f, 1.0f)};
+}
+// The speed at weight 1/2 of cell [lo, 2 lo].
+inline float speed_midpoint(float lo, float v0) {
+  const float half = 0.5f * ((2.0f * lo + v0) / (lo + v0) - 1.0f) / ((2.0f * lo + v0) / (lo + v0) + 1.0f);
+  return (1.0f + half) / (1.0f - half) * (lo + v0) - v0;
+}
+
 }  // namespace
 
 struct Scheduler::ProfileCache {
@@ -138,6 +191,14 @@ struct Scheduler::ProfileCache {
   std::vector<float> ln_band;     // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;  // [V][3] snapshot right = -direction x up, object space
+  // Tabulated path: ln of the largest invisible angular diameter [ln deg] (see scheduler.hpp).
+  // Levels are innermost, so one object's reads share cache lines.
+  // still and slow [V][n][kStillE][K-1]: the n = 1..B lowest bands visible on the display, a still
+  // object (the floor's terms) and one moving no faster than the floor (the velocity envelope) --
+  // a bound for every moving object, since thresholds never fall with speed;
+  // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
+  // [0]: score <= 1; [1]: score <= 1 - margin (empty when the margin is 0).
+  std::vector<float> still[2], slow[2], moving[2];
 };
 
 // Everything that depends only on the configuration, computed once at creation.
@@ -148,6 +209,7 @@ struct Scheduler::Precomputed {
   float ln_quality = 0, ln_margin = 0;
   float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
   float distance_per_error = 0;  // Distance rule: distance_scale / tan(1 arcmin)
+  float speed_offset = 1;        // tabulated path: v0 = 2 / c2 of the speed grid's weight [deg/s]
   // velocity_terms() tabulated over ln v, linear between nodes (error ~1e-5 in ln S).
   static constexpr int kTermsSize = 2048;
   static constexpr float kTermsLnV0 = -2.31f, kTermsLnV1 = 6.91f;  // 0.0993 .. 1000 deg/s
@@ -176,6 +238,67 @@ struct Scheduler::Precomputed {
     return x >= float(kEnvelopeSize - 1) ? kEnvelopeSize - 1 : int(x);
   }
   float speed_at(float ln_f) const { return upper[envelope_index(ln_f)]; }
+
+  // The velocity terms a component at ln f [cpd] is evaluated with: its own, or for a moving one
+  // slower than the envelope there, the envelope's.
+  [[gnu::always_inline]] const VelocityTerms& band_terms(const VelocityTerms& own, float v, float ln_f, bool moving) const {
+    if (moving && v < largest) {
+      const int j = envelope_index(ln_f);
+      if (upper[j] > v) return upper_terms[j];
+    }
+    return own;
+  }
+  // ln CT of the Default model at frequency f = exp(ln_f) [cpd], eccentricity slope a [per cpd]:
+  //   ln S(f, v) = A(v) + 2 ln(2 pi c1 f) - b(v) f above the peak f_p(v) = 2 / b(v), plateau below.
+  [[gnu::always_inline]] float default_ln_ct(const VelocityTerms& vt, float ln_f, float f, float a) const {
+    return f >= vt.peak ? -vt.a_term - 2.0f * (daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f : -vt.ln_s_peak + a * f;
+  }
+  // One component's ln CT at ln f [cpd], eccentricity e [deg], retinal speed v [deg/s], still or moving,
+  // ignoring the display: what the exact path computes per band, for the tables' curves.
+  float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving) const {
+    const float f = std::exp(ln_f);
+    if (c.model != ThresholdModel::Default) return log_threshold(f, e, moving ? v : floor_velocity, c.model, c.params);
+    const VelocityTerms own = moving ? terms_at(v) : static_terms;
+    return default_ln_ct(band_terms(own, v, ln_f, moving), ln_f, f, ecc_slope * e);
+  }
+};
+
+// The tabulated path's threshold curves on the table grid (config-dependent, profile-independent).
+struct Scheduler::Curves {
+  std::vector<float> still;   // [kStillE][kCurveSamples]: the floor's terms
+  std::vector<float> slow;    // [kStillE][kCurveSamples]: moving at the floor (the velocity envelope)
+  std::vector<float> moving;  // [kMovingS][kMovingE][kCurveSamples]
+  std::vector<float> centre;  // [kMovingS - 1][kMovingE - 1][kCurveSamples]: each moving cell's midpoint
+  std::vector<float> still_centre, slow_centre;  // [kStillE - 1][kCurveSamples]: each cell's midpoint
+  static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
+  static float centre_speed(std::uint32_t i, float floor, float v0) { return speed_midpoint(speed(i, floor), v0); }
+  static float centre_e(std::uint32_t j) { return 0.5f * (moving_e_node(j) + moving_e_node(j + 1)); }
+  static float still_centre_e(std::uint32_t j) { return 0.5f * (still_e_node(j) + still_e_node(j + 1)); }
+  // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
+  static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving, float* out) {
+    for (int i = 0; i < kCurveSamples; ++i) out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving);
+    for (int i = kCurveSamples - 2; i >= 0; --i) out[i] = std::min(out[i], out[i + 1]);
+  }
+  // ln of the largest angular diameter [ln deg] at which a component of band ln_band [ln cpod] with
+  // ln lost contrast y (already divided by q) stays at or below threshold: ln_band - u*, u* the
+  // smallest ln f above which the curve stays >= y. Bisection on the model itself refines the sampled
+  // bracket; the upper end is kept, so the result errs small (conservative).
+  static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
+                            float ln_band, float e, float v, bool moving) {
+    if (!(y > curve[0])) return ln_band - kCurveU0;
+    if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
+    int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      (curve[mid] >= y ? hi : lo) = mid;
+    }
+    float ulo = kCurveU0 + kCurveStep * float(lo), uhi = kCurveU0 + kCurveStep * float(hi);
+    for (int i = 0; i < 6; ++i) {
+      const float mid = 0.5f * (ulo + uhi);
+      (pre.ln_ct(c, mid, e, v, moving) >= y ? uhi : ulo) = mid;
+    }
+    return ln_band - uhi;
+  }
 };
 
 struct Scheduler::EyeCache {
@@ -231,6 +354,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.ln_margin = std::log(std::max(1e-6f, 1.0f - config_.hysteresis_margin));
   pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
   pre.distance_per_error = config_.distance_scale / std::tan(kRad / 60.0f);
+  pre.speed_offset = 2.0f / pre.daly.c2;
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
     pre.terms[i] = velocity_terms(std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) *
                                                                       float(i) / float(Precomputed::kTermsSize - 1)), pre.daly);
@@ -246,6 +370,127 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     pre_->largest = std::max(pre_->largest, pre_->upper[j]);
     previous = next;
   }
+  if (tabulated()) {
+    curves_ = std::make_unique<Curves>();
+    curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
+    curves_->slow.resize(std::size_t(kStillE) * kCurveSamples);
+    curves_->still_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
+    curves_->slow_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
+    for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
+      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false, &curves_->still_centre[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true, &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
+    }
+    for (std::uint32_t j = 0; j < kStillE; ++j) {
+      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, false, &curves_->still[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, true, &curves_->slow[j * std::size_t(kCurveSamples)]);
+    }
+    curves_->moving.resize(std::size_t(kMovingS) * kMovingE * kCurveSamples);
+    for (std::uint32_t i = 0; i < kMovingS; ++i)
+      for (std::uint32_t j = 0; j < kMovingE; ++j)
+        Curves::sample(pre, config_, moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
+                       &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)]);
+    curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
+    for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+      for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
+        Curves::sample(pre, config_, Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
+                       &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)]);
+  }
+}
+
+// Fills the tabulated path's tables of one profile (see ProfileCache).
+void Scheduler::build_tables(ProfileCache& c) const {
+  const Profile& p = c.profile;
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
+                      B = p.meta.band_count, L = K - 1;
+  const Precomputed& pre = *pre_;
+  const float ln_q[2] = {pre.ln_quality, pre.ln_quality + pre.ln_margin};
+  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;
+  for (int set = 0; set < sets; ++set) {
+    std::vector<float>& still = c.still[set];
+    std::vector<float>& moving = c.moving[set];
+    still.assign(std::size_t(V) * L * B * kStillE, 0.0f);
+    c.slow[set].assign(std::size_t(V) * L * B * kStillE, 0.0f);
+    moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0.0f);
+    for (std::uint32_t w = 0; w < V; ++w)
+      for (std::uint32_t k = 1; k < K; ++k) {
+        const std::size_t kv = std::size_t(k - 1) * V + w;
+        // Still and slow: per band, then the minimum over the bands the display shows (prefix minima).
+        // Where a cell's midpoint shows the interpolation above the truth (a convex kink: the CSF's
+        // peak, a model's eccentricity step), the cell's two nodes come down by the excess.
+        for (int moving_floor = 0; moving_floor < 2; ++moving_floor) {
+          const bool slow = moving_floor != 0;
+          float node[kStillE][kMaxBands], mid[kStillE][kMaxBands];
+          for (std::uint32_t j = 0; j < kStillE; ++j) {
+            const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
+            const float* centre = &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
+            float prefix = -kNever, mid_prefix = -kNever;
+            for (std::uint32_t b = 0; b < B; ++b) {
+              const float y = c.ln_lost_any[kv * B + b] - ln_q[set];
+              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity, slow));
+              node[j][b] = prefix;
+              if (j + 1 < kStillE)
+                mid_prefix = std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
+                                                                       pre.floor_velocity, slow));
+              mid[j][b] = mid_prefix;
+            }
+          }
+          float lower[kStillE][kMaxBands] = {};
+          for (std::uint32_t j = 0; j + 1 < kStillE; ++j)
+            for (std::uint32_t b = 0; b < B; ++b) {
+              if (node[j][b] <= kNever || node[j + 1][b] >= -kNever) continue;
+              const float excess = 0.5f * (node[j][b] + node[j + 1][b]) - mid[j][b];
+              if (excess > 0) {
+                lower[j][b] = std::max(lower[j][b], excess);
+                lower[j + 1][b] = std::max(lower[j + 1][b], excess);
+              }
+            }
+          std::vector<float>& table = slow ? c.slow[set] : still;
+          for (std::uint32_t j = 0; j < kStillE; ++j)
+            for (std::uint32_t b = 0; b < B; ++b)
+              table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = node[j][b] - lower[j][b];
+        }
+        // Moving: per orientation, every band.
+        for (std::uint32_t t = 0; t < T; ++t) {
+          auto largest = [&](const float* curve, float e, float v) {
+            float m = -kNever;
+            for (std::uint32_t b = 0; b < B; ++b)
+              m = std::min(m, Curves::largest_size(pre, config_, curve, c.ln_lost[(kv * T + t) * B + b] - ln_q[set],
+                                                   c.ln_band[b], e, v, true));
+            return m;
+          };
+          float node[kMovingS * kMovingE];
+          for (std::uint32_t i = 0; i < kMovingS; ++i)
+            for (std::uint32_t j = 0; j < kMovingE; ++j)
+              node[i * kMovingE + j] = largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
+                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity));
+          // Concave along each axis keeps the cell's edges below; where the midpoint shows the
+          // bilinear surface above the truth, the cell's corners come down by the excess.
+          float lower[kMovingS * kMovingE] = {};
+          for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+            for (std::uint32_t j = 0; j + 1 < kMovingE; ++j) {
+              float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1], &node[(i + 1) * kMovingE + j],
+                                  &node[(i + 1) * kMovingE + j + 1]};
+              if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
+              const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
+              const float truth = largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
+                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset));
+              const float excess = mean - truth;
+              if (excess > 0)
+                for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
+            }
+          for (std::uint32_t i = 0; i < kMovingS * kMovingE; ++i)
+            moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] = node[i] - lower[i] - kBilinearMargin;
+        }
+      }
+  }
+}
+
+std::size_t Scheduler::table_bytes(int profile) const {
+  if (profile < 0 || profile >= static_cast<int>(profile_count_)) return 0;
+  const ProfileCache& c = profiles_[profile];
+  std::size_t n = 0;
+  for (int set = 0; set < 2; ++set) n += c.still[set].size() + c.slow[set].size() + c.moving[set].size();
+  return n * sizeof(float);
 }
 
 float Scheduler::envelope_speed(float frequency_cpd) const { return pre_->speed_at(std::log(frequency_cpd)); }
@@ -278,6 +523,7 @@ int Scheduler::add_profile(const Profile& p) {
     const Vec3 r = cross(-1.0f * load(p.views[v].direction), load(p.views[v].up));
     c.view_right[3 * v] = r.x; c.view_right[3 * v + 1] = r.y; c.view_right[3 * v + 2] = r.z;
   }
+  if (curves_) build_tables(c);
   return static_cast<int>(profile_count_++);
 }
 
@@ -388,103 +634,213 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
     if (profile_of_[id] >= 0) select(id);
 }
 
-// One eye's view of one object. scores_out (K floats) and ex are optional.
-Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* scores_out,
-                                      ObjectExplain* ex) const {
+// One eye's view of one object: everything the rules read.
+struct Scheduler::Sight {
+  float d, r;              // distance to the sphere's centre, radius [m]
+  float radius_deg, diameter_deg, ln_diam;
+  float focal_px;
+  // Perceptual and Reddy only:
+  Vec3 u;                  // unit direction eye -> centre, world
+  Vec3 image, slip;        // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  float e;                 // eccentricity [deg]
+  float nyquist_cpd;       // the display's limit in the object's direction
+  const std::uint16_t* cand;  // the lookup cell's candidate views
+  std::uint32_t view;      // the nearest of them
+  float vx, vy;            // slip in the view's image axes [deg/s]
+  bool moving;
+  std::uint8_t flags;      // kFlagNoGaze
+};
+
+// Camera-relative geometry: the double subtraction first, so 1e7 m from the origin is exact.
+Scheduler::Look Scheduler::look(ObjectId id, const EyeCache& eye, bool perceptual, Sight* s) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
-  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
-                      B = p.meta.band_count;
-  const std::uint8_t fallback = static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, K - 1));
-  const Choice invalid{fallback, fallback, kFlagInvalidInput};
-  if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
-  if (!eye.valid) return invalid;
-
-  // Camera-relative geometry: the double subtraction first, so 1e7 m from the origin is exact.
+  if (!eye.valid) return Look::Invalid;
   const float* q = &rotation_[4 * std::size_t(id)];
-  const float s = scale_[id];
-  const Vec3 centre = rotate(q, s * load(p.meta.sphere));
+  const float scale = scale_[id];
+  const Vec3 centre = rotate(q, scale * load(p.meta.sphere));
   const Vec3 rel{static_cast<float>(position_[3 * id] - eye.position[0]) + centre.x,
                  static_cast<float>(position_[3 * id + 1] - eye.position[1]) + centre.y,
                  static_cast<float>(position_[3 * id + 2] - eye.position[2]) + centre.z};
   const Vec3 vel = load(&velocity_[3 * std::size_t(id)]);
-  const float r = s * p.meta.sphere[3];
+  const float r = scale * p.meta.sphere[3];
   const float qn = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   const float bias = config_.quality * bias_[id];
   if (!finite(rel) || !finite(vel) || !(r > 0) || !std::isfinite(r) || !(std::abs(qn - 1.0f) < 1e-3f) ||
       !(bias > 0) || !std::isfinite(bias))
-    return invalid;
+    return Look::Invalid;
   const float d = length(rel);
-  if (!(d > r)) return {0, 0, kFlagEyeInside};
-  const Vec3 u = (1.0f / d) * rel;
+  if (!(d > r)) return Look::Inside;
+  s->d = d;
+  s->r = r;
+  s->focal_px = eye.focal_px;
   const float sin_radius = r / d;
-  const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
-  const float diameter_deg = 2.0f * radius_deg;
+  s->radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
+  s->diameter_deg = 2.0f * s->radius_deg;
+  s->ln_diam = std::log(s->diameter_deg);
+  if (!perceptual) return Look::Ok;
 
-  if (config_.rule == SelectionRule::Distance || config_.rule == SelectionRule::ScreenSize) {
-    std::uint8_t level = 0;
-    for (std::uint32_t k = 1; k < K; ++k) {
-      const float error = p.levels[k].geometric_error * 2.0f * r;  // world units
-      const bool ok = config_.rule == SelectionRule::Distance
-                          ? d >= pre_->distance_per_error * error
-                          : error / d * eye.focal_px <= config_.pixel_error;
-      if (ok) level = static_cast<std::uint8_t>(k);
-    }
-    return {level, level, 0};
-  }
-
-  Choice out{0, 0, eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze)};
-
+  const Vec3 u = (1.0f / d) * rel;
+  s->u = u;
+  s->flags = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   // Image-plane angular velocity [deg/s] (world tangent vector), then retinal slip.
   const Vec3 v_rel = vel - eye.velocity;
-  const Vec3 image = kDeg * ((1.0f / d) * (v_rel - dot(v_rel, u) * u) - cross(eye.omega, u));
-  Vec3 slip{0, 0, 0};
+  s->image = kDeg * ((1.0f / d) * (v_rel - dot(v_rel, u) * u) - cross(eye.omega, u));
+  s->slip = Vec3{0, 0, 0};
   if (eye.gaze_moving) {
-    slip = image - eye.gaze_velocity;
+    s->slip = s->image - eye.gaze_velocity;
   } else {
-    const float vi = length(image);
-    if (vi > 0) slip = (daly_retinal_velocity(vi, config_.params) / vi) * image;
+    const float vi = length(s->image);
+    if (vi > 0) s->slip = (daly_retinal_velocity(vi, config_.params) / vi) * s->image;
   }
-
   // Display limit: radial pixels per degree at the object's direction, halved.
   const float cos_phi = std::clamp(dot(u, eye.forward), 0.05f, 1.0f);
-  const float nyquist_cpd = 0.5f * eye.focal_px * kRad / (cos_phi * cos_phi);
-  const Precomputed& pre = *pre_;
-  const float inv_diam = 1.0f / diameter_deg, ln_diam = std::log(diameter_deg);
-  const float ln_q = pre.ln_quality + (bias_[id] != 1.0f ? std::log(bias_[id]) : 0.0f);
-  const float ln_q_coarse = ln_q + pre.ln_margin;
-  const bool all_levels = scores_out || ex;
-  // ln CT of the Default model at band b for velocity terms vt and eccentricity slope a [per cpd].
-  auto default_ln_ct = [&](const VelocityTerms& vt, std::uint32_t b, float a) {
-    const float f = p.bands[b] * inv_diam;
-    const float ln_f = pc.ln_band[b] - ln_diam;
-    const float above = -vt.a_term - 2.0f * (pre.daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f;
-    const float below = -vt.ln_s_peak + a * f;
-    return f > nyquist_cpd ? kInf : (f >= vt.peak ? above : below);
-  };
-
-  float e;
-  if (eye.gaze) e = std::max(0.0f, angle_deg(u, eye.gaze_dir) - radius_deg - config_.gaze_uncertainty_deg);
-  else e = std::max(0.0f, angle_deg(u, eye.forward) - radius_deg - config_.no_gaze_radius_deg);
+  s->nyquist_cpd = 0.5f * eye.focal_px * kRad / (cos_phi * cos_phi);
+  if (eye.gaze) s->e = std::max(0.0f, angle_deg(u, eye.gaze_dir) - s->radius_deg - config_.gaze_uncertainty_deg);
+  else s->e = std::max(0.0f, angle_deg(u, eye.forward) - s->radius_deg - config_.no_gaze_radius_deg);
 
   // The profile's view nearest to the direction from the object to the eye.
   const Vec3 to_eye = rotate_inverse(q, -1.0f * u);
   const float dir[3] = {to_eye.x, to_eye.y, to_eye.z};
-  const std::uint16_t* cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
-  std::uint32_t view = cand[0];
+  s->cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
+  s->view = s->cand[0];
   float best = -2.0f;
   for (std::uint32_t j = 0; j < kLookupCandidates; ++j) {
-    const float dd = dot(to_eye, load(p.views[cand[j]].direction));
-    if (dd > best) { best = dd; view = cand[j]; }
+    const float dd = dot(to_eye, load(p.views[s->cand[j]].direction));
+    if (dd > best) { best = dd; s->view = s->cand[j]; }
   }
   // Slip in the snapshot's image axes, so it meets the profile's orientations in one frame.
-  float vx = 0, vy = 0;
+  s->vx = s->vy = 0;
+  const Vec3 slip = s->slip;
   if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
-    vx = dot(slip, rotate(q, load(&pc.view_right[3 * std::size_t(view)])));
-    vy = dot(slip, rotate(q, load(p.views[view].up)));
+    s->vx = dot(slip, rotate(q, load(&pc.view_right[3 * std::size_t(s->view)])));
+    s->vy = dot(slip, rotate(q, load(p.views[s->view].up)));
   }
-  const bool moving = vx != 0.0f || vy != 0.0f;
+  s->moving = s->vx != 0.0f || s->vy != 0.0f;
+  return Look::Ok;
+}
 
+// One eye's view of one object through the configured rule. scores_out (K floats) and ex are optional.
+Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* scores_out, ObjectExplain* ex) const {
+  const Profile& p = profiles_[profile_of_[id]].profile;
+  const std::uint32_t K = p.meta.level_count;
+  if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
+  const bool perceptual = config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
+  Sight s;
+  switch (look(id, eye, perceptual, &s)) {
+    case Look::Invalid: {
+      const auto fallback = static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, K - 1));
+      return {fallback, fallback, kFlagInvalidInput};
+    }
+    case Look::Inside: return {0, 0, kFlagEyeInside};
+    case Look::Ok: break;
+  }
+  switch (config_.rule) {
+    case SelectionRule::Distance:
+    case SelectionRule::ScreenSize: return choose_by_error(s, p);
+    case SelectionRule::Reddy: return choose_exact(id, s, scores_out, ex);
+    case SelectionRule::Perceptual:
+      if (curves_ && !ex && bias_[id] == 1.0f) return choose_tabulated(id, s, scores_out);
+      return choose_exact(id, s, scores_out, ex);
+  }
+  return {0, 0, 0};
+}
+
+// Distance (OpenSceneGraph-style) and ScreenSize (Unity-style): the coarsest level whose geometric
+// error passes the rule's test.
+Scheduler::Choice Scheduler::choose_by_error(const Sight& s, const Profile& p) const {
+  std::uint8_t level = 0;
+  const float diameter = 2.0f * s.r;
+  const bool by_distance = config_.rule == SelectionRule::Distance;
+  for (std::uint32_t k = 1; k < p.meta.level_count; ++k) {
+    const float error = p.levels[k].geometric_error * diameter;  // world units
+    const bool ok = by_distance ? s.d >= pre_->distance_per_error * error : error / s.d * s.focal_px <= config_.pixel_error;
+    if (ok) level = static_cast<std::uint8_t>(k);
+  }
+  return {level, level, 0};
+}
+
+// The perceptual rule through the tables: per level, is the object's angular size at most the largest
+// invisible one at its eccentricity (and, moving, per orientation at its retinal speed)?
+Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float* scores_out) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
+  const std::uint32_t L = K - 1;  // coarser levels per view
+  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
+  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
+  const float x = s.ln_diam;
+  Choice out{0, 0, s.flags};
+
+  // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
+  const float inv_diam = 1.0f / s.diameter_deg;  // as the exact path computes each band's frequency
+  std::uint32_t n = 0;
+  for (std::uint32_t b = 0; b < B; ++b) n += p.bands[b] * inv_diam <= s.nyquist_cpd;
+  if (n == 0) {
+    out.fine = out.coarse = static_cast<std::uint8_t>(K - 1);
+    return out;  // scores stay 0
+  }
+  const Cell ec = e_cell(s.e, kStillE);
+  // Moving: each orientation's speed on the speed grid, and the eccentricity cell.
+  Cell sc[kMaxOrientations];
+  const Cell em = e_cell(s.e, kMovingE);
+  if (s.moving) {
+    const float floor = pre_->floor_velocity;
+    for (std::uint32_t t = 0; t < T; ++t)
+      sc[t] = speed_cell(std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor), floor, pre_->speed_offset, kMovingS);
+  }
+  // The largest invisible ln diameter of level k seen from view w, table set `set`.
+  auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
+    const float* row = &pc.still[set][((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1)];
+    const float* slow = &pc.slow[set][((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1)];
+    if (!s.moving) return row[0] + ec.w * (row[L] - row[0]);
+    const float* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
+    float m = -kNever;
+    for (std::uint32_t t = 0; t < T; ++t) {
+      const float* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
+      const float* r1 = r0 + std::size_t(kMovingE) * L;
+      const float lo = r0[0] + em.w * (r0[L] - r0[0]), hi = r1[0] + em.w * (r1[L] - r1[0]);
+      m = std::min(m, lo + sc[t].w * (hi - lo));
+    }
+    // Both bounds are conservative; the slow one knows the display's limit.
+    return std::max(m, slow[0] + ec.w * (slow[L] - slow[0]));
+  };
+  bool fine_found = false;
+  for (std::uint32_t k = K - 1; k >= 1; --k) {
+    float fine = -kNever, coarse = -kNever;
+    for (std::uint32_t j = 0; j < blended; ++j) {
+      const std::uint32_t w = blended == 1 ? s.view : s.cand[j];
+      fine = std::min(fine, largest(0, w, k));
+      if (sets == 2) coarse = std::min(coarse, largest(1, w, k));
+    }
+    if (sets == 1) coarse = fine;
+    if (!fine_found && x <= fine) { out.fine = static_cast<std::uint8_t>(k); fine_found = true; }
+    if (out.coarse == 0 && x <= coarse) out.coarse = static_cast<std::uint8_t>(k);
+    if (scores_out) scores_out[k] = std::exp(std::min(x - fine, 80.0f));
+    else if (out.coarse != 0) break;
+  }
+  return out;
+}
+
+// The perceptual rule evaluated in full (and Reddy's rule):
+//   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
+//   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
+Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out, ObjectExplain* ex) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
+                      B = p.meta.band_count;
+  Choice out{0, 0, s.flags};
+  const float nyquist_cpd = s.nyquist_cpd, diameter_deg = s.diameter_deg, e = s.e;
+  const std::uint32_t view = s.view;
+  const std::uint16_t* cand = s.cand;
+  const bool moving = s.moving;
+  const float vx = s.vx, vy = s.vy;
+  const Precomputed& pre = *pre_;
+  const float inv_diam = 1.0f / diameter_deg, ln_diam = s.ln_diam;
+  const float ln_q = pre.ln_quality + (bias_[id] != 1.0f ? std::log(bias_[id]) : 0.0f);
+  const float ln_q_coarse = ln_q + pre.ln_margin;
+  const bool all_levels = scores_out || ex;
   const float a = pre.ecc_slope * e;  // ln CT grows by a per cpd with eccentricity
 
   // ln CT per (orientation, band). A static object's velocity is the drift floor in every
@@ -501,10 +857,10 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     }
     if (config_.model == ThresholdModel::Default) {
       const VelocityTerms own = moving ? pre.terms_at(v_t[t]) : pre.static_terms;
-      const bool enveloped = moving && v_t[t] < pre_->largest;
       for (std::uint32_t b = 0; b < B; ++b) {
-        const int j = enveloped ? pre.envelope_index(pc.ln_band[b] - ln_diam) : 0;
-        row[b] = default_ln_ct(enveloped && pre.upper[j] > v_t[t] ? pre.upper_terms[j] : own, b, a);
+        const float f = p.bands[b] * inv_diam;
+        const float ln_f = pc.ln_band[b] - ln_diam;
+        row[b] = f > nyquist_cpd ? kInf : pre.default_ln_ct(pre.band_terms(own, v_t[t], ln_f, moving), ln_f, f, a);
       }
     } else {
       for (std::uint32_t b = 0; b < B; ++b) {
@@ -576,11 +932,11 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* s
     if (out.coarse != 0 && !all_levels) break;
   }
   if (ex) {
-    ex->distance_m = d;
+    ex->distance_m = s.d;
     ex->angular_diameter_deg = diameter_deg;
     ex->eccentricity_deg = e;
-    ex->image_velocity_deg_s = length(image);
-    ex->retinal_velocity_deg_s = length(slip);
+    ex->image_velocity_deg_s = length(s.image);
+    ex->retinal_velocity_deg_s = length(s.slip);
     ex->view = view;
     ex->level_count = static_cast<std::uint8_t>(K);
     ex->levels[0] = LevelExplain{0, 0, 0, 0, 0};
@@ -672,7 +1028,9 @@ void Scheduler::apply_budget() {
 
   auto can_coarsen = [&](std::uint32_t id) {
     const std::uint32_t K = profiles_[profile_of_[id]].profile.meta.level_count;
-    return next_[id] + 1u < std::min<std::uint32_t>(max_level_[id] + 1u, K) && !(flags_[id] & kFlagEyeInside);
+    // An object with invalid input keeps its fallback level: a tracking glitch must not drop it.
+    return next_[id] + 1u < std::min<std::uint32_t>(max_level_[id] + 1u, K) &&
+           !(flags_[id] & (kFlagEyeInside | kFlagInvalidInput));
   };
   auto harm = [&](std::uint32_t id) {
     const Profile& p = profiles_[profile_of_[id]].profile;
@@ -719,5 +1077,28 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
   out->level_count = static_cast<std::uint8_t>(profiles_[profile_of_[id]].profile.meta.level_count);
   return true;
 }
+
+namespace {
+constexpr const char* kRuleNames[] = {"perceptual", "reddy", "distance", "screen-size"};  // SelectionRule order
+constexpr const char* kEvaluationNames[] = {"tabulated", "exact"};                          // Evaluation order
+template <class E, std::size_t N>
+bool parse_name(const char* name, const char* const (&names)[N], E* out) {
+  if (!name) return false;
+  for (std::size_t i = 0; i < N; ++i)
+    if (std::strcmp(name, names[i]) == 0) { *out = static_cast<E>(i); return true; }
+  return false;
+}
+}  // namespace
+
+const char* to_string(SelectionRule rule) {
+  const auto i = static_cast<std::size_t>(rule);
+  return i < std::size(kRuleNames) ? kRuleNames[i] : "unknown";
+}
+const char* to_string(Evaluation evaluation) {
+  const auto i = static_cast<std::size_t>(evaluation);
+  return i < std::size(kEvaluationNames) ? kEvaluationNames[i] : "unknown";
+}
+bool parse_selection_rule(const char* name, SelectionRule* out) { return parse_name(name, kRuleNames, out); }
+bool parse_evaluation(const char* name, Evaluation* out) { return parse_name(name, kEvaluationNames, out); }
 
 }  // namespace acuity

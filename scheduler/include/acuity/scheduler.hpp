@@ -14,6 +14,7 @@
 //
 // Conventions (design.md section 3): world positions in metres (double), angles in degrees,
 // angular velocities in deg/s. An eye looks along its local -Z with +Y up (OpenXR, OpenGL).
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -28,6 +29,14 @@ enum class SelectionRule : std::uint8_t {
   Reddy,       // coarsest level whose finer levels' smallest features all lie above H(v) M(e) [unverified]
   Distance,    // OpenSceneGraph-style: level k from distance >= distance_scale x d_k (baseline)
   ScreenSize,  // Unity-style screen-relative size: level k while its error covers <= pixel_error px (baseline)
+};
+
+// How the perceptual rule evaluates thresholds each frame.
+enum class Evaluation : std::uint8_t {
+  Tabulated,  // default: per profile, the largest invisible angular size of each level on a grid over
+              // eccentricity and retinal speed, built at add_profile; a decision may be finer than
+              // Exact's, never coarser (conservative); see "The tabulated path" below
+  Exact,      // every band and orientation through the threshold model, per object and frame
 };
 
 // How the profile's nearest views are combined for a runtime direction.
@@ -50,6 +59,7 @@ struct SchedulerConfig {
   std::uint32_t max_objects = 4096;      // capacity, fixed at creation
   std::uint32_t max_profiles = 256;      // capacity, fixed at creation
   SelectionRule rule = SelectionRule::Perceptual;
+  Evaluation evaluation = Evaluation::Tabulated;  // Perceptual rule only; explain() is always Exact
   ThresholdModel model = ThresholdModel::Default;
   ModelParams params;
   ViewBlend view_blend = ViewBlend::Nearest;  // lowest measured error (docs/spectra.md); Max3 errs safe
@@ -77,8 +87,15 @@ struct SchedulerConfig {
   float distance_scale = 1.0f;           // Distance: d_k = geometric error k / tan(1 arcmin), times this
   float pixel_error = 1.0f;              // ScreenSize: allowed projected geometric error [px]
 
-  bool keep_scores = false;              // keep every level's score for scores() / explain()
+  bool keep_scores = false;              // keep every level's score for scores()
 };
+
+// Names used by the command line, Python and the C ABI's documentation: "perceptual", "reddy",
+// "distance", "screen-size"; "tabulated", "exact". parse_* return false for an unknown name.
+const char* to_string(SelectionRule rule);
+const char* to_string(Evaluation evaluation);
+bool parse_selection_rule(const char* name, SelectionRule* out);
+bool parse_evaluation(const char* name, Evaluation* out);
 
 struct Eye {
   double position[3] = {0, 0, 0};          // world [m]
@@ -137,6 +154,19 @@ struct FrameStats {
   bool gaze_used = false;
 };
 
+// The tabulated path (Evaluation::Tabulated, the default for the perceptual rule). For each profile,
+// view and level k, add_profile stores the largest angular size [ln deg] at which k's loss stays below
+// q x threshold: still objects on a grid over eccentricity (one table per number of bands the display
+// can show: the display's Nyquist limit is exact up to 3 bands cut), moving objects per orientation on
+// a grid over eccentricity and that orientation's retinal speed. Per object and frame the work is the
+// geometry, then one table read per level (still) or per level and orientation (moving). Tables are
+// conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
+// and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
+// that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
+// from the tables. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
+// band-pass CSF rises with speed at low frequencies) and the Reddy step model evaluate exactly, as
+// does an object whose bias is not 1 (tables are built for q).
+// Memory: table_bytes(); `acuity inspect` prints it for a profile.
 class Scheduler {
  public:
   explicit Scheduler(const SchedulerConfig& config);
@@ -174,6 +204,9 @@ class Scheduler {
   const FrameStats& stats() const { return stats_; }
   const SchedulerConfig& config() const { return config_; }
 
+  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated).
+  std::size_t table_bytes(int profile) const;
+
   // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
   // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].
   float envelope_speed(float frequency_cpd) const;
@@ -185,8 +218,20 @@ class Scheduler {
   struct ProfileCache;
   struct EyeCache;
   struct Precomputed;
+  struct Curves;
+  struct Sight;
   struct Choice { std::uint8_t fine, coarse, flags; };  // coarsest level at score <= 1 and <= 1 - margin
+  enum class Look : std::uint8_t { Ok, Invalid, Inside };
+  Look look(ObjectId id, const EyeCache& eye, bool perceptual, Sight* out) const;
   Choice evaluate(ObjectId id, const EyeCache& eye, float* scores, ObjectExplain* explain) const;
+  Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
+  Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
+  Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
+  void build_tables(ProfileCache& c) const;
+  bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
+    return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
+           (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
+  }
   void select(ObjectId id);
   void apply_budget();
 
@@ -207,6 +252,7 @@ class Scheduler {
   std::vector<std::uint32_t> heap_;        // budget pass
   // Frame state.
   std::unique_ptr<Precomputed> pre_;      // model constants and the velocity envelope
+  std::unique_ptr<Curves> curves_;        // tabulated path: threshold curves on the table grid
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
