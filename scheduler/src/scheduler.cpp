@@ -21,9 +21,18 @@
 namespace acuity {
 namespace {
 
+// The loop after it writes arrays that none of its inputs overlap (GCC would otherwise give up on the
+// run-time overlap checks of many streams; Clang vectorises such loops by itself).
+#if defined(__GNUC__) && !defined(__clang__)
+#define ACUITY_NO_ALIAS _Pragma("GCC ivdep")
+#else
+#define ACUITY_NO_ALIAS
+#endif
+
 constexpr float kDeg = 180.0f / std::numbers::pi_v<float>;
 constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 struct Vec3 { float x, y, z; };
 [[gnu::always_inline]] inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
@@ -35,12 +44,13 @@ struct Vec3 { float x, y, z; };
 inline bool finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
 
-// Rotates v by the unit quaternion q = (x, y, z, w).
-[[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) {
-  const Vec3 u{q[0], q[1], q[2]};
+// Rotates v by the unit quaternion (x, y, z, w).
+[[gnu::always_inline]] inline Vec3 rotate(float x, float y, float z, float w, Vec3 v) {
+  const Vec3 u{x, y, z};
   const Vec3 t = 2.0f * cross(u, v);
-  return v + q[3] * t + cross(u, t);
+  return v + w * t + cross(u, t);
 }
+[[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) { return rotate(q[0], q[1], q[2], q[3], v); }
 inline Vec3 rotate_inverse(const float* q, Vec3 v) {
   const float c[4] = {-q[0], -q[1], -q[2], q[3]};
   return rotate(c, v);
@@ -51,17 +61,37 @@ inline Vec3 rotate_inverse(const float* q, Vec3 v) {
   constexpr float kTan15 = 0.26794919f, kSqrt3 = 1.7320508f;
   const float ax = std::abs(x);
   const bool swap = y > ax;  // atan(y/x) = 90 - atan(x/y)
-  float t = swap ? ax / y : (ax > 0 ? y / ax : 0.0f);
-  float base = 0;
-  if (t > kTan15) {  // atan(t) = 30 deg + atan((sqrt3 t - 1) / (sqrt3 + t))
-    t = (kSqrt3 * t - 1.0f) / (kSqrt3 + t);
-    base = 30.0f;
-  }
+  const float num = swap ? ax : y, den = swap ? y : ax;
+  float t = den > 0 ? num / den : 0.0f;
+  const bool reduce = t > kTan15;  // atan(t) = 30 deg + atan((sqrt3 t - 1) / (sqrt3 + t))
+  t = reduce ? (kSqrt3 * t - 1.0f) / (kSqrt3 + t) : t;
+  const float base = reduce ? 30.0f : 0.0f;
   const float t2 = t * t;
   const float a = base + kDeg * t * (1.0f + t2 * (-1.0f / 3 + t2 * (1.0f / 5 + t2 * (-1.0f / 7 + t2 * (1.0f / 9)))));
   const float first = swap ? 90.0f - a : a;
   return x < 0 ? 180.0f - first : first;
 }
+// Natural log of x > 0 (normal), deterministic, branch-free (vectorises), within 2 ulp of logf:
+// x = m 2^k with m in [sqrt(1/2), sqrt(2)), ln x = k ln 2 + ln(1 + f), f = m - 1, by a minimax series.
+[[gnu::always_inline]] inline float ln_positive(float x) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  int k = int((bits >> 23) & 255u) - 127;
+  bits = (bits & 0x007fffffu) | 0x3f800000u;  // m in [1, 2)
+  float m;
+  std::memcpy(&m, &bits, sizeof m);
+  const bool high = m > 1.41421356f;
+  m = high ? 0.5f * m : m;
+  k += high ? 1 : 0;
+  const float f = m - 1.0f, z = f * f;
+  float y = f * z * (3.3333331174e-1f + f * (-2.4999993993e-1f + f * (2.0000714765e-1f + f * (-1.6668057665e-1f +
+            f * (1.4249322787e-1f + f * (-1.2420140846e-1f + f * (1.1676998740e-1f + f * (-1.1514610310e-1f +
+            f * 7.0376836292e-2f))))))));
+  const float kf = float(k);
+  y += -2.12194440e-4f * kf - 0.5f * z;
+  return f + y + 0.693359375f * kf;
+}
+
 // Angle between unit vectors [deg], accurate at small angles.
 [[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) { return atan2_deg(length(cross(a, b)), dot(a, b)); }
 
@@ -145,6 +175,14 @@ constexpr float kNever = -1e30f;  // a table entry no size passes
 // the bilinear surface can still cut above the truth between centre and edges (measured: < 0.003).
 constexpr float kBilinearMargin = 0.001f;
 
+// Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at +-32
+// (e^32 deg: every size passes; e^-32: none does).
+inline std::int16_t encode_size(float ln_size) {
+  const float x = std::floor(std::clamp(ln_size, -32.0f, 31.99f) * 1024.0f);
+  return static_cast<std::int16_t>(x);
+}
+[[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / 1024.0f); }
+
 inline float e_node(std::uint32_t j, std::uint32_t n) { const float t = float(j) / float(n - 1); return kTableMaxE * t * t; }
 inline float still_e_node(std::uint32_t j) { return e_node(j, kStillE); }
 inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
@@ -198,7 +236,7 @@ struct Scheduler::ProfileCache {
   // a bound for every moving object, since thresholds never fall with speed;
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
   // [0]: score <= 1; [1]: score <= 1 - margin (empty when the margin is 0).
-  std::vector<float> still[2], slow[2], moving[2];
+  std::vector<std::int16_t> still[2], slow[2], moving[2];  // encode_size(): 1/1024 ln deg, rounded down
 };
 
 // Everything that depends only on the configuration, computed once at creation.
@@ -321,10 +359,15 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   const std::size_t n = config_.max_objects;
   profiles_.resize(config_.max_profiles);
   profile_of_.assign(n, -1);
-  position_.assign(3 * n, 0.0);
-  previous_position_.assign(3 * n, 0.0);
-  rotation_.assign(4 * n, 0.0f);
-  velocity_.assign(3 * n, 0.0f);
+  for (int k = 0; k < 3; ++k) {
+    position_[k].assign(n, 0.0);
+    previous_position_[k].assign(n, 0.0);
+    velocity_[k].assign(n, 0.0f);
+  }
+  for (int k = 0; k < 4; ++k) {
+    rotation_[k].assign(n, k == 3 ? 1.0f : 0.0f);
+    sphere_[k].assign(n, 0.0f);
+  }
   scale_.assign(n, 1.0f);
   bias_.assign(n, 1.0f);
   explicit_velocity_.assign(n, 0);
@@ -406,11 +449,11 @@ void Scheduler::build_tables(ProfileCache& c) const {
   const float ln_q[2] = {pre.ln_quality, pre.ln_quality + pre.ln_margin};
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;
   for (int set = 0; set < sets; ++set) {
-    std::vector<float>& still = c.still[set];
-    std::vector<float>& moving = c.moving[set];
-    still.assign(std::size_t(V) * L * B * kStillE, 0.0f);
-    c.slow[set].assign(std::size_t(V) * L * B * kStillE, 0.0f);
-    moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0.0f);
+    std::vector<std::int16_t>& still = c.still[set];
+    std::vector<std::int16_t>& moving = c.moving[set];
+    still.assign(std::size_t(V) * L * B * kStillE, 0);
+    c.slow[set].assign(std::size_t(V) * L * B * kStillE, 0);
+    moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
       for (std::uint32_t k = 1; k < K; ++k) {
         const std::size_t kv = std::size_t(k - 1) * V + w;
@@ -444,10 +487,10 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 lower[j + 1][b] = std::max(lower[j + 1][b], excess);
               }
             }
-          std::vector<float>& table = slow ? c.slow[set] : still;
+          std::vector<std::int16_t>& table = slow ? c.slow[set] : still;
           for (std::uint32_t j = 0; j < kStillE; ++j)
             for (std::uint32_t b = 0; b < B; ++b)
-              table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = node[j][b] - lower[j][b];
+              table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = encode_size(node[j][b] - lower[j][b]);
         }
         // Moving: per orientation, every band.
         for (std::uint32_t t = 0; t < T; ++t) {
@@ -479,7 +522,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
             }
           for (std::uint32_t i = 0; i < kMovingS * kMovingE; ++i)
-            moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] = node[i] - lower[i] - kBilinearMargin;
+            moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] = encode_size(node[i] - lower[i] - kBilinearMargin);
         }
       }
   }
@@ -490,7 +533,7 @@ std::size_t Scheduler::table_bytes(int profile) const {
   const ProfileCache& c = profiles_[profile];
   std::size_t n = 0;
   for (int set = 0; set < 2; ++set) n += c.still[set].size() + c.slow[set].size() + c.moving[set].size();
-  return n * sizeof(float);
+  return n * sizeof(std::int16_t);
 }
 
 float Scheduler::envelope_speed(float frequency_cpd) const { return pre_->speed_at(std::log(frequency_cpd)); }
@@ -533,7 +576,8 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   free_list_.pop_back();
   profile_of_[id] = profile;
   set_transform(id, t);
-  for (int k = 0; k < 3; ++k) { previous_position_[3 * id + k] = t.position[k]; velocity_[3 * id + k] = 0; }
+  for (int k = 0; k < 3; ++k) { previous_position_[k][id] = t.position[k]; velocity_[k][id] = 0; }
+  for (int k = 0; k < 4; ++k) sphere_[k][id] = profiles_[profile].profile.meta.sphere[k];
   explicit_velocity_[id] = 0;
   fresh_[id] = 1;
   min_level_[id] = 0;
@@ -550,19 +594,20 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
 void Scheduler::remove_object(ObjectId id) {
   if (!alive(id)) return;
   profile_of_[id] = -1;
+  sphere_[3][id] = 0.0f;  // a free slot looks invalid to the frame loop
   free_list_.push_back(id);
 }
 
 void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
   if (!alive(id)) return;
-  for (int k = 0; k < 3; ++k) position_[3 * id + k] = t.position[k];
-  for (int k = 0; k < 4; ++k) rotation_[4 * id + k] = t.rotation[k];
+  for (int k = 0; k < 3; ++k) position_[k][id] = t.position[k];
+  for (int k = 0; k < 4; ++k) rotation_[k][id] = t.rotation[k];
   scale_[id] = t.scale;
 }
 
 void Scheduler::set_velocity(ObjectId id, const float v[3]) {
   if (!alive(id)) return;
-  for (int k = 0; k < 3; ++k) velocity_[3 * id + k] = v[k];
+  for (int k = 0; k < 3; ++k) velocity_[k][id] = v[k];
   explicit_velocity_[id] = 1;
 }
 
@@ -628,10 +673,41 @@ void Scheduler::begin_frame(const Frame& frame) {
   }
 }
 
+// One eye's view of up to kSize consecutive objects, structure of arrays (the frame loop's first pass).
+struct Scheduler::Block {
+  static constexpr std::uint32_t kSize = 64;
+  float d[kSize], r[kSize], radius_deg[kSize], ln_diam[kSize];
+  // Perceptual and Reddy only:
+  float test[kSize];       // 0 where the input is valid (NaN otherwise)
+  float e[kSize], nyquist[kSize];
+  float u[3][kSize];       // unit direction eye -> centre, world
+  float image[3][kSize];   // image-plane angular velocity [deg/s], world tangent vector
+  float to_eye[3][kSize];  // unit direction centre -> eye, object space (the view lookup)
+  Look state(std::uint32_t j) const { return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok; }
+};
+
 void Scheduler::update(std::uint32_t first, std::uint32_t count) {
-  const std::uint32_t end = std::min(config_.max_objects, first + std::min(count, config_.max_objects));
-  for (std::uint32_t id = first; id < end; ++id)
-    if (profile_of_[id] >= 0) select(id);
+  const std::uint32_t end = first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
+  Block blocks[2];
+  for (std::uint32_t start = first; start < end; start += Block::kSize) {
+    const std::uint32_t n = std::min(Block::kSize, end - start);
+    // Velocities not given are derived from the positions and dt.
+    for (int k = 0; k < 3; ++k) {
+      const double* pos = &position_[k][start];
+      double* prev = &previous_position_[k][start];
+      float* vel = &velocity_[k][start];
+      const std::uint8_t* given = &explicit_velocity_[start];
+      const double inv_dt = dt_ > 0 ? 1.0 / double(dt_) : 0.0;
+      for (std::uint32_t j = 0; j < n; ++j) {
+        const float derived = static_cast<float>((pos[j] - prev[j]) * inv_dt);
+        vel[j] = given[j] ? vel[j] : derived;
+        prev[j] = pos[j];
+      }
+    }
+    for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (profile_of_[start + j] >= 0) select(start + j, blocks, j);
+  }
 }
 
 // One eye's view of one object: everything the rules read.
@@ -651,41 +727,92 @@ struct Scheduler::Sight {
   std::uint8_t flags;      // kFlagNoGaze
 };
 
-// Camera-relative geometry: the double subtraction first, so 1e7 m from the origin is exact.
-Scheduler::Look Scheduler::look(ObjectId id, const EyeCache& eye, bool perceptual, Sight* s) const {
+// The first pass, for `count` consecutive objects from `first` and one eye: arithmetic only, no
+// branches and no calls, so the compiler vectorises it. Camera-relative geometry subtracts in double
+// first, so 1e7 m from the origin is exact. Free slots have radius 0 and come out Invalid.
+void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const {
+  const double* px = &position_[0][first]; const double* py = &position_[1][first]; const double* pz = &position_[2][first];
+  const float* qx = &rotation_[0][first]; const float* qy = &rotation_[1][first];
+  const float* qz = &rotation_[2][first]; const float* qw = &rotation_[3][first];
+  const float* vx = &velocity_[0][first]; const float* vy = &velocity_[1][first]; const float* vz = &velocity_[2][first];
+  const float* sx = &sphere_[0][first]; const float* sy = &sphere_[1][first]; const float* sz = &sphere_[2][first];
+  const float* sr = &sphere_[3][first];
+  const float* scale = &scale_[first];
+  const float* bias = &bias_[first];
+  const double ex = eye.position[0], ey = eye.position[1], ez = eye.position[2];
+  const float eye_test = eye.valid ? 0.0f : kNaN;  // NaN fails every object
+  const float quality = config_.quality;
+  Block& b = *out;
+  float* out_d = b.d; float* out_r = b.r; float* out_radius = b.radius_deg; float* out_ln = b.ln_diam; float* out_test = b.test;
+  float rx[Block::kSize], ry[Block::kSize], rz[Block::kSize];
+  for (std::uint32_t j = 0; j < count; ++j) {
+    rx[j] = static_cast<float>(px[j] - ex);
+    ry[j] = static_cast<float>(py[j] - ey);
+    rz[j] = static_cast<float>(pz[j] - ez);
+  }
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < count; ++j) {
+    const float s = scale[j];
+    const Vec3 centre = rotate(qx[j], qy[j], qz[j], qw[j], Vec3{s * sx[j], s * sy[j], s * sz[j]});
+    const Vec3 rel{rx[j] + centre.x, ry[j] + centre.y, rz[j] + centre.z};
+    const float r = s * sr[j];
+    const float qn = qx[j] * qx[j] + qy[j] * qy[j] + qz[j] * qz[j] + qw[j] * qw[j];
+    const float q_object = quality * bias[j];
+    // x - x is 0 for a finite x, NaN otherwise; one sum tests them all.
+    const float nan_test = (rel.x - rel.x) + (rel.y - rel.y) + (rel.z - rel.z) + (vx[j] - vx[j]) + (vy[j] - vy[j]) +
+                           (vz[j] - vz[j]) + (r - r) + (q_object - q_object) + eye_test;
+    // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1, q > 0.
+    const float margin = std::min(std::min(r, 1e-3f - std::abs(qn - 1.0f)), q_object);
+    const float test = nan_test + (margin > 0.0f ? 0.0f : kNaN);  // 0: valid
+    const float d = std::sqrt(dot(rel, rel));
+    const float sin_radius = d > r ? r / d : 0.5f;  // any finite value where the object is not seen
+    const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
+    out_d[j] = d;
+    out_r[j] = r;
+    out_radius[j] = radius_deg;
+    out_ln[j] = ln_positive(2.0f * radius_deg);
+    out_test[j] = test;
+    rx[j] = rel.x; ry[j] = rel.y; rz[j] = rel.z;
+  }
+  if (!perceptual()) return;
+  const Vec3 eye_velocity = eye.velocity, omega = eye.omega, forward = eye.forward;
+  const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
+  const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
+  const float half_focal = 0.5f * eye.focal_px * kRad;
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < count; ++j) {
+    const float inv_d = b.d[j] > 0.0f ? 1.0f / b.d[j] : 0.0f;
+    const Vec3 u = inv_d * Vec3{rx[j], ry[j], rz[j]};
+    const Vec3 v_rel = Vec3{vx[j], vy[j], vz[j]} - eye_velocity;
+    const Vec3 image = kDeg * (inv_d * (v_rel - dot(v_rel, u) * u) - cross(omega, u));
+    const float cos_phi = std::clamp(dot(u, forward), 0.05f, 1.0f);
+    const Vec3 to_eye = rotate(-qx[j], -qy[j], -qz[j], qw[j], -1.0f * u);  // the inverse rotation
+    b.u[0][j] = u.x; b.u[1][j] = u.y; b.u[2][j] = u.z;
+    b.image[0][j] = image.x; b.image[1][j] = image.y; b.image[2][j] = image.z;
+    b.to_eye[0][j] = to_eye.x; b.to_eye[1][j] = to_eye.y; b.to_eye[2][j] = to_eye.z;
+    b.nyquist[j] = half_focal / (cos_phi * cos_phi);
+    b.e[j] = std::max(0.0f, angle_deg(u, gaze) - b.radius_deg[j] - offset);
+  }
+}
+
+// The second pass for one object: the view lookup and retinal slip, what branches.
+Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& b, std::uint32_t j, Sight* s) const {
+  if (const Look state = b.state(j); state != Look::Ok) return state;
+  s->d = b.d[j];
+  s->r = b.r[j];
+  s->focal_px = eye.focal_px;
+  s->radius_deg = b.radius_deg[j];
+  s->diameter_deg = 2.0f * b.radius_deg[j];
+  s->ln_diam = b.ln_diam[j];
+  if (!perceptual()) return Look::Ok;
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
-  if (!eye.valid) return Look::Invalid;
-  const float* q = &rotation_[4 * std::size_t(id)];
-  const float scale = scale_[id];
-  const Vec3 centre = rotate(q, scale * load(p.meta.sphere));
-  const Vec3 rel{static_cast<float>(position_[3 * id] - eye.position[0]) + centre.x,
-                 static_cast<float>(position_[3 * id + 1] - eye.position[1]) + centre.y,
-                 static_cast<float>(position_[3 * id + 2] - eye.position[2]) + centre.z};
-  const Vec3 vel = load(&velocity_[3 * std::size_t(id)]);
-  const float r = scale * p.meta.sphere[3];
-  const float qn = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-  const float bias = config_.quality * bias_[id];
-  if (!finite(rel) || !finite(vel) || !(r > 0) || !std::isfinite(r) || !(std::abs(qn - 1.0f) < 1e-3f) ||
-      !(bias > 0) || !std::isfinite(bias))
-    return Look::Invalid;
-  const float d = length(rel);
-  if (!(d > r)) return Look::Inside;
-  s->d = d;
-  s->r = r;
-  s->focal_px = eye.focal_px;
-  const float sin_radius = r / d;
-  s->radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
-  s->diameter_deg = 2.0f * s->radius_deg;
-  s->ln_diam = std::log(s->diameter_deg);
-  if (!perceptual) return Look::Ok;
-
-  const Vec3 u = (1.0f / d) * rel;
-  s->u = u;
+  s->u = Vec3{b.u[0][j], b.u[1][j], b.u[2][j]};
+  s->image = Vec3{b.image[0][j], b.image[1][j], b.image[2][j]};
+  s->e = b.e[j];
+  s->nyquist_cpd = b.nyquist[j];
   s->flags = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
-  // Image-plane angular velocity [deg/s] (world tangent vector), then retinal slip.
-  const Vec3 v_rel = vel - eye.velocity;
-  s->image = kDeg * ((1.0f / d) * (v_rel - dot(v_rel, u) * u) - cross(eye.omega, u));
+  // Retinal slip: against the measured gaze motion, or Daly's pursuit model.
   s->slip = Vec3{0, 0, 0};
   if (eye.gaze_moving) {
     s->slip = s->image - eye.gaze_velocity;
@@ -693,26 +820,21 @@ Scheduler::Look Scheduler::look(ObjectId id, const EyeCache& eye, bool perceptua
     const float vi = length(s->image);
     if (vi > 0) s->slip = (daly_retinal_velocity(vi, config_.params) / vi) * s->image;
   }
-  // Display limit: radial pixels per degree at the object's direction, halved.
-  const float cos_phi = std::clamp(dot(u, eye.forward), 0.05f, 1.0f);
-  s->nyquist_cpd = 0.5f * eye.focal_px * kRad / (cos_phi * cos_phi);
-  if (eye.gaze) s->e = std::max(0.0f, angle_deg(u, eye.gaze_dir) - s->radius_deg - config_.gaze_uncertainty_deg);
-  else s->e = std::max(0.0f, angle_deg(u, eye.forward) - s->radius_deg - config_.no_gaze_radius_deg);
-
   // The profile's view nearest to the direction from the object to the eye.
-  const Vec3 to_eye = rotate_inverse(q, -1.0f * u);
+  const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
   const float dir[3] = {to_eye.x, to_eye.y, to_eye.z};
   s->cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
   s->view = s->cand[0];
   float best = -2.0f;
-  for (std::uint32_t j = 0; j < kLookupCandidates; ++j) {
-    const float dd = dot(to_eye, load(p.views[s->cand[j]].direction));
-    if (dd > best) { best = dd; s->view = s->cand[j]; }
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
+    const float dd = dot(to_eye, load(p.views[s->cand[k]].direction));
+    if (dd > best) { best = dd; s->view = s->cand[k]; }
   }
   // Slip in the snapshot's image axes, so it meets the profile's orientations in one frame.
   s->vx = s->vy = 0;
   const Vec3 slip = s->slip;
   if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
+    const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
     s->vx = dot(slip, rotate(q, load(&pc.view_right[3 * std::size_t(s->view)])));
     s->vy = dot(slip, rotate(q, load(p.views[s->view].up)));
   }
@@ -721,13 +843,13 @@ Scheduler::Look Scheduler::look(ObjectId id, const EyeCache& eye, bool perceptua
 }
 
 // One eye's view of one object through the configured rule. scores_out (K floats) and ex are optional.
-Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, float* scores_out, ObjectExplain* ex) const {
+Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j,
+                                      float* scores_out, ObjectExplain* ex) const {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
   if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
-  const bool perceptual = config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
   Sight s;
-  switch (look(id, eye, perceptual, &s)) {
+  switch (sight(id, eye, block, j, &s)) {
     case Look::Invalid: {
       const auto fallback = static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, K - 1));
       return {fallback, fallback, kFlagInvalidInput};
@@ -791,19 +913,21 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
   }
   // The largest invisible ln diameter of level k seen from view w, table set `set`.
   auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
-    const float* row = &pc.still[set][((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1)];
-    const float* slow = &pc.slow[set][((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1)];
-    if (!s.moving) return row[0] + ec.w * (row[L] - row[0]);
-    const float* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
+    const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1);
+    const std::int16_t* row = &pc.still[set][at];
+    if (!s.moving) return decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0]));
+    const std::int16_t* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
     float m = -kNever;
     for (std::uint32_t t = 0; t < T; ++t) {
-      const float* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
-      const float* r1 = r0 + std::size_t(kMovingE) * L;
-      const float lo = r0[0] + em.w * (r0[L] - r0[0]), hi = r1[0] + em.w * (r1[L] - r1[0]);
+      const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
+      const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
+      const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]), b1 = decode_size(r1[L]);
+      const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
       m = std::min(m, lo + sc[t].w * (hi - lo));
     }
+    const std::int16_t* slow = &pc.slow[set][at];
     // Both bounds are conservative; the slow one knows the display's limit.
-    return std::max(m, slow[0] + ec.w * (slow[L] - slow[0]));
+    return std::max(m, decode_size(slow[0]) + ec.w * (decode_size(slow[L]) - decode_size(slow[0])));
   };
   bool fine_found = false;
   for (std::uint32_t k = K - 1; k >= 1; --k) {
@@ -944,21 +1068,15 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   return out;
 }
 
-void Scheduler::select(ObjectId id) {
+void Scheduler::select(ObjectId id, const Block* blocks, std::uint32_t j) {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
-  double* pos = &position_[3 * std::size_t(id)];
-  double* prev = &previous_position_[3 * std::size_t(id)];
-  if (!explicit_velocity_[id])
-    for (int k = 0; k < 3; ++k)
-      velocity_[3 * id + k] = dt_ > 0 ? static_cast<float>((pos[k] - prev[k]) / dt_) : 0.0f;
-  for (int k = 0; k < 3; ++k) prev[k] = pos[k];
 
   std::uint8_t fine = 255, coarse = 255, flags = 0;
   float* kept = config_.keep_scores ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
   float eye_scores[kMaxLevels];
   for (std::uint32_t i = 0; i < eye_count_; ++i) {  // both eyes agree: the finer need wins
-    const Choice c = evaluate(id, eyes_[i], kept ? eye_scores : nullptr, nullptr);
+    const Choice c = evaluate(id, eyes_[i], blocks[i], j, kept ? eye_scores : nullptr, nullptr);
     fine = std::min(fine, c.fine);
     coarse = std::min(coarse, c.coarse);
     flags |= c.flags;
@@ -1070,7 +1188,9 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
   std::uint8_t best = 255;
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     ObjectExplain tmp{};
-    const Choice c = evaluate(id, eyes_[i], nullptr, &tmp);
+    Block block;
+    look_block(eyes_[i], id, 1, &block);
+    const Choice c = evaluate(id, eyes_[i], block, 0, nullptr, &tmp);
     if (c.fine < best) { best = c.fine; *out = tmp; }
   }
   out->level = level_[id];

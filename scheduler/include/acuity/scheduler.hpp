@@ -220,10 +220,14 @@ class Scheduler {
   struct Precomputed;
   struct Curves;
   struct Sight;
+  struct Block;
   struct Choice { std::uint8_t fine, coarse, flags; };  // coarsest level at score <= 1 and <= 1 - margin
   enum class Look : std::uint8_t { Ok, Invalid, Inside };
-  Look look(ObjectId id, const EyeCache& eye, bool perceptual, Sight* out) const;
-  Choice evaluate(ObjectId id, const EyeCache& eye, float* scores, ObjectExplain* explain) const;
+  bool perceptual() const { return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy; }
+  void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
+  Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
+  Choice evaluate(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, float* scores,
+                  ObjectExplain* explain) const;
   Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
   Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
@@ -232,16 +236,16 @@ class Scheduler {
     return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
            (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
   }
-  void select(ObjectId id);
+  void select(ObjectId id, const Block* blocks, std::uint32_t j);
   void apply_budget();
 
   SchedulerConfig config_;
   std::vector<ProfileCache> profiles_;
   std::uint32_t profile_count_ = 0;
-  // Objects, structure of arrays.
+  // Objects, structure of arrays: one array per component, so the frame loop vectorises.
   std::vector<int> profile_of_;            // -1: free slot
-  std::vector<double> position_, previous_position_;  // 3 per object
-  std::vector<float> rotation_, velocity_, scale_, bias_;
+  std::vector<double> position_[3], previous_position_[3];
+  std::vector<float> rotation_[4], velocity_[3], sphere_[4], scale_, bias_;  // sphere_: the profile's, object units
   std::vector<std::uint8_t> explicit_velocity_, fresh_, min_level_, max_level_, flags_;
   std::vector<std::uint8_t> chosen_;        // perceptual choice after hysteresis (before the budget)
   std::vector<std::uint8_t> next_;          // this frame's level after the budget
