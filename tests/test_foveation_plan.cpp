@@ -471,31 +471,27 @@ TEST(FoveationPlan, DeterministicAndAllocationFree) {
 TEST(FoveationPlan, GuenterLayersFromTheSameModel) {
   FoveationConfig config;
   config.model = ThresholdModel::GeislerPerry;
-  config.gaze_uncertainty_deg = 0;
-  config.foveal_radius_deg = 0;
   const FoveationPlanner& planner = planner_for(config);
-  const Eye eye = make_eye(1920, 1080, 45, 30);
+  const Eye eye = make_eye(3840, 2160, 45, 30);
   const FoveationLayers l = foveation_layers(planner, eye, 3);
   ASSERT_EQ(l.layers.n_layers, 3);
-  // Geisler-Perry's MAR is a line: 1 / f_c(e) = alpha (e + e2) / (e2 ln(1 / CT0)).
+  // The line stays at or below the model's MAR, 1 / f_c(e - uncertainty), finest within the fovea.
   const ModelParams mp;
-  const double slope = mp.alpha / (mp.e2 * std::log(1 / mp.ct0)), omega0 = mp.alpha / std::log(1 / mp.ct0);
-  EXPECT_NEAR(l.omega0, omega0, 1e-6);
-  EXPECT_NEAR(l.slope, slope, 0.03 * slope);  // the table steps err low
-  EXPECT_LE(l.slope, slope);
+  for (double e = 0; e <= 90; e += 0.1) {
+    const double m = e <= config.gaze_uncertainty_deg + config.foveal_radius_deg
+                         ? 1 / geisler_perry_cutoff(0.0, 1.0, mp)
+                         : 1 / geisler_perry_cutoff(e - config.gaze_uncertainty_deg, 1.0, mp);
+    ASSERT_LE(l.omega0 + l.slope * e, m * (1 + 1e-6)) << e;
+  }
+  EXPECT_GT(l.slope, 0);
   EXPECT_LT(l.layers.radius[0], l.layers.radius[1]);
   EXPECT_EQ(l.layers.sampling[0], 1.0);
-  EXPECT_GE(l.layers.sampling[2], l.layers.sampling[1]);
-  EXPECT_GT(l.layers.speedup, 1.0);
-  // The same call as guenter_layers() on the eye's display.
-  const GuenterLayers direct = guenter_layers(2 * std::tan(45 / kDeg), 1.0, 1920, 1080.0 / 1920, l.slope, 3, l.omega0);
+  EXPECT_GT(l.layers.sampling[2], l.layers.sampling[1]);
+  EXPECT_GT(l.layers.speedup, 1.5);
+  // The same call as guenter_layers() on the eye's display, and no dearer than the line through the
+  // model's foveal MAR.
+  const GuenterLayers direct = guenter_layers(2 * std::tan(45 / kDeg), 1.0, 3840, 2160.0 / 3840, l.slope, 3, l.omega0, 1000);
   EXPECT_DOUBLE_EQ(direct.work, l.layers.work);
-  // With uncertainty and a fovea the line can only be lower.
-  FoveationConfig gp = config;
-  gp.gaze_uncertainty_deg = 1.0f;
-  gp.foveal_radius_deg = 2.5f;
-  const FoveationLayers safe = foveation_layers(planner_for(gp), eye, 3);
-  EXPECT_LE(safe.slope, l.slope + 1e-12);
   // Invalid eye: no layers.
   Eye bad = eye;
   bad.fov_deg[0] = std::nanf("");

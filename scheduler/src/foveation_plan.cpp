@@ -427,18 +427,31 @@ FoveationLayers foveation_layers(const FoveationPlanner& planner, const Eye& eye
                       : std::min(static_cast<int>(m / kFoveationEccStep), kFoveationEccSteps - 1);
     return 2.0 / planner.nyquist[0][j];
   };
-  out.omega0 = model_mar(0);
-  double slope = 1e9;
-  for (int i = 1; i <= 360; ++i) {
-    const double e = 0.25 * i;
-    slope = std::min(slope, (model_mar(e) - out.omega0) / e);
-  }
-  out.slope = std::max(0.0, slope);
   const bool wide = eye.viewport[0] >= eye.viewport[1];
   const double span = wide ? pr.tan_r - pr.tan_l : pr.tan_u - pr.tan_d;
   const double pixels = wide ? eye.viewport[0] : eye.viewport[1];
   const double aspect = wide ? double(eye.viewport[1]) / eye.viewport[0] : double(eye.viewport[0]) / eye.viewport[1];
-  out.layers = guenter_layers(span, 1.0, pixels, aspect, out.slope, n_layers, out.omega0);
+  // Lines through (0, w0) for a few w0 at or below the model's foveal MAR, each with the steepest
+  // slope that stays at or below the model out to 90 deg (the flat top the gaze uncertainty and the
+  // fovea give would otherwise force slope 0); the one whose layers cost least.
+  const double foveal = model_mar(0);
+  bool first = true;
+  for (double fraction : {1.0, 0.5, 0.25, 0.1, 0.05, 0.02}) {
+    const double omega0 = foveal * fraction;
+    double slope = 1e9;
+    for (int i = 1; i <= 360; ++i) {
+      const double e = 0.25 * i;
+      slope = std::min(slope, (model_mar(e) - omega0) / e);
+    }
+    slope = std::max(0.0, slope);
+    const GuenterLayers l = guenter_layers(span, 1.0, pixels, aspect, slope, n_layers, omega0, 1000);
+    if (first || l.work < out.layers.work) {
+      out.layers = l;
+      out.omega0 = omega0;
+      out.slope = slope;
+      first = false;
+    }
+  }
   return out;
 }
 

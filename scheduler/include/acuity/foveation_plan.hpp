@@ -108,11 +108,12 @@ bool foveation_map_size(const Eye& eye, std::uint32_t tile_px, std::uint32_t* co
 FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze,
                                FoveationMaps* maps);
 
-// Guenter layers for this eye's display from the same model: the MAR line omega0 + slope e that stays
-// at or below the model's 1 / f(e) for e in [0, 90] deg (with the gaze uncertainty and foveal
-// radius, at the drift speed), then guenter_layers() on the eye's wider axis (distance 1, width the
-// tangent span). Allocates (the layer search): call once per display and configuration; the layers
-// are centred on FoveationMaps::origin_px each frame.
+// Guenter layers for this eye's display from the same model: a MAR line omega0 + slope e at or below
+// the model's 1 / f(e) for e in [0, 90] deg (with the gaze uncertainty and the foveal radius, at the
+// drift speed; omega0 tried at 1, 1/2, 1/4, 1/10, 1/20 and 1/50 of the model's foveal MAR, each with
+// its steepest slope, the cheapest kept), then guenter_layers() on the eye's wider axis (distance 1,
+// width the tangent span, a 1000-step grid). Allocates (the layer search, ~10 ms): call once per
+// display and configuration; the layers are centred on FoveationMaps::origin_px each frame.
 struct FoveationLayers {
   double omega0 = 0;  // [deg per cycle]
   double slope = 0;   // [deg per cycle per deg]
