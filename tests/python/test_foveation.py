@@ -137,3 +137,60 @@ def test_errors():
         cfg.model = "nope"
     with pytest.raises(TypeError):
         fov.plan(eye(), gaze(), config=42)
+
+
+# ---- acuity plan (the CLI) ------------------------------------------------------------------------
+import os  # noqa: E402
+import struct  # noqa: E402
+import subprocess  # noqa: E402
+
+ACUITY = os.environ.get("ACUITY_BIN", "")
+
+
+def run_plan(*args):
+    assert os.path.exists(ACUITY), "ACUITY_BIN must name the built acuity command"
+    return subprocess.run([ACUITY, "plan", *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def test_cli_track_csv_and_picture(tmp_path):
+    track = tmp_path / "gaze.csv"
+    yaw = math.radians(10)
+    track.write_text("t,x,y,z,confidence\n"
+                     "0,0,0,-1,1\n"
+                     f"0.02,{math.sin(yaw)},0,{-math.cos(yaw)},1\n"
+                     "0.04,0,0,-1,0\n")
+    csv, png = tmp_path / "saved.csv", tmp_path / "maps.png"
+    res = run_plan("--display", "1000x800", "--fov", "90", "--gaze-track", track, "--fps", "50",
+                   "--csv", csv, "--png", png, "--frame", "1", "--panel", "300")
+    assert res.returncode == 0, res.stderr
+    rows = [line.split(",") for line in csv.read_text().splitlines()]
+    assert rows[0][:3] == ["frame", "time_s", "status"] and len(rows) == 4
+    assert [r[2] for r in rows[1:]] == ["ok", "ok", "no-gaze"]
+    # The same frames through the Python API.
+    e = eye(1000, 800, 45, math.degrees(math.atan(math.tan(math.radians(45)) * 0.8)))
+    g = gaze(10, 0)
+    assert float(rows[2][7]) == pytest.approx(fov.plan(e, g, layers=0).saved, abs=1e-6)
+    g.valid = False
+    assert float(rows[3][7]) == pytest.approx(fov.plan(e, g, layers=0).saved, abs=1e-6)
+    data = png.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height = struct.unpack(">II", data[16:24])
+    assert width == 2 * 300 + 48 and height > 240
+
+
+def test_cli_table_and_bad_input(tmp_path):
+    res = run_plan("--table")
+    assert res.returncode == 0, res.stderr
+    line = next(l for l in res.stdout.splitlines() if l.startswith("| 2000x2000, 100 deg | centred"))
+    assert float(line.split("|")[3].strip().rstrip("%")) > 50
+    out = tmp_path / "x.csv"
+    for args in (["--display", "12x"], ["--display", "0x100"], ["--gaze", "1"], ["--tile", "12"],
+                 ["--gaze-track", tmp_path / "missing.csv"], ["--model", "nope"]):
+        res = run_plan(*args, "--csv", out)
+        assert res.returncode != 0, args
+        assert not out.exists()
+    track = tmp_path / "t.csv"
+    track.write_text("t,x,y,z\n0,0,0,-1\n")
+    res = run_plan("--gaze-track", track, "--csv", track)
+    assert res.returncode != 0 and "overwrite" in res.stderr
+    assert track.read_text() == "t,x,y,z\n0,0,0,-1\n"
