@@ -157,7 +157,7 @@ typedef struct acuity_guenter_layers {
 
 void acuity_foveation_config_default(acuity_foveation_config* config);
 /* INVALID_ARGUMENT for a null pointer, a struct_size smaller than this version's, an unknown model
- * or out-of-range values; OUT_OF_MEMORY when the ~110 KB of tables cannot be allocated. */
+ * or out-of-range values; OUT_OF_MEMORY when the ~125 KB of tables cannot be allocated. */
 acuity_status acuity_foveation_create(const acuity_foveation_config* config, acuity_foveation_planner** out);
 void acuity_foveation_destroy(acuity_foveation_planner* planner);
 /* Tiles per axis for the eye's viewport; INVALID_ARGUMENT (and 0) for tile_px not 8, 16 or 32, an

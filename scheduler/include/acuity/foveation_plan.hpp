@@ -3,7 +3,7 @@
 // per-object scheduler: per eye and per frame, a variable-rate-shading image (pixels per shade in x
 // and y: 1, 2 or 4), a texture mip-bias map, and Guenter et al. 2012 layers (foveation.hpp).
 //
-//   auto planner = std::make_unique<acuity::FoveationPlanner>();     // ~110 KB of tables
+//   auto planner = std::make_unique<acuity::FoveationPlanner>();     // ~125 KB of tables
 //   acuity::init_foveation_planner(acuity::foveation_config(scheduler_config), planner.get());
 //   uint32_t cols, rows; acuity::foveation_map_size(eye, 16, &cols, &rows);
 //   std::vector<uint8_t> rate(2 * cols * rows); std::vector<float> bias(cols * rows);
@@ -22,9 +22,9 @@
 //   mip bias: max(0, log2(min(ppd_x, ppd_y) / (2 f))), the octaves of blur the eye cannot see;
 // - full rate and bias 0 where any point of the tile lies within foveal_radius_deg of where the gaze
 //   may be (gaze uncertainty or the no-gaze disc);
-// - then neither map is finer or smaller farther out along any ray from the gaze: each tile takes the
-//   minimum of itself and its neighbours toward the gaze (a ray from the gaze crosses tiles through
-//   exactly those neighbours), which only ever moves a tile toward full rate.
+// - then neither map is finer or smaller farther out along any ray from the gaze: tiles are taken from
+//   the image edges inward and each takes the minimum of itself and its neighbours away from the gaze
+//   (a ray from the gaze leaves a tile only into one of those), which only moves tiles toward full rate.
 // Every approximation (tables, bounds) errs toward finer shading and smaller bias.
 #include <cstdint>
 
