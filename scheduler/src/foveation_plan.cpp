@@ -295,11 +295,27 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     u2[c] = cx.centre[c] * cx.centre[c];
   }
   const float* log2_mantissa = planner.log2_mantissa;
-  const float* sine_angle = planner.sine_angle;
+  // This frame's cutoff per sine bin: index 0 is full rate (an unreachable Nyquist: rate 1, bias
+  // 0), else 1 + the eccentricity step at or below the bin's eccentricity. Built once per frame so
+  // each tile needs one table read instead of the angle arithmetic.
+  float need_of[kFoveationEccSteps + 1], log2_need_of[kFoveationEccSteps + 1];
+  need_of[0] = 1e30f;
+  log2_need_of[0] = 100.0f;
+  for (int j = 0; j < kFoveationEccSteps; ++j) {
+    need_of[j + 1] = nyq[j];
+    log2_need_of[j + 1] = log2_nyq[j];
+  }
+  std::int16_t step_of[kFoveationSineSteps];
+  for (int i = 0; i < kFoveationSineSteps; ++i) {
+    const float e = planner.sine_angle[i] - e_offset;
+    step_of[i] = static_cast<std::int16_t>(
+        e <= fovea ? 0 : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1));
+  }
   // Columns padded to a multiple of 8 so the first loop below needs no scalar tail.
   const std::uint32_t padded = (cols + 7u) & ~7u;
   for (std::uint32_t c = cols; c < padded; ++c) ox_u[c] = u2[c] = 0.0f;
-  float sine2[kMaxFoveationTiles + 8], own_b[kMaxFoveationTiles];
+  int bins[kMaxFoveationTiles + 8];
+  float own_b[kMaxFoveationTiles];
   int own_x[kMaxFoveationTiles], own_y[kMaxFoveationTiles];
 
   // Never finer, never less bias, farther out along a ray from the origin: a ray from the origin
@@ -317,6 +333,22 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   double shaded = 0;
 
   const auto plan_row = [&](std::uint32_t r, std::uint32_t outer_a, std::uint32_t outer_b) {
+    // Local copies of what the tile loop reads: the int and float stores into own_* below could
+    // otherwise alias the captured references and force a reload on every tile.
+    const float kx_ = kx, ky_ = ky;
+    const int max_rate_ = max_rate;
+    const float* const mantissa = log2_mantissa;
+    const std::int16_t* const steps = step_of;
+    const float* const needs = need_of;
+    const float* const log2_needs = log2_need_of;
+    const float* const u_near2s = cx.near2;
+    const float* const u_far2s = cx.far2;
+    const float* const u_inv_sqrts = cx.inv_sqrt;
+    const int* const sines = bins;
+    const std::uint32_t n_cols = cols;
+    int* const out_x = own_x;
+    int* const out_y = own_y;
+    float* const out_b = own_b;
     const float v = cy.centre[r], v_near2 = cy.near2[r], v_far2 = cy.far2[r], v_inv_sqrt = cy.inv_sqrt[r];
     const float den_v = 1.0f + v * v, num_v = oy * v - oz;
     std::uint8_t* rate = maps->shading_rate + 2 * std::size_t(r) * cols;
@@ -328,33 +360,30 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     const float* bias_b = outer_b < rows ? maps->mip_bias + std::size_t(outer_b) * cols : nullptr;
     // Squared sine of the angle from the origin to each tile centre: 1 - (O.P)^2 / |P|^2 with
     // P = (u, v, -1); 1 (90 deg, the table's end) at or beyond 90 deg.
+    // The table bin, one lower than the float value gives (rounding never raises the eccentricity);
+    // s <= 1, so the bin is at most kFoveationSineSteps - 1.
     for (std::uint32_t c = 0; c < padded; ++c) {
       const float dot = ox_u[c] + num_v;
       const float s = 1.0f - dot * dot / (den_v + u2[c]);
-      sine2[c] = dot > 0.0f ? s : 1.0f;
+      bins[c] = std::max(static_cast<int>((dot > 0.0f ? s : 1.0f) * kSineScale) - 1, 0);
     }
     // Each tile's own rates and bias (plain locals and int/float arrays: nothing here aliases the
     // byte stores below).
-    for (std::uint32_t c = 0; c < cols; ++c) {
-      // One bin lower than the float value gives: rounding never raises the eccentricity.
-      const int bin = std::clamp(static_cast<int>(sine2[c] * kSineScale) - 1, 0, kFoveationSineSteps - 1);
-      const float e = sine_angle[bin] - e_offset;
-      const bool full = e <= fovea;
-      const int j = std::min(static_cast<int>(std::max(e, 0.0f) * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1);
-      const float need = nyq[j];
-      const float u_near2 = cx.near2[c];
+    for (std::uint32_t c = 0; c < n_cols; ++c) {
+      const int j = steps[sines[c]];
+      const float need = needs[j];
+      const float u_near2 = u_near2s[c];
       // ppd_factor(), with the usual case (the clamp at the near end) from the precomputed roots.
-      const float hx = u_near2 - 1.0f <= v_near2 ? (1.0f + u_near2 + v_near2) * v_inv_sqrt
-                                                 : ppd_factor(u_near2, v_near2, v_far2);
-      const float hy = v_near2 - 1.0f <= u_near2 ? (1.0f + v_near2 + u_near2) * cx.inv_sqrt[c]
-                                                 : ppd_factor(v_near2, u_near2, cx.far2[c]);
-      const float ppd_x = kx * hx, ppd_y = ky * hy;
+      const float sum = 1.0f + u_near2 + v_near2;
+      const float hx = u_near2 - 1.0f <= v_near2 ? sum * v_inv_sqrt : ppd_factor(u_near2, v_near2, v_far2);
+      const float hy = v_near2 - 1.0f <= u_near2 ? sum * u_inv_sqrts[c] : ppd_factor(v_near2, u_near2, u_far2s[c]);
+      const float ppd_x = kx_ * hx, ppd_y = ky_ * hy;
       const int rx = 1 + int(ppd_x >= 2.0f * need) + 2 * int(ppd_x >= 4.0f * need);
       const int ry = 1 + int(ppd_y >= 2.0f * need) + 2 * int(ppd_y >= 4.0f * need);
-      const float b = floor_log2(std::min(ppd_x, ppd_y), log2_mantissa) - log2_nyq[j] - kBiasMargin;
-      own_x[c] = full ? 1 : std::min(rx, max_rate);
-      own_y[c] = full ? 1 : std::min(ry, max_rate);
-      own_b[c] = full ? 0.0f : std::clamp(b, 0.0f, kMaxBias);
+      const float b = floor_log2(std::min(ppd_x, ppd_y), mantissa) - log2_needs[j] - kBiasMargin;
+      out_x[c] = std::min(rx, max_rate_);
+      out_y[c] = std::min(ry, max_rate_);
+      out_b[c] = std::clamp(b, 0.0f, kMaxBias);
     }
     if (rate_a)
       for (std::uint32_t c = 0; c < cols; ++c) {
