@@ -363,9 +363,9 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     // The table bin, one lower than the float value gives (rounding never raises the eccentricity);
     // s <= 1, so the bin is at most kFoveationSineSteps - 1.
     for (std::uint32_t c = 0; c < padded; ++c) {
-      const float dot = ox_u[c] + num_v;
+      const float dot = std::max(ox_u[c] + num_v, 0.0f);  // at or beyond 90 deg: s = 1
       const float s = 1.0f - dot * dot / (den_v + u2[c]);
-      bins[c] = std::max(static_cast<int>((dot > 0.0f ? s : 1.0f) * kSineScale) - 1, 0);
+      bins[c] = std::max(static_cast<int>(s * kSineScale) - 1, 0);
     }
     // Each tile's own rates and bias (plain locals and int/float arrays: nothing here aliases the
     // byte stores below).
@@ -383,7 +383,7 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
       const float b = floor_log2(std::min(ppd_x, ppd_y), mantissa) - log2_needs[j] - kBiasMargin;
       out_x[c] = std::min(rx, max_rate_);
       out_y[c] = std::min(ry, max_rate_);
-      out_b[c] = std::clamp(b, 0.0f, kMaxBias);
+      out_b[c] = std::max(0.0f, std::min(b, kMaxBias));
     }
     if (rate_a)
       for (std::uint32_t c = 0; c < cols; ++c) {

@@ -55,7 +55,7 @@ FoveationConfig foveation_config(const SchedulerConfig& config);
 inline constexpr int kFoveationSpeeds = 16;       // retinal speeds, log-spaced from the drift floor to 80 deg/s
 inline constexpr int kFoveationEccSteps = 721;    // eccentricity 0 .. 180 deg in steps of 0.25 deg
 inline constexpr float kFoveationEccStep = 0.25f;
-inline constexpr int kFoveationSineSteps = 8192;  // squared sine of the angle, 0 .. 1
+inline constexpr int kFoveationSineSteps = 4096;  // squared sine of the angle, 0 .. 1
 inline constexpr int kFoveationLog2Bits = 8;      // mantissa bits of the log2 table
 inline constexpr std::uint32_t kMaxFoveationTiles = 2048;  // per axis (16384 px at tile 8)
 
