@@ -358,6 +358,10 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     const std::uint8_t* rate_b = outer_b < rows ? maps->shading_rate + 2 * std::size_t(outer_b) * cols : nullptr;
     const float* bias_a = outer_a < rows ? maps->mip_bias + std::size_t(outer_a) * cols : nullptr;
     const float* bias_b = outer_b < rows ? maps->mip_bias + std::size_t(outer_b) * cols : nullptr;
+    const std::uint8_t* const outer_rate_a = rate_a;
+    const std::uint8_t* const outer_rate_b = rate_b;
+    const float* const outer_bias_a = bias_a;
+    const float* const outer_bias_b = bias_b;
     // Squared sine of the angle from the origin to each tile centre: 1 - (O.P)^2 / |P|^2 with
     // P = (u, v, -1); 1 (90 deg, the table's end) at or beyond 90 deg.
     // The table bin, one lower than the float value gives (rounding never raises the eccentricity);
@@ -381,22 +385,22 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
       const int rx = 1 + int(ppd_x >= 2.0f * need) + 2 * int(ppd_x >= 4.0f * need);
       const int ry = 1 + int(ppd_y >= 2.0f * need) + 2 * int(ppd_y >= 4.0f * need);
       const float b = floor_log2(std::min(ppd_x, ppd_y), mantissa) - log2_needs[j] - kBiasMargin;
-      out_x[c] = std::min(rx, max_rate_);
-      out_y[c] = std::min(ry, max_rate_);
-      out_b[c] = std::max(0.0f, std::min(b, kMaxBias));
+      int x = std::min(rx, max_rate_), y = std::min(ry, max_rate_);
+      float bb = std::max(0.0f, std::min(b, kMaxBias));
+      if (outer_rate_a) {  // the same every tile of the row: well predicted
+        x = std::min<int>(x, outer_rate_a[2 * c]);
+        y = std::min<int>(y, outer_rate_a[2 * c + 1]);
+        bb = std::min(bb, outer_bias_a[c]);
+      }
+      if (outer_rate_b) {
+        x = std::min<int>(x, outer_rate_b[2 * c]);
+        y = std::min<int>(y, outer_rate_b[2 * c + 1]);
+        bb = std::min(bb, outer_bias_b[c]);
+      }
+      out_x[c] = x;
+      out_y[c] = y;
+      out_b[c] = bb;
     }
-    if (rate_a)
-      for (std::uint32_t c = 0; c < cols; ++c) {
-        own_x[c] = std::min<int>(own_x[c], rate_a[2 * c]);
-        own_y[c] = std::min<int>(own_y[c], rate_a[2 * c + 1]);
-        own_b[c] = std::min(own_b[c], bias_a[c]);
-      }
-    if (rate_b)
-      for (std::uint32_t c = 0; c < cols; ++c) {
-        own_x[c] = std::min<int>(own_x[c], rate_b[2 * c]);
-        own_y[c] = std::min<int>(own_y[c], rate_b[2 * c + 1]);
-        own_b[c] = std::min(own_b[c], bias_b[c]);
-      }
     // Then along the row toward the origin's column, from each side: running minima.
     double row_work = 0;
     int mx = 4, my = 4;
