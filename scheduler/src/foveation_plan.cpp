@@ -375,6 +375,11 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     // byte stores below).
     for (std::uint32_t c = 0; c < n_cols; ++c) {
       const int j = steps[sines[c]];
+      if (j == 0) {  // full rate: nothing coarser to take from the outer rows either
+        out_x[c] = out_y[c] = 1;
+        out_b[c] = 0.0f;
+        continue;
+      }
       const float need = needs[j];
       const float u_near2 = u_near2s[c];
       // ppd_factor(), with the usual case (the clamp at the near end) from the precomputed roots.
