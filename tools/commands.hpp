@@ -10,4 +10,5 @@ void add_profile_command(CLI::App& app);  // `acuity profile`
 void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
 void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
+void add_plan_command(CLI::App& app);     // `acuity plan`: foveation maps
 }  // namespace acuity::tools

@@ -104,6 +104,77 @@ acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const
 /* Triangles drawn at this frame's levels. */
 uint64_t acuity_frame_triangles(const acuity_scheduler* s);
 
+/* ---- Foveation planner (acuity/foveation_plan.hpp) --------------------------------------------
+ * Per eye and frame: a variable-rate-shading image (pixels per shade in x and y: 1, 2 or 4) and a
+ * texture mip-bias map, one entry per tile, row-major with row 0 at the top of the image,
+ * ceil(viewport / tile_px) tiles per axis; and the Guenter et al. 2012 layers for the eye's display.
+ *
+ *   acuity_foveation_config c; acuity_foveation_config_default(&c);
+ *   acuity_foveation_planner* p; acuity_foveation_create(&c, &p);      (builds tables: ~ms, once)
+ *   uint32_t cols, rows; acuity_foveation_map_size(&eye, 16, &cols, &rows);
+ *   uint8_t rate[2 * cols * rows]; float bias[cols * rows];
+ *   each frame, each eye: acuity_foveation_plan(p, &eye, 16, cols * rows, rate, bias, &info);
+ *   acuity_foveation_destroy(p);
+ */
+typedef struct acuity_foveation_planner acuity_foveation_planner;
+
+typedef struct acuity_foveation_config {
+  uint32_t struct_size;          /* sizeof(acuity_foveation_config): set by _default */
+  uint32_t threshold_model;      /* 0 default, 1 geisler-perry, 2 kelly-daly, 3 reddy */
+  float quality;                 /* q: a lost component is invisible at contrast <= q CT */
+  float min_gaze_confidence;     /* below it (or gaze_valid == 0, or a non-finite gaze) there is no gaze */
+  float gaze_uncertainty_deg;    /* subtracted from every eccentricity */
+  float no_gaze_radius_deg;      /* without gaze: eccentricity from this disc around the view centre */
+  float foveal_radius_deg;       /* full rate within this of where the gaze may be */
+  uint32_t max_rate;             /* coarsest pixels per shade: 1, 2 or 4 */
+  uint32_t head_rotation;        /* nonzero: the head's angular velocity lowers the cutoff */
+} acuity_foveation_config;
+
+/* Statuses of acuity_foveation_plan beyond acuity_status: the maps were written in both cases. */
+enum {
+  ACUITY_FOVEATION_GAZE = 0,     /* planned around the gaze */
+  ACUITY_FOVEATION_NO_GAZE = 1,  /* no usable gaze: planned around the no-gaze disc */
+  ACUITY_FOVEATION_INVALID_EYE = 2  /* non-finite or degenerate eye: full rate, bias 0 everywhere */
+};
+
+typedef struct acuity_foveation_info {
+  uint32_t cols, rows;           /* tiles written */
+  uint32_t result;               /* ACUITY_FOVEATION_* */
+  float origin_px[2];            /* the gaze (or view centre) in pixels, x right, y down; may lie off the image */
+  float retinal_speed;           /* the speed the cutoff was taken at [deg/s] */
+  double shaded;                 /* shading work: sum over tiles of pixels / (rate_x rate_y) */
+  double pixels;                 /* full-rate work: width x height */
+} acuity_foveation_info;
+
+typedef struct acuity_guenter_layers {
+  uint32_t n_layers;             /* 0 when the eye was invalid */
+  double omega0, slope;          /* the MAR line below the model [deg per cycle], [per deg] */
+  double radius_deg[8];          /* e_i; the outer layer's is the display's half-angle */
+  double sampling[8];            /* s_i >= 1: layer pixel size in display pixels */
+  double pixels[8];              /* P_i: each layer's pixel count */
+  double speedup;                /* display pixels / layer pixels */
+} acuity_guenter_layers;
+
+void acuity_foveation_config_default(acuity_foveation_config* config);
+/* INVALID_ARGUMENT for a null pointer, a struct_size smaller than this version's, an unknown model
+ * or out-of-range values; OUT_OF_MEMORY when the ~125 KB of tables cannot be allocated. */
+acuity_status acuity_foveation_create(const acuity_foveation_config* config, acuity_foveation_planner** out);
+void acuity_foveation_destroy(acuity_foveation_planner* planner);
+/* Tiles per axis for the eye's viewport; INVALID_ARGUMENT (and 0) for tile_px not 8, 16 or 32, an
+ * empty viewport or more than 2048 tiles per axis. */
+acuity_status acuity_foveation_map_size(const acuity_eye* eye, uint32_t tile_px, uint32_t* cols, uint32_t* rows);
+/* One eye, one frame, allocation-free. shading_rate: 2 bytes per tile (x then y); mip_bias: one
+ * float per tile; capacity: tiles both buffers hold, at least cols x rows. info is nullable.
+ * INVALID_ARGUMENT (nothing written) for null pointers, a bad tile size or too small a capacity;
+ * otherwise ACUITY_OK with info->result saying whether the gaze, the no-gaze disc or (for an invalid
+ * eye) full rate everywhere was used. */
+acuity_status acuity_foveation_plan(const acuity_foveation_planner* planner, const acuity_eye* eye, uint32_t tile_px,
+                                    uint32_t capacity, uint8_t* shading_rate, float* mip_bias,
+                                    acuity_foveation_info* info);
+/* Guenter layers for the eye's display from the same model (allocates: once per display). */
+acuity_status acuity_foveation_layers(const acuity_foveation_planner* planner, const acuity_eye* eye,
+                                      uint32_t n_layers, acuity_guenter_layers* out);
+
 #ifdef __cplusplus
 }
 #endif

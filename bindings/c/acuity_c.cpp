@@ -7,6 +7,7 @@
 #include <string>
 
 #include "acuity/file.hpp"
+#include "acuity/foveation_plan.hpp"
 #include "acuity/scheduler.hpp"
 #include "acuity/version.hpp"
 
@@ -39,6 +40,20 @@ template <class Fn> acuity_status guarded(Fn fn) {
 
 template <class T> const T* element(const T* base, std::size_t stride, std::size_t i, std::size_t packed) {
   return reinterpret_cast<const T*>(reinterpret_cast<const char*>(base) + i * (stride ? stride : packed));
+}
+
+void eye_and_gaze(const acuity_eye& e, acuity::Eye* eye, acuity::Gaze* gaze) {
+  std::memcpy(eye->position, e.position, sizeof e.position);
+  std::memcpy(eye->orientation, e.orientation, sizeof e.orientation);
+  std::memcpy(eye->fov_deg, e.fov_deg, sizeof e.fov_deg);
+  std::memcpy(eye->viewport, e.viewport, sizeof e.viewport);
+  std::memcpy(eye->velocity, e.velocity, sizeof e.velocity);
+  std::memcpy(eye->angular_velocity, e.angular_velocity, sizeof e.angular_velocity);
+  std::memcpy(gaze->direction, e.gaze_direction, sizeof e.gaze_direction);
+  std::memcpy(gaze->angular_velocity, e.gaze_angular_velocity, sizeof e.gaze_angular_velocity);
+  gaze->confidence = e.gaze_confidence;
+  gaze->valid = e.gaze_valid != 0;
+  gaze->has_velocity = e.gaze_has_velocity != 0;
 }
 
 acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* r, std::size_t rs, const float* s, std::size_t i) {
@@ -228,5 +243,125 @@ acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const
 }
 
 uint64_t acuity_frame_triangles(const acuity_scheduler* s) { return s ? s->scheduler.stats().triangles : 0; }
+
+}  // extern "C"
+
+// ---- Foveation planner ----------------------------------------------------------------------------
+
+struct acuity_foveation_planner {
+  acuity::FoveationPlanner planner;
+};
+
+extern "C" {
+
+void acuity_foveation_config_default(acuity_foveation_config* c) {
+  if (!c) return;
+  const acuity::FoveationConfig d;
+  std::memset(c, 0, sizeof *c);
+  c->struct_size = sizeof *c;
+  c->threshold_model = static_cast<uint32_t>(d.model);
+  c->quality = d.quality;
+  c->min_gaze_confidence = d.min_gaze_confidence;
+  c->gaze_uncertainty_deg = d.gaze_uncertainty_deg;
+  c->no_gaze_radius_deg = d.no_gaze_radius_deg;
+  c->foveal_radius_deg = d.foveal_radius_deg;
+  c->max_rate = d.max_rate;
+  c->head_rotation = d.head_rotation ? 1u : 0u;
+}
+
+acuity_status acuity_foveation_create(const acuity_foveation_config* c, acuity_foveation_planner** out) {
+  return guarded([&] {
+    if (!c || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: null pointer");
+    *out = nullptr;
+    if (c->struct_size < sizeof *c) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: struct_size too small");
+    if (c->threshold_model > 3) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: unknown threshold_model");
+    if (c->max_rate > 4) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: max_rate must be 1, 2 or 4");
+    acuity::FoveationConfig f;
+    f.model = static_cast<acuity::ThresholdModel>(c->threshold_model);
+    f.quality = c->quality;
+    f.min_gaze_confidence = c->min_gaze_confidence;
+    f.gaze_uncertainty_deg = c->gaze_uncertainty_deg;
+    f.no_gaze_radius_deg = c->no_gaze_radius_deg;
+    f.foveal_radius_deg = c->foveal_radius_deg;
+    f.max_rate = static_cast<std::uint8_t>(c->max_rate);
+    f.head_rotation = c->head_rotation != 0;
+    auto* p = new acuity_foveation_planner;
+    if (acuity::init_foveation_planner(f, &p->planner) != acuity::FoveationStatus::Ok) {
+      delete p;
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: quality must be > 0, radii >= 0 and finite, max_rate 1, 2 or 4");
+    }
+    *out = p;
+    return ACUITY_OK;
+  });
+}
+
+void acuity_foveation_destroy(acuity_foveation_planner* planner) { delete planner; }
+
+acuity_status acuity_foveation_map_size(const acuity_eye* e, uint32_t tile_px, uint32_t* cols, uint32_t* rows) {
+  return guarded([&] {
+    if (cols) *cols = 0;
+    if (rows) *rows = 0;
+    if (!e || !cols || !rows) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_map_size: null pointer");
+    acuity::Eye eye;
+    acuity::Gaze gaze;
+    eye_and_gaze(*e, &eye, &gaze);
+    if (!acuity::foveation_map_size(eye, tile_px, cols, rows))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_map_size: tile_px must be 8, 16 or 32, the viewport non-empty and at most 2048 tiles per axis");
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_foveation_plan(const acuity_foveation_planner* p, const acuity_eye* e, uint32_t tile_px,
+                                    uint32_t capacity, uint8_t* shading_rate, float* mip_bias,
+                                    acuity_foveation_info* info) {
+  return guarded([&] {
+    if (!p || !e || !shading_rate || !mip_bias) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_plan: null pointer");
+    acuity::Eye eye;
+    acuity::Gaze gaze;
+    eye_and_gaze(*e, &eye, &gaze);
+    acuity::FoveationMaps maps;
+    maps.tile_px = tile_px;
+    maps.capacity = capacity;
+    maps.shading_rate = shading_rate;
+    maps.mip_bias = mip_bias;
+    const acuity::FoveationStatus status = acuity::plan_foveation(p->planner, eye, gaze, &maps);
+    if (status == acuity::FoveationStatus::InvalidArgument)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_plan: tile_px must be 8, 16 or 32 and capacity at least cols x rows (acuity_foveation_map_size)");
+    if (info) {
+      info->cols = maps.cols;
+      info->rows = maps.rows;
+      info->result = static_cast<uint32_t>(status);
+      info->origin_px[0] = maps.origin_px[0];
+      info->origin_px[1] = maps.origin_px[1];
+      info->retinal_speed = maps.retinal_speed;
+      info->shaded = maps.shaded;
+      info->pixels = maps.pixels;
+    }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_foveation_layers(const acuity_foveation_planner* p, const acuity_eye* e, uint32_t n_layers,
+                                      acuity_guenter_layers* out) {
+  return guarded([&] {
+    if (!p || !e || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_layers: null pointer");
+    if (n_layers < 1 || n_layers > 8) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_layers: 1 to 8 layers");
+    acuity::Eye eye;
+    acuity::Gaze gaze;
+    eye_and_gaze(*e, &eye, &gaze);
+    const acuity::FoveationLayers l = acuity::foveation_layers(p->planner, eye, static_cast<int>(n_layers));
+    std::memset(out, 0, sizeof *out);
+    out->n_layers = static_cast<uint32_t>(l.layers.n_layers);
+    out->omega0 = l.omega0;
+    out->slope = l.slope;
+    for (int i = 0; i < l.layers.n_layers; ++i) {
+      out->radius_deg[i] = l.layers.radius[i];
+      out->sampling[i] = l.layers.sampling[i];
+      out->pixels[i] = l.layers.pixels[i];
+    }
+    out->speedup = l.layers.speedup;
+    return ACUITY_OK;
+  });
+}
 
 }  // extern "C"

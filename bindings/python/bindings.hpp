@@ -6,4 +6,5 @@ void bind_models(pybind11::module_ m);
 void bind_scheduler(pybind11::module_ m);  // into the package's top level
 void bind_spectra(pybind11::module_ m);
 void bind_lodgen(pybind11::module_ m);
+void bind_foveation(pybind11::module_ m);
 }  // namespace acuity::python

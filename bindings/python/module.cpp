@@ -10,5 +10,6 @@ PYBIND11_MODULE(_acuity, m) {
   acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
   acuity::python::bind_scheduler(m);
   acuity::python::bind_spectra(m.def_submodule("spectra", "Profiles, snapshots and analysis (see acuity.spectra)"));
+  acuity::python::bind_foveation(m.def_submodule("foveation", "Shading-rate and mip-bias maps (see acuity.foveation)"));
   acuity::python::bind_lodgen(m.def_submodule("lodgen", "Chains of levels of detail (see acuity.lodgen)"));
 }

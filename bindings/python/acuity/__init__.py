@@ -5,6 +5,7 @@ Submodules:
     acuity.models   vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
     acuity.spectra  snapshots, lost-contrast analysis, Reddy features, profiling, profile files
     acuity.lodgen   chains of levels of detail (decimation, Hausdorff error, glTF with MSFT_lod)
+    acuity.foveation  per-tile shading-rate and mip-bias maps and Guenter layers for one eye
 
 Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3).
 """
@@ -16,12 +17,13 @@ __version__ = _acuity.__version__
 models = _acuity.models
 spectra = _acuity.spectra
 lodgen = _acuity.lodgen
-for _name in ("models", "spectra", "lodgen"):
+foveation = _acuity.foveation
+for _name in ("models", "spectra", "lodgen", "foveation"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
 from ._acuity import (Eye, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
-__all__ = ["models", "spectra", "lodgen", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+__all__ = ["models", "spectra", "lodgen", "foveation", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
            "SelectionRule", "ViewBlend", "__version__"]

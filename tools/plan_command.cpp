@@ -1,0 +1,154 @@
+// `acuity plan`: the foveation planner's maps for one display, pictures and per-frame savings.
+//   acuity plan --display 2000x2000 --fov 100 --gaze 10,5 --png maps.png
+//   acuity plan --gaze-track gaze.csv --fps 90 --csv saved.csv --png frame0.png
+//   acuity plan --table        (the savings table of docs/foveation.md)
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acuity/file.hpp"
+#include "acuity/foveation_plan.hpp"
+#include "commands.hpp"
+#include "foveation_report.hpp"
+#include "tracks.hpp"
+
+namespace acuity::tools {
+namespace {
+
+struct Options {
+  std::string display = "2000x2000";
+  double fov = 100;
+  std::vector<double> gaze{0, 0};
+  bool no_gaze = false;
+  std::string gaze_track;
+  double fps = 90;
+  std::size_t frame = 0;
+  std::uint32_t tile = 16;
+  std::string model = "default";
+  float quality = 1.0f, uncertainty = 1.0f, no_gaze_radius = 30.0f, fovea = 2.5f, head_speed = 0.0f;
+  unsigned max_rate = 4;
+  std::string png, csv;
+  int panel = 700;
+  bool table = false;
+};
+
+void same_file_guard(const std::string& output, const std::string& input) {
+  std::error_code ec;
+  if (!output.empty() && !input.empty() && std::filesystem::exists(output, ec) && std::filesystem::equivalent(output, input, ec))
+    throw std::runtime_error(output + ": would overwrite the input");
+}
+
+void run(const Options& o) {
+  FoveationConfig config;
+  if (!parse_threshold_model(o.model.c_str(), &config.model))
+    throw std::runtime_error("unknown model '" + o.model + "' (default, geisler-perry, kelly-daly, reddy)");
+  config.quality = o.quality;
+  config.gaze_uncertainty_deg = o.uncertainty;
+  config.no_gaze_radius_deg = o.no_gaze_radius;
+  config.foveal_radius_deg = o.fovea;
+  config.max_rate = static_cast<std::uint8_t>(o.max_rate);
+  if (o.table) {
+    std::printf("%s", savings_table(config, o.tile).c_str());
+    return;
+  }
+  unsigned w = 0, h = 0;
+  char tail = 0;
+  if (std::sscanf(o.display.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > 16384 || h > 16384)
+    throw std::runtime_error("--display: WIDTHxHEIGHT in pixels, each 1 to 16384");
+  Eye eye = display_eye(w, h, o.fov);
+  eye.angular_velocity[1] = o.head_speed;
+  auto planner = std::make_unique<FoveationPlanner>();
+  if (init_foveation_planner(config, planner.get()) != FoveationStatus::Ok)
+    throw std::runtime_error("invalid settings: quality > 0, radii >= 0, max rate 1, 2 or 4");
+
+  // Gazes per frame: a track, or the one given.
+  std::vector<Gaze> gazes;
+  if (!o.gaze_track.empty()) {
+    const Table table = read_table(o.gaze_track);
+    const int t = table.column("t", true);
+    const double seconds = table.rows.empty() ? 0.0 : table.rows.back()[static_cast<std::size_t>(t)];
+    const std::size_t frames = static_cast<std::size_t>(std::floor(seconds * o.fps)) + 1;
+    if (frames > 1000000) throw std::runtime_error(o.gaze_track + ": more than a million frames");
+    for (const GazeSample& s : gaze_trace_from(table, o.fps, frames)) {
+      Gaze g;
+      for (int k = 0; k < 3; ++k) g.direction[k] = static_cast<float>(s.direction[k]);
+      g.confidence = s.confidence;
+      g.valid = s.confidence > 0;
+      gazes.push_back(g);
+    }
+  } else {
+    if (o.gaze.size() != 2) throw std::runtime_error("--gaze: YAW,PITCH in degrees");
+    Gaze g = gaze_toward(o.gaze[0], o.gaze[1]);
+    g.valid = !o.no_gaze;
+    gazes.push_back(g);
+  }
+  if (o.frame >= gazes.size()) throw std::runtime_error("--frame: the track has " + std::to_string(gazes.size()) + " frames");
+  same_file_guard(o.png, o.gaze_track);
+  same_file_guard(o.csv, o.gaze_track);
+
+  std::string csv = "frame,time_s,status,origin_x_px,origin_y_px,shaded_px,full_px,saved\n";
+  double total_saved = 0;
+  PlanResult shown;
+  char line[256];
+  for (std::size_t f = 0; f < gazes.size(); ++f) {
+    PlanResult r = plan_eye(*planner, eye, gazes[f], o.tile);
+    std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.2f,%.2f,%.0f,%.0f,%.6f\n", f, double(f) / o.fps, to_string(r.status),
+                  r.maps.origin_px[0], r.maps.origin_px[1], r.maps.shaded, r.maps.pixels, r.saved());
+    csv += line;
+    total_saved += r.saved();
+    if (f == o.frame) shown = std::move(r);
+  }
+  std::printf("display %ux%u px, %.1f deg horizontal, tile %u px, model %s, q %.2f: %zu frame(s), mean shading work saved %.1f%%\n",
+              w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(), 100 * total_saved / double(gazes.size()));
+  std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status), 100 * shown.saved(),
+              shown.maps.cols, shown.maps.rows);
+  if (!o.csv.empty()) {
+    std::string error;
+    if (!write_file_atomically(o.csv, csv.data(), csv.size(), &error)) throw std::runtime_error(error);
+    std::printf("wrote %s\n", o.csv.c_str());
+  }
+  if (!o.png.empty()) {
+    shown.maps.shading_rate = shown.rate.data();  // after the move
+    shown.maps.mip_bias = shown.bias.data();
+    char caption[256];
+    std::snprintf(caption, sizeof caption, "%ux%u PX, %.0f DEG, GAZE %s, TILE %u PX, MODEL %s, Q %.2f: SHADING WORK SAVED %.1f%%", w,
+                  h, o.fov, shown.status == FoveationStatus::Ok ? "TRACKED" : "NONE (30 DEG DISC)", o.tile, o.model.c_str(),
+                  double(o.quality), 100 * shown.saved());
+    write_png(o.png, draw_plan(eye, gazes[o.frame], shown, o.panel, caption));
+    std::printf("wrote %s\n", o.png.c_str());
+  }
+}
+
+}  // namespace
+
+void add_plan_command(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand("plan", "Foveation maps (shading rate, mip bias) for a display: pictures and savings");
+  cmd->add_option("--display", o->display, "WIDTHxHEIGHT [px]")->capture_default_str();
+  cmd->add_option("--fov", o->fov, "Horizontal field of view [deg] (vertical from the aspect, square pixels)")
+      ->capture_default_str()->check(CLI::Range(1.0, 170.0));
+  cmd->add_option("--gaze", o->gaze, "YAW,PITCH of the gaze from the view axis [deg], right and up positive")
+      ->delimiter(',')->expected(2)->capture_default_str();
+  cmd->add_flag("--no-gaze", o->no_gaze, "Plan without a usable gaze (the no-gaze disc)");
+  cmd->add_option("--gaze-track", o->gaze_track, "Gaze track, CSV or JSON: t,x,y,z[,confidence] in head space")->check(CLI::ExistingFile);
+  cmd->add_option("--fps", o->fps, "Frame rate the track is resampled to")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--frame", o->frame, "The frame the picture shows")->capture_default_str();
+  cmd->add_option("--tile", o->tile, "Tile size [px]")->capture_default_str()->check(CLI::IsMember({8u, 16u, 32u}));
+  cmd->add_option("--model", o->model, "Threshold model: default, geisler-perry, kelly-daly, reddy")->capture_default_str();
+  cmd->add_option("--quality", o->quality, "q: invisible when lost contrast <= q CT")->capture_default_str()->check(CLI::Range(0.01f, 100.0f));
+  cmd->add_option("--uncertainty", o->uncertainty, "Gaze uncertainty [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--fovea", o->fovea, "Full rate within this of the gaze [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--max-rate", o->max_rate, "Coarsest pixels per shade: 1, 2 or 4")->capture_default_str()->check(CLI::IsMember({1u, 2u, 4u}));
+  cmd->add_option("--head-speed", o->head_speed, "Head yaw speed [deg/s]")->capture_default_str()->check(CLI::Range(-1000.0f, 1000.0f));
+  cmd->add_option("--png", o->png, "Picture of the maps of --frame (PNG)");
+  cmd->add_option("--csv", o->csv, "Shading work saved per frame (CSV)");
+  cmd->add_option("--panel", o->panel, "Width of each picture panel [px]")->capture_default_str()->check(CLI::Range(200, 4000));
+  cmd->add_flag("--table", o->table, "Print the savings table of docs/foveation.md (markdown) and stop");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace acuity::tools
