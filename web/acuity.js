@@ -65,7 +65,8 @@ export class Acuity {
   check(status, call) {
     if (status !== 0) {
       const text = this.lastError();
-      throw new AcuityError(`${call}: ${text || STATUS[status] || 'status ' + status}`, status);
+      const message = text.startsWith(call + ':') ? text : `${call}: ${text || STATUS[status] || 'status ' + status}`;
+      throw new AcuityError(message, status);
     }
   }
 
