@@ -128,8 +128,11 @@ try {
   const shown = hits.map((h, k) => (h > 300 ? k : -1)).filter(k => k >= 0);
   assert.ok(shown.length >= 2, `levels seen in the coloured canvas: ${hits}`);
   for (const k of shown) assert.ok(last.levels.includes(k), `colour of level ${k} drawn, but acuity chose ${[...new Set(last.levels)]}`);
-  console.log(`page: ${FRAMES} frames equal to native; levels ${[...distinct].sort()}; last frame ${last.drawn} of ${last.finest} triangles ` +
+  const drawnAll = rec.frames.reduce((a, f) => a + f.drawn, 0), finestAll = rec.frames.reduce((a, f) => a + f.finest, 0);
+  console.log(`page: ${FRAMES} frames equal to native; levels ${[...distinct].sort()}; drawn ${(drawnAll / FRAMES).toFixed(0)} of ` +
+              `${(finestAll / FRAMES).toFixed(0)} all-finest triangles per frame on average (${(100 * drawnAll / finestAll).toFixed(1)} %); last frame ${last.drawn} of ${last.finest} triangles ` +
               `(${(100 * last.drawn / last.finest).toFixed(1)} %); luminance deviation ${deviation.toFixed(1)}; level pixels ${hits.slice(0, 5)}`);
+  console.log(`page: acuity ${(await page.evaluate(() => window.acuityStats.acuityMs)).toFixed(3)} ms per frame in Chromium (moving average, ${rec.objects.profiles.length} objects)`);
   await page.close();
 
   // ---- Bad content -------------------------------------------------------------------------------
