@@ -47,6 +47,15 @@ const base = await new Promise((resolve, reject) => {
   setTimeout(() => reject(new Error('serve.mjs printed no URL in 10 s')), 10000);
 });
 
+// The server answers inside its folders only, read-only.
+for (const [method, url, status] of [['GET', 'content/field.glb', 200], ['GET', 'wasm/acuity.wasm', 200], ['GET', 'three/package.json', 200],
+                                     ['GET', 'content/..%2F..%2F..%2F..%2F..%2Fetc%2Fpasswd', 404], ['GET', 'content/%2e%2e/field.glb', 404],
+                                     ['GET', 'tests/scene.mjs', 404], ['GET', 'serve.mjs', 404], ['POST', 'index.html', 405]]) {
+  const r = await fetch(base + url, { method });
+  assert.equal(r.status, status, `${method} /${url}`);
+  await r.arrayBuffer();
+}
+
 const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'acuity-chromium-'));
 let context;
 try {
