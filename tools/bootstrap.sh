@@ -83,7 +83,7 @@ case "${1:-test}" in
     configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF
     ctest --test-dir build-runtime --output-on-failure -j "$JOBS"
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
-    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
+    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF -DACUITY_WEB=OFF
     ACUITY_QUICK_TESTS=1 ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
     # libFuzzer (Debian's clang): a short, seeded run of the profile reader and the importers.
     if command -v clang++ >/dev/null; then

@@ -114,6 +114,7 @@ async function main() {
   camera.position.set(0, 2.2, 3);
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.set(0, 0.75, -14);
+  controls.maxPolarAngle = 0.49 * Math.PI;  // stay above the ground
   controls.update();
   colourBox.addEventListener('change', () => { applyColours(); renderer.render(scene, camera); });
   window.addEventListener('resize', () => {
