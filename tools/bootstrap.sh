@@ -19,6 +19,7 @@ PACKAGES=(
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest   # bindings/
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
+  emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
 )
 
 install_packages() {
@@ -43,6 +44,16 @@ install_node_tools() {
   fi
 }
 
+# web/'s npm packages (three, playwright-core, pngjs), exactly as pinned in its lockfile; node and npm
+# are on the machine already (never in PACKAGES: NodeSource's nodejs conflicts with Debian's npm).
+# No browser download: the tests drive Debian's chromium.
+install_web_packages() {
+  if ! cmp -s web/package-lock.json web/node_modules/.acuity-installed-lock 2>/dev/null; then
+    echo "== npm ci (web/)"
+    (cd web && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.acuity-installed-lock)
+  fi
+}
+
 JOBS=${JOBS:-$(nproc)}
 # Debian's python3, never a pyenv one found first on PATH: the bindings must load in it.
 PY=/usr/bin/python3
@@ -55,14 +66,16 @@ configure_and_build() { # $1 build dir, rest: extra cmake args; CC/CXX pick the 
 }
 
 case "${1:-test}" in
-  deps) install_packages ;;
+  deps) install_packages; install_web_packages ;;
   demo)
     install_packages
+    install_web_packages
     configure_and_build build
     ./build/tools/acuity demo
     ;;
   test)
     install_packages
+    install_web_packages
     configure_and_build build
     install_node_tools
     ctest --test-dir build --output-on-failure -j "$JOBS"
@@ -70,7 +83,7 @@ case "${1:-test}" in
     configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF
     ctest --test-dir build-runtime --output-on-failure -j "$JOBS"
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
-    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF
+    configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF -DACUITY_WEB=OFF
     ACUITY_QUICK_TESTS=1 ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
     # libFuzzer (Debian's clang): a short, seeded run of the profile reader and the importers.
     if command -v clang++ >/dev/null; then

@@ -1,0 +1,227 @@
+// acuity.js — acuity's runtime in WebAssembly (acuity.mjs + acuity.wasm, built by web/CMakeLists.txt)
+// for the browser and node. Calls are batched on typed arrays: a frame is a few calls whatever the
+// number of objects. Every failing call throws an AcuityError carrying acuity_last_error()'s text.
+//
+//   import createAcuityModule from './acuity.mjs';
+//   const acuity = await loadAcuity(createAcuityModule);      // node: loadAcuity(f, { wasmBinary })
+//   const s = acuity.createScheduler({ quality: 1 });         // acuity_config field names
+//   const p = s.loadProfile(bytes);                           // Uint8Array of a .acuity file
+//   const ids = s.addObjects(profiles, positions, rotations, scales);  // Int32 n, Float64 3n, Float32 4n, Float32 n
+//   each frame: s.setTransforms(ids, positions, rotations, scales);
+//               s.frame(eyes, eyeCount, dt);                  // eyes: Float64Array, EYE_DOUBLES per eye
+//               s.getLevels(ids, levels, flags);              // Uint8Arrays of ids.length
+//   s.destroy();
+
+export const RULE = Object.freeze({ perceptual: 0, reddy: 1, distance: 2, screenSize: 3 });
+export const FLAG = Object.freeze({ invalidInput: 1, eyeInside: 2, noGaze: 4, budgetForced: 8, changed: 16, held: 32 });
+export const STATUS = Object.freeze(['ok', 'invalid argument', 'bad profile', 'full', 'out of memory', 'internal error']);
+
+export class AcuityError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.name = 'AcuityError';
+    this.status = status;  // acuity_status
+  }
+}
+
+// One eye as EYE_DOUBLES doubles (the layout of web/acuity_web.c), written at eyes[i * EYE_DOUBLES].
+// eye: { position[3] m, orientation[4] x y z w (looks along -Z, +Y up), fov[4] deg (left<0, right,
+// up, down<0), viewport[2] px, velocity[3] m/s, angularVelocity[3] deg/s,
+// gaze: { direction[3] unit eye space, confidence, angularVelocity[3] deg/s } or null }.
+export const EYE_DOUBLES = 28;
+export function writeEye(eyes, i, eye) {
+  const o = i * EYE_DOUBLES;
+  const put = (at, values, n, fallback) => { for (let k = 0; k < n; ++k) eyes[o + at + k] = values ? values[k] : fallback[k]; };
+  put(0, eye.position, 3);
+  put(3, eye.orientation, 4);
+  put(7, eye.fov, 4);
+  put(11, eye.viewport, 2);
+  put(13, eye.velocity, 3, [0, 0, 0]);
+  put(16, eye.angularVelocity, 3, [0, 0, 0]);
+  const g = eye.gaze;
+  put(19, g && g.direction, 3, [0, 0, -1]);
+  eyes[o + 22] = g ? (g.confidence ?? 1) : 0;
+  put(23, g && g.angularVelocity, 3, [0, 0, 0]);
+  eyes[o + 26] = g ? 1 : 0;
+  eyes[o + 27] = g && g.angularVelocity ? 1 : 0;
+}
+
+export async function loadAcuity(factory, moduleOptions = {}) {
+  const module = await factory(moduleOptions);
+  return new Acuity(module);
+}
+
+export class Acuity {
+  constructor(module) {
+    this.m = module;
+    if (module._acuity_web_eye_doubles() !== EYE_DOUBLES)
+      throw new AcuityError(`acuity.js expects ${EYE_DOUBLES} doubles per eye, the module ${module._acuity_web_eye_doubles()}`, 5);
+    const v = module._acuity_version();
+    this.version = `${Math.floor(v / 10000)}.${Math.floor(v / 100) % 100}.${v % 100}`;
+  }
+
+  lastError() { return this.m.UTF8ToString(this.m._acuity_last_error()); }
+
+  check(status, call) {
+    if (status !== 0) {
+      const text = this.lastError();
+      const message = text.startsWith(call + ':') ? text : `${call}: ${text || STATUS[status] || 'status ' + status}`;
+      throw new AcuityError(message, status);
+    }
+  }
+
+  // Heap memory; throws when the module cannot grow.
+  alloc(bytes) {
+    const p = this.m._malloc(Math.max(8, bytes));
+    if (!p) throw new AcuityError(`out of memory allocating ${bytes} bytes in the wasm heap`, 4);
+    return p;
+  }
+
+  // options: acuity_config fields by name, e.g. { max_objects: 4096, quality: 1, rule: RULE.distance }.
+  createScheduler(options = {}) {
+    const m = this.m, cfg = this.alloc(m._acuity_web_config_size()), out = this.alloc(4);
+    try {
+      m._acuity_config_default(cfg);
+      for (const [name, value] of Object.entries(options)) {
+        const bytes = new TextEncoder().encode(name + '\0');
+        const p = this.alloc(bytes.length);
+        m.HEAPU8.set(bytes, p);
+        const st = m._acuity_web_config_set(cfg, p, Number(value));
+        m._free(p);
+        if (st !== 0) throw new AcuityError(`createScheduler: '${name}' = ${value} is not a valid acuity_config field value`, st);
+      }
+      this.check(m._acuity_create(cfg, out), 'acuity_create');
+      return new Scheduler(this, m.HEAPU32[out >> 2]);
+    } finally {
+      m._free(cfg);
+      m._free(out);
+    }
+  }
+}
+
+// Typed-array arguments are copied into one reusable block of wasm memory per call.
+export class Scheduler {
+  constructor(acuity, handle) {
+    this.a = acuity;
+    this.m = acuity.m;
+    this.s = handle;
+    this.scratch = 0;
+    this.scratchBytes = 0;
+    this.objectSlots = 0;  // update range: every slot ever used
+  }
+
+  // Copies arrays into the scratch block (8-byte aligned each); returns their heap addresses.
+  stage(arrays, outputs = []) {
+    let total = 0;
+    const sizes = [...arrays, ...outputs].map(a => { const b = (a.byteLength + 7) & ~7; total += b; return b; });
+    if (total > this.scratchBytes) {
+      const bytes = Math.max(total, 2 * this.scratchBytes, 4096);
+      if (this.scratch) this.m._free(this.scratch);
+      this.scratch = 0;
+      this.scratchBytes = 0;
+      this.scratch = this.a.alloc(bytes);
+      this.scratchBytes = bytes;
+    }
+    const ptrs = [];
+    let at = this.scratch;
+    const heap = this.m.HEAPU8;
+    arrays.forEach((a, i) => {
+      heap.set(new Uint8Array(a.buffer, a.byteOffset, a.byteLength), at);
+      ptrs.push(at);
+      at += sizes[i];
+    });
+    outputs.forEach((a, i) => { ptrs.push(at); at += sizes[arrays.length + i]; });
+    return ptrs;
+  }
+
+  need(array, type, length, what) {
+    if (!(array instanceof type)) throw new AcuityError(`${what}: a ${type.name} expected`, 1);
+    if (array.length < length) throw new AcuityError(`${what}: ${length} values expected, got ${array.length}`, 1);
+  }
+
+  loadProfile(bytes) {
+    this.need(bytes, Uint8Array, 0, 'loadProfile');
+    const [data, index] = this.stage([bytes], [new Int32Array(1)]);
+    this.a.check(this.m._acuity_load_profile(this.s, data, bytes.length, index), 'acuity_load_profile');
+    return this.m.HEAP32[index >> 2];
+  }
+
+  // profiles: Int32Array n; positions: Float64Array 3n; rotations: Float32Array 4n (x y z w);
+  // scales: Float32Array n or null (1). Returns the ids (Uint32Array n).
+  addObjects(profiles, positions, rotations, scales = null) {
+    const n = profiles.length;
+    this.need(profiles, Int32Array, n, 'addObjects profiles');
+    this.need(positions, Float64Array, 3 * n, 'addObjects positions');
+    this.need(rotations, Float32Array, 4 * n, 'addObjects rotations');
+    if (scales) this.need(scales, Float32Array, n, 'addObjects scales');
+    const ins = [profiles, positions, rotations, ...(scales ? [scales] : [])];
+    const ptrs = this.stage(ins, [new Uint32Array(n)]);
+    const [pp, pos, rot] = ptrs, sc = scales ? ptrs[3] : 0, ids = ptrs[ptrs.length - 1];
+    this.a.check(this.m._acuity_add_objects(this.s, n, pp, pos, 0, rot, 0, sc, ids), 'acuity_add_objects');
+    const out = new Uint32Array(this.m.HEAPU8.buffer, ids, n).slice();
+    for (const id of out) this.objectSlots = Math.max(this.objectSlots, id + 1);
+    return out;
+  }
+
+  removeObjects(ids) {
+    this.need(ids, Uint32Array, ids.length, 'removeObjects');
+    const [p] = this.stage([ids]);
+    this.a.check(this.m._acuity_remove_objects(this.s, ids.length, p), 'acuity_remove_objects');
+  }
+
+  setTransforms(ids, positions, rotations, scales = null) {
+    const n = ids.length;
+    this.need(ids, Uint32Array, n, 'setTransforms ids');
+    this.need(positions, Float64Array, 3 * n, 'setTransforms positions');
+    this.need(rotations, Float32Array, 4 * n, 'setTransforms rotations');
+    if (scales) this.need(scales, Float32Array, n, 'setTransforms scales');
+    const ptrs = this.stage([ids, positions, rotations, ...(scales ? [scales] : [])]);
+    this.a.check(this.m._acuity_set_transforms(this.s, n, ptrs[0], ptrs[1], 0, ptrs[2], 0, scales ? ptrs[3] : 0),
+                 'acuity_set_transforms');
+  }
+
+  setVelocities(ids, velocities) {
+    this.need(ids, Uint32Array, ids.length, 'setVelocities ids');
+    this.need(velocities, Float32Array, 3 * ids.length, 'setVelocities velocities');
+    const [i, v] = this.stage([ids, velocities]);
+    this.a.check(this.m._acuity_set_velocities(this.s, ids.length, i, v, 0), 'acuity_set_velocities');
+  }
+
+  // eyes: Float64Array of eyeCount x EYE_DOUBLES (see writeEye); dt in seconds.
+  beginFrame(eyes, eyeCount, dt) {
+    this.need(eyes, Float64Array, EYE_DOUBLES * eyeCount, 'beginFrame eyes');
+    const [e] = this.stage([eyes]);
+    this.a.check(this.m._acuity_web_begin_frame(this.s, e, eyeCount, dt), 'acuity_begin_frame');
+  }
+  updateRange(first, count) { this.a.check(this.m._acuity_update_range(this.s, first, count), 'acuity_update_range'); }
+  endFrame() { this.a.check(this.m._acuity_end_frame(this.s), 'acuity_end_frame'); }
+
+  // begin, update every object, end.
+  frame(eyes, eyeCount, dt) {
+    this.beginFrame(eyes, eyeCount, dt);
+    this.updateRange(0, this.objectSlots);
+    this.endFrame();
+  }
+
+  // levels, flags: Uint8Arrays of ids.length (flags may be null).
+  getLevels(ids, levels, flags = null) {
+    const n = ids.length;
+    this.need(ids, Uint32Array, n, 'getLevels ids');
+    this.need(levels, Uint8Array, n, 'getLevels levels');
+    if (flags) this.need(flags, Uint8Array, n, 'getLevels flags');
+    const [i, l, f] = this.stage([ids], [levels, levels]);
+    this.a.check(this.m._acuity_get_levels(this.s, n, i, l, flags ? f : 0), 'acuity_get_levels');
+    levels.set(new Uint8Array(this.m.HEAPU8.buffer, l, n));
+    if (flags) flags.set(new Uint8Array(this.m.HEAPU8.buffer, f, n));
+  }
+
+  frameTriangles() { return Number(this.m._acuity_frame_triangles(this.s)); }
+
+  destroy() {
+    if (this.scratch) this.m._free(this.scratch);
+    this.scratch = 0;
+    this.scratchBytes = 0;
+    if (this.s) this.m._acuity_destroy(this.s);
+    this.s = 0;
+  }
+}

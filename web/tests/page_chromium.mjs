@@ -1,0 +1,169 @@
+// The page in Debian's headless Chromium (playwright-core, no browser download), served by
+// web/serve.mjs on 127.0.0.1: it runs a scripted walk through the demo field with no console error,
+// the levels it chose equal the native library's on the very inputs it recorded, THREE.LOD shows them,
+// the canvas is not blank and, coloured by level, shows those levels' colours. Bad content (a missing
+// scene, a profile failing validation, a file that is not glTF, a glTF that is not lodgen's) shows a
+// message on the page and in the console, and nothing throws uncaught.
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { PNG } from 'pngjs';
+
+import { FLAG } from '../acuity.js';
+import { env, firstDifference, runNative } from './scene.mjs';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const fieldDir = env('ACUITY_FIELD_DIR');
+const work = path.join(env('ACUITY_WEB_WORK'), 'page');
+fs.mkdirSync(work, { recursive: true });
+const FRAMES = 90;
+const PALETTE = [0x2060ff, 0x20d0e0, 0x30c040, 0xf0e020, 0xff8020, 0xe02020, 0xc040c0, 0xffffff];
+
+// Bad content beside the good: a truncated profile set, a glTF without MSFT_lod.
+const badProfiles = path.join(fieldDir, 'bad-profiles');
+fs.mkdirSync(badProfiles, { recursive: true });
+for (const f of fs.readdirSync(path.join(fieldDir, 'profiles'))) {
+  const bytes = fs.readFileSync(path.join(fieldDir, 'profiles', f));
+  fs.writeFileSync(path.join(badProfiles, f), bytes.subarray(0, bytes.length >> 1));
+}
+fs.writeFileSync(path.join(fieldDir, 'plain.gltf'),
+  JSON.stringify({ asset: { version: '2.0' }, scene: 0, scenes: [{ nodes: [0] }], nodes: [{ name: 'empty' }] }));
+
+// The server: any free port on 127.0.0.1; its first line is the URL.
+const server = spawn(process.execPath, [path.join(here, '..', 'serve.mjs'), '--port', '0', '--content', fieldDir,
+                                        '--wasm', env('ACUITY_WASM_DIR')], { stdio: ['ignore', 'pipe', 'inherit'] });
+const base = await new Promise((resolve, reject) => {
+  let out = '';
+  server.stdout.on('data', d => {
+    out += d;
+    const m = out.match(/http:\/\/127\.0\.0\.1:\d+\//);
+    if (m) resolve(m[0]);
+  });
+  server.on('exit', code => reject(new Error(`serve.mjs exited with ${code}`)));
+  setTimeout(() => reject(new Error('serve.mjs printed no URL in 10 s')), 10000);
+});
+
+// The server answers inside its folders only, read-only.
+for (const [method, url, status] of [['GET', 'content/field.glb', 200], ['GET', 'wasm/acuity.wasm', 200], ['GET', 'three/package.json', 200],
+                                     ['GET', 'content/..%2F..%2F..%2F..%2F..%2Fetc%2Fpasswd', 404], ['GET', 'content/%2e%2e/field.glb', 404],
+                                     ['GET', 'tests/scene.mjs', 404], ['GET', 'serve.mjs', 404], ['POST', 'index.html', 405]]) {
+  const r = await fetch(base + url, { method });
+  assert.equal(r.status, status, `${method} /${url}`);
+  await r.arrayBuffer();
+}
+
+const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'acuity-chromium-'));
+let context;
+try {
+  context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: env('ACUITY_CHROMIUM'),
+    headless: true,
+    viewport: { width: 1280, height: 720 },
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--use-gl=angle', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+           '--disable-dev-shm-usage', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+
+  async function open(query) {
+    const page = await context.newPage();
+    const errors = [], uncaught = [];
+    page.on('console', m => { if (m.type() === 'error') errors.push(m.text()); });
+    page.on('pageerror', e => uncaught.push(String(e)));
+    await page.goto(base + query);
+    await page.waitForFunction(() => window.acuityDone === true, null, { timeout: 180000 });
+    return { page, errors, uncaught };
+  }
+
+  // ---- The field, scripted ---------------------------------------------------------------------
+  const { page, errors, uncaught } = await open(`?frames=${FRAMES}`);
+  assert.equal(await page.evaluate(() => window.acuityError ?? null), null, 'the page stopped with an error');
+  assert.deepEqual(uncaught, [], 'uncaught exceptions');
+  assert.deepEqual(errors, [], 'console errors');
+  const rec = await page.evaluate(() => window.acuityRecord);
+  assert.equal(rec.frames.length, FRAMES);
+  assert.equal(rec.objects.profiles.length, 64);
+
+  // The native library on the inputs the page recorded.
+  const scene = {
+    config: {}, profiles: rec.profiles.map(p => `${p}.acuity`), profileDir: path.join(fieldDir, 'profiles'),
+    objects: { profiles: Int32Array.from(rec.objects.profiles), positions: Float64Array.from(rec.objects.positions),
+               rotations: Float32Array.from(rec.objects.rotations), scales: Float32Array.from(rec.objects.scales) },
+    frames: rec.frames.map(f => ({ dt: f.dt, eyeCount: f.eyeCount, eyes: Float64Array.from(f.eyes), moves: null })),
+  };
+  const native = runNative(scene, path.join(work, 'native'), 'page');
+  const pageFrames = rec.frames.map((f, k) => ({ triangles: native[k].triangles, levels: Uint8Array.from(f.levels), flags: Uint8Array.from(f.flags) }));
+  const diff = firstDifference(pageFrames, native);
+  assert.equal(diff, '', `the page's levels differ from the native library's: ${diff}`);
+  rec.frames.forEach((f, k) => assert.deepEqual(f.lodLevels, f.levels, `frame ${k}: THREE.LOD shows other levels`));
+  const distinct = new Set(rec.frames.flatMap(f => f.levels));
+  assert.ok(distinct.size >= 3, `only levels ${[...distinct]} on the walk`);
+  const noGaze = rec.frames.map(f => f.flags.some(x => x & FLAG.noGaze));
+  assert.ok(noGaze.includes(true) && noGaze.includes(false), 'frames with and without the gaze proxy');
+  const last = rec.frames[FRAMES - 1];
+  assert.ok(last.drawn > 0 && last.drawn < last.finest, `drawn ${last.drawn} of ${last.finest} all-finest`);
+
+  // Pixels: the shaded canvas is not blank; coloured by level it shows acuity's levels.
+  async function canvasPng(file) {
+    const url = await page.evaluate(() => document.querySelector('canvas').toDataURL('image/png'));
+    const bytes = Buffer.from(url.slice(url.indexOf(',') + 1), 'base64');
+    fs.writeFileSync(path.join(work, file), bytes);
+    return PNG.sync.read(bytes);
+  }
+  await page.screenshot({ path: path.join(work, 'page.png') });
+  const shaded = await canvasPng('canvas_shaded.png');
+  let sum = 0, sum2 = 0;
+  const grey = new Set();
+  for (let i = 0; i < shaded.data.length; i += 4) {
+    const y = 0.299 * shaded.data[i] + 0.587 * shaded.data[i + 1] + 0.114 * shaded.data[i + 2];
+    sum += y;
+    sum2 += y * y;
+    grey.add(Math.round(y));
+  }
+  const pixels = shaded.width * shaded.height, deviation = Math.sqrt(sum2 / pixels - (sum / pixels) ** 2);
+  assert.ok(deviation > 8 && grey.size > 40, `the canvas looks blank: luminance deviation ${deviation.toFixed(2)}, ${grey.size} grey levels`);
+
+  await page.click('#colour');
+  await page.screenshot({ path: path.join(work, 'page_levels.png') });
+  const coloured = await canvasPng('canvas_levels.png');
+  const hits = new Array(PALETTE.length).fill(0);
+  for (let i = 0; i < coloured.data.length; i += 4)
+    PALETTE.forEach((c, k) => {
+      if (Math.abs(coloured.data[i] - (c >> 16)) <= 4 && Math.abs(coloured.data[i + 1] - ((c >> 8) & 255)) <= 4 &&
+          Math.abs(coloured.data[i + 2] - (c & 255)) <= 4) hits[k]++;
+    });
+  const shown = hits.map((h, k) => (h > 300 ? k : -1)).filter(k => k >= 0);
+  assert.ok(shown.length >= 2, `levels seen in the coloured canvas: ${hits}`);
+  for (const k of shown) assert.ok(last.levels.includes(k), `colour of level ${k} drawn, but acuity chose ${[...new Set(last.levels)]}`);
+  const drawnAll = rec.frames.reduce((a, f) => a + f.drawn, 0), finestAll = rec.frames.reduce((a, f) => a + f.finest, 0);
+  console.log(`page: ${FRAMES} frames equal to native; levels ${[...distinct].sort()}; drawn ${(drawnAll / FRAMES).toFixed(0)} of ` +
+              `${(finestAll / FRAMES).toFixed(0)} all-finest triangles per frame on average (${(100 * drawnAll / finestAll).toFixed(1)} %); last frame ${last.drawn} of ${last.finest} triangles ` +
+              `(${(100 * last.drawn / last.finest).toFixed(1)} %); luminance deviation ${deviation.toFixed(1)}; level pixels ${hits.slice(0, 5)}`);
+  console.log(`page: acuity ${(await page.evaluate(() => window.acuityStats.acuityMs)).toFixed(3)} ms per frame in Chromium (moving average, ${rec.objects.profiles.length} objects)`);
+  await page.close();
+
+  // ---- Bad content -------------------------------------------------------------------------------
+  for (const [query, pattern] of [
+    ['?scene=content/missing.glb', /content\/missing\.glb: 404/],
+    ['?profiles=content/bad-profiles/', /profile content\/bad-profiles\/\w+\.acuity failed validation: acuity_load_profile: \S/],
+    ['?scene=content/profiles/cow.acuity', /not a glTF scene/],
+    ['?scene=content/plain.gltf', /not a scene from acuity lodgen/],
+  ]) {
+    const bad = await open(query);
+    const shownText = await bad.page.evaluate(() => {
+      const m = document.getElementById('message');
+      return getComputedStyle(m).display !== 'none' ? m.textContent : '';
+    });
+    assert.match(shownText, pattern, `${query}: the page says`);
+    assert.ok(bad.errors.some(e => pattern.test(e)), `${query}: the console says ${JSON.stringify(bad.errors)}`);
+    assert.deepEqual(bad.uncaught, [], `${query}: uncaught exceptions`);
+    console.log(`${query}: "${shownText}"`);
+    await bad.page.close();
+  }
+} finally {
+  if (context) await context.close();
+  server.kill();
+  fs.rmSync(userDataDir, { recursive: true, force: true });
+}

@@ -1,0 +1,90 @@
+// web/acuity.js over the WebAssembly module: failures are AcuityErrors carrying acuity_last_error()'s
+// text and status, bad arguments never reach the module, the heap grows under 100k objects without
+// stale views, and the scheduler goes on working after every error.
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+
+import { AcuityError, EYE_DOUBLES, FLAG, writeEye } from '../acuity.js';
+import { env, loadWasm, readField } from './scene.mjs';
+
+const acuity = await loadWasm();
+assert.match(acuity.version, /^\d+\.\d+\.\d+$/);
+
+function throwsAcuity(fn, status, pattern) {
+  let caught = null;
+  try { fn(); } catch (e) { caught = e; }
+  assert.ok(caught instanceof AcuityError, `expected an AcuityError, got ${caught}`);
+  assert.equal(caught.status, status, caught.message);
+  assert.match(caught.message, pattern);
+  return caught;
+}
+
+// Configuration: unknown fields, values that do not fit, and the C ABI's own checks.
+throwsAcuity(() => acuity.createScheduler({ no_such_field: 1 }), 1, /no_such_field/);
+throwsAcuity(() => acuity.createScheduler({ max_objects: -1 }), 1, /max_objects/);
+throwsAcuity(() => acuity.createScheduler({ hysteresis_frames: 1.5 }), 1, /hysteresis_frames/);
+let e = throwsAcuity(() => acuity.createScheduler({ max_objects: 0 }), 1, /^acuity_create: /);
+assert.ok(e.message.endsWith(acuity.lastError()) && acuity.lastError().length > 0, 'the message is acuity_last_error()');
+throwsAcuity(() => acuity.createScheduler({ rule: 99 }), 1, /bad rule/);
+
+const fieldDir = env('ACUITY_FIELD_DIR');
+const field = readField(fieldDir);
+const profile = new Uint8Array(fs.readFileSync(path.join(fieldDir, 'profiles', field.profiles[0])));
+const s = acuity.createScheduler({ max_objects: 100000, max_profiles: 2 });
+
+// Profiles: garbage, truncated, empty bytes fail validation with the reader's message.
+e = throwsAcuity(() => s.loadProfile(new Uint8Array(64).fill(7)), 2, /^acuity_load_profile: \S/);
+assert.ok(e.message.endsWith(acuity.lastError()) && acuity.lastError().length > 0);
+throwsAcuity(() => s.loadProfile(profile.subarray(0, profile.length - 9)), 2, /acuity_load_profile/);
+throwsAcuity(() => s.loadProfile(new Uint8Array(0)), 2, /acuity_load_profile/);
+throwsAcuity(() => s.loadProfile([1, 2, 3]), 1, /Uint8Array/);
+assert.equal(s.loadProfile(profile), 0);
+assert.equal(s.loadProfile(profile), 1);
+throwsAcuity(() => s.loadProfile(profile), 3, /acuity_load_profile/);  // max_profiles reached
+
+// Objects: bad profile index, short or mistyped arrays.
+const one = [Int32Array.of(0), Float64Array.of(0, 0, -5), Float32Array.of(0, 0, 0, 1), Float32Array.of(1)];
+throwsAcuity(() => s.addObjects(Int32Array.of(7), ...one.slice(1)), 3, /^acuity_add_objects: .*profile 7/);
+throwsAcuity(() => s.addObjects(one[0], new Float64Array(2), one[2], one[3]), 1, /positions: 3 values/);
+throwsAcuity(() => s.addObjects(one[0], one[1], new Float64Array(4), one[3]), 1, /Float32Array/);
+
+// 100k objects in a grid: the heap grows while staging, and levels come back for every one.
+const n = 100000;
+const profiles = new Int32Array(n), positions = new Float64Array(3 * n), rotations = new Float32Array(4 * n), scales = new Float32Array(n);
+for (let i = 0; i < n; ++i) {
+  profiles[i] = i % 2;
+  positions.set([(i % 316) * 2 - 316, 0, -2 - Math.floor(i / 316) * 2], 3 * i);
+  rotations[4 * i + 3] = 1;
+  scales[i] = 1;
+}
+const bufferBefore = acuity.m.HEAPU8.buffer.byteLength;
+const ids = s.addObjects(profiles, positions, rotations, scales);
+assert.equal(ids.length, n);
+assert.equal(new Set(ids).size, n, 'distinct ids');
+assert.ok(acuity.m.HEAPU8.buffer.byteLength > bufferBefore, 'the heap grew');
+
+const eyes = new Float64Array(EYE_DOUBLES * 2);
+writeEye(eyes, 0, { position: [0, 1.6, 0], orientation: [0, 0, 0, 1], fov: [-45, 45, 45, -45], viewport: [1920, 1920] });
+throwsAcuity(() => s.frame(new Float64Array(3 * EYE_DOUBLES), 3, 1 / 72), 1, /one or two eyes/);
+throwsAcuity(() => s.frame(eyes, 0, 1 / 72), 1, /one or two eyes/);
+s.frame(eyes, 1, 1 / 72);
+const levels = new Uint8Array(n), flags = new Uint8Array(n);
+s.getLevels(ids, levels, flags);
+const near = levels[158], far = levels[315 * 316 + 158];  // straight ahead at 2 m and at 632 m
+assert.ok(near < far, `a near object (level ${near}) is finer than a far one (${far})`);
+assert.ok(flags.every(f => (f & FLAG.invalidInput) === 0), 'no invalid input');
+assert.ok(flags[0] & FLAG.noGaze, 'no gaze given');
+throwsAcuity(() => s.getLevels(Uint32Array.of(n + 5), new Uint8Array(1)), 1, /acuity_get_levels/);
+throwsAcuity(() => s.getLevels(ids, new Uint8Array(3)), 1, /levels: 100000 values/);
+
+// Remove, then set transforms of a removed id: an error, and the rest still works.
+s.removeObjects(ids.subarray(0, 10));
+throwsAcuity(() => s.setTransforms(ids.subarray(0, 1), positions.subarray(0, 3), rotations.subarray(0, 4)), 1, /acuity_set_transforms/);
+s.setTransforms(ids.subarray(10, 11), Float64Array.of(0, 0, -1000), Float32Array.of(0, 0, 0, 1), Float32Array.of(1));
+s.frame(eyes, 1, 1 / 72);
+s.getLevels(ids.subarray(10), levels.subarray(10), flags.subarray(10));
+assert.ok(levels[10] > near, 'the moved object is coarser now');
+assert.ok(s.frameTriangles() > 0);
+s.destroy();
+console.log(`wasm api: errors as AcuityError with acuity_last_error(); ${n} objects, heap ${bufferBefore} -> ${acuity.m.HEAPU8.buffer.byteLength} bytes`);
