@@ -1,0 +1,16 @@
+#pragma once
+// acuity/lodgen/output.hpp — the checks every offline command makes on an output path before it
+// starts work (the write itself is acuity::write_file_atomically, acuity/file.hpp).
+#include <string>
+#include <vector>
+
+namespace acuity::lodgen {
+
+// Throws InputError unless `output` may be written: an existing output must be a regular file
+// (never a device, FIFO, directory or symbolic link) and not the same file (device and inode) as
+// any of `inputs`, nor the same path; its folder must exist and be writable; when `extensions` is
+// not empty, its extension (lower case, with the dot) must be one of them.
+void check_output(const std::string& output, const std::vector<std::string>& inputs,
+                  const std::vector<std::string>& extensions = {});
+
+}  // namespace acuity::lodgen
