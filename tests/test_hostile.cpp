@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +19,7 @@
 
 #include "acuity.h"
 #include "acuity/file.hpp"
+#include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/output.hpp"
 #include "profile_fixture.hpp"
@@ -349,6 +351,24 @@ TEST(Limits, MsftLodWithTooManyIdsIsRefusedBeforeAnyWork) {
   const std::string e = load_error(save(doc, "lods.gltf"));
   EXPECT_NE(e.find("max_levels"), std::string::npos) << e;
   EXPECT_NE(e.find("100001 levels"), std::string::npos) << e;
+}
+
+TEST(Limits, ChainsNeverHoldMoreLevelsThanAProfile) {
+  // A long, narrow strip of 400 triangles: few Hausdorff samples per level, so this stays quick.
+  lodgen::Mesh m;
+  for (int i = 0; i <= 200; ++i)
+    for (int j = 0; j < 2; ++j) {
+      const float x = float(i) / 200.0f;
+      m.positions.insert(m.positions.end(), {x, 0.01f * float(j), 0.002f * std::sin(40.0f * x)});
+    }
+  for (std::uint32_t i = 0; i < 200; ++i) {
+    const std::uint32_t a = 2 * i, b = a + 1, c = a + 2, d = a + 3;
+    m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+  }
+  lodgen::ChainOptions o;
+  o.ratio = 0.9;  // 0.9^k x 400 stays above 4 triangles for 43 levels
+  o.min_triangles = 1;
+  EXPECT_EQ(lodgen::build_chain(m, "strip", o).levels.size(), std::size_t(kMaxLevels));
 }
 
 TEST(Limits, DeepJsonIsRefusedBeforeParsing) {

@@ -128,7 +128,7 @@ void add_lodgen_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
   cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
-  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%)")->capture_default_str();
+  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%; at most 32)")->capture_default_str()->check(CLI::Range(0, 32));
   cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")->capture_default_str()->check(Finite)->check(CLI::Range(0.01, 0.99));
   cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
   cmd->add_option("--backend", o->backend, "openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")->capture_default_str();
