@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "acuity/lodgen/output.hpp"
 #include "commands.hpp"
 #include "simulation.hpp"
 
@@ -38,6 +39,8 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
 }
 
 void simulate(const SimulateOptions& o) {
+  lodgen::check_output_folder(o.sim.output);  // before any work
+  lodgen::check_output_folder(o.assets.profiles);
   std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
   run_simulation(*scene, o.sim);

@@ -38,4 +38,14 @@ void check_output(const std::string& output, const std::vector<std::string>& inp
   if (::access(parent.c_str(), W_OK | X_OK) != 0) throw InputError(output + ": its folder " + parent.string() + " is not writable");
 }
 
+void check_output_folder(const std::string& folder) {
+  namespace fs = std::filesystem;
+  if (folder.empty()) return;
+  fs::path at = fs::absolute(fs::path(folder)).lexically_normal();
+  struct stat st {};
+  while (::stat(at.c_str(), &st) != 0 && at.has_parent_path() && at.parent_path() != at) at = at.parent_path();
+  if (!S_ISDIR(st.st_mode)) throw InputError(folder + ": " + at.string() + " exists and is not a directory");
+  if (::access(at.c_str(), W_OK | X_OK) != 0) throw InputError(folder + ": " + at.string() + " is not writable");
+}
+
 }  // namespace acuity::lodgen

@@ -214,6 +214,10 @@ def test_outputs_are_regular_files_and_never_an_input(tmp_path):
     # An unwritable or missing folder is found before the work starts.
     r = run("lodgen", mesh, "-o", tmp_path / "no" / "such" / "x.glb", "-q")
     assert r.returncode != 0 and "does not exist" in r.stderr
+    scene = tmp_path / "grid.gltf"
+    textured_gltf(scene)
+    r = run("simulate", scene, "--res", "32", "--seconds", "0.1", "--no-plots", "-o", mesh / "out")
+    assert r.returncode != 0 and "not a directory" in r.stderr and "assets:" not in r.stdout, (r.stdout, r.stderr)
 
 
 # --- 9, 18: FIFOs and directories as inputs ------------------------------------------------------

@@ -13,4 +13,8 @@ namespace acuity::lodgen {
 void check_output(const std::string& output, const std::vector<std::string>& inputs,
                   const std::vector<std::string>& extensions = {});
 
+// Throws InputError unless files can be written into `folder`: an existing one must be a writable
+// directory; else its nearest existing ancestor must be (the folder is created later).
+void check_output_folder(const std::string& folder);
+
 }  // namespace acuity::lodgen
