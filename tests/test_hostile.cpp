@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -447,6 +449,39 @@ TEST(Files, NonRegularFilesAreNotReadNorReplaced) {
   // A glTF uri naming a FIFO: refused without waiting.
   write(scratch("fifo.gltf"), triangle_gltf("fifo").dump());
   EXPECT_NE(load_error(scratch("fifo.gltf")).find("FIFO"), std::string::npos) << load_error(scratch("fifo.gltf"));
+}
+
+// SIGTERM while the temporary exists: it is delivered only after the temporary was renamed, so
+// nothing is left behind. The parent waits until the temporary is there, then signals.
+TEST(Files, SignalDuringAWriteLeavesNoTemporary) {
+  const fs::path dir = scratch("signal");
+  fs::create_directories(dir);
+  const fs::path target = dir / "big.bin";
+  auto temporaries = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string().find(".tmp.") != std::string::npos;
+    return n;
+  };
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    const std::string bytes(std::size_t(64) << 20, 'x');
+    std::string error;
+    write_file_atomically(target.string(), bytes.data(), bytes.size(), &error);
+    ::_exit(0);
+  }
+  bool seen = false;
+  for (int i = 0; i < 200000 && !seen; ++i) {
+    seen = temporaries() > 0;
+    if (!seen) ::usleep(50);
+  }
+  ::kill(child, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(seen) << "the temporary never appeared";
+  EXPECT_EQ(temporaries(), 0);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);  // delivered, after the write
+  EXPECT_EQ(fs::file_size(target), std::uintmax_t(64) << 20);
 }
 
 TEST(Files, OutputMustNotBeAnInput) {
