@@ -20,6 +20,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
   emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
+  assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/)
 )
 
 install_packages() {

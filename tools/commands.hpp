@@ -2,7 +2,22 @@
 // Subcommands of the acuity command. Each add_* registers its options and callback on the app.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
 namespace acuity::tools {
+// A finite number: CLI11's Range, PositiveNumber and NonNegativeNumber let NaN through (every
+// comparison with NaN is false), so every floating-point option also checks this.
+inline const CLI::Validator Finite(
+    [](std::string& text) -> std::string {
+      char* end = nullptr;
+      const double x = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(x)) return "'" + text + "' is not a finite number";
+      return {};
+    },
+    "FINITE");
+
 void add_models_report(CLI::App& app);   // `acuity models`
 void print_models_report();              // the same tables with the defaults
 void add_demo_command(CLI::App& app);     // `acuity demo`: the README's main job

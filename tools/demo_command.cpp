@@ -131,7 +131,7 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--meshes", o->meshes, "Directory of libcgal-demo meshes")->capture_default_str();
   cmd->add_option("--cache", o->cache, "Where LOD chains and profiles are kept between runs")->capture_default_str();
   cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, plots and frame images (default: CACHE/simulate)");
-  cmd->add_option("--seconds", o->sim.seconds, "Length of the fly-through")->capture_default_str()->check(CLI::Range(0.1, 600.0));
+  cmd->add_option("--seconds", o->sim.seconds, "Length of the fly-through")->capture_default_str()->check(Finite)->check(CLI::Range(0.1, 600.0));
   cmd->add_option("--seed", o->sim.seed, "Layout and gaze seed")->capture_default_str();
   cmd->add_option("--validate", o->sim.validate, "Decisions judged by render-and-analyze")->capture_default_str();
   cmd->add_option("--res", o->pixels, "Snapshot pixels of the profiles")->capture_default_str();

@@ -1,6 +1,7 @@
 // `acuity lodgen INPUT -o OUTPUT`: a measured chain of levels, written as glTF with MSFT_lod.
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "acuity/file.hpp"
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
+#include "acuity/lodgen/output.hpp"
 #include "acuity/lodgen/refine.hpp"
 #include "commands.hpp"
 
@@ -17,12 +19,18 @@ namespace acuity::tools {
 namespace {
 
 struct LodgenOptions {
-  std::string input, output, backend = "cgal";
+  std::string input, output, backend = "cgal", asset_root;
   std::size_t levels = 0;
   double ratio = 0.5, max_error = 0, reference_height = 1080;
   int refine = 0;
   bool lock_border = false, quiet = false;
 };
+
+bool is_gltf_text(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".gltf";
+}
 
 void progress(const char* stage, std::size_t done, std::size_t total) {
   std::fprintf(stderr, "\r%-10s %zu/%zu", stage, done, total);
@@ -31,6 +39,8 @@ void progress(const char* stage, std::size_t done, std::size_t total) {
 
 void run(const LodgenOptions& o) {
   const auto start = std::chrono::steady_clock::now();
+  lodgen::check_output(o.output, {o.input}, {".glb", ".gltf"});  // before any work
+  lodgen::check_output(o.output + ".json", {o.input});
   lodgen::ChainOptions co;
   co.levels = o.levels;
   co.ratio = o.ratio;
@@ -52,7 +62,9 @@ void run(const LodgenOptions& o) {
     scene.nodes.push_back(node);
     scene.roots.push_back(0);
   } else {
-    scene = lodgen::load_scene(o.input);
+    lodgen::LoadOptions lo;
+    lo.asset_root = o.asset_root;
+    scene = lodgen::load_scene(o.input, lo);
     for (std::size_t m = 0; m < scene.meshes.size(); ++m)
       chains.push_back(lodgen::build_chain(scene.meshes[m], o.input + ": mesh '" + scene.mesh_names[m] + "'", co, report));
   }
@@ -61,16 +73,12 @@ void run(const LodgenOptions& o) {
 
   // One LOD object per node that draws a mesh; instances reuse that mesh's chain.
   std::vector<lodgen::LodObject> objects;
-  std::function<void(int, const std::array<double, 16>&)> walk = [&](int n, const std::array<double, 16>& parent) {
-    const lodgen::Node& node = scene.nodes[std::size_t(n)];
-    std::array<double, 16> world{};
-    for (int c = 0; c < 4; ++c)
-      for (int r = 0; r < 4; ++r)
-        for (int k = 0; k < 4; ++k) world[c * 4 + r] += parent[k * 4 + r] * node.matrix[c * 4 + k];
+  for (const lodgen::PlacedNode& placed : lodgen::world_matrices(scene)) {
+    const lodgen::Node& node = scene.nodes[std::size_t(placed.node)];
     if (node.mesh >= 0) {
       lodgen::LodObject obj;
       obj.name = node.name.empty() ? scene.mesh_names[std::size_t(node.mesh)] : node.name;
-      obj.matrix = world;
+      obj.matrix = placed.world;
       for (const lodgen::Level& l : chains[std::size_t(node.mesh)].levels) {
         obj.levels.push_back(l.mesh);
         obj.geometric_error.push_back(l.hausdorff);
@@ -78,14 +86,12 @@ void run(const LodgenOptions& o) {
       obj.material = obj.levels[0].material;
       objects.push_back(std::move(obj));
     }
-    for (int child : node.children) walk(child, world);
-  };
-  for (int r : scene.roots) walk(r, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1});
+  }
   if (objects.empty()) throw std::runtime_error(o.input + ": the scene draws no mesh");
 
   lodgen::GltfWriteOptions wo;
   wo.reference_height = o.reference_height;
-  wo.binary = std::filesystem::path(o.output).extension() != ".gltf";
+  wo.binary = !is_gltf_text(o.output);
   lodgen::write_lod_gltf(o.output, objects, scene.materials, wo);
 
   // Summary table, and the same as JSON beside the output.
@@ -122,13 +128,14 @@ void add_lodgen_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
   cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
-  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%)")->capture_default_str();
-  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")->capture_default_str()->check(CLI::Range(0.01, 0.99));
-  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")->capture_default_str();
+  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%; at most 32)")->capture_default_str()->check(CLI::Range(0, 32));
+  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")->capture_default_str()->check(Finite)->check(CLI::Range(0.01, 0.99));
+  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
   cmd->add_option("--backend", o->backend, "openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")->capture_default_str();
   cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")->capture_default_str()->check(CLI::Range(0, 6));
   cmd->add_flag("--lock-border", o->lock_border, "Keep border vertices in place");
-  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")->capture_default_str();
+  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")->capture_default_str()->check(Finite)->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--asset-root", o->asset_root, "Folder a glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress");
   cmd->callback([o] { run(*o); });
 }

@@ -74,7 +74,7 @@ void add_models_report(CLI::App& app) {
   struct Options { double contrast = 1.0; std::string model = "default", fit = "daly1998"; };
   auto opts = std::make_shared<Options>();
   CLI::App* cmd = app.add_subcommand("models", "Print thresholds and cutoff frequencies over eccentricity and velocity");
-  cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")->check(CLI::PositiveNumber);
+  cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")->check(Finite)->check(CLI::PositiveNumber);
   cmd->add_option("--model", opts->model, "default | geisler-perry | kelly-daly | reddy");
   cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
   cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });

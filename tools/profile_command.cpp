@@ -9,6 +9,7 @@
 
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/mesh.hpp"
+#include "acuity/lodgen/output.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
@@ -21,7 +22,7 @@ namespace {
 struct ProfileOptions {
   std::vector<std::string> levels;
   std::string snapshots;
-  std::string output;
+  std::string output, asset_root;
   std::string views = "auto";
   std::uint32_t pixels = 256, orientations = 8, bands = 0;
   unsigned jobs = 0;
@@ -40,6 +41,7 @@ bool is_gltf(const std::string& path) {
 }
 
 void run_snapshots(const ProfileOptions& o) {
+  lodgen::check_output(o.output, {o.snapshots});
   spectra::AnalysisSettings a;
   a.orientations = o.orientations;
   a.bands = o.bands;
@@ -52,6 +54,9 @@ void run_snapshots(const ProfileOptions& o) {
 void run(const ProfileOptions& o) {
   if (!o.snapshots.empty()) return run_snapshots(o);
   if (o.levels.empty()) throw std::runtime_error("profile: give the levels (mesh files or a glTF), or --snapshots MANIFEST");
+  if (o.levels.size() > kMaxLevels)
+    throw std::runtime_error("profile: " + std::to_string(o.levels.size()) + " level files, more than " + std::to_string(kMaxLevels));
+  lodgen::check_output(o.output, o.levels);  // before any work
   const auto start = std::chrono::steady_clock::now();
   std::vector<lodgen::Mesh> meshes;
   std::vector<float> errors;
@@ -59,7 +64,9 @@ void run(const ProfileOptions& o) {
   lodgen::Scene scene;
   if (o.levels.size() == 1 && is_gltf(o.levels[0])) {
     // lodgen's output: the first node with MSFT_lod holds the chain; errors from its coverage.
-    scene = lodgen::load_scene(o.levels[0]);
+    lodgen::LoadOptions lo;
+    lo.asset_root = o.asset_root;
+    scene = lodgen::load_scene(o.levels[0], lo);
     const lodgen::Node* top = nullptr;
     for (const lodgen::Node& n : scene.nodes)
       if (n.mesh >= 0 && !n.lods.empty()) { top = &n; break; }
@@ -110,12 +117,13 @@ void add_profile_command(CLI::App& app) {
   cmd->add_option("--snapshots", o->snapshots, "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", o->output, "Output profile")->required();
+  cmd->add_option("--asset-root", o->asset_root, "Folder a glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_option("--views", o->views, "'auto' (adaptive) or a number of views")->capture_default_str();
   cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")->capture_default_str();
   cmd->add_option("--bands", o->bands, "Number of octave bands (0: all up to res / 4)")->capture_default_str();
   cmd->add_option("--orientations", o->orientations, "Orientations over 180 deg")->capture_default_str()->check(CLI::Range(1, 32));
   cmd->add_option("--jobs", o->jobs, "Worker threads (0: all cores)")->capture_default_str();
-  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")->capture_default_str();
+  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run(*o); });
 }
 

@@ -1,10 +1,16 @@
 // `acuity simulate`'s outputs: CSV files, the summary, frame pictures and plots.
 #include <chrono>
 #include <cstdio>
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -33,6 +39,28 @@ std::string plot_script() {
   for (const char* p : {ACUITY_PLOT_SCRIPT_SOURCE, ACUITY_PLOT_SCRIPT_INSTALLED})
     if (fs::exists(p)) return p;
   return {};
+}
+
+extern "C" char** environ;
+
+// Runs `program` with `args` (no shell: each argument reaches it as given, quotes and all), its
+// standard output discarded. Returns its exit status, or -1 when it cannot be started.
+int run_program(const std::string& program, const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  argv.push_back(const_cast<char*>(program.c_str()));
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  if (posix_spawn_file_actions_init(&actions) != 0) return -1;
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  const int started = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (started != 0) return -1;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -208,11 +236,11 @@ std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judg
     if (script.empty() || !fs::exists(python)) {
       std::printf("\nplots skipped: %s not found\n", script.empty() ? "plot_simulation.py" : python.c_str());
     } else {
-      const std::string command = python + " '" + script + "' '" + o.output + "' >/dev/null";
-      if (std::system(command.c_str()) == 0) {
+      if (run_program(python, {script, o.output}) == 0) {
         for (const char* p : {"triangles.png", "sweep.png"}) written.push_back((out / p).string());
       } else {
-        std::printf("\nplots skipped: %s failed (is python3-matplotlib installed?)\n", command.c_str());
+        std::printf("\nplots skipped: %s %s '%s' failed (is python3-matplotlib installed?)\n", python.c_str(), script.c_str(),
+                    o.output.c_str());
       }
     }
   }

@@ -20,14 +20,6 @@ namespace {
 
 using Matrix = std::array<double, 16>;
 
-Matrix multiply(const Matrix& a, const Matrix& b) {  // column-major a * b
-  Matrix m{};
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      for (int k = 0; k < 4; ++k) m[std::size_t(c * 4 + r)] += a[std::size_t(k * 4 + r)] * b[std::size_t(c * 4 + k)];
-  return m;
-}
-
 std::string file_safe(const std::string& name) {
   std::string s;
   for (char c : name) s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
@@ -94,7 +86,9 @@ spectra::Material spectra_material(const lodgen::Scene& scene, int index) {
 
 std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const AssetOptions& o) {
   auto out = std::make_unique<SceneAssets>();
-  out->scene = lodgen::load_scene(path);
+  lodgen::LoadOptions lo;
+  lo.asset_root = o.asset_root;
+  out->scene = lodgen::load_scene(path, lo);
   const lodgen::Scene& scene = out->scene;
   std::vector<bool> is_lod(scene.nodes.size(), false);
   for (const lodgen::Node& n : scene.nodes)
@@ -104,18 +98,16 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
   std::map<int, int> asset_of_mesh;
   std::map<std::string, int> names;
   std::vector<const lodgen::Node*> tops;
-  const Matrix identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-  std::vector<std::pair<int, Matrix>> stack;
-  for (auto r = scene.roots.rbegin(); r != scene.roots.rend(); ++r) stack.push_back({*r, identity});
-  std::size_t visited = 0;
-  while (!stack.empty()) {
-    auto [id, parent] = stack.back();
-    stack.pop_back();
-    if (++visited > 1000000) throw lodgen::InputError(path + ": the node hierarchy has a cycle");
+  std::vector<lodgen::PlacedNode> placed;
+  try {
+    placed = lodgen::world_matrices(scene, [&](int id) { return is_lod[std::size_t(id)]; });
+  } catch (const lodgen::InputError& e) {
+    throw lodgen::InputError(path + ": " + e.what());
+  }
+  for (const lodgen::PlacedNode& p : placed) {
+    const int id = p.node;
+    const Matrix& world = p.world;
     const lodgen::Node& n = scene.nodes[std::size_t(id)];
-    if (is_lod[std::size_t(id)]) continue;
-    const Matrix world = multiply(parent, n.matrix);
-    for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.push_back({*c, world});
     if (n.mesh < 0 || scene.meshes[std::size_t(n.mesh)].indices.empty()) continue;
     auto [it, fresh] = asset_of_mesh.try_emplace(n.mesh, int(tops.size()));
     if (fresh) tops.push_back(&n);

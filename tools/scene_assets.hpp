@@ -47,6 +47,7 @@ struct SceneAssets {
 };
 
 struct AssetOptions {
+  std::string asset_root;           // lodgen::LoadOptions::asset_root: where the glTF's uris may reach
   std::string profiles;             // directory of <asset>.acuity: used when they match, else built and saved
   std::uint32_t profile_pixels = 256;
   std::uint32_t lod_levels = 5;     // for meshes without MSFT_lod levels (built by lodgen)

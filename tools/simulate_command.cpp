@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "acuity/lodgen/output.hpp"
 #include "commands.hpp"
 #include "simulation.hpp"
 
@@ -22,21 +23,24 @@ struct SimulateOptions {
 void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
   cmd->add_option("scene", o->scene, "glTF/GLB scene (nodes with MSFT_lod levels, or plain meshes lodgen will chain)")
       ->required()->check(CLI::ExistingFile);
+  cmd->add_option("--asset-root", o->assets.asset_root, "Folder the glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_option("--profiles", o->assets.profiles, "Directory of <mesh>.acuity profiles: used when they match, else built and saved there");
   cmd->add_option("--res", o->assets.profile_pixels, "Snapshot pixels of profiles built here")->capture_default_str();
   cmd->add_option("--head", o->sim.head_file, "Head path, CSV or JSON: t,x,y,z,qx,qy,qz,qw (default: a fly-through)")->check(CLI::ExistingFile);
   cmd->add_option("--gaze", o->sim.gaze_file, "Gaze trace, CSV or JSON: t,x,y,z[,confidence] in head space (default: generated)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")->capture_default_str()->check(CLI::Range(0.01, 3600.0));
-  cmd->add_option("--fps", o->sim.fps, "Frame rate")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")->capture_default_str()->check(Finite)->check(CLI::Range(0.01, 3600.0));
+  cmd->add_option("--fps", o->sim.fps, "Frame rate")->capture_default_str()->check(Finite)->check(CLI::Range(1.0, 1000.0));
   cmd->add_option("--seed", o->sim.seed, "Seed of the generators and of the judged sample")->capture_default_str();
   cmd->add_option("--movers", o->sim.movers, "Objects moving on circles (pursuit targets)")->capture_default_str();
   cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")->capture_default_str()->check(CLI::Range(16u, 16384u));
-  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")->capture_default_str()->check(CLI::Range(10.0f, 170.0f));
-  cmd->add_option("--saccade-speed", o->sim.saccade_speed, "Gaze speed above which a frame is a saccade [deg/s]")->capture_default_str();
+  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")->capture_default_str()->check(Finite)->check(CLI::Range(10.0f, 170.0f));
+  cmd->add_option("--saccade-speed", o->sim.saccade_speed, "Gaze speed above which a frame is a saccade [deg/s]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
 }
 
 void simulate(const SimulateOptions& o) {
+  lodgen::check_output_folder(o.sim.output);  // before any work
+  lodgen::check_output_folder(o.assets.profiles);
   std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
   run_simulation(*scene, o.sim);

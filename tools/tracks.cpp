@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "acuity/file.hpp"
+
 namespace acuity::tools {
 namespace {
 
@@ -121,16 +123,18 @@ int Table::column(const std::string& name, bool required) const {
 }
 
 Table parse_table(const std::string& text, const std::string& source, bool json) {
-  std::istringstream in(text);
+  // A UTF-8 byte order mark (spreadsheets write one) is not part of the first column's name.
+  const bool bom = text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0;
+  std::istringstream in(bom ? text.substr(3) : text);
   return json ? read_json(source, in) : read_csv(source, in);
 }
 
 Table read_table(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_table(text.str(), path, std::filesystem::path(path).extension().string() == ".json");
+  Blob blob;  // a regular file only: a FIFO or device is refused, not waited on
+  std::string error;
+  if (!read_file(path, &blob, &error)) throw std::runtime_error("cannot open " + error);
+  const std::string text(static_cast<const char*>(blob.data()), blob.size);
+  return parse_table(text, path, std::filesystem::path(path).extension().string() == ".json");
 }
 
 std::vector<HeadPose> head_path_from(const Table& table, double fps, std::size_t frames) {

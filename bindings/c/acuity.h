@@ -12,6 +12,13 @@
  *               acuity_update_range(s, 0, n);  (split across jobs as you like)
  *               acuity_end_frame(s); acuity_get_levels(s, n, ids, levels, flags);
  *   acuity_destroy(s);
+ *
+ * Contract. The caller is trusted: pointers must point to arrays of the stated length and stride,
+ * and one scheduler is used from one thread at a time (acuity_update_range on disjoint ranges may
+ * run concurrently between begin and end). Everything else is checked. Every call that takes ids
+ * or indices is all or nothing: it checks them all (and the capacity) first and, when one is bad,
+ * changes nothing and returns ACUITY_INVALID_ARGUMENT (ACUITY_FULL for capacity). A removed or
+ * never-added id is invalid everywhere. Profile bytes are untrusted: validated, never trusted.
  */
 #ifndef ACUITY_H
 #define ACUITY_H
@@ -79,15 +86,24 @@ void acuity_eye_default(acuity_eye* eye);         /* origin, identity, 90 deg, 1
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);
 void acuity_destroy(acuity_scheduler* scheduler);
 
-/* Validates and copies a profile (.acuity bytes); *index receives its index. */
+/* Validates and copies a profile (.acuity bytes); *index receives its index. size must be the
+ * bytes' length: below the 32-byte header or above 4 GiB gives ACUITY_BAD_PROFILE without reading
+ * (so an unchecked ftell's -1 fails cleanly); invalid bytes ACUITY_BAD_PROFILE; max_profiles
+ * loaded ACUITY_FULL. On failure nothing is kept and *index is unchanged. */
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index);
 
-/* Arrays of `count`; strides in bytes between elements, 0 for tightly packed. ids_out: uint32. */
+/* Arrays of `count`; strides in bytes between elements, 0 for tightly packed. ids_out: uint32.
+ * All or nothing: a profiles[i] that is not a loaded index gives ACUITY_INVALID_ARGUMENT, more
+ * objects than free capacity ACUITY_FULL; either way no object is added. */
 acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
                                  const double* positions, size_t position_stride,
                                  const float* rotations, size_t rotation_stride,
                                  const float* scales, uint32_t* ids_out);
+/* All or nothing: an id that is not live, or given twice, gives ACUITY_INVALID_ARGUMENT and
+ * removes none. A removed id may be reused by a later acuity_add_objects. */
 acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids);
+/* acuity_set_transforms, acuity_set_velocities: all or nothing; an id that is not live gives
+ * ACUITY_INVALID_ARGUMENT and sets none. */
 acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                     const double* positions, size_t position_stride,
                                     const float* rotations, size_t rotation_stride, const float* scales);
@@ -95,10 +111,13 @@ acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const u
                                     const float* velocities, size_t velocity_stride);
 
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt);
+/* Before the first acuity_begin_frame, acuity_update_range and acuity_end_frame return
+ * ACUITY_INVALID_ARGUMENT and do nothing. */
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count);
 acuity_status acuity_end_frame(acuity_scheduler* s);
 
-/* levels_out and flags_out (nullable) receive one byte per id. */
+/* levels_out and flags_out (nullable) receive one byte per id. An id that is not live gives
+ * ACUITY_INVALID_ARGUMENT and writes nothing. */
 acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                 uint8_t* levels_out, uint8_t* flags_out);
 /* Triangles drawn at this frame's levels. */

@@ -14,6 +14,8 @@
 struct acuity_scheduler {
   acuity::Scheduler scheduler;
   std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
+  std::uint32_t live = 0;             // objects added and not removed
+  bool frame_begun = false;           // acuity_begin_frame was called at least once
   explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c) {}
 };
 
@@ -64,6 +66,16 @@ acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* 
   for (int k = 0; k < 4; ++k) t.rotation[k] = ri[k];
   t.scale = s ? s[i] : 1.0f;
   return t;
+}
+
+// INVALID_ARGUMENT naming the first of `ids` that is not a live object, or OK: checked before any
+// change, so a call with one stale id changes nothing.
+acuity_status check_alive(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, const char* function) {
+  for (uint32_t i = 0; i < count; ++i)
+    if (!s->scheduler.alive(ids[i]))
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(function) + ": ids[" + std::to_string(i) + "] = " + std::to_string(ids[i]) +
+                                               " is not a live object (never added, or removed); nothing was changed");
+  return ACUITY_OK;
 }
 }  // namespace
 
@@ -125,6 +137,12 @@ void acuity_destroy(acuity_scheduler* s) { delete s; }
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
   return guarded([&] {
     if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, "acuity_load_profile: null argument");
+    // At least the 32-byte header, at most 4 GiB (profiles are kilobytes to megabytes): refuses an
+    // unchecked ftell's -1 before (size + 7) / 8 below could wrap, and 0 before a memcpy to null.
+    if (size < 32 || size > std::size_t(UINT32_MAX))
+      return fail(ACUITY_BAD_PROFILE, "acuity_load_profile: size " + std::to_string(size) + " bytes is not a profile's size");
+    if (s->profiles.size() >= s->scheduler.config().max_profiles)
+      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" + std::to_string(s->scheduler.config().max_profiles) + ") reached");
     acuity::Blob blob;
     blob.size = size;
     blob.storage.assign((size + 7) / 8, 0);
@@ -149,10 +167,22 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
                                  size_t ps, const float* rotations, size_t rs, const float* scales, uint32_t* ids) {
   return guarded([&] {
     if (!s || (count && (!profiles || !positions || !rotations || !ids))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
+    // All or nothing: every index and the capacity are checked before anything is added.
+    for (uint32_t i = 0; i < count; ++i)
+      if (profiles[i] < 0 || std::size_t(profiles[i]) >= s->profiles.size())
+        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: profiles[" + std::to_string(i) + "] = " + std::to_string(profiles[i]) +
+                                                 " is not a loaded profile (" + std::to_string(s->profiles.size()) + " loaded); nothing was added");
+    if (count > s->scheduler.object_capacity() - s->live)
+      return fail(ACUITY_FULL, "acuity_add_objects: " + std::to_string(count) + " objects do not fit (" + std::to_string(s->live) + " of " +
+                                   std::to_string(s->scheduler.object_capacity()) + " used); nothing was added");
     for (uint32_t i = 0; i < count; ++i) {
       ids[i] = s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
-      if (ids[i] == acuity::kInvalidObject)
-        return fail(ACUITY_FULL, "acuity_add_objects: object " + std::to_string(i) + ": full, or profile " + std::to_string(profiles[i]) + " does not exist");
+      if (ids[i] == acuity::kInvalidObject) {  // cannot happen after the checks above; undo to keep the contract
+        for (uint32_t j = 0; j < i; ++j) s->scheduler.remove_object(ids[j]);
+        s->live -= i;
+        return fail(ACUITY_INTERNAL_ERROR, "acuity_add_objects: the scheduler refused object " + std::to_string(i) + "; nothing was added");
+      }
+      ++s->live;
     }
     return ACUITY_OK;
   });
@@ -161,7 +191,13 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
 acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids) {
   return guarded([&] {
     if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: null argument");
+    if (const acuity_status st = check_alive(s, count, ids, "acuity_remove_objects"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i)
+      for (uint32_t j = 0; j < i; ++j)
+        if (ids[i] == ids[j])
+          return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: id " + std::to_string(ids[i]) + " is given twice; nothing was removed");
     for (uint32_t i = 0; i < count; ++i) s->scheduler.remove_object(ids[i]);
+    s->live -= count;
     return ACUITY_OK;
   });
 }
@@ -170,10 +206,8 @@ acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const u
                                     size_t ps, const float* rotations, size_t rs, const float* scales) {
   return guarded([&] {
     if (!s || (count && (!ids || !positions || !rotations))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: null argument");
-    for (uint32_t i = 0; i < count; ++i) {
-      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: no object " + std::to_string(ids[i]));
-      s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
-    }
+    if (const acuity_status st = check_alive(s, count, ids, "acuity_set_transforms"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
     return ACUITY_OK;
   });
 }
@@ -181,10 +215,8 @@ acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const u
 acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* v, size_t vs) {
   return guarded([&] {
     if (!s || (count && (!ids || !v))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: null argument");
-    for (uint32_t i = 0; i < count; ++i) {
-      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: no object " + std::to_string(ids[i]));
-      s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
-    }
+    if (const acuity_status st = check_alive(s, count, ids, "acuity_set_velocities"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
     return ACUITY_OK;
   });
 }
@@ -210,6 +242,7 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
       f.gaze[i].has_velocity = e.gaze_has_velocity != 0;
     }
     s->scheduler.begin_frame(f);
+    s->frame_begun = true;
     return ACUITY_OK;
   });
 }
@@ -217,6 +250,8 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: null scheduler");
+    if (!s->frame_begun)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame has begun (call acuity_begin_frame first); nothing was updated");
     s->scheduler.update(first, count);
     return ACUITY_OK;
   });
@@ -225,6 +260,7 @@ acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t 
 acuity_status acuity_end_frame(acuity_scheduler* s) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: null scheduler");
+    if (!s->frame_begun) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame has begun (call acuity_begin_frame first)");
     s->scheduler.end_frame();
     return ACUITY_OK;
   });
@@ -233,8 +269,8 @@ acuity_status acuity_end_frame(acuity_scheduler* s) {
 acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* levels, uint8_t* flags) {
   return guarded([&] {
     if (!s || (count && (!ids || !levels))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
+    if (const acuity_status st = check_alive(s, count, ids, "acuity_get_levels"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) {
-      if (!s->scheduler.alive(ids[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: no object " + std::to_string(ids[i]));
       levels[i] = s->scheduler.level(ids[i]);
       if (flags) flags[i] = s->scheduler.flags(ids[i]);
     }

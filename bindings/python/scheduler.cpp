@@ -36,6 +36,7 @@ std::shared_ptr<OwnedProfile> open_owned(Blob blob, const std::string& where) {
 
 std::shared_ptr<OwnedProfile> profile_from_bytes(const py::bytes& bytes) {
   const std::string s = bytes;
+  if (s.size() < 32) throw py::value_error("profile bytes: " + std::to_string(s.size()) + " bytes, too small for a profile's 32-byte header");
   Blob blob;
   blob.size = s.size();
   blob.storage.assign((s.size() + 7) / 8, 0);
@@ -87,7 +88,18 @@ ObjectTransform transform_at(const F64& position, const F32& rotation, const F32
 struct PyScheduler {
   Scheduler scheduler;
   std::vector<std::shared_ptr<OwnedProfile>> profiles;
+  std::uint32_t live = 0;  // objects added and not removed
   explicit PyScheduler(const SchedulerConfig& c) : scheduler(c) {}
+
+  // Raises IndexError naming the first id that is not a live object; called before any change.
+  void require_alive(const U32& ids, const char* function) const {
+    if (ids.ndim() != 1) throw py::value_error(std::string(function) + ": ids must be one-dimensional");
+    auto id = ids.unchecked<1>();
+    for (py::ssize_t i = 0; i < ids.shape(0); ++i)
+      if (!scheduler.alive(id(i)))
+        throw py::index_error(std::string(function) + ": object " + std::to_string(id(i)) +
+                              " does not exist (never added, or removed); nothing was changed");
+  }
 
   py::array_t<std::uint32_t> add_objects(U32 profile, F64 position, F32 rotation, F32 scale) {
     const py::ssize_t n = profile.shape(0);
@@ -98,9 +110,22 @@ struct PyScheduler {
     py::array_t<std::uint32_t> ids(n);
     auto out = ids.mutable_unchecked<1>();
     auto pr = profile.unchecked<1>();
+    // All or nothing: every profile index and the capacity are checked before anything is added.
+    for (py::ssize_t i = 0; i < n; ++i)
+      if (pr(i) >= profiles.size())
+        throw py::index_error("add_objects: row " + std::to_string(i) + ": profile " + std::to_string(pr(i)) + " was not added (" +
+                              std::to_string(profiles.size()) + " profiles); nothing was added");
+    if (std::uint64_t(n) > scheduler.object_capacity() - live)
+      throw py::value_error("add_objects: " + std::to_string(n) + " objects do not fit (" + std::to_string(live) + " of " +
+                            std::to_string(scheduler.object_capacity()) + " used); nothing was added");
     for (py::ssize_t i = 0; i < n; ++i) {
       out(i) = scheduler.add_object(static_cast<int>(pr(i)), transform_at(position, rotation, scale, i));
-      if (out(i) == kInvalidObject) throw py::value_error("add_objects: full, or a bad profile index at row " + std::to_string(i));
+      if (out(i) == kInvalidObject) {  // cannot happen after the checks above; undo to keep the contract
+        for (py::ssize_t j = 0; j < i; ++j) scheduler.remove_object(out(j));
+        live -= std::uint32_t(i);
+        throw std::runtime_error("add_objects: the scheduler refused row " + std::to_string(i) + "; nothing was added");
+      }
+      ++live;
     }
     return ids;
   }
@@ -110,12 +135,14 @@ struct PyScheduler {
     require_rows(position, n, 3, "position");
     require_rows(rotation, n, 4, "rotation");
     require_rows(scale, n, 0, "scale");
+    require_alive(ids, "set_transforms");
     auto id = ids.unchecked<1>();
     for (py::ssize_t i = 0; i < n; ++i) scheduler.set_transform(id(i), transform_at(position, rotation, scale, i));
   }
 
   void set_velocities(U32 ids, F32 velocity) {
     require_rows(velocity, ids.shape(0), 3, "velocity");
+    require_alive(ids, "set_velocities");
     auto id = ids.unchecked<1>();
     auto v = velocity.unchecked<2>();
     for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
@@ -261,15 +288,29 @@ void bind_scheduler(py::module_ m) {
         return index;
       }, "profile"_a)
       .def("add_objects", &PyScheduler::add_objects, "profile"_a, "position"_a, "rotation"_a, "scale"_a,
-           "Add N objects; returns their ids (uint32).")
+           "Add N objects; returns their ids (uint32). All or nothing: a profile index that was not\n"
+           "added raises IndexError, more objects than free capacity ValueError; then none is added.")
       .def("remove_objects", [](PyScheduler& s, U32 ids) {
+        s.require_alive(ids, "remove_objects");
         auto id = ids.unchecked<1>();
+        for (py::ssize_t i = 0; i < ids.shape(0); ++i)
+          for (py::ssize_t j = 0; j < i; ++j)
+            if (id(i) == id(j)) throw py::value_error("remove_objects: id " + std::to_string(id(i)) + " is given twice; nothing was removed");
         for (py::ssize_t i = 0; i < ids.shape(0); ++i) s.scheduler.remove_object(id(i));
-      }, "ids"_a)
-      .def("set_transforms", &PyScheduler::set_transforms, "ids"_a, "position"_a, "rotation"_a, "scale"_a)
-      .def("set_velocities", &PyScheduler::set_velocities, "ids"_a, "velocity"_a)
-      .def("set_clamps", [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) { s.scheduler.set_clamps(id, lo, hi); })
-      .def("set_bias", [](PyScheduler& s, std::uint32_t id, float bias) { s.scheduler.set_bias(id, bias); })
+        s.live -= std::uint32_t(ids.shape(0));
+      }, "ids"_a, "All or nothing: raises IndexError for an id that is not live, removing none.")
+      .def("set_transforms", &PyScheduler::set_transforms, "ids"_a, "position"_a, "rotation"_a, "scale"_a,
+           "All or nothing: raises IndexError for an id that is not live, setting none.")
+      .def("set_velocities", &PyScheduler::set_velocities, "ids"_a, "velocity"_a,
+           "All or nothing: raises IndexError for an id that is not live, setting none.")
+      .def("set_clamps", [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) {
+        if (!s.scheduler.alive(id)) throw py::index_error("set_clamps: object " + std::to_string(id) + " does not exist (never added, or removed)");
+        s.scheduler.set_clamps(id, lo, hi);
+      }, "id"_a, "min_level"_a, "max_level"_a)
+      .def("set_bias", [](PyScheduler& s, std::uint32_t id, float bias) {
+        if (!s.scheduler.alive(id)) throw py::index_error("set_bias: object " + std::to_string(id) + " does not exist (never added, or removed)");
+        s.scheduler.set_bias(id, bias);
+      }, "id"_a, "quality_bias"_a)
       .def("run_frame", [](PyScheduler& s, const Frame& f) { s.scheduler.run_frame(f); }, "frame"_a,
            "begin_frame, update every object, end_frame.")
       .def("levels", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); }); }, "ids"_a)

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "acuity/lodgen/repair.hpp"
+#include "acuity/profile.hpp"
 
 namespace acuity::lodgen {
 namespace {
@@ -45,7 +46,7 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
   // an error budget the chain is cut after measuring, where the Hausdorff error passes it.
   std::vector<std::size_t> targets = {n0};
   for (double t = double(n0) * o.ratio; std::size_t(std::llround(t)) >= floor_count; t *= o.ratio) {
-    if (o.levels && targets.size() >= o.levels) break;
+    if ((o.levels && targets.size() >= o.levels) || targets.size() >= kMaxLevels) break;  // what a profile holds
     targets.push_back(std::size_t(std::llround(t)));
   }
   c.levels.push_back({base, n0, 0.0, 0.0});

@@ -3,10 +3,16 @@
 
 #include "path.hpp"
 
+#include <fcntl.h>
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
 #include <stb_image_write.h>
+#include <sys/stat.h>
 #include <tiny_gltf.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -23,32 +29,76 @@ using tinygltf::Model;
 
 [[noreturn]] void fail(const std::string& where, const std::string& what) { throw InputError(where + ": " + what); }
 
-// Reads accessor `index` as `components` floats per element (FLOAT, or normalised integers).
-std::vector<float> read_floats(const Model& m, int index, int components, const std::string& where) {
-  if (index < 0 || index >= int(m.accessors.size())) fail(where, "accessor " + std::to_string(index) + " does not exist");
-  const Accessor& a = m.accessors[index];
-  const std::string at = where + ", accessor " + std::to_string(index);
+// Everything decoded or read counts against LoadLimits::max_total_bytes.
+struct Budget {
+  std::uint64_t left = 0;
+  std::string path;
+  void charge(std::uint64_t bytes, const std::string& what) {
+    if (bytes > left)
+      throw InputError(path + ": " + what + " needs " + std::to_string(bytes) + " more bytes than the " +
+                       "load limit max_total_bytes leaves (" + std::to_string(left) + ")");
+    left -= bytes;
+  }
+};
+
+// a + b and a * b, or InputError naming `what` when the result does not fit in 64 bits.
+std::uint64_t checked_add(std::uint64_t a, std::uint64_t b, const std::string& what) {
+  std::uint64_t r = 0;
+  if (__builtin_add_overflow(a, b, &r)) fail(what, "offset arithmetic overflows (" + std::to_string(a) + " + " + std::to_string(b) + ")");
+  return r;
+}
+std::uint64_t checked_mul(std::uint64_t a, std::uint64_t b, const std::string& what) {
+  std::uint64_t r = 0;
+  if (__builtin_mul_overflow(a, b, &r)) fail(what, "size arithmetic overflows (" + std::to_string(a) + " x " + std::to_string(b) + ")");
+  return r;
+}
+
+// Where an accessor's elements are: every offset, length, count and stride checked, in overflow-safe
+// arithmetic, against the bytes the buffer really holds.
+struct Span {
+  const unsigned char* base = nullptr;
+  std::size_t stride = 0, count = 0;
+};
+
+Span accessor_span(const Model& m, const Accessor& a, std::size_t element, const std::string& at) {
   if (a.sparse.isSparse) fail(at, "sparse accessors are not supported");
-  if (tinygltf::GetNumComponentsInType(a.type) != components)
-    fail(at, "expected " + std::to_string(components) + " components per element");
   if (a.bufferView < 0 || a.bufferView >= int(m.bufferViews.size())) fail(at, "no valid bufferView");
-  const tinygltf::BufferView& v = m.bufferViews[a.bufferView];
-  if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) fail(at, "bufferView names no valid buffer");
-  const std::vector<unsigned char>& buf = m.buffers[v.buffer].data;
+  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
+  const std::string view = at + ", bufferView " + std::to_string(a.bufferView);
+  if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) fail(view, "names no valid buffer");
+  const std::vector<unsigned char>& buf = m.buffers[std::size_t(v.buffer)].data;
+  if (checked_add(v.byteOffset, v.byteLength, view) > buf.size())
+    fail(view, "bytes " + std::to_string(v.byteOffset) + " + " + std::to_string(v.byteLength) + " reach past its buffer's " +
+                   std::to_string(buf.size()) + " bytes");
+  const std::size_t stride = v.byteStride ? v.byteStride : element;
+  if (stride < element) fail(view, "byteStride " + std::to_string(stride) + " is smaller than an element (" + std::to_string(element) + " bytes)");
+  Span s;
+  s.stride = stride;
+  s.count = a.count;
+  if (a.count == 0) return s;
+  const std::uint64_t need = checked_add(checked_add(a.byteOffset, checked_mul(a.count - 1, stride, at), at), element, at);
+  if (need > v.byteLength)
+    fail(at, std::to_string(a.count) + " elements from byteOffset " + std::to_string(a.byteOffset) + " need " + std::to_string(need) +
+                 " bytes; its bufferView has " + std::to_string(v.byteLength));
+  s.base = buf.data() + v.byteOffset + a.byteOffset;  // both sums were checked above
+  return s;
+}
+
+// Reads accessor `index` as `components` floats per element (FLOAT, or normalised integers).
+std::vector<float> read_floats(const Model& m, int index, int components, const std::string& where, Budget& budget) {
+  if (index < 0 || index >= int(m.accessors.size())) fail(where, "accessor " + std::to_string(index) + " does not exist");
+  const Accessor& a = m.accessors[std::size_t(index)];
+  const std::string at = where + ", accessor " + std::to_string(index);
+  if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)) != components)
+    fail(at, "expected " + std::to_string(components) + " components per element");
   const int csize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
   if (csize <= 0) fail(at, "unknown component type");
-  const std::size_t element = std::size_t(csize) * components;
-  const std::size_t stride = v.byteStride ? v.byteStride : element;
-  if (a.count > 0 && (stride < element || a.count > (std::numeric_limits<std::size_t>::max() - element) / stride))
-    fail(at, "absurd count or stride");
-  const std::size_t need = a.count == 0 ? 0 : a.byteOffset + (a.count - 1) * stride + element;
-  if (need > v.byteLength || v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
-    fail(at, "reads past the end of its buffer");
-  const unsigned char* base = buf.data() + v.byteOffset + a.byteOffset;
-  std::vector<float> out(a.count * components);
-  for (std::size_t i = 0; i < a.count; ++i)
+  const Span span = accessor_span(m, a, std::size_t(csize) * std::size_t(components), at);
+  budget.charge(checked_mul(span.count, std::size_t(components) * sizeof(float), at), at);
+  std::vector<float> out(span.count * std::size_t(components));
+  for (std::size_t i = 0; i < span.count; ++i)
     for (int c = 0; c < components; ++c) {
-      const unsigned char* p = base + i * stride + std::size_t(c) * csize;
+      const unsigned char* p = span.base + i * span.stride + std::size_t(c) * std::size_t(csize);
       float x;
       switch (a.componentType) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&x, p, 4); break;
@@ -57,37 +107,30 @@ std::vector<float> read_floats(const Model& m, int index, int components, const 
         default: fail(at, "component type " + std::to_string(a.componentType) + " is not a float or normalised type");
       }
       if (!std::isfinite(x)) fail(at, "element " + std::to_string(i) + " is not finite");
-      out[i * components + c] = x;
+      out[i * std::size_t(components) + std::size_t(c)] = x;
     }
   return out;
 }
 
-std::vector<std::uint32_t> read_indices(const Model& m, int index, std::size_t vertex_count, const std::string& where) {
+std::vector<std::uint32_t> read_indices(const Model& m, int index, std::size_t vertex_count, const std::string& where, Budget& budget) {
   if (index < 0) {  // non-indexed: 0, 1, 2, ...
+    budget.charge(checked_mul(vertex_count, 4, where), where + ", implicit indices");
     std::vector<std::uint32_t> out(vertex_count);
     for (std::size_t i = 0; i < vertex_count; ++i) out[i] = std::uint32_t(i);
     return out;
   }
   if (index >= int(m.accessors.size())) fail(where, "index accessor " + std::to_string(index) + " does not exist");
-  const Accessor& a = m.accessors[index];
+  const Accessor& a = m.accessors[std::size_t(index)];
   const std::string at = where + ", index accessor " + std::to_string(index);
-  if (a.type != TINYGLTF_TYPE_SCALAR || a.bufferView < 0 || a.bufferView >= int(m.bufferViews.size()))
-    fail(at, "must be scalar with a valid bufferView");
-  const tinygltf::BufferView& v = m.bufferViews[a.bufferView];
-  if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) fail(at, "bufferView names no valid buffer");
-  const std::vector<unsigned char>& buf = m.buffers[v.buffer].data;
+  if (a.type != TINYGLTF_TYPE_SCALAR) fail(at, "must be scalar");
   const int csize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
   if (csize != 1 && csize != 2 && csize != 4) fail(at, "indices must be unsigned byte, short or int");
-  const std::size_t stride = v.byteStride ? v.byteStride : std::size_t(csize);
-  if (a.count > 0 && a.count > (std::numeric_limits<std::size_t>::max() - csize) / stride) fail(at, "absurd count");
-  const std::size_t need = a.count == 0 ? 0 : a.byteOffset + (a.count - 1) * stride + csize;
-  if (need > v.byteLength || v.byteOffset > buf.size() || v.byteLength > buf.size() - v.byteOffset)
-    fail(at, "reads past the end of its buffer");
-  const unsigned char* base = buf.data() + v.byteOffset + a.byteOffset;
-  std::vector<std::uint32_t> out(a.count);
-  for (std::size_t i = 0; i < a.count; ++i) {
+  const Span span = accessor_span(m, a, std::size_t(csize), at);
+  budget.charge(checked_mul(span.count, 4, at), at);
+  std::vector<std::uint32_t> out(span.count);
+  for (std::size_t i = 0; i < span.count; ++i) {
     std::uint32_t x = 0;
-    std::memcpy(&x, base + i * stride, std::size_t(csize));  // little-endian
+    std::memcpy(&x, span.base + i * span.stride, std::size_t(csize));  // little-endian
     if (x >= vertex_count) fail(at, "index " + std::to_string(x) + " at element " + std::to_string(i) + " is out of range");
     out[i] = x;
   }
@@ -114,7 +157,7 @@ std::array<double, 16> local_matrix(const tinygltf::Node& n) {
   return m;
 }
 
-Scene convert(const Model& model, const std::string& path) {
+Scene convert(const Model& model, const std::string& path, Budget& budget) {
   Scene scene;
   for (const tinygltf::Material& src : model.materials) {
     Material mat;
@@ -126,8 +169,9 @@ Scene convert(const Model& model, const std::string& path) {
       const int source = model.textures[tex].source;
       if (source >= 0 && source < int(model.images.size())) {
         const tinygltf::Image& img = model.images[source];
-        if (img.width > 0 && img.height > 0 && img.bits == 8 &&
-            img.image.size() == std::size_t(img.width) * img.height * img.component) {
+        if (img.width > 0 && img.height > 0 && img.bits == 8 && img.component >= 1 && img.component <= 4 &&
+            img.image.size() == std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.component)) {
+          budget.charge(std::uint64_t(img.width) * std::uint64_t(img.height) * 4, path + ": material '" + src.name + "' texture");
           mat.width = img.width;
           mat.height = img.height;
           mat.pixels.resize(std::size_t(img.width) * img.height * 4, 255);
@@ -155,13 +199,13 @@ Scene convert(const Model& model, const std::string& path) {
       const auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(where, "has no POSITION");
       Mesh m;
-      m.positions = read_floats(model, pos->second, 3, where);
-      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) m.normals = read_floats(model, it->second, 3, where);
-      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) m.texcoords = read_floats(model, it->second, 2, where);
+      m.positions = read_floats(model, pos->second, 3, where, budget);
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) m.normals = read_floats(model, it->second, 3, where, budget);
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) m.texcoords = read_floats(model, it->second, 2, where, budget);
       if ((!m.normals.empty() && m.normals.size() != m.positions.size()) ||
           (!m.texcoords.empty() && m.texcoords.size() / 2 != m.positions.size() / 3))
         fail(where, "attributes differ in length from POSITION");
-      m.indices = read_indices(model, prim.indices, m.vertex_count(), where);
+      m.indices = read_indices(model, prim.indices, m.vertex_count(), where, budget);
       if (m.indices.size() % 3) fail(where, "index count " + std::to_string(m.indices.size()) + " is not a multiple of 3");
       m.material = prim.material >= 0 && prim.material < int(scene.materials.size()) ? prim.material : -1;
       scene.meshes.push_back(std::move(m));
@@ -291,7 +335,344 @@ bool identity(const std::array<double, 16>& m) {
 
 }  // namespace
 
-Scene load_scene(const std::string& path) {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Why a file is not read: "" for a regular file.
+std::string not_regular(const struct stat& st) {
+  if (S_ISREG(st.st_mode)) return {};
+  if (S_ISDIR(st.st_mode)) return "is a directory, not a regular file";
+  if (S_ISFIFO(st.st_mode)) return "is a FIFO, not a regular file";
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "is a device, not a regular file";
+  return "is not a regular file";
+}
+
+// Reads a whole regular file of at most `limit` bytes, charging the budget before reading. Opened
+// non-blocking so a FIFO cannot make it wait; fstat then refuses anything but a regular file.
+bool read_regular(const std::string& path, std::uint64_t limit, Budget& budget, std::vector<unsigned char>* out, std::string* error) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) { *error = path + ": " + std::strerror(errno); return false; }
+  struct stat st {};
+  std::string why = ::fstat(fd, &st) != 0 ? std::string(std::strerror(errno)) : not_regular(st);
+  if (why.empty() && std::uint64_t(st.st_size) > limit)
+    why = std::to_string(st.st_size) + " bytes, more than the load limit max_file_bytes (" + std::to_string(limit) + ")";
+  if (why.empty() && std::uint64_t(st.st_size) > budget.left)
+    why = std::to_string(st.st_size) + " bytes, more than the load limit max_total_bytes leaves (" + std::to_string(budget.left) + ")";
+  if (!why.empty()) {
+    ::close(fd);
+    *error = path + ": " + why;
+    return false;
+  }
+  budget.left -= std::uint64_t(st.st_size);
+  out->resize(std::size_t(st.st_size));
+  std::size_t done = 0;
+  while (done < out->size()) {
+    const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += std::size_t(n);
+  }
+  ::close(fd);
+  if (done != out->size()) { *error = path + ": cannot read (it changed while reading)"; return false; }
+  return true;
+}
+
+// The JSON's nesting depth, scanned as text (strings skipped) so that no parser recurses into a
+// hostile document: throws past `limit`.
+void check_json_depth(const char* text, std::size_t size, std::uint32_t limit, const std::string& path) {
+  std::uint32_t depth = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < size; ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit)
+        throw InputError(path + ": JSON nested deeper than the load limit max_json_depth (" + std::to_string(limit) + ")");
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+// A uri's file, resolved against `base` and required to stay inside `root` (both canonical).
+// Returns "" and sets *why when the uri is refused. data: URIs never reach here.
+std::string resolve_uri(const std::string& uri, const fs::path& base, const fs::path& root, std::string* why) {
+  if (uri.empty()) { *why = "is empty"; return {}; }
+  if (uri.front() == '/' || uri.front() == '\\') { *why = "is an absolute path; only paths relative to the glTF are read"; return {}; }
+  if (uri.find(':') != std::string::npos) { *why = "has a scheme (file:, http:, ...) or a drive; only relative paths and data: URIs are read"; return {}; }
+  if (uri.find('%') != std::string::npos) { *why = "has %-escapes; write the path plainly"; return {}; }
+  if (uri.find('\\') != std::string::npos) { *why = "has a backslash; use '/'"; return {}; }
+  const fs::path lexical = (base / uri).lexically_normal();
+  auto inside = [&](const fs::path& p) {
+    const fs::path rel = p.lexically_relative(root);
+    return !rel.empty() && *rel.begin() != ".." && rel != ".";
+  };
+  if (!inside(lexical)) { *why = "leaves the asset folder " + root.string() + " (see --asset-root)"; return {}; }
+  std::error_code ec;
+  const fs::path real = fs::weakly_canonical(lexical, ec);  // symbolic links resolved
+  if (ec || !inside(real)) { *why = "leads outside the asset folder " + root.string() + " (a symbolic link?)"; return {}; }
+  return real.string();
+}
+
+// The state tinygltf's callbacks see.
+struct Reader {
+  fs::path base, root;  // canonical: the glTF's folder, and the folder uris may reach into
+  LoadLimits limits;
+  Budget budget;
+  std::vector<bool> used_images;  // decoded only when a material uses them
+  std::string error;              // the first refusal, for a clear message
+};
+
+std::string expand_path(const std::string& path, void*) { return path; }  // no ~, no variables, no wordexp
+
+// tinygltf joins its base folder with the uri, then tries "." + uri: only the first, confined.
+std::string confined(const std::string& joined, Reader& r, std::string* why) {
+  const fs::path p(joined);
+  if (!p.is_absolute()) { *why = "is not beside the glTF (the current folder is not searched)"; return {}; }
+  const fs::path rel = p.lexically_relative(r.base);
+  return resolve_uri(rel.string(), r.base, r.root, why);
+}
+
+bool file_exists(const std::string& joined, void* user) {
+  Reader& r = *static_cast<Reader*>(user);
+  std::string why;
+  const std::string file = confined(joined, r, &why);
+  struct stat st {};
+  if (file.empty() || ::stat(file.c_str(), &st) != 0) return false;
+  return true;  // read_whole_file says why a non-regular file is refused
+}
+
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& joined, void* user) {
+  Reader& r = *static_cast<Reader*>(user);
+  std::string why;
+  const std::string file = confined(joined, r, &why);
+  bool ok = !file.empty() && read_regular(file, r.limits.max_file_bytes, r.budget, out, &why);
+  if (!ok) {
+    if (err) *err += why;
+    if (r.error.empty()) r.error = why;
+  }
+  return ok;
+}
+
+bool write_whole_file(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "the glTF reader writes nothing";
+  return false;
+}
+
+// Decodes an image a material uses, after its header shows it within the limits; others stay empty.
+bool load_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
+                int size, void* user) {
+  Reader& r = *static_cast<Reader*>(user);
+  if (index < 0 || std::size_t(index) >= r.used_images.size() || !r.used_images[std::size_t(index)]) return true;
+  const std::string what = "image " + std::to_string(index);
+  auto refuse = [&](const std::string& why) {
+    if (err) *err += what + ": " + why;
+    if (r.error.empty()) r.error = what + ": " + why;
+    return false;
+  };
+  int w = 0, h = 0, comp = 0;
+  if (size <= 0 || !stbi_info_from_memory(bytes, size, &w, &h, &comp) || w <= 0 || h <= 0)
+    return refuse("not an image stb_image reads (PNG, JPEG, ...)");
+  const std::uint64_t pixels = std::uint64_t(w) * std::uint64_t(h);
+  if (pixels > r.limits.max_image_pixels)
+    return refuse(std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the load limit max_image_pixels (" +
+                  std::to_string(r.limits.max_image_pixels) + ")");
+  if (pixels * 4 > r.budget.left) return refuse("decoding needs more bytes than the load limit max_total_bytes leaves");
+  r.budget.left -= pixels * 4;
+  unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
+  if (!data) return refuse(std::string("cannot decode: ") + stbi_failure_reason());
+  image->width = w;
+  image->height = h;
+  image->component = 4;
+  image->bits = 8;
+  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(data, data + std::size_t(w) * std::size_t(h) * 4);
+  stbi_image_free(data);
+  return true;
+}
+
+// The glTF's JSON, checked before tinygltf sees it: uris confined, the node hierarchy a tree
+// within the limits, MSFT_lod levels within max_levels. Marks the images materials use.
+void check_document(const nlohmann::json& doc, const std::string& path, Reader& r) {
+  using nlohmann::json;
+  if (!doc.is_object()) throw InputError(path + ": the glTF JSON is not an object");
+  auto array = [&](const char* key) -> const json& {
+    static const json empty = json::array();
+    const auto it = doc.find(key);
+    if (it == doc.end()) return empty;
+    if (!it->is_array()) throw InputError(path + ": '" + key + "' is not an array");
+    return *it;
+  };
+  auto index = [&](const json& v, std::size_t count, const std::string& what) {
+    if (!v.is_number_integer() || v.get<long long>() < 0 || std::uint64_t(v.get<long long>()) >= count)
+      throw InputError(path + ": " + what + " is not an index below " + std::to_string(count));
+    return std::size_t(v.get<long long>());
+  };
+  for (const char* key : {"buffers", "images"}) {
+    const json& items = array(key);
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      if (!items[i].is_object() || !items[i].contains("uri")) continue;
+      const json& uri = items[i]["uri"];
+      const std::string what = path + ": " + std::string(key, std::strlen(key) - 1) + " " + std::to_string(i) + " uri";
+      if (!uri.is_string()) throw InputError(what + " is not a string");
+      const std::string u = uri.get<std::string>();
+      if (u.rfind("data:", 0) == 0) continue;
+      std::string why;
+      if (resolve_uri(u, r.base, r.root, &why).empty()) throw InputError(what + " '" + u + "' " + why);
+    }
+  }
+  // Nodes: a strict tree within max_nodes, max_children, max_node_depth; MSFT_lod within max_levels.
+  const json& nodes = array("nodes");
+  const LoadLimits& L = r.limits;
+  if (nodes.size() > L.max_nodes)
+    throw InputError(path + ": " + std::to_string(nodes.size()) + " nodes, more than the load limit max_nodes (" + std::to_string(L.max_nodes) + ")");
+  std::vector<std::int64_t> parent(nodes.size(), -1);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    const std::string where = path + ": node " + std::to_string(n);
+    if (!nodes[n].is_object()) throw InputError(where + " is not an object");
+    if (const auto c = nodes[n].find("children"); c != nodes[n].end()) {
+      if (!c->is_array()) throw InputError(where + ": children is not an array");
+      if (c->size() > L.max_children)
+        throw InputError(where + ": " + std::to_string(c->size()) + " children, more than the load limit max_children (" + std::to_string(L.max_children) + ")");
+      for (const json& v : *c) {
+        const std::size_t child = index(v, nodes.size(), "node " + std::to_string(n) + " child");
+        if (parent[child] == std::int64_t(n)) throw InputError(where + " lists child " + std::to_string(child) + " twice (glTF requires a tree)");
+        if (parent[child] >= 0)
+          throw InputError(path + ": node " + std::to_string(child) + " has two parents, " + std::to_string(parent[child]) + " and " +
+                           std::to_string(n) + " (glTF requires a tree)");
+        if (child == n) throw InputError(where + " is its own child (a cycle)");
+        parent[child] = std::int64_t(n);
+      }
+    }
+    if (const auto e = nodes[n].find("extensions"); e != nodes[n].end() && e->is_object())
+      if (const auto lod = e->find("MSFT_lod"); lod != e->end() && lod->is_object())
+        if (const auto ids = lod->find("ids"); ids != lod->end()) {
+          if (!ids->is_array()) throw InputError(where + ": MSFT_lod ids is not an array");
+          if (ids->size() + 1 > L.max_levels)
+            throw InputError(where + ": MSFT_lod has " + std::to_string(ids->size() + 1) + " levels, more than the load limit max_levels (" +
+                             std::to_string(L.max_levels) + ")");
+          for (const json& v : *ids) index(v, nodes.size(), "node " + std::to_string(n) + " MSFT_lod id");
+        }
+  }
+  // Depth and cycles: every node's chain of parents must end at a root within max_node_depth
+  // steps (a cycle never ends). depth[] memoises, so this is linear.
+  std::vector<std::uint32_t> depth(nodes.size(), 0);  // 0: not known yet; else depth + 1
+  std::vector<std::size_t> chain;
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    chain.clear();
+    std::size_t at = n;
+    while (depth[at] == 0 && parent[at] >= 0) {
+      chain.push_back(at);
+      if (chain.size() > std::size_t(L.max_node_depth) + 1)
+        throw InputError(path + ": node " + std::to_string(n) + " is deeper than the load limit max_node_depth (" +
+                         std::to_string(L.max_node_depth) + "), or the hierarchy has a cycle");
+      at = std::size_t(parent[at]);
+    }
+    std::uint32_t d = depth[at] ? depth[at] : (depth[at] = 1);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) depth[*it] = ++d;
+    if (d - 1 > L.max_node_depth)
+      throw InputError(path + ": node " + std::to_string(n) + " is deeper than the load limit max_node_depth (" + std::to_string(L.max_node_depth) + ")");
+  }
+  const json& scenes = array("scenes");
+  for (std::size_t s = 0; s < scenes.size(); ++s) {
+    if (!scenes[s].is_object() || !scenes[s].contains("nodes")) continue;
+    const json& roots = scenes[s]["nodes"];
+    if (!roots.is_array()) throw InputError(path + ": scene " + std::to_string(s) + " nodes is not an array");
+    std::vector<bool> seen(nodes.size(), false);
+    for (const json& v : roots) {
+      const std::size_t root = index(v, nodes.size(), "scene " + std::to_string(s) + " node");
+      if (parent[root] >= 0)
+        throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) + ", which has a parent (" +
+                         std::to_string(parent[root]) + "); scene nodes must be roots");
+      if (seen[root]) throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) + " twice");
+      seen[root] = true;
+    }
+  }
+  // The images base-colour textures use: the only ones decoded.
+  const json& images = array("images");
+  const json& textures = array("textures");
+  r.used_images.assign(images.size(), false);
+  for (const json& m : array("materials")) {
+    if (!m.is_object()) continue;
+    const json* t = &m;
+    for (const char* key : {"pbrMetallicRoughness", "baseColorTexture", "index"}) {
+      if (!t->is_object() || !t->contains(key)) { t = nullptr; break; }
+      t = &(*t)[key];
+    }
+    if (!t || !t->is_number_integer() || t->get<long long>() < 0 || std::uint64_t(t->get<long long>()) >= textures.size()) continue;
+    const json& tex = textures[std::size_t(t->get<long long>())];
+    if (!tex.is_object() || !tex.contains("source") || !tex["source"].is_number_integer()) continue;
+    const long long source = tex["source"].get<long long>();
+    if (source >= 0 && std::uint64_t(source) < images.size()) r.used_images[std::size_t(source)] = true;
+  }
+}
+
+std::uint32_t le32(const unsigned char* p) { return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24; }
+
+Scene load_gltf(const std::string& path, const LoadOptions& options) {
+  Reader r;
+  r.limits = options.limits;
+  r.budget.left = options.limits.max_total_bytes;
+  r.budget.path = path;
+  std::error_code ec;
+  r.base = fs::weakly_canonical(fs::absolute(fs::path(path), ec).parent_path(), ec);
+  if (ec) throw InputError(path + ": cannot resolve its folder: " + ec.message());
+  r.root = r.base;
+  if (!options.asset_root.empty()) {
+    r.root = fs::weakly_canonical(fs::absolute(options.asset_root, ec), ec);
+    if (ec || !fs::is_directory(r.root)) throw InputError(options.asset_root + ": the asset root is not a folder");
+    const fs::path rel = r.base.lexically_relative(r.root);
+    if (rel.empty() || *rel.begin() == "..")
+      throw InputError(path + ": is not inside the asset root " + r.root.string());
+  }
+  std::vector<unsigned char> bytes;
+  std::string error;
+  if (!read_regular(path, r.limits.max_file_bytes, r.budget, &bytes, &error)) throw InputError(error);
+  // The JSON: the whole .gltf, or a .glb's first chunk (framing checked here; tinygltf rechecks).
+  const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const char* json_text = reinterpret_cast<const char*>(bytes.data());
+  std::size_t json_size = bytes.size();
+  if (glb) {
+    if (bytes.size() < 20) throw InputError(path + ": GLB shorter than its 20-byte header");
+    const std::uint32_t length = le32(&bytes[8]), chunk = le32(&bytes[12]);
+    if (le32(&bytes[4]) != 2) throw InputError(path + ": GLB version " + std::to_string(le32(&bytes[4])) + ", not 2");
+    if (length > bytes.size() || std::uint64_t(chunk) + 20 > length || le32(&bytes[16]) != 0x4E4F534Au)
+      throw InputError(path + ": malformed GLB header (lengths past the file, or no JSON chunk first)");
+    json_text += 20;
+    json_size = chunk;
+  }
+  check_json_depth(json_text, json_size, r.limits.max_json_depth, path);
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(json_text, json_text + json_size);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": not a readable glTF 2.0 file: invalid JSON: " + e.what());
+  }
+  check_document(doc, path, r);
+  doc = nlohmann::json();
+
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks(tinygltf::FsCallbacks{file_exists, expand_path, read_whole_file, write_whole_file, &r});
+  loader.SetImageLoader(load_image, &r);
+  tinygltf::Model model;
+  std::string err, warn;
+  const std::string base = r.base.string();
+  const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base)
+                      : loader.LoadASCIIFromString(&model, &err, &warn, json_text, unsigned(json_size), base);
+  if (!r.error.empty()) throw InputError(path + ": " + r.error);
+  if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? "unknown error" : err));
+  bytes = {};  // tinygltf checked each buffer's byteLength; accessor_span checks against the bytes held
+  return convert(model, path, r.budget);
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const LoadOptions& options) {
   const std::string ext = lower_extension(path);
   if (ext != ".gltf" && ext != ".glb") {
     Scene s;
@@ -304,14 +685,35 @@ Scene load_scene(const std::string& path) {
     s.roots.push_back(0);
     return s;
   }
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? "unknown error" : err));
-  return convert(model, path);
+  return load_gltf(path, options);
+}
+
+std::vector<PlacedNode> world_matrices(const Scene& scene, const std::function<bool(int)>& skip) {
+  std::vector<PlacedNode> out;
+  std::vector<bool> reached(scene.nodes.size(), false);
+  std::vector<PlacedNode> stack;  // (node, its parent's world matrix)
+  const std::array<double, 16> identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  auto push = [&](int n, const std::array<double, 16>& parent) {
+    if (n < 0 || std::size_t(n) >= scene.nodes.size()) throw InputError("node " + std::to_string(n) + " does not exist");
+    if (skip && skip(n)) return;
+    if (reached[std::size_t(n)])
+      throw InputError("node " + std::to_string(n) + " is reached twice: the node hierarchy has a cycle or a node with two parents");
+    reached[std::size_t(n)] = true;
+    stack.push_back({n, parent});
+  };
+  for (auto r = scene.roots.rbegin(); r != scene.roots.rend(); ++r) push(*r, identity);
+  while (!stack.empty()) {
+    const PlacedNode top = stack.back();
+    stack.pop_back();
+    const Node& node = scene.nodes[std::size_t(top.node)];
+    PlacedNode placed{top.node, {}};
+    for (int c = 0; c < 4; ++c)  // column-major parent * local
+      for (int r = 0; r < 4; ++r)
+        for (int k = 0; k < 4; ++k) placed.world[std::size_t(c * 4 + r)] += top.world[std::size_t(k * 4 + r)] * node.matrix[std::size_t(c * 4 + k)];
+    out.push_back(placed);
+    for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) push(*c, placed.world);
+  }
+  return out;
 }
 
 std::vector<double> screen_coverage(const std::vector<double>& error, double height) {
@@ -337,6 +739,8 @@ std::vector<double> lod_geometric_errors(const Node& top, std::size_t levels) {
 
 void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects, const std::vector<Material>& materials,
                     const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
+  if (!(options.reference_height >= 1) || !std::isfinite(options.reference_height))
+    throw std::runtime_error(path + ": reference height " + std::to_string(options.reference_height) + " is not a finite height >= 1 px");
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "acuity lodgen";

@@ -11,12 +11,17 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "acuity/file.hpp"
+#include "acuity/profile.hpp"
+
 namespace acuity::spectra {
 namespace {
 [[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
 
 using detail::luminance;
 using detail::srgb_to_linear;
+
+constexpr std::uint32_t kMaxSnapshotPixels = 8192;
 
 std::array<float, 3> vec3(const nlohmann::json& j, const std::string& where) {
   if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -26,8 +31,17 @@ std::array<float, 3> vec3(const nlohmann::json& j, const std::string& where) {
 }  // namespace
 
 Image load_png_luminance(const std::string& path) {
+  Blob blob;  // a regular file only: a FIFO or device is refused, not waited on
+  std::string error;
+  if (!read_file(path, &blob, &error)) throw std::runtime_error(error);
+  const auto* bytes = static_cast<const unsigned char*>(blob.data());
+  if (blob.size > std::size_t(INT32_MAX)) fail(path, "too large for an image");
   int w = 0, h = 0, c = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &c, 0);
+  // The header first: dimensions past kMaxSnapshotPixels across are refused before decoding.
+  if (!stbi_info_from_memory(bytes, int(blob.size), &w, &h, &c)) fail(path, std::string("not a readable image: ") + stbi_failure_reason());
+  if (w <= 0 || h <= 0 || w > int(kMaxSnapshotPixels) || h > int(kMaxSnapshotPixels))
+    fail(path, std::to_string(w) + "x" + std::to_string(h) + " pixels; snapshots are at most " + std::to_string(kMaxSnapshotPixels) + " across");
+  unsigned char* data = stbi_load_from_memory(bytes, int(blob.size), &w, &h, &c, 0);
   if (!data) fail(path, std::string("not a readable image: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown"));
   Image im;
   im.width = std::uint32_t(w);
@@ -43,18 +57,22 @@ Image load_png_luminance(const std::string& path) {
 }
 
 ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSettings& settings) {
-  std::ifstream in(manifest);
-  if (!in) fail(manifest, "cannot be opened");
+  Blob text;
+  std::string error;
+  if (!read_file(manifest, &text, &error)) throw std::runtime_error(error);
   nlohmann::json j;
   try {
-    in >> j;
+    const char* begin = static_cast<const char*>(text.data());
+    j = nlohmann::json::parse(begin, begin + text.size);
   } catch (const std::exception& e) {
     fail(manifest, std::string("not valid JSON: ") + e.what());
   }
   const std::filesystem::path base = std::filesystem::path(manifest).parent_path();
   if (!j.contains("pixels_per_diameter") || !j["pixels_per_diameter"].is_number_unsigned()) fail(manifest, "needs pixels_per_diameter");
   const std::uint32_t n = j["pixels_per_diameter"].get<std::uint32_t>();
+  if (n < 8 || n > kMaxSnapshotPixels) fail(manifest, "pixels_per_diameter must be 8 .. " + std::to_string(kMaxSnapshotPixels));
   if (!j.contains("levels") || !j["levels"].is_array() || j["levels"].size() < 2) fail(manifest, "needs two or more levels");
+  if (j["levels"].size() > kMaxLevels) fail(manifest, "more than " + std::to_string(kMaxLevels) + " levels");
   if (!j.contains("views") || !j["views"].is_array() || j["views"].empty()) fail(manifest, "needs one or more views");
   ProfileData out;
   out.snapshot_pixels = n;
@@ -88,7 +106,12 @@ ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSe
       fail(where, "needs one image per level (" + std::to_string(K) + ")");
     std::vector<Image> images;
     for (const auto& name : view["images"]) {
-      const std::string path = (base / name.get<std::string>()).string();
+      // Names are relative to the manifest's folder and stay inside it.
+      if (!name.is_string()) fail(where, "images: expected file names");
+      const std::filesystem::path rel = std::filesystem::path(name.get<std::string>()).lexically_normal();
+      if (rel.empty() || rel.is_absolute() || *rel.begin() == "..")
+        fail(where, "image '" + name.get<std::string>() + "' is not inside the manifest's folder");
+      const std::string path = (base / rel).string();
       images.push_back(load_png_luminance(path));
       if (images.back().width != n || images.back().height != n)
         fail(path, "is " + std::to_string(images.back().width) + "x" + std::to_string(images.back().height) +

@@ -10,7 +10,7 @@
 namespace acuity::lodgen {
 
 struct ChainOptions {
-  std::size_t levels = 0;         // 0: halve (ratio) until about 1% or min_triangles
+  std::size_t levels = 0;         // 0: halve (ratio) until about 1% or min_triangles; never more than kMaxLevels (32)
   double ratio = 0.5;             // triangles of level k+1 over level k
   double max_error = 0;           // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
                                   // Hausdorff distance [object diameters]

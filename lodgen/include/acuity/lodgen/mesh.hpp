@@ -2,6 +2,7 @@
 // acuity/lodgen/mesh.hpp — the flat meshes and scenes every offline part exchanges.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -56,9 +57,46 @@ struct InputError : std::runtime_error {
 // non-finite coordinates.
 Mesh load_mesh(const std::string& path);
 
+// What an untrusted glTF may make the reader do. Each limit is checked before the work it bounds;
+// exceeding one throws InputError naming the limit. docs/security.md lists them with the reasons.
+struct LoadLimits {
+  std::uint64_t max_file_bytes = 1ull << 30;   // the .gltf/.glb itself and each file a uri names
+  std::uint64_t max_total_bytes = 2ull << 30;  // files read + pixels decoded + vertex/index data decoded
+  std::uint32_t max_json_depth = 64;           // nesting of JSON arrays and objects (scanned before parsing)
+  std::uint32_t max_nodes = 100000;
+  std::uint32_t max_node_depth = 256;          // root to deepest node
+  std::uint32_t max_children = 10000;          // per node
+  std::uint32_t max_levels = 32;               // per MSFT_lod node: itself + its ids (kMaxLevels)
+  std::uint64_t max_image_pixels = 8192ull * 8192;  // per image, read from its header before decoding
+};
+
+struct LoadOptions {
+  // Folder a glTF's buffer and image uris may name files in (after resolving "..", "." and
+  // symbolic links); empty: the folder holding the glTF. Widen it (`--asset-root DIR`) for assets
+  // that keep buffers in a sibling folder. Absolute paths, schemes (file:, http:) and %-escapes
+  // are never followed; data: URIs always work.
+  std::string asset_root;
+  LoadLimits limits;
+};
+
 // Reads a glTF 2.0 file (.gltf with its .bin, or .glb) or, by extension, any format load_mesh
-// reads (as one node). Throws InputError naming the file and the element at fault.
-Scene load_scene(const std::string& path);
+// reads (as one node). The glTF must be a strict tree (no node with two parents or listed twice,
+// no cycle; scene roots have no parent); only the images a material uses as base colour are
+// decoded. Throws InputError naming the file and the element at fault.
+Scene load_scene(const std::string& path, const LoadOptions& options = {});
+
+// A node reached from the scene's roots and its world matrix (column-major, parents' matrices
+// times its own).
+struct PlacedNode {
+  int node = -1;
+  std::array<double, 16> world{};
+};
+
+// Every node reached from scene.roots in depth-first order (roots, then children, each in order),
+// without recursion. `skip(node)` true leaves a node and its subtree out. Throws InputError when a
+// node is reached twice (a cycle, or a node with two parents) or an index is out of range. The one
+// walk lodgen and the simulation share.
+std::vector<PlacedNode> world_matrices(const Scene& scene, const std::function<bool(int)>& skip = {});
 
 // Bounding-sphere diameter used to express errors as fractions of the object (bounding box
 // centre, farthest vertex).

@@ -8,8 +8,9 @@
 //    "levels": [{"triangles": 100000, "geometric_error": 0.0}, ...],   // finest first
 //    "views": [{"direction": [x, y, z], "up": [x, y, z],             // object to camera; image up
 //               "images": ["v0_l0.png", "v0_l1.png", ...]}, ...]}    // one per level, relative paths
-// Images: square PNG, pixels_per_diameter across (a power of two), 8-bit sRGB or grey; converted
-// to linear luminance.
+// Images: square PNG, pixels_per_diameter across (a power of two, 8 .. 8192), 8-bit sRGB or grey;
+// converted to linear luminance. Image names stay inside the manifest's folder; files must be
+// regular files; at most 32 levels (kMaxLevels).
 #include <string>
 
 #include "acuity/spectra/analyze.hpp"
@@ -17,7 +18,8 @@
 
 namespace acuity::spectra {
 
-// Linear luminance of a PNG file. Throws std::runtime_error naming the file.
+// Linear luminance of a PNG file (a regular file, at most 8192 pixels across, checked from its
+// header before decoding). Throws std::runtime_error naming the file.
 Image load_png_luminance(const std::string& path);
 
 // Reads the manifest and its images and measures them. Throws std::runtime_error naming the file
