@@ -80,6 +80,7 @@ Kit::Kit(const SchedulerConfig& config) : scheduler_(std::make_unique<Scheduler>
 
 Kit::~Kit() {
   for (LodNode* n : nodes_) {
+    if (!n) continue;
     n->kit_ = nullptr;
     n->id_ = kInvalidObject;
   }
