@@ -87,14 +87,15 @@ def main():
     assert levels.min() >= 0 and levels.max() <= 3, "levels within the 4-level chain"
     assert [int(r[0]) for r in rows] == list(range(frames))
     header, rows = read_csv(os.path.join(out, "frames.csv"))
-    assert header == ["frame", "time_s", "frame_ms", "cull_ms", "acuity_ms", "draw_ms", "triangles", "changed"]
+    assert header == ["frame", "time_s", "frame_ms", "cull_ms", "acuity_ms", "transforms_ms", "draw_ms", "triangles", "changed"]
     assert len(rows) == frames
     t = np.array([[float(x) for x in r] for r in rows])
     assert np.all(t[:, 2] > 0) and np.all(t[:, 3] > 0) and np.all(t[:, 4] > 0), "frame, cull and acuity times are measured"
     assert np.all(t[:, 4] <= t[:, 3] + 1e-6), "acuity runs inside the cull"
+    assert np.all(t[:, 5] <= t[:, 4]), "the transform walk is part of acuity's time"
     # The triangles reported are those of the levels written: 634 / 316 / 158 / 78 per level.
     tri = np.array([634, 316, 158, 78])
-    assert np.array_equal(t[:, 6].astype(int), tri[levels].sum(axis=1))
+    assert np.array_equal(t[:, 7].astype(int), tri[levels].sum(axis=1))
 
     # 2. The plain mesh, chained on the fly by lodgen (the path `simulate` takes), in stereo.
     out2 = os.path.join(WORK, "stereo")

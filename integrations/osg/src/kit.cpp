@@ -209,9 +209,12 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
     std::copy(m.ptr(), m.ptr() + 16, a.begin());  // osg's row-vector layout is the column-major array
     scheduler_->set_transform(n->id_, tools::decompose(a));
   }
+  const auto t1 = std::chrono::steady_clock::now();
   scheduler_->run_frame(frame_);
   ran_ = true;
-  acuity_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto t2 = std::chrono::steady_clock::now();
+  acuity_ms_ = std::chrono::duration<double, std::milli>(t2 - t0).count();
+  transforms_ms_ = std::chrono::duration<double, std::milli>(t1 - t0).count();
 }
 
 float Kit::quantise_fade(float fade) {

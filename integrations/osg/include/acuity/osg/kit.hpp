@@ -125,7 +125,8 @@ class Kit : public ::osg::Referenced {
   const Frame& frame() const { return frame_; }                      // the last frame's input
   const std::vector<LodNode*>& nodes() const { return nodes_; }
   std::uint32_t frame_number() const { return frame_number_; }
-  double last_acuity_ms() const { return acuity_ms_; }               // transforms + scheduler, last frame
+  double last_acuity_ms() const { return acuity_ms_; }               // eyes + transforms + scheduler, last frame
+  double last_transforms_ms() const { return transforms_ms_; }       // of which eyes and node-path transforms
 
   // Shared, immutable state sets pushed around a level in the cull: acuity_fade quantised to 1/64
   // (the dither's resolution) with acuity_outgoing false (incoming) or true (faded out); and one
@@ -154,7 +155,7 @@ class Kit : public ::osg::Referenced {
   bool ran_ = false;
   Frame frame_;
   Eye previous_eyes_[2];
-  double acuity_ms_ = 0;
+  double acuity_ms_ = 0, transforms_ms_ = 0;
   ::osg::NodePath path_;                                 // reused by the transform walk
   std::vector<::osg::ref_ptr<::osg::StateSet>> fade_states_[2];
   std::vector<::osg::ref_ptr<::osg::StateSet>> level_states_;
