@@ -4,7 +4,9 @@ fly), profiles built into a folder; the written PNGs are real pictures (not blan
 and the gaze ring present), levels.csv holds one valid level per object and frame, frames.csv one
 frame-time line per frame, and a stereo run draws both halves.
 
-Usage: check_viewer.py ACUITY ACUITY_OSG MESH_DIR WORK_DIR"""
+Also runs the hello_osg example on that scene and checks that docs/integrations.md shows it verbatim.
+
+Usage: check_viewer.py ACUITY ACUITY_OSG MESH_DIR WORK_DIR HELLO_OSG SOURCE_DIR"""
 import csv
 import os
 import shutil
@@ -14,7 +16,7 @@ import sys
 import numpy as np
 from matplotlib.image import imread
 
-ACUITY, VIEWER, MESHES, WORK = sys.argv[1:5]
+ACUITY, VIEWER, MESHES, WORK, HELLO, SOURCE = sys.argv[1:7]
 PALETTE = [(0.15, 0.35, 1.0), (0.0, 0.85, 0.9), (0.2, 0.85, 0.2), (0.95, 0.9, 0.1), (1.0, 0.55, 0.1), (0.9, 0.15, 0.1)]
 BACKGROUND = np.array([0.08, 0.09, 0.11])
 
@@ -108,6 +110,15 @@ def main():
     r = subprocess.run([VIEWER, os.path.join(WORK, "profiles", "eight.acuity"), "--headless", "--frames", "1"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode != 0 and "acuity-osg:" in r.stderr, r.stderr
+    # 4. The documented example runs, and the documentation shows exactly its source.
+    stdout = run([HELLO, os.path.join(profiles, "eight.acuity"), glb, "--frames", "5"])
+    assert "triangles" in stdout, stdout
+    with open(os.path.join(SOURCE, "integrations", "osg", "examples", "hello_osg.cpp")) as f:
+        code = f.read().rstrip("\n")
+    with open(os.path.join(SOURCE, "docs", "integrations.md")) as f:
+        doc = f.read()
+    block = doc.split("<!-- hello_osg.cpp begin -->\n```cpp\n")[1].split("\n```\n<!-- hello_osg.cpp end -->")[0]
+    assert block == code, "docs/integrations.md's copy of hello_osg.cpp is stale"
     print(f"ok: level colours seen {sorted(seen)}; PNGs in {out}")
 
 

@@ -44,7 +44,7 @@ constexpr double kDeg = 57.295779513082320876;
 
 struct Options {
   std::string scene, profiles, head, gaze_file, gaze_mode = "auto", out;
-  std::uint32_t frames = 0, png_every = 1, objects = 0, res = 256, width = 960, height = 540, seed = 1;
+  std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540, seed = 1;
   double seconds = 20, fps = 60, fov = 90, ipd = 0.064;
   float transition = 0.25f, quality = 1.0f;
   bool headless = false, stereo = false, debug = false, quiet = false;
@@ -294,7 +294,7 @@ int run(const Options& o) {
       if (st->getAttribute(number, "Draw traversal time taken", v)) draw += 1000 * v;
     }
     const double acuity_ms = kit->last_acuity_ms();
-    if (f > 0) {  // frame 0 compiles shaders and uploads buffers
+    if (f >= o.skip) {  // frame 0 compiles shaders and uploads buffers; the first fades start from level 0
       sum_frame += frame_ms;
       sum_cull += cull;
       sum_acuity += acuity_ms;
@@ -325,9 +325,9 @@ int run(const Options& o) {
   }
   if (measured) {
     const double n = double(measured);
-    std::printf("frame time [ms, mean of %zu frames after the first]: frame %.3f, cull %.3f (acuity %.3f inside it, of which "
+    std::printf("frame time [ms, mean of %zu frames after the first %u]: frame %.3f, cull %.3f (acuity %.3f inside it, of which "
                 "eyes and transforms %.3f), draw %.3f; acuity %.2f%% of the frame, %zu objects\n",
-                measured, sum_frame / n, sum_cull / n, sum_acuity / n, sum_transforms / n, sum_draw / n, 100 * sum_acuity / sum_frame,
+                measured, o.skip, sum_frame / n, sum_cull / n, sum_acuity / n, sum_transforms / n, sum_draw / n, 100 * sum_acuity / sum_frame,
                 nodes.nodes.size());
   }
   if (!o.out.empty() && !o.quiet) std::printf("wrote %zu PNG frames, levels.csv and frames.csv into %s\n", pngs, o.out.c_str());
@@ -348,6 +348,7 @@ int main(int argc, char** argv) {
   app.add_option("--seconds", o.seconds, "Length of the built-in path [s]")->capture_default_str()->check(CLI::Range(0.1, 3600.0));
   app.add_option("--fps", o.fps, "Frames per second of the simulated clock")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
   app.add_option("--frames", o.frames, "Stop after N frames (default: the path's length, looping when windowed)");
+  app.add_option("--skip", o.skip, "Frames left out of the frame-time means (warm-up)")->capture_default_str();
   app.add_option("--out", o.out, "Directory for frame_NNNNN.png, levels.csv, frames.csv");
   app.add_option("--png-every", o.png_every, "Write every K-th frame as PNG (0: none)")->capture_default_str();
   app.add_option("--objects", o.objects, "Replace the instances by a grid of N objects cycling the assets")->check(CLI::Range(1u, 1000000u));
