@@ -19,7 +19,7 @@ PACKAGES=(
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest   # bindings/
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
-  libopenscenegraph-dev xvfb xauth            # integrations/osg/: the OSG kit, rendered headless under xvfb-run
+  libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run
 )
 
 install_packages() {

@@ -143,10 +143,16 @@ void Kit::set_clamps(LodNode* node, std::uint8_t lo, std::uint8_t hi) {
 void Kit::set_cameras(const std::vector<::osg::Camera*>& cameras) {
   if (cameras.size() > 2) throw std::runtime_error("acuity::osg::Kit::set_cameras: one or two cameras");
   std::lock_guard<std::mutex> lock(mutex_);
+  if (!callback_) callback_ = new CameraCallback(this);
+  for (const auto& c : cameras_) {
+    ::osg::ref_ptr<::osg::Camera> old;
+    if (c.lock(old)) old->removeCullCallback(callback_.get());
+  }
   cameras_.clear();
   for (::osg::Camera* c : cameras) {
+    if (!c) throw std::runtime_error("acuity::osg::Kit::set_cameras: null camera");
     cameras_.emplace_back(c);
-    c->setCullCallback(new CameraCallback(this));
+    c->addCullCallback(callback_.get());  // nested with the application's own cull callbacks
   }
 }
 

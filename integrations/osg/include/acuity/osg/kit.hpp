@@ -49,7 +49,8 @@ class GazeSource : public ::osg::Referenced {
 // frustum (false for a projection that is not a perspective frustum), viewport in pixels.
 bool eye_from_camera(const ::osg::Camera& camera, Eye* eye);
 
-// One acuity object: children are its levels, finest first (as many as its profile has levels).
+// One acuity object: children are its levels, finest first (as many as its profile has levels; a
+// level without a child draws nothing). One parent path: its first parents give its world transform.
 class LodNode : public ::osg::Group {
  public:
   LodNode() = default;
@@ -109,8 +110,10 @@ class Kit : public ::osg::Referenced {
   void set_bias(LodNode* node, float quality_bias);                  // multiplies q (> 1 coarser)
   void set_clamps(LodNode* node, std::uint8_t min_level, std::uint8_t max_level);
 
-  // The cameras that are the eyes (one, or two for stereo), each given a cull callback that runs
-  // the frame. Without cameras the camera of the first cull is the one eye.
+  // The cameras that are the eyes (one, or two for stereo), each given a cull callback (added to
+  // theirs) that runs the frame; a second call replaces the first. Without cameras the camera of
+  // the first cull is the one eye. A camera whose projection is not a perspective frustum keeps
+  // its last eye.
   void set_cameras(const std::vector<::osg::Camera*>& cameras);
   // The view's two slave cameras when it has two (stereo), else its master camera.
   void attach(::osgViewer::View& view);
@@ -148,6 +151,7 @@ class Kit : public ::osg::Referenced {
   std::deque<Blob> profiles_;
   std::vector<LodNode*> nodes_;
   std::vector<::osg::observer_ptr<::osg::Camera>> cameras_;
+  ::osg::ref_ptr<::osg::Callback> callback_;            // the cull callback added to each eye camera
   ::osg::ref_ptr<GazeSource> gaze_;
   std::mutex mutex_;
   std::uint32_t frame_number_ = 0xffffffffu;
