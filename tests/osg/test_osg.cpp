@@ -19,6 +19,7 @@
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
 #include "frame_image.hpp"
+#include "tracks.hpp"
 #include "profile_fixture.hpp"
 
 namespace {
@@ -162,27 +163,54 @@ TEST(Osg, DitherIsAnOrderedEightByEightMatrix) {
   EXPECT_EQ(Kit::quantise_fade(std::nanf("")), 1.0f);  // no fade: the level alone
 }
 
+// Head and gaze tracks recorded at 30 Hz in the CSV format `acuity simulate` reads.
+std::string head_csv() {
+  std::string s = "t,x,y,z,qx,qy,qz,qw\n";
+  for (int i = 0; i <= 45; ++i) {
+    const double t = i / 30.0;
+    const Head h = head_at(t);
+    char line[256];
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", t, h.position.x(), h.position.y(),
+                  h.position.z(), h.orientation.x(), h.orientation.y(), h.orientation.z(), h.orientation.w());
+    s += line;
+  }
+  return s;
+}
+std::string gaze_csv() {  // a sideways sweep with a blink (confidence 0) from 0.5 s to 0.6 s
+  std::string s = "t,x,y,z,confidence\n";
+  for (int i = 0; i <= 45; ++i) {
+    const double t = i / 30.0;
+    char line[160];
+    std::snprintf(line, sizeof line, "%.17g,%.17g,0,-1,%d\n", t, 0.3 * std::sin(2 * t), t >= 0.5 && t <= 0.6 ? 0 : 1);
+    s += line;
+  }
+  return s;
+}
+
 TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   World w(12, 0.0f, false);
-  acuity::osg::FixedGaze* gaze = new acuity::osg::FixedGaze;
-  w.kit->set_gaze_source(gaze);
+  const int frames = 90;
+  const auto head = acuity::tools::head_path_from(acuity::tools::parse_table(head_csv(), "head.csv", false), kFps, frames);
+  const auto samples = acuity::tools::gaze_trace_from(acuity::tools::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
+  ASSERT_EQ(head.size(), std::size_t(frames));
+  w.kit->set_gaze_source(new acuity::osg::TrackGaze(samples));  // sample 0 at the first frame
   acuity::Scheduler ref(w.config);
   ASSERT_EQ(ref.add_profile(w.profile), 0);
   for (std::uint32_t i = 0; i < 12; ++i) ASSERT_EQ(ref.add_object(0, w.transform(i, 0)), w.nodes[i]->id());
   std::set<int> levels_seen;
-  int changes = 0;
-  const int frames = 90;
+  int changes = 0, blinks = 0;
   for (int f = 0; f < frames; ++f) {
     const double t = f / kFps;
-    acuity::Gaze g;
-    g.valid = true;
-    g.direction[0] = float(0.3 * std::sin(2 * t));
-    g.direction[2] = -1;
-    gaze->set(g);
-    const Head h = head_at(t);
+    const Head h{::osg::Vec3d(head[f].position.x, head[f].position.y, head[f].position.z),
+                 ::osg::Quat(head[f].orientation.x, head[f].orientation.y, head[f].orientation.z, head[f].orientation.w)};
     w.viewer.getCamera()->setViewMatrix(view_of(h));
     w.place(t);
     w.viewer.frame(t);
+    // The gaze is the track's sample for this frame.
+    const acuity::Gaze& g = w.kit->frame().gaze[0];
+    EXPECT_EQ(g.valid, samples[f].confidence > 0);
+    blinks += !g.valid;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(g.direction[k], float(samples[f].direction[k]));
     // The eye the kit read from the camera is the analytic one.
     const acuity::Frame& fr = w.kit->frame();
     ASSERT_EQ(fr.eye_count, 1u);
@@ -202,7 +230,6 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
       EXPECT_NEAR(e.velocity[2], 10.0, 1e-3);
     }
     EXPECT_FLOAT_EQ(fr.dt, f ? float(1 / kFps) : 0.0f);
-    EXPECT_EQ(fr.gaze[0].direction[0], g.direction[0]);
     // An independent scheduler given the same eye and the analytic transforms.
     for (std::uint32_t i = 0; i < 12; ++i) ref.set_transform(w.nodes[i]->id(), w.transform(i, t));
     ref.run_frame(fr);
@@ -217,6 +244,7 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
     }
   }
   EXPECT_GE(levels_seen.size(), 3u) << "the walk should cross several levels";
+  EXPECT_GE(blinks, 5) << "the blink in the track reaches the scheduler as no gaze";
   EXPECT_GT(changes, 0);
   EXPECT_GT(w.kit->last_acuity_ms(), 0.0);
 }

@@ -54,6 +54,7 @@ TrackGaze::TrackGaze(std::vector<tools::GazeSample> samples, std::uint32_t first
 Gaze TrackGaze::gaze(std::uint32_t frame, double, const ::osg::Camera&, std::uint32_t) {
   Gaze g;
   if (samples_.empty()) return g;
+  if (first_ == kFirstAsked) first_ = frame;
   const std::size_t i = std::min<std::size_t>(frame > first_ ? frame - first_ : 0, samples_.size() - 1);
   const tools::GazeSample& s = samples_[i];
   for (int k = 0; k < 3; ++k) g.direction[k] = float(s.direction[k]);

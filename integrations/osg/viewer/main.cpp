@@ -279,7 +279,8 @@ int run(const Options& o) {
   for (std::size_t f = 0; (o.frames == 0 || f < frames) && !viewer.done(); ++f) {
     const double t = double(f) / o.fps;
     master->setViewMatrix(view_of(head[f % head.size()]));
-    if (ring && gaze) ring->place(*master, gaze->gaze(std::uint32_t(f), t, *master, 0));
+    // The gaze the kit will ask for in this frame (viewer.frame() advances the frame number first).
+    if (ring && gaze) ring->place(*master, gaze->gaze(viewer.getFrameStamp()->getFrameNumber() + 1, t, *master, 0));
     const bool png = !o.out.empty() && o.png_every && f % o.png_every == 0;
     capture->enabled = png;
     const auto t0 = std::chrono::steady_clock::now();

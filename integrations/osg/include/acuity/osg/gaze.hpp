@@ -39,11 +39,13 @@ class MouseGaze : public GazeSource {
 // Eye-space direction through normalised device coordinates (x, y) of a perspective camera.
 ::osg::Vec3d direction_through(const ::osg::Camera& camera, double x, double y);
 
-// A recorded trace, one sample per frame from `first_frame` (tools::gaze_trace_from resamples a
-// table to frames); held past the ends. Confidence 0 is no gaze.
+// A recorded trace, one sample per frame (tools::gaze_trace_from resamples a table to frames),
+// sample 0 at frame number `first_frame` (by default the first frame it is asked for); held past
+// the ends. Confidence 0 is no gaze.
 class TrackGaze : public GazeSource {
  public:
-  TrackGaze(std::vector<tools::GazeSample> samples, std::uint32_t first_frame = 0);
+  static constexpr std::uint32_t kFirstAsked = 0xffffffffu;
+  explicit TrackGaze(std::vector<tools::GazeSample> samples, std::uint32_t first_frame = kFirstAsked);
   Gaze gaze(std::uint32_t frame, double time, const ::osg::Camera& camera, std::uint32_t eye) override;
 
  private:
