@@ -106,11 +106,21 @@ def main():
     assert "stereo" in stdout
     check_png(os.path.join(out2, "frame_00000.png"), stereo=True)
 
-    # 3. A bad input fails loudly.
+    # 3. OSG's threaded models (one cull thread per eye camera) choose the same levels as the
+    #    single-threaded viewer: the kit runs the scheduler once per frame whichever cull comes first.
+    common = [glb, "--profiles", profiles, "--objects", "25", "--headless", "--frames", "20", "--stereo", "--png-every", "0",
+              "--width", "320", "--height", "160", "--gaze-source", "generated", "-q"]
+    run([VIEWER] + common + ["--out", os.path.join(WORK, "single")])
+    run([VIEWER] + common + ["--out", os.path.join(WORK, "threaded"), "--threading", "cull-per-camera"])
+    _, single = read_csv(os.path.join(WORK, "single", "levels.csv"))
+    _, threaded = read_csv(os.path.join(WORK, "threaded", "levels.csv"))
+    assert single == threaded and len(single) == 20
+
+    # 4. A bad input fails loudly.
     r = subprocess.run([VIEWER, os.path.join(WORK, "profiles", "eight.acuity"), "--headless", "--frames", "1"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode != 0 and "acuity-osg:" in r.stderr, r.stderr
-    # 4. The documented example runs, and the documentation shows exactly its source.
+    # 5. The documented example runs, and the documentation shows exactly its source.
     stdout = run([HELLO, os.path.join(profiles, "eight.acuity"), glb, "--frames", "5"])
     assert "triangles" in stdout, stdout
     with open(os.path.join(SOURCE, "integrations", "osg", "examples", "hello_osg.cpp")) as f:

@@ -349,6 +349,39 @@ TEST(Osg, CrossFadeRisesOverTransitionSecondsAndSplitsThePixels) {
   EXPECT_NEAR(double(in) / (in + out), d.fade, 0.02) << in << " incoming, " << out << " outgoing pixels";
 }
 
+// A LodNode outside any kit draws its finest level only (never every level on top of each other).
+TEST(Osg, ANodeWithoutAKitDrawsItsFinestLevel) {
+  World w(1, 0.0f, false, 3.0f);
+  ::osg::ref_ptr<LodNode> loose = new LodNode;
+  ::osg::ref_ptr<::osg::Geometry> a = acuity::osg::make_geometry(quad(1)), b = acuity::osg::make_geometry(quad(2));
+  loose->addChild(a.get());
+  loose->addChild(b.get());
+  EXPECT_EQ(loose->id(), acuity::kInvalidObject);
+  struct Count : ::osg::NodeVisitor {
+    int drawables = 0;
+    Count() : ::osg::NodeVisitor(TRAVERSE_ACTIVE_CHILDREN) {}
+    void apply(::osg::Drawable&) override { ++drawables; }
+  } active;
+  loose->accept(active);
+  EXPECT_EQ(active.drawables, 1);
+  struct CountAll : ::osg::NodeVisitor {
+    int drawables = 0;
+    CountAll() : ::osg::NodeVisitor(TRAVERSE_ALL_CHILDREN) {}
+    void apply(::osg::Drawable&) override { ++drawables; }
+  } all;
+  loose->accept(all);
+  EXPECT_EQ(all.drawables, 2);
+  // The kit is full (one object): removing the world's node frees its slot for this one.
+  EXPECT_THROW(w.kit->add(loose.get(), 0), std::runtime_error);
+  w.kit->remove(w.nodes[0].get());
+  EXPECT_EQ(w.nodes[0]->id(), acuity::kInvalidObject);
+  w.kit->add(loose.get(), 0);
+  EXPECT_NE(loose->id(), acuity::kInvalidObject);
+  EXPECT_THROW(w.kit->add(loose.get(), 0), std::runtime_error);
+  w.kit->remove(loose.get());
+  EXPECT_EQ(loose->id(), acuity::kInvalidObject);
+}
+
 TEST(Osg, APngOfAFrameIsWrittenAndIsNotBlank) {
   World w(12, 0.0f, false, 3.0f);
   w.viewer.getCamera()->setViewMatrix(view_of(head_at(0)));

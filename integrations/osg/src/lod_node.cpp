@@ -50,8 +50,9 @@ void LodNode::traverse(::osg::NodeVisitor& nv) {
     drawn_.both = both;
     return;
   }
-  if (nv.getTraversalMode() == ::osg::NodeVisitor::TRAVERSE_ACTIVE_CHILDREN && live) {
-    const std::uint8_t level = kit->scheduler().level(id_);
+  // Not an acuity object (no kit, or its kit is gone): the finest level is the active one.
+  if (nv.getVisitorType() == ::osg::NodeVisitor::CULL_VISITOR || nv.getTraversalMode() == ::osg::NodeVisitor::TRAVERSE_ACTIVE_CHILDREN) {
+    const std::uint8_t level = live ? kit->scheduler().level(id_) : 0;
     if (level < getNumChildren()) getChild(level)->accept(nv);
     return;
   }

@@ -43,7 +43,7 @@ namespace {
 constexpr double kDeg = 57.295779513082320876;
 
 struct Options {
-  std::string scene, profiles, head, gaze_file, gaze_mode = "auto", out;
+  std::string scene, profiles, head, gaze_file, gaze_mode = "auto", out, threading = "single";
   std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540, seed = 1;
   double seconds = 20, fps = 60, fov = 90, ipd = 0.064;
   float transition = 0.25f, quality = 1.0f;
@@ -194,7 +194,13 @@ int run(const Options& o) {
 
   // The viewer: a window or a pbuffer; one camera, or two slaves side by side for --stereo.
   osgViewer::Viewer viewer;
-  viewer.setThreadingModel(osgViewer::ViewerBase::SingleThreaded);
+  if (o.threading == "single") viewer.setThreadingModel(osgViewer::ViewerBase::SingleThreaded);
+  else if (o.threading == "cull-draw") viewer.setThreadingModel(osgViewer::ViewerBase::CullDrawThreadPerContext);
+  else if (o.threading == "draw") viewer.setThreadingModel(osgViewer::ViewerBase::DrawThreadPerContext);
+  else if (o.threading == "cull-per-camera") viewer.setThreadingModel(osgViewer::ViewerBase::CullThreadPerCameraDrawThreadPerContext);
+  else throw std::runtime_error("unknown --threading " + o.threading);
+  if (o.threading != "single" && o.png_every && !o.out.empty())
+    throw std::runtime_error("PNG frames need --threading single (a draw thread may still be reading back); use --png-every 0");
   viewer.setCameraManipulator(nullptr);
   if (mouse) viewer.addEventHandler(mouse->handler());
   ::osg::ref_ptr<::osg::GraphicsContext::Traits> traits = new ::osg::GraphicsContext::Traits;
@@ -359,6 +365,7 @@ int main(int argc, char** argv) {
   app.add_option("--transition", o.transition, "Cross-fade seconds")->capture_default_str()->check(CLI::Range(0.0f, 10.0f));
   app.add_option("--quality", o.quality, "q: invisible when lost <= q CT")->capture_default_str()->check(CLI::Range(0.01f, 100.0f));
   app.add_option("--seed", o.seed, "Seed of the generated gaze")->capture_default_str();
+  app.add_option("--threading", o.threading, "OSG threading model: single | cull-draw | draw | cull-per-camera")->capture_default_str();
   app.add_flag("--headless", o.headless, "Render into a pbuffer (under xvfb-run -a without a display)");
   app.add_flag("--stereo", o.stereo, "Two slave cameras side by side, one per eye");
   app.add_flag("--debug", o.debug, "Colour objects by level and ring the gaze");

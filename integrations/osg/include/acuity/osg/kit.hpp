@@ -83,7 +83,8 @@ class LodNode : public ::osg::Group {
   Drawn drawn() const;
 
   // In a cull traversal: the scheduler's level (and the faded-out one); other visitors traverse the
-  // active level (TRAVERSE_ACTIVE_CHILDREN) or every level.
+  // active level (TRAVERSE_ACTIVE_CHILDREN) or every level. Before Kit::add (or after its kit is
+  // gone) the active level is level 0.
   void traverse(::osg::NodeVisitor& nv) override;
 
  protected:
