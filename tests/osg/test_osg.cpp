@@ -371,6 +371,22 @@ TEST(Osg, ANodeWithoutAKitDrawsItsFinestLevel) {
   } all;
   loose->accept(all);
   EXPECT_EQ(all.drawables, 2);
+  // A static node keeps the transform read on its first frame until marked moved.
+  w.kit->set_static(w.nodes[0].get(), true);
+  w.viewer.getCamera()->setViewMatrix(::osg::Matrixd::translate(0, 0, -3));
+  w.viewer.frame(0);
+  acuity::ObjectExplain first;
+  ASSERT_TRUE(w.kit->scheduler().explain(w.nodes[0]->id(), &first));
+  w.transforms[0]->setMatrix(World::matrix(0, 0) * ::osg::Matrixd::translate(0, 0, -40));
+  w.viewer.frame(1 / kFps);
+  acuity::ObjectExplain before;
+  ASSERT_TRUE(w.kit->scheduler().explain(w.nodes[0]->id(), &before));
+  EXPECT_EQ(before.distance_m, first.distance_m) << "a static node's move is not read";
+  w.kit->mark_moved(w.nodes[0].get());
+  w.viewer.frame(2 / kFps);
+  acuity::ObjectExplain after;
+  ASSERT_TRUE(w.kit->scheduler().explain(w.nodes[0]->id(), &after));
+  EXPECT_NEAR(after.distance_m, before.distance_m + 40, 0.5) << "the move is seen after mark_moved";
   // The kit is full (one object): removing the world's node frees its slot for this one.
   EXPECT_THROW(w.kit->add(loose.get(), 0), std::runtime_error);
   w.kit->remove(w.nodes[0].get());

@@ -113,6 +113,7 @@ void Kit::add(LodNode* node, int profile) {
   if (id == kInvalidObject) throw std::runtime_error("acuity::osg::Kit::add: max_objects reached or bad profile " + std::to_string(profile));
   node->kit_ = this;
   node->id_ = id;
+  node->placed_ = false;
   if (nodes_.size() <= id) nodes_.resize(std::size_t(id) + 1, nullptr);
   nodes_[id] = node;
 }
@@ -138,6 +139,19 @@ void Kit::set_bias(LodNode* node, float bias) {
 void Kit::set_clamps(LodNode* node, std::uint8_t lo, std::uint8_t hi) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (node && node->kit_.get() == this) scheduler_->set_clamps(node->id_, lo, hi);
+}
+
+void Kit::set_static(LodNode* node, bool is_static) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (node && node->kit_.get() == this) {
+    node->static_ = is_static;
+    node->placed_ = false;
+  }
+}
+
+void Kit::mark_moved(LodNode* node) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (node && node->kit_.get() == this) node->placed_ = false;
 }
 
 void Kit::set_cameras(const std::vector<::osg::Camera*>& cameras) {
@@ -203,7 +217,8 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
   frame_.dt = float(dt);
   // World transforms from each node's parent path.
   for (LodNode* n : nodes_) {
-    if (!n) continue;
+    if (!n || (n->static_ && n->placed_)) continue;
+    n->placed_ = true;
     path_.clear();
     for (::osg::Node* p = n; p; p = p->getNumParents() ? p->getParent(0) : nullptr) {
       path_.push_back(p);

@@ -47,7 +47,7 @@ struct Options {
   std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540, seed = 1;
   double seconds = 20, fps = 60, fov = 90, ipd = 0.064;
   float transition = 0.25f, quality = 1.0f;
-  bool headless = false, stereo = false, debug = false, quiet = false;
+  bool headless = false, stereo = false, debug = false, quiet = false, static_scene = false;
 };
 
 // Reads the whole colour buffer after the last camera's draw (and its HUD), before the swap.
@@ -162,6 +162,8 @@ int run(const Options& o) {
   config.max_profiles = std::uint32_t(assets->assets.size());
   ::osg::ref_ptr<aosg::Kit> kit = new aosg::Kit(config);
   aosg::SceneNodes nodes = aosg::make_nodes(*assets, assets->instances, *kit);
+  if (o.static_scene)
+    for (const auto& n : nodes.nodes) kit->set_static(n.get(), true);
   ::osg::ref_ptr<::osg::StateSet> shader = aosg::make_shader_state();
   shader->addUniform(new ::osg::Uniform("acuity_debug", o.debug ? 1.0f : 0.0f), ::osg::StateAttribute::OVERRIDE);
   nodes.root->setStateSet(shader.get());
@@ -368,6 +370,7 @@ int main(int argc, char** argv) {
   app.add_option("--threading", o.threading, "OSG threading model: single | cull-draw | draw | cull-per-camera")->capture_default_str();
   app.add_flag("--headless", o.headless, "Render into a pbuffer (under xvfb-run -a without a display)");
   app.add_flag("--stereo", o.stereo, "Two slave cameras side by side, one per eye");
+  app.add_flag("--static", o.static_scene, "Objects never move: read each world transform once, not every frame");
   app.add_flag("--debug", o.debug, "Colour objects by level and ring the gaze");
   app.add_flag("-q,--quiet", o.quiet, "Only the frame-time line");
   CLI11_PARSE(app, argc, argv);

@@ -94,6 +94,7 @@ class LodNode : public ::osg::Group {
   friend class Kit;
   ::osg::observer_ptr<Kit> kit_;
   ObjectId id_ = kInvalidObject;
+  bool static_ = false, placed_ = false;  // placed_: a static node's transform was read
   mutable std::mutex drawn_mutex_;
   Drawn drawn_;
 };
@@ -110,6 +111,10 @@ class Kit : public ::osg::Referenced {
   void remove(LodNode* node);
   void set_bias(LodNode* node, float quality_bias);                  // multiplies q (> 1 coarser)
   void set_clamps(LodNode* node, std::uint8_t min_level, std::uint8_t max_level);
+  // A static node's world transform is read from its parent path once (on the next frame) instead
+  // of every frame; mark_moved() reads it again on the next frame.
+  void set_static(LodNode* node, bool is_static);
+  void mark_moved(LodNode* node);
 
   // The cameras that are the eyes (one, or two for stereo), each given a cull callback (added to
   // theirs) that runs the frame; a second call replaces the first. Without cameras the camera of
