@@ -1,5 +1,6 @@
 /* hello_lod.c — acuity's C ABI in a short loop: load a profile, place 20 objects, run 10 frames
- * with a moving gaze, print the levels. Usage: hello_lod PROFILE.acuity
+ * with a moving gaze, print the levels and the cross-fades in progress (previous level > level
+ * @ fade; an engine draws both levels while fade < 1). Usage: hello_lod PROFILE.acuity
  * The scene uses only exactly representable numbers, so any binding given the same inputs must
  * print the same levels (tests/python/test_bindings.py checks the Python API against this). */
 #include <stdio.h>
@@ -30,7 +31,8 @@ int main(int argc, char **argv) {
   double positions[OBJECTS][3];
   float rotations[OBJECTS][4], scales[OBJECTS], velocities[OBJECTS][3];
   uint32_t ids[OBJECTS];
-  uint8_t levels[OBJECTS];
+  uint8_t levels[OBJECTS], previous[OBJECTS];
+  float fades[OBJECTS];
   size_t size = 0;
   void *bytes;
   int i, frame;
@@ -41,6 +43,7 @@ int main(int argc, char **argv) {
   }
   acuity_config_default(&config);
   config.max_objects = OBJECTS;
+  config.transition_seconds = 0.25f; /* a level change fades in over 16 frames of 1/64 s */
   if (acuity_create(&config, &s) != ACUITY_OK || acuity_load_profile(s, bytes, size, &profile) != ACUITY_OK) {
     fprintf(stderr, "hello_lod: %s\n", acuity_last_error());
     free(bytes);
@@ -78,13 +81,17 @@ int main(int argc, char **argv) {
       return 1;
     }
   }
-  if (acuity_get_levels(s, OBJECTS, ids, levels, NULL) != ACUITY_OK) {
+  if (acuity_get_levels(s, OBJECTS, ids, levels, NULL) != ACUITY_OK ||
+      acuity_get_transitions(s, OBJECTS, ids, previous, fades) != ACUITY_OK) {
     fprintf(stderr, "hello_lod: %s\n", acuity_last_error());
     acuity_destroy(s);
     return 1;
   }
   printf("levels:");
   for (i = 0; i < OBJECTS; ++i) printf(" %u", (unsigned)levels[i]);
+  printf("\nfading:");
+  for (i = 0; i < OBJECTS; ++i)
+    if (fades[i] < 1.0f) printf(" %d:%u>%u@%.4f", i, (unsigned)previous[i], (unsigned)levels[i], (double)fades[i]);
   printf("\ntriangles: %llu\n", (unsigned long long)acuity_frame_triangles(s));
   acuity_destroy(s);
   return 0;

@@ -1,4 +1,4 @@
-"""hello_lod.py — the same scene and loop as hello_lod.c, through the Python API (which wraps the
+"""hello_lod.py — the same scene, loop and output as hello_lod.c, through the Python API (which wraps the
 C++ API). Usage: PYTHONPATH=build/python /usr/bin/python3 examples/hello_lod.py PROFILE.acuity"""
 import sys
 
@@ -10,6 +10,7 @@ import acuity
 def levels(profile_path):
     config = acuity.SchedulerConfig()
     config.max_objects = 20
+    config.transition_seconds = 0.25
     s = acuity.Scheduler(config)
     p = s.add_profile(acuity.Profile.load(profile_path))
     i = np.arange(20)
@@ -24,11 +25,16 @@ def levels(profile_path):
     for f in range(10):
         gaze.direction = [0.125 * f, 0.0, -1.0]
         frame.gaze = [gaze]
-        s.run_frame(frame)
-    return s.levels(ids), s.stats["triangles"]
+        s.begin_frame(frame)
+        s.update(0, 10)
+        s.update(10, 10)
+        s.end_frame()
+    previous, fades = s.transitions(ids)
+    return s.levels(ids), previous, fades, s.stats["triangles"]
 
 
 if __name__ == "__main__":
-    lv, tri = levels(sys.argv[1])
+    lv, previous, fades, tri = levels(sys.argv[1])
     print("levels: " + " ".join(str(int(x)) for x in lv))
+    print("fading:" + "".join(f" {i}:{int(p)}>{int(l)}@{float(f):.4f}" for i, (p, l, f) in enumerate(zip(previous, lv, fades)) if f < 1))
     print(f"triangles: {tri}")

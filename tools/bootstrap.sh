@@ -21,6 +21,7 @@ PACKAGES=(
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
   emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
   assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/)
+  libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run
 )
 
 install_packages() {

@@ -4,13 +4,14 @@
  * and acuity_last_error() says what went wrong (per thread). Units as in the C++ headers: metres,
  * degrees, degrees per second, pixels. An eye looks along its local -Z with +Y up.
  *
- *   acuity_config c; acuity_config_default(&c);
+ *   acuity_config c; acuity_config_default(&c);  c.transition_seconds = 0.25f;  (then any field)
  *   acuity_scheduler* s; acuity_create(&c, &s);
  *   int32_t p; acuity_load_profile(s, bytes, size, &p);        // the bytes are copied
  *   acuity_add_objects(s, n, profiles, positions, 0, rotations, 0, scales, ids);
  *   each frame: acuity_set_transforms(...); acuity_begin_frame(s, eyes, 2, dt);
  *               acuity_update_range(s, 0, n);  (split across jobs as you like)
  *               acuity_end_frame(s); acuity_get_levels(s, n, ids, levels, flags);
+ *               acuity_get_transitions(s, n, ids, previous, fades);  (cross-fade while fade < 1)
  *   acuity_destroy(s);
  *
  * Contract. The caller is trusted: pointers must point to arrays of the stated length and stride,
@@ -30,39 +31,87 @@
 extern "C" {
 #endif
 
-#define ACUITY_C_API_VERSION 1
+/* Version 2 added: acuity_config.struct_size and every SchedulerConfig field, acuity_set_bias,
+ * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls. */
+#define ACUITY_C_API_VERSION 2
 
 typedef struct acuity_scheduler acuity_scheduler;
 
 typedef enum acuity_status {
   ACUITY_OK = 0,
-  ACUITY_INVALID_ARGUMENT = 1,  /* a null pointer, a bad id or index, a count out of range */
+  ACUITY_INVALID_ARGUMENT = 1,  /* a null pointer, a bad id or index, a count or value out of range */
   ACUITY_BAD_PROFILE = 2,       /* the profile bytes failed validation (see acuity_last_error) */
   ACUITY_FULL = 3,              /* max_objects or max_profiles reached */
   ACUITY_OUT_OF_MEMORY = 4,
   ACUITY_INTERNAL_ERROR = 5
 } acuity_status;
 
+/* acuity_config.rule (acuity::SelectionRule) */
 enum { ACUITY_RULE_PERCEPTUAL = 0, ACUITY_RULE_REDDY = 1, ACUITY_RULE_DISTANCE = 2, ACUITY_RULE_SCREEN_SIZE = 3 };
+/* acuity_config.model (acuity::ThresholdModel) */
+enum { ACUITY_MODEL_DEFAULT = 0, ACUITY_MODEL_GEISLER_PERRY = 1, ACUITY_MODEL_KELLY_DALY = 2, ACUITY_MODEL_REDDY = 3 };
+/* acuity_config.view_blend (acuity::ViewBlend) */
+enum { ACUITY_VIEW_BLEND_NEAREST = 0, ACUITY_VIEW_BLEND_MAX3 = 1 };
+/* acuity_model_params.csf_fit (acuity::CsfFit) */
+enum { ACUITY_CSF_DALY1998 = 0, ACUITY_CSF_LAIRD2006 = 1 };
 
-/* Per-object flags returned by acuity_get_levels. */
+/* Per-object flags returned by acuity_get_levels (acuity::ObjectFlag). */
 enum {
   ACUITY_FLAG_INVALID_INPUT = 1, ACUITY_FLAG_EYE_INSIDE = 2, ACUITY_FLAG_NO_GAZE = 4,
   ACUITY_FLAG_BUDGET_FORCED = 8, ACUITY_FLAG_CHANGED = 16, ACUITY_FLAG_HELD = 32
 };
 
+/* Levels a profile may have (acuity::kMaxLevels). */
+#define ACUITY_MAX_LEVELS 32
+
+/* The vision model's constants (acuity::ModelParams); defaults are the published values. */
+typedef struct acuity_model_params {
+  double ct0;                    /* Geisler-Perry minimum threshold contrast */
+  double alpha;                  /* Geisler-Perry spatial-frequency decay */
+  double e2;                     /* half-resolution eccentricity [deg] */
+  double pursuit_gain;           /* Daly smooth pursuit g */
+  double pursuit_min;            /* [deg/s] */
+  double pursuit_max;            /* [deg/s] */
+  double drift;                  /* retinal velocity floor [deg/s] */
+  double reddy_contrast;         /* threshold contrast inside Reddy's visible region */
+  uint32_t csf_fit;              /* ACUITY_CSF_* */
+  uint32_t reserved;             /* must be 0 */
+} acuity_model_params;
+
+/* Scheduler settings, one field per acuity::SchedulerConfig field (see acuity/scheduler.hpp).
+ *
+ * Growth rule: struct_size comes first and is sizeof(acuity_config) as the caller compiled it
+ * (acuity_config_default sets it). New fields are only ever appended. acuity_create accepts any
+ * struct_size >= ACUITY_CONFIG_SIZE_V2 that is a multiple of 8 and <= 65536: fields beyond a
+ * smaller struct_size (an older caller) take their defaults; bytes beyond the fields this library
+ * knows (a newer caller) are ignored. Anything else is ACUITY_INVALID_ARGUMENT. Always call
+ * acuity_config_default first, then change fields. */
 typedef struct acuity_config {
-  uint32_t max_objects;          /* capacity */
+  uint32_t struct_size;          /* sizeof(acuity_config); set by acuity_config_default */
+  uint32_t max_objects;          /* capacity, >= 1 */
   uint32_t max_profiles;         /* capacity */
   uint32_t rule;                 /* ACUITY_RULE_* */
-  float quality;                 /* q: invisible when lost <= q CT */
-  float gaze_uncertainty_deg;
-  float no_gaze_radius_deg;
-  float hysteresis_margin;
-  uint32_t hysteresis_frames;
-  float saccade_speed_deg_s;     /* > 0: coarsen during saccades */
+  uint32_t model;                /* ACUITY_MODEL_* */
+  uint32_t view_blend;           /* ACUITY_VIEW_BLEND_* */
+  float quality;                 /* q: invisible when lost <= q CT; finite, > 0 */
+  uint32_t fallback_level;       /* level for invalid input (0 finest), < ACUITY_MAX_LEVELS */
+  float min_gaze_confidence;     /* below it there is no gaze */
+  float gaze_uncertainty_deg;    /* tracker error [deg] */
+  float no_gaze_radius_deg;      /* without gaze: where the gaze may be [deg] */
+  float hysteresis_margin;       /* coarsening needs a score <= 1 - margin */
+  uint32_t hysteresis_frames;    /* ... on this many consecutive frames */
+  float saccade_speed_deg_s;     /* > 0: coarsen only during saccades faster than this */
+  uint32_t max_coarsen_wait;     /* ... or after waiting this many frames */
+  float transition_seconds;      /* cross-fade length (acuity_get_transitions) [s], >= 0 */
   uint64_t triangle_budget;      /* 0: none */
+  float distance_scale;          /* ACUITY_RULE_DISTANCE: switch distances times this */
+  float pixel_error;             /* ACUITY_RULE_SCREEN_SIZE: allowed projected error [px] */
+  uint32_t keep_scores;          /* 1: keep every level's score (acuity_explain needs none) */
+  uint32_t reserved;             /* must be 0 */
+  acuity_model_params params;
 } acuity_config;
+/* The size of the version-2 layout above: the smallest struct_size acuity_create accepts. */
+#define ACUITY_CONFIG_SIZE_V2 160u
 
 typedef struct acuity_eye {
   double position[3];            /* world [m] */
@@ -78,49 +127,109 @@ typedef struct acuity_eye {
   uint8_t gaze_has_velocity;
 } acuity_eye;
 
-uint32_t acuity_version(void);                    /* ACUITY_VERSION of the library */
-const char* acuity_last_error(void);              /* this thread's last message, "" if none */
+/* One level's score and what limits it (acuity::LevelExplain). */
+typedef struct acuity_level_explain {
+  float score;                   /* max over bands and orientations of lost / (q CT); <= 1 invisible */
+  uint8_t band, orientation;     /* the limiting band and orientation */
+  float frequency_cpd;           /* that band's centre at the current distance */
+  float threshold;               /* CT there */
+} acuity_level_explain;
+
+/* Why an object has its level (acuity::ObjectExplain). */
+typedef struct acuity_object_explain {
+  float distance_m, angular_diameter_deg, eccentricity_deg, image_velocity_deg_s, retinal_velocity_deg_s;
+  uint32_t view;                 /* the profile view used */
+  uint8_t level, level_count;
+  acuity_level_explain levels[ACUITY_MAX_LEVELS];  /* [level_count]; level 0 has score 0 */
+} acuity_object_explain;
+
+/* Contracts common to every function below:
+ * - Ownership: the library keeps no pointer the caller passes (profile bytes are copied); every
+ *   output array is the caller's, `count` elements long.
+ * - Threads: one scheduler is used by one thread at a time, except acuity_update_range, which may
+ *   run on many threads at once on disjoint ranges between acuity_begin_frame and acuity_end_frame.
+ *   Different schedulers are independent. acuity_last_error is per thread.
+ * - Failure: a call that returns anything but ACUITY_OK has changed nothing (batch calls check every
+ *   id and value before touching the scheduler) and acuity_last_error() says why. ACUITY_OUT_OF_MEMORY
+ *   and ACUITY_INTERNAL_ERROR may come from any call that returns a status. */
+
+uint32_t acuity_version(void);                    /* ACUITY_VERSION of the library; any thread */
+const char* acuity_last_error(void);              /* this thread's last message, "" if none; valid
+                                                     until this thread's next acuity_ call */
+/* Fills every field with the C++ defaults and struct_size = sizeof(acuity_config). Null: no-op. */
 void acuity_config_default(acuity_config* config);
 void acuity_eye_default(acuity_eye* eye);         /* origin, identity, 90 deg, 1920 px, no gaze */
 
+/* Creates a scheduler; *out receives it (the caller owns it: acuity_destroy).
+ * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
+ * unknown rule/model/view_blend/csf_fit, reserved fields not 0, quality not finite and > 0,
+ * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds negative or not finite. *out is unchanged
+ * on failure. */
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);
+/* Frees the scheduler and the profile copies. Null: no-op. */
 void acuity_destroy(acuity_scheduler* scheduler);
 
-/* Validates and copies a profile (.acuity bytes); *index receives its index. size must be the
- * bytes' length: below the 32-byte header or above 4 GiB gives ACUITY_BAD_PROFILE without reading
- * (so an unchecked ftell's -1 fails cleanly); invalid bytes ACUITY_BAD_PROFILE; max_profiles
- * loaded ACUITY_FULL. On failure nothing is kept and *index is unchanged. */
+/* Validates and copies a profile (.acuity bytes); *index receives its index (0, 1, ...).
+ * INVALID_ARGUMENT: null s, data or index. BAD_PROFILE: the bytes are not a valid profile, or size
+ * is below the 32-byte header or above 4 GiB (checked before reading, so an unchecked ftell's -1
+ * fails cleanly). FULL: max_profiles reached. Nothing is kept and *index is unchanged on failure. */
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index);
 
-/* Arrays of `count`; strides in bytes between elements, 0 for tightly packed. ids_out: uint32.
- * All or nothing: a profiles[i] that is not a loaded index gives ACUITY_INVALID_ARGUMENT, more
- * objects than free capacity ACUITY_FULL; either way no object is added. */
+/* Adds `count` objects. Arrays of `count`; strides in bytes between elements, 0 for tightly packed;
+ * scales may be null (1). ids_out receives their ids (uint32).
+ * INVALID_ARGUMENT: null s, or (count > 0) a null profiles/positions/rotations/ids_out, or a profile
+ * index that was not loaded. FULL: fewer than `count` free slots. On failure no object was added. */
 acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
                                  const double* positions, size_t position_stride,
                                  const float* rotations, size_t rotation_stride,
                                  const float* scales, uint32_t* ids_out);
-/* All or nothing: an id that is not live, or given twice, gives ACUITY_INVALID_ARGUMENT and
- * removes none. A removed id may be reused by a later acuity_add_objects. */
+/* Removes objects; their ids may be reused by later adds.
+ * INVALID_ARGUMENT: null s or ids, an id that is not alive (never added, or removed: stale), or an id
+ * given twice. On failure none was removed. */
 acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids);
-/* acuity_set_transforms, acuity_set_velocities: all or nothing; an id that is not live gives
- * ACUITY_INVALID_ARGUMENT and sets none. */
+/* World transforms per id (scales nullable: 1). INVALID_ARGUMENT: null s, or (count > 0) null
+ * ids/positions/rotations, an id not alive. On failure no transform changed. Non-finite values are
+ * accepted and give those objects ACUITY_FLAG_INVALID_INPUT and the fallback level. */
 acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                     const double* positions, size_t position_stride,
                                     const float* rotations, size_t rotation_stride, const float* scales);
+/* World velocities [m/s] per id (else derived from transforms and dt). INVALID_ARGUMENT: null s,
+ * ids or velocities (count > 0), an id not alive. On failure no velocity changed. */
 acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                     const float* velocities, size_t velocity_stride);
+/* Per-object quality bias: multiplies q for that object (> 1 coarser, < 1 finer; 1 by default).
+ * INVALID_ARGUMENT: null s, ids or biases (count > 0), an id not alive, a bias not finite and > 0.
+ * On failure no bias changed. */
+acuity_status acuity_set_bias(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* biases);
+/* Per-object level clamps: the level stays in [min_level, max_level] (0 and 255 by default; a clamp
+ * past the profile's coarsest level means its coarsest). INVALID_ARGUMENT: null s, ids, min_levels
+ * or max_levels (count > 0), an id not alive, max_level < min_level. On failure no clamp changed. */
+acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                const uint8_t* min_levels, const uint8_t* max_levels);
 
+/* The frame: begin_frame, then update_range over [0, max_objects) split as you like (ranges past
+ * max_objects are clipped), then end_frame (budget, transitions, statistics).
+ * begin_frame INVALID_ARGUMENT: null s or eyes, eye_count not 1 or 2, a frame already begun.
+ * update_range / end_frame INVALID_ARGUMENT: null s, no frame begun. A failed call leaves the frame
+ * state as it was. Levels, flags and transitions read between frames are the last end_frame's. */
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt);
-/* Before the first acuity_begin_frame, acuity_update_range and acuity_end_frame return
- * ACUITY_INVALID_ARGUMENT and do nothing. */
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count);
 acuity_status acuity_end_frame(acuity_scheduler* s);
 
-/* levels_out and flags_out (nullable) receive one byte per id. An id that is not live gives
- * ACUITY_INVALID_ARGUMENT and writes nothing. */
+/* levels_out and flags_out (nullable) receive one byte per id (ACUITY_FLAG_*).
+ * INVALID_ARGUMENT: null s, ids or levels_out (count > 0), an id not alive; outputs untouched then. */
 acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                 uint8_t* levels_out, uint8_t* flags_out);
-/* Triangles drawn at this frame's levels. */
+/* Cross-fade state per id: the level faded from and the fade to the current level, 0..1 (1 = done;
+ * it rises by dt / transition_seconds per frame after a change; always 1 when transition_seconds is 0).
+ * While fade < 1 draw both levels, the current one with weight fade. Either output may be null.
+ * INVALID_ARGUMENT: null s or ids (count > 0), an id not alive; outputs untouched then. */
+acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                     uint8_t* previous_levels_out, float* fades_out);
+/* Recomputes one object for the current frame with every level's score (slow: for debugging UIs).
+ * INVALID_ARGUMENT: null s or out, an id not alive; *out untouched then. */
+acuity_status acuity_explain(const acuity_scheduler* s, uint32_t id, acuity_object_explain* out);
+/* Triangles drawn at this frame's levels; 0 for null. */
 uint64_t acuity_frame_triangles(const acuity_scheduler* s);
 
 /* ---- Foveation planner (acuity/foveation_plan.hpp) --------------------------------------------

@@ -1,10 +1,17 @@
 // The C ABI over acuity::Scheduler: every entry point catches everything.
 #include "acuity.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstring>
+#include <iterator>
+#include <type_traits>
+#include <unordered_set>
 #include <deque>
 #include <new>
 #include <string>
+#include <vector>
 
 #include "acuity/file.hpp"
 #include "acuity/foveation_plan.hpp"
@@ -14,10 +21,35 @@
 struct acuity_scheduler {
   acuity::Scheduler scheduler;
   std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
-  std::uint32_t live = 0;             // objects added and not removed
-  bool frame_begun = false;           // acuity_begin_frame was called at least once
+  bool in_frame = false;              // between begin_frame and end_frame
   explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c) {}
 };
+
+// The C names and layouts are the C++ ones.
+static_assert(ACUITY_RULE_PERCEPTUAL == int(acuity::SelectionRule::Perceptual) && ACUITY_RULE_REDDY == int(acuity::SelectionRule::Reddy) &&
+              ACUITY_RULE_DISTANCE == int(acuity::SelectionRule::Distance) && ACUITY_RULE_SCREEN_SIZE == int(acuity::SelectionRule::ScreenSize));
+static_assert(ACUITY_MODEL_DEFAULT == int(acuity::ThresholdModel::Default) && ACUITY_MODEL_GEISLER_PERRY == int(acuity::ThresholdModel::GeislerPerry) &&
+              ACUITY_MODEL_KELLY_DALY == int(acuity::ThresholdModel::KellyDaly) && ACUITY_MODEL_REDDY == int(acuity::ThresholdModel::Reddy));
+static_assert(ACUITY_VIEW_BLEND_NEAREST == int(acuity::ViewBlend::Nearest) && ACUITY_VIEW_BLEND_MAX3 == int(acuity::ViewBlend::Max3));
+static_assert(ACUITY_CSF_DALY1998 == int(acuity::CsfFit::Daly1998) && ACUITY_CSF_LAIRD2006 == int(acuity::CsfFit::Laird2006));
+static_assert(int(ACUITY_FLAG_INVALID_INPUT) == int(acuity::kFlagInvalidInput) && int(ACUITY_FLAG_EYE_INSIDE) == int(acuity::kFlagEyeInside) &&
+              int(ACUITY_FLAG_NO_GAZE) == int(acuity::kFlagNoGaze) && int(ACUITY_FLAG_BUDGET_FORCED) == int(acuity::kFlagBudgetForced) &&
+              int(ACUITY_FLAG_CHANGED) == int(acuity::kFlagChanged) && int(ACUITY_FLAG_HELD) == int(acuity::kFlagHeld));
+static_assert(ACUITY_MAX_LEVELS == acuity::kMaxLevels);
+static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V2 && sizeof(acuity_config) % 8 == 0,
+              "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
+static_assert(offsetof(acuity_config, struct_size) == 0);
+// The eye and explain structs are copied field by field, so only their field types must agree.
+static_assert(sizeof(acuity_eye::position) == sizeof(acuity::Eye::position) && sizeof(acuity_eye::orientation) == sizeof(acuity::Eye::orientation) &&
+              sizeof(acuity_eye::fov_deg) == sizeof(acuity::Eye::fov_deg) && sizeof(acuity_eye::viewport) == sizeof(acuity::Eye::viewport) &&
+              sizeof(acuity_eye::velocity) == sizeof(acuity::Eye::velocity) && sizeof(acuity_eye::angular_velocity) == sizeof(acuity::Eye::angular_velocity) &&
+              sizeof(acuity_eye::gaze_direction) == sizeof(acuity::Gaze::direction) &&
+              sizeof(acuity_eye::gaze_angular_velocity) == sizeof(acuity::Gaze::angular_velocity));
+static_assert(sizeof(acuity_object_explain::levels) / sizeof(acuity_level_explain) == std::size(acuity::ObjectExplain{}.levels));
+static_assert(std::is_same_v<decltype(acuity_object_explain::view), decltype(acuity::ObjectExplain::view)> &&
+              std::is_same_v<decltype(acuity_object_explain::level), decltype(acuity::ObjectExplain::level)> &&
+              std::is_same_v<decltype(acuity_level_explain::band), decltype(acuity::LevelExplain::band)> &&
+              std::is_same_v<decltype(acuity_level_explain::score), decltype(acuity::LevelExplain::score)>);
 
 namespace {
 thread_local std::string g_error;
@@ -67,14 +99,68 @@ acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* 
   t.scale = s ? s[i] : 1.0f;
   return t;
 }
-
-// INVALID_ARGUMENT naming the first of `ids` that is not a live object, or OK: checked before any
-// change, so a call with one stale id changes nothing.
-acuity_status check_alive(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, const char* function) {
-  for (uint32_t i = 0; i < count; ++i)
+// Every id alive (and, when `distinct`, none given twice): the check before any batch call changes anything.
+acuity_status check_ids(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, const char* where, bool distinct = false) {
+  std::unordered_set<uint32_t> seen;
+  for (uint32_t i = 0; i < count; ++i) {
     if (!s->scheduler.alive(ids[i]))
-      return fail(ACUITY_INVALID_ARGUMENT, std::string(function) + ": ids[" + std::to_string(i) + "] = " + std::to_string(ids[i]) +
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + ": ids[" + std::to_string(i) + "] = " + std::to_string(ids[i]) +
                                                " is not a live object (never added, or removed); nothing was changed");
+    if (distinct && !seen.insert(ids[i]).second)
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + ": id " + std::to_string(ids[i]) + " is given twice; nothing was changed");
+  }
+  return ACUITY_OK;
+}
+
+bool finite_positive(float x) { return std::isfinite(x) && x > 0; }
+
+// The config as this library reads it: defaults, overwritten by the caller's struct_size bytes.
+acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) {
+  const uint32_t size = c->struct_size;
+  if (size < ACUITY_CONFIG_SIZE_V2 || size % 8 != 0 || size > 65536)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: struct_size " + std::to_string(size) +
+                " is not sizeof(acuity_config) (call acuity_config_default first)");
+  acuity_config k;
+  acuity_config_default(&k);
+  std::memcpy(&k, c, std::min<std::size_t>(size, sizeof k));
+  if (k.rule > ACUITY_RULE_SCREEN_SIZE || k.model > ACUITY_MODEL_REDDY || k.view_blend > ACUITY_VIEW_BLEND_MAX3 ||
+      k.params.csf_fit > ACUITY_CSF_LAIRD2006)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: unknown rule, model, view_blend or csf_fit");
+  if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
+  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS || !std::isfinite(k.transition_seconds) ||
+      k.transition_seconds < 0)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: quality, fallback_level or transition_seconds out of range");
+  acuity::SchedulerConfig& sc = *out;
+  sc.max_objects = k.max_objects;
+  sc.max_profiles = k.max_profiles;
+  sc.rule = static_cast<acuity::SelectionRule>(k.rule);
+  sc.model = static_cast<acuity::ThresholdModel>(k.model);
+  sc.view_blend = static_cast<acuity::ViewBlend>(k.view_blend);
+  sc.quality = k.quality;
+  sc.fallback_level = static_cast<std::uint8_t>(k.fallback_level);
+  sc.min_gaze_confidence = k.min_gaze_confidence;
+  sc.gaze_uncertainty_deg = k.gaze_uncertainty_deg;
+  sc.no_gaze_radius_deg = k.no_gaze_radius_deg;
+  sc.hysteresis_margin = k.hysteresis_margin;
+  sc.hysteresis_frames = k.hysteresis_frames;
+  sc.saccade_speed = k.saccade_speed_deg_s;
+  sc.max_coarsen_wait = k.max_coarsen_wait;
+  sc.transition_seconds = k.transition_seconds;
+  sc.triangle_budget = k.triangle_budget;
+  sc.distance_scale = k.distance_scale;
+  sc.pixel_error = k.pixel_error;
+  sc.keep_scores = k.keep_scores != 0;
+  const acuity_model_params& p = k.params;
+  sc.params.ct0 = p.ct0;
+  sc.params.alpha = p.alpha;
+  sc.params.e2 = p.e2;
+  sc.params.pursuit_gain = p.pursuit_gain;
+  sc.params.pursuit_min = p.pursuit_min;
+  sc.params.pursuit_max = p.pursuit_max;
+  sc.params.drift = p.drift;
+  sc.params.reddy_contrast = p.reddy_contrast;
+  sc.params.fit = static_cast<acuity::CsfFit>(p.csf_fit);
   return ACUITY_OK;
 }
 }  // namespace
@@ -87,16 +173,36 @@ const char* acuity_last_error(void) { return g_error.c_str(); }
 void acuity_config_default(acuity_config* c) {
   if (!c) return;
   const acuity::SchedulerConfig d;
+  std::memset(c, 0, sizeof *c);
+  c->struct_size = sizeof *c;
   c->max_objects = d.max_objects;
   c->max_profiles = d.max_profiles;
-  c->rule = ACUITY_RULE_PERCEPTUAL;
+  c->rule = static_cast<uint32_t>(d.rule);
+  c->model = static_cast<uint32_t>(d.model);
+  c->view_blend = static_cast<uint32_t>(d.view_blend);
   c->quality = d.quality;
+  c->fallback_level = d.fallback_level;
+  c->min_gaze_confidence = d.min_gaze_confidence;
   c->gaze_uncertainty_deg = d.gaze_uncertainty_deg;
   c->no_gaze_radius_deg = d.no_gaze_radius_deg;
   c->hysteresis_margin = d.hysteresis_margin;
   c->hysteresis_frames = d.hysteresis_frames;
   c->saccade_speed_deg_s = d.saccade_speed;
+  c->max_coarsen_wait = d.max_coarsen_wait;
+  c->transition_seconds = d.transition_seconds;
   c->triangle_budget = d.triangle_budget;
+  c->distance_scale = d.distance_scale;
+  c->pixel_error = d.pixel_error;
+  c->keep_scores = d.keep_scores ? 1u : 0u;
+  c->params.ct0 = d.params.ct0;
+  c->params.alpha = d.params.alpha;
+  c->params.e2 = d.params.e2;
+  c->params.pursuit_gain = d.params.pursuit_gain;
+  c->params.pursuit_min = d.params.pursuit_min;
+  c->params.pursuit_max = d.params.pursuit_max;
+  c->params.drift = d.params.drift;
+  c->params.reddy_contrast = d.params.reddy_contrast;
+  c->params.csf_fit = static_cast<uint32_t>(d.params.fit);
 }
 
 void acuity_eye_default(acuity_eye* e) {
@@ -115,18 +221,8 @@ void acuity_eye_default(acuity_eye* e) {
 acuity_status acuity_create(const acuity_config* c, acuity_scheduler** out) {
   return guarded([&] {
     if (!c || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: null argument");
-    if (c->rule > ACUITY_RULE_SCREEN_SIZE || c->max_objects == 0) return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: bad rule or capacity");
     acuity::SchedulerConfig sc;
-    sc.max_objects = c->max_objects;
-    sc.max_profiles = c->max_profiles;
-    sc.rule = static_cast<acuity::SelectionRule>(c->rule);
-    sc.quality = c->quality;
-    sc.gaze_uncertainty_deg = c->gaze_uncertainty_deg;
-    sc.no_gaze_radius_deg = c->no_gaze_radius_deg;
-    sc.hysteresis_margin = c->hysteresis_margin;
-    sc.hysteresis_frames = c->hysteresis_frames;
-    sc.saccade_speed = c->saccade_speed_deg_s;
-    sc.triangle_budget = c->triangle_budget;
+    if (const acuity_status st = read_config(c, &sc); st != ACUITY_OK) return st;
     *out = new acuity_scheduler(sc);
     return ACUITY_OK;
   });
@@ -167,23 +263,20 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
                                  size_t ps, const float* rotations, size_t rs, const float* scales, uint32_t* ids) {
   return guarded([&] {
     if (!s || (count && (!profiles || !positions || !rotations || !ids))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
-    // All or nothing: every index and the capacity are checked before anything is added.
     for (uint32_t i = 0; i < count; ++i)
       if (profiles[i] < 0 || std::size_t(profiles[i]) >= s->profiles.size())
-        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: profiles[" + std::to_string(i) + "] = " + std::to_string(profiles[i]) +
-                                                 " is not a loaded profile (" + std::to_string(s->profiles.size()) + " loaded); nothing was added");
-    if (count > s->scheduler.object_capacity() - s->live)
-      return fail(ACUITY_FULL, "acuity_add_objects: " + std::to_string(count) + " objects do not fit (" + std::to_string(s->live) + " of " +
-                                   std::to_string(s->scheduler.object_capacity()) + " used); nothing was added");
+        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: object " + std::to_string(i) + ": profile " + std::to_string(profiles[i]) + " was not loaded");
+    std::vector<uint32_t> added;
+    added.reserve(count);
     for (uint32_t i = 0; i < count; ++i) {
-      ids[i] = s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
-      if (ids[i] == acuity::kInvalidObject) {  // cannot happen after the checks above; undo to keep the contract
-        for (uint32_t j = 0; j < i; ++j) s->scheduler.remove_object(ids[j]);
-        s->live -= i;
-        return fail(ACUITY_INTERNAL_ERROR, "acuity_add_objects: the scheduler refused object " + std::to_string(i) + "; nothing was added");
+      const uint32_t id = s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
+      if (id == acuity::kInvalidObject) {
+        for (auto it = added.rbegin(); it != added.rend(); ++it) s->scheduler.remove_object(*it);  // all or nothing
+        return fail(ACUITY_FULL, "acuity_add_objects: max_objects reached at object " + std::to_string(i));
       }
-      ++s->live;
+      added.push_back(id);
     }
+    std::copy(added.begin(), added.end(), ids);
     return ACUITY_OK;
   });
 }
@@ -191,13 +284,8 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
 acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids) {
   return guarded([&] {
     if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: null argument");
-    if (const acuity_status st = check_alive(s, count, ids, "acuity_remove_objects"); st != ACUITY_OK) return st;
-    for (uint32_t i = 0; i < count; ++i)
-      for (uint32_t j = 0; j < i; ++j)
-        if (ids[i] == ids[j])
-          return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: id " + std::to_string(ids[i]) + " is given twice; nothing was removed");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_remove_objects", true); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) s->scheduler.remove_object(ids[i]);
-    s->live -= count;
     return ACUITY_OK;
   });
 }
@@ -206,7 +294,7 @@ acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const u
                                     size_t ps, const float* rotations, size_t rs, const float* scales) {
   return guarded([&] {
     if (!s || (count && (!ids || !positions || !rotations))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: null argument");
-    if (const acuity_status st = check_alive(s, count, ids, "acuity_set_transforms"); st != ACUITY_OK) return st;
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_transforms"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
     return ACUITY_OK;
   });
@@ -215,8 +303,30 @@ acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const u
 acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* v, size_t vs) {
   return guarded([&] {
     if (!s || (count && (!ids || !v))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: null argument");
-    if (const acuity_status st = check_alive(s, count, ids, "acuity_set_velocities"); st != ACUITY_OK) return st;
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_velocities"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_set_bias(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* biases) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !biases))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_bias: null argument");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_bias"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i)
+      if (!finite_positive(biases[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_bias: bias " + std::to_string(i) + " is not finite and > 0");
+    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_bias(ids[i], biases[i]);
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const uint8_t* lo, const uint8_t* hi) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !lo || !hi))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_clamps: null argument");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_clamps"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i)
+      if (hi[i] < lo[i]) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_clamps: clamp " + std::to_string(i) + ": max_level < min_level");
+    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_clamps(ids[i], lo[i], hi[i]);
     return ACUITY_OK;
   });
 }
@@ -224,6 +334,7 @@ acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const u
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt) {
   return guarded([&] {
     if (!s || !eyes || eye_count < 1 || eye_count > 2) return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: one or two eyes");
+    if (s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: the previous frame was not ended");
     acuity::Frame f;
     f.eye_count = eye_count;
     f.dt = dt;
@@ -242,7 +353,7 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
       f.gaze[i].has_velocity = e.gaze_has_velocity != 0;
     }
     s->scheduler.begin_frame(f);
-    s->frame_begun = true;
+    s->in_frame = true;
     return ACUITY_OK;
   });
 }
@@ -250,8 +361,10 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: null scheduler");
-    if (!s->frame_begun)
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame has begun (call acuity_begin_frame first); nothing was updated");
+    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame begun");
+    const uint32_t capacity = s->scheduler.object_capacity();
+    if (first >= capacity) return ACUITY_OK;
+    count = std::min(count, capacity - first);
     s->scheduler.update(first, count);
     return ACUITY_OK;
   });
@@ -260,8 +373,9 @@ acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t 
 acuity_status acuity_end_frame(acuity_scheduler* s) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: null scheduler");
-    if (!s->frame_begun) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame has begun (call acuity_begin_frame first)");
+    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame begun");
     s->scheduler.end_frame();
+    s->in_frame = false;
     return ACUITY_OK;
   });
 }
@@ -269,11 +383,50 @@ acuity_status acuity_end_frame(acuity_scheduler* s) {
 acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* levels, uint8_t* flags) {
   return guarded([&] {
     if (!s || (count && (!ids || !levels))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
-    if (const acuity_status st = check_alive(s, count, ids, "acuity_get_levels"); st != ACUITY_OK) return st;
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_get_levels"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) {
       levels[i] = s->scheduler.level(ids[i]);
       if (flags) flags[i] = s->scheduler.flags(ids[i]);
     }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* previous, float* fades) {
+  return guarded([&] {
+    if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_transitions: null argument");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_get_transitions"); st != ACUITY_OK) return st;
+    for (uint32_t i = 0; i < count; ++i) {
+      if (previous) previous[i] = s->scheduler.previous_level(ids[i]);
+      if (fades) fades[i] = s->scheduler.transition(ids[i]);
+    }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_explain(const acuity_scheduler* s, uint32_t id, acuity_object_explain* out) {
+  return guarded([&] {
+    if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_explain: null argument");
+    acuity::ObjectExplain e;
+    if (!s->scheduler.alive(id) || !s->scheduler.explain(id, &e)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_explain: no object " + std::to_string(id));
+    acuity_object_explain r;
+    std::memset(&r, 0, sizeof r);
+    r.distance_m = e.distance_m;
+    r.angular_diameter_deg = e.angular_diameter_deg;
+    r.eccentricity_deg = e.eccentricity_deg;
+    r.image_velocity_deg_s = e.image_velocity_deg_s;
+    r.retinal_velocity_deg_s = e.retinal_velocity_deg_s;
+    r.view = e.view;
+    r.level = e.level;
+    r.level_count = e.level_count;
+    for (std::size_t k = 0; k < std::size(e.levels) && k < e.level_count; ++k) {
+      r.levels[k].score = e.levels[k].score;
+      r.levels[k].band = e.levels[k].band;
+      r.levels[k].orientation = e.levels[k].orientation;
+      r.levels[k].frequency_cpd = e.levels[k].frequency_cpd;
+      r.levels[k].threshold = e.levels[k].threshold;
+    }
+    *out = r;
     return ACUITY_OK;
   });
 }

@@ -3,7 +3,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -89,6 +91,7 @@ struct PyScheduler {
   Scheduler scheduler;
   std::vector<std::shared_ptr<OwnedProfile>> profiles;
   std::uint32_t live = 0;  // objects added and not removed
+  bool in_frame = false;
   explicit PyScheduler(const SchedulerConfig& c) : scheduler(c) {}
 
   // Raises IndexError naming the first id that is not a live object; called before any change.
@@ -99,6 +102,10 @@ struct PyScheduler {
       if (!scheduler.alive(id(i)))
         throw py::index_error(std::string(function) + ": object " + std::to_string(id(i)) +
                               " does not exist (never added, or removed); nothing was changed");
+  }
+  void require_alive(std::uint32_t id, const char* function) const {
+    if (!scheduler.alive(id))
+      throw py::index_error(std::string(function) + ": object " + std::to_string(id) + " does not exist (never added, or removed)");
   }
 
   py::array_t<std::uint32_t> add_objects(U32 profile, F64 position, F32 rotation, F32 scale) {
@@ -304,15 +311,47 @@ void bind_scheduler(py::module_ m) {
       .def("set_velocities", &PyScheduler::set_velocities, "ids"_a, "velocity"_a,
            "All or nothing: raises IndexError for an id that is not live, setting none.")
       .def("set_clamps", [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) {
-        if (!s.scheduler.alive(id)) throw py::index_error("set_clamps: object " + std::to_string(id) + " does not exist (never added, or removed)");
+        s.require_alive(id, "set_clamps");
+        if (hi < lo) throw py::value_error("set_clamps: max_level < min_level");
         s.scheduler.set_clamps(id, lo, hi);
       }, "id"_a, "min_level"_a, "max_level"_a)
       .def("set_bias", [](PyScheduler& s, std::uint32_t id, float bias) {
-        if (!s.scheduler.alive(id)) throw py::index_error("set_bias: object " + std::to_string(id) + " does not exist (never added, or removed)");
+        s.require_alive(id, "set_bias");
+        if (!(bias > 0) || !std::isfinite(bias)) throw py::value_error("set_bias: bias must be finite and > 0");
         s.scheduler.set_bias(id, bias);
-      }, "id"_a, "quality_bias"_a)
-      .def("run_frame", [](PyScheduler& s, const Frame& f) { s.scheduler.run_frame(f); }, "frame"_a,
-           "begin_frame, update every object, end_frame.")
+      }, "id"_a, "quality_bias"_a, "Multiply q for this object (> 1 coarser).")
+      .def("run_frame", [](PyScheduler& s, const Frame& f) {
+        if (s.in_frame) throw py::value_error("run_frame: a frame was begun and not ended");
+        s.scheduler.run_frame(f);
+      }, "frame"_a, "begin_frame, update every object, end_frame.")
+      .def("begin_frame", [](PyScheduler& s, const Frame& f) {
+        if (s.in_frame) throw py::value_error("begin_frame: the previous frame was not ended");
+        s.scheduler.begin_frame(f);
+        s.in_frame = true;
+      }, "frame"_a)
+      .def("update", [](PyScheduler& s, std::uint32_t first, std::uint32_t count) {
+        if (!s.in_frame) throw py::value_error("update: no frame begun");
+        const std::uint32_t cap = s.scheduler.object_capacity();
+        if (first < cap) s.scheduler.update(first, std::min(count, cap - first));
+      }, "first"_a, "count"_a, "Update objects [first, first + count) (clipped to the capacity); any split.")
+      .def("end_frame", [](PyScheduler& s) {
+        if (!s.in_frame) throw py::value_error("end_frame: no frame begun");
+        s.scheduler.end_frame();
+        s.in_frame = false;
+      })
+      .def_property_readonly("object_capacity", [](const PyScheduler& s) { return s.scheduler.object_capacity(); })
+      .def("previous_level", [](const PyScheduler& s, std::uint32_t id) { s.require_alive(id, "previous_level"); return s.scheduler.previous_level(id); }, "id"_a,
+           "The level this object fades from.")
+      .def("transition", [](const PyScheduler& s, std::uint32_t id) { s.require_alive(id, "transition"); return s.scheduler.transition(id); }, "id"_a,
+           "Fade to the current level, 0..1 (1 = done).")
+      .def("transitions", [](const PyScheduler& s, U32 ids) {
+        py::array_t<std::uint8_t> previous = s.per_object(ids, [&](ObjectId i) { return s.scheduler.previous_level(i); });
+        py::array_t<float> fade(ids.shape(0));
+        auto f = fade.mutable_unchecked<1>();
+        auto id = ids.unchecked<1>();
+        for (py::ssize_t i = 0; i < ids.shape(0); ++i) f(i) = s.scheduler.transition(id(i));
+        return py::make_tuple(previous, fade);
+      }, "ids"_a, "(previous levels uint8, fades float32) per id.")
       .def("levels", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); }); }, "ids"_a)
       .def("flags", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.flags(i); }); }, "ids"_a)
       .def("scores", [](const PyScheduler& s, std::uint32_t id) -> py::object {

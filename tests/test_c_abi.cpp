@@ -1,0 +1,309 @@
+// The C ABI against the C++ scheduler it wraps: the sized config, all-or-nothing batch calls,
+// bias, clamps, transitions and explain give what an acuity::Scheduler given the same input gives.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "acuity.h"
+#include "acuity/scheduler.hpp"
+#include "profile_fixture.hpp"
+
+using namespace acuity;
+
+namespace {
+
+struct Fixture {
+  Blob blob = spectra::encode_profile(acuity::testing::small_profile(6));
+  Profile profile{};
+  Fixture() { EXPECT_EQ(open_profile(blob.data(), blob.size, &profile), ProfileStatus::Ok); }
+};
+
+// n objects in a row along -Z, 1 m .. n m away.
+struct Scene {
+  std::vector<int32_t> profiles;
+  std::vector<double> positions;
+  std::vector<float> rotations, scales;
+  explicit Scene(uint32_t n, int32_t profile = 0) {
+    for (uint32_t i = 0; i < n; ++i) {
+      profiles.push_back(profile);
+      positions.insert(positions.end(), {0.3 * i, 0.0, -1.0 - 3.0 * i});
+      rotations.insert(rotations.end(), {0, 0, 0, 1});
+      scales.push_back(0.25f);
+    }
+  }
+};
+
+acuity_scheduler* create(const acuity_config& c, const Fixture& f) {
+  acuity_scheduler* s = nullptr;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_OK) << acuity_last_error();
+  int32_t p = -1;
+  EXPECT_EQ(acuity_load_profile(s, f.blob.data(), f.blob.size, &p), ACUITY_OK) << acuity_last_error();
+  EXPECT_EQ(p, 0);
+  return s;
+}
+
+acuity_status frame(acuity_scheduler* s, const acuity_eye& eye, float dt) {
+  acuity_status st = acuity_begin_frame(s, &eye, 1, dt);
+  if (st == ACUITY_OK) st = acuity_update_range(s, 0, 1u << 30);
+  if (st == ACUITY_OK) st = acuity_end_frame(s);
+  return st;
+}
+
+}  // namespace
+
+TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
+  acuity_config c;
+  std::memset(&c, 0xAB, sizeof c);
+  acuity_config_default(&c);
+  const SchedulerConfig d;
+  EXPECT_EQ(c.struct_size, sizeof(acuity_config));
+  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V2);
+  EXPECT_EQ(c.max_objects, d.max_objects);
+  EXPECT_EQ(c.fallback_level, d.fallback_level);
+  EXPECT_EQ(c.min_gaze_confidence, d.min_gaze_confidence);
+  EXPECT_EQ(c.max_coarsen_wait, d.max_coarsen_wait);
+  EXPECT_EQ(c.transition_seconds, d.transition_seconds);
+  EXPECT_EQ(c.distance_scale, d.distance_scale);
+  EXPECT_EQ(c.pixel_error, d.pixel_error);
+  EXPECT_EQ(c.params.ct0, d.params.ct0);
+  EXPECT_EQ(c.params.e2, d.params.e2);
+  EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
+  EXPECT_EQ(c.reserved, 0u);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 2);
+}
+
+TEST(CAbi, StructSizeGrowthRule) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  acuity_scheduler* s = reinterpret_cast<acuity_scheduler*>(0x1);
+  for (uint32_t bad : {0u, 4u, ACUITY_CONFIG_SIZE_V2 - 8, ACUITY_CONFIG_SIZE_V2 + 4, 0xFFFFFFF8u, 0xDEADBEEFu}) {
+    c.struct_size = bad;
+    EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT) << bad;
+    EXPECT_EQ(s, reinterpret_cast<acuity_scheduler*>(0x1)) << "out unchanged on failure";
+    EXPECT_NE(std::strstr(acuity_last_error(), "struct_size"), nullptr);
+  }
+  // A newer caller's larger struct: the tail this library does not know is ignored.
+  struct Newer { acuity_config v2; uint64_t evaluation; uint64_t more; } n;
+  acuity_config_default(&n.v2);
+  n.v2.struct_size = sizeof n;
+  n.evaluation = 7;
+  n.more = ~0ull;
+  s = nullptr;
+  ASSERT_EQ(acuity_create(&n.v2, &s), ACUITY_OK) << acuity_last_error();
+  acuity_destroy(s);
+  // Garbage values in known fields are refused.
+  acuity_config_default(&c);
+  c.model = 9;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  acuity_config_default(&c);
+  c.quality = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  acuity_config_default(&c);
+  c.transition_seconds = -1;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  acuity_config_default(&c);
+  c.fallback_level = ACUITY_MAX_LEVELS;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  acuity_config_default(&c);
+  c.params.reserved = 1;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_create(nullptr, &s), ACUITY_INVALID_ARGUMENT);
+}
+
+// Every config field reaches the C++ scheduler: the C scheduler and a C++ one configured the same
+// way choose the same levels, fades and previous levels for a moving eye.
+TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 16;
+  c.model = ACUITY_MODEL_KELLY_DALY;
+  c.view_blend = ACUITY_VIEW_BLEND_MAX3;
+  c.quality = 0.8f;
+  c.min_gaze_confidence = 0.25f;
+  c.transition_seconds = 0.1f;
+  c.hysteresis_frames = 2;
+  c.max_coarsen_wait = 5;
+  c.params.e2 = 3.0;
+  c.params.csf_fit = ACUITY_CSF_LAIRD2006;
+  SchedulerConfig sc;
+  sc.max_objects = 16;
+  sc.model = ThresholdModel::KellyDaly;
+  sc.view_blend = ViewBlend::Max3;
+  sc.quality = 0.8f;
+  sc.min_gaze_confidence = 0.25f;
+  sc.transition_seconds = 0.1f;
+  sc.hysteresis_frames = 2;
+  sc.max_coarsen_wait = 5;
+  sc.params.e2 = 3.0;
+  sc.params.fit = CsfFit::Laird2006;
+  acuity_scheduler* s = create(c, f);
+  Scheduler ref(sc);
+  ASSERT_EQ(ref.add_profile(f.profile), 0);
+  Scene scene(16);
+  std::vector<uint32_t> ids(16);
+  ASSERT_EQ(acuity_add_objects(s, 16, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0,
+                               scene.scales.data(), ids.data()), ACUITY_OK);
+  for (uint32_t i = 0; i < 16; ++i) {
+    ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = scene.positions[3 * i + k];
+    t.scale = scene.scales[i];
+    ASSERT_EQ(ref.add_object(0, t), ids[i]);
+  }
+  const float bias[2] = {2.0f, 0.5f};
+  const uint8_t lo[2] = {1, 0}, hi[2] = {2, 0};
+  ASSERT_EQ(acuity_set_bias(s, 2, &ids[3], bias), ACUITY_OK);
+  ASSERT_EQ(acuity_set_clamps(s, 2, &ids[5], lo, hi), ACUITY_OK);
+  ref.set_bias(ids[3], 2.0f); ref.set_bias(ids[4], 0.5f);
+  ref.set_clamps(ids[5], 1, 2); ref.set_clamps(ids[6], 0, 0);
+  int changes = 0;
+  for (int n = 0; n < 40; ++n) {
+    acuity_eye eye;
+    acuity_eye_default(&eye);
+    eye.position[2] = 2.0 - 1.5 * n;  // walks through the row
+    eye.gaze_valid = 1;
+    eye.gaze_direction[0] = 0.3f * std::sin(0.4f * float(n));
+    Frame fr;
+    fr.eyes[0].position[2] = eye.position[2];
+    fr.gaze[0].valid = true;
+    std::memcpy(fr.gaze[0].direction, eye.gaze_direction, sizeof eye.gaze_direction);
+    fr.dt = 1.0f / 60;
+    ASSERT_EQ(frame(s, eye, fr.dt), ACUITY_OK) << acuity_last_error();
+    ref.run_frame(fr);
+    std::vector<uint8_t> levels(16), flags(16), previous(16);
+    std::vector<float> fades(16);
+    ASSERT_EQ(acuity_get_levels(s, 16, ids.data(), levels.data(), flags.data()), ACUITY_OK);
+    ASSERT_EQ(acuity_get_transitions(s, 16, ids.data(), previous.data(), fades.data()), ACUITY_OK);
+    for (uint32_t i = 0; i < 16; ++i) {
+      EXPECT_EQ(levels[i], ref.level(ids[i])) << n << " " << i;
+      EXPECT_EQ(flags[i], ref.flags(ids[i]));
+      EXPECT_EQ(previous[i], ref.previous_level(ids[i]));
+      EXPECT_EQ(fades[i], ref.transition(ids[i]));
+      changes += (flags[i] & ACUITY_FLAG_CHANGED) != 0;
+    }
+    EXPECT_GE(levels[5], 1); EXPECT_LE(levels[5], 2);
+    EXPECT_EQ(levels[6], 0);
+    if (n == 39) {
+      acuity_object_explain e;
+      ObjectExplain x;
+      ASSERT_EQ(acuity_explain(s, ids[9], &e), ACUITY_OK);
+      ASSERT_TRUE(ref.explain(ids[9], &x));
+      EXPECT_EQ(e.level, x.level);
+      EXPECT_EQ(e.level_count, 6);
+      EXPECT_EQ(e.distance_m, x.distance_m);
+      EXPECT_EQ(e.eccentricity_deg, x.eccentricity_deg);
+      for (int k = 0; k < e.level_count; ++k) EXPECT_EQ(e.levels[k].score, x.levels[k].score);
+    }
+  }
+  EXPECT_GT(changes, 0) << "the walk changes levels, so transitions were exercised";
+  acuity_destroy(s);
+}
+
+TEST(CAbi, FadeRisesByDtOverTransitionSeconds) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 1;
+  c.transition_seconds = 0.5f;
+  acuity_scheduler* s = create(c, f);
+  Scene scene(1);
+  uint32_t id = 0;
+  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, &id), ACUITY_OK);
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  ASSERT_EQ(frame(s, eye, 0.125f), ACUITY_OK);
+  eye.position[2] = 500;  // far away: a coarser level, fade restarts at 0
+  eye.position[0] = 0.3;
+  ASSERT_EQ(frame(s, eye, 0.125f), ACUITY_OK);
+  uint8_t level = 0, previous = 0, flags = 0;
+  float fade = -1;
+  ASSERT_EQ(acuity_get_levels(s, 1, &id, &level, &flags), ACUITY_OK);
+  ASSERT_EQ(acuity_get_transitions(s, 1, &id, &previous, &fade), ACUITY_OK);
+  ASSERT_TRUE(flags & ACUITY_FLAG_CHANGED);
+  EXPECT_GT(level, previous);
+  EXPECT_EQ(fade, 0.0f);
+  for (int n = 1; n <= 5; ++n) {
+    ASSERT_EQ(frame(s, eye, 0.125f), ACUITY_OK);
+    ASSERT_EQ(acuity_get_transitions(s, 1, &id, nullptr, &fade), ACUITY_OK);
+    EXPECT_FLOAT_EQ(fade, std::min(1.0f, 0.25f * float(n)));
+  }
+  acuity_destroy(s);
+}
+
+// A failing batch call changes nothing: bad ids, stale ids, bad values, bad profile indices.
+TEST(CAbi, BatchCallsAreAllOrNothing) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 4;
+  acuity_scheduler* s = create(c, f);
+  Scene scene(4);
+  uint32_t ids[4] = {9, 9, 9, 9};
+  // A profile index never loaded, in the middle: nothing added, ids untouched.
+  Scene bad(3);
+  bad.profiles[1] = 5;
+  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0, nullptr, ids), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(ids[0], 9u);
+  bad.profiles[1] = -1;
+  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0, nullptr, ids), ACUITY_INVALID_ARGUMENT);
+  ASSERT_EQ(acuity_add_objects(s, 3, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, ids), ACUITY_OK);
+  // Two more do not fit in 4: FULL, and the one that would fit was not kept.
+  uint32_t more[2] = {9, 9};
+  EXPECT_EQ(acuity_add_objects(s, 2, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, more), ACUITY_FULL);
+  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, more), ACUITY_OK);
+  ids[3] = more[0];
+  // Bias: the third value is NaN, so the first two are not applied either (levels unchanged).
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  eye.position[2] = 5;  // outside every bounding sphere
+  ASSERT_EQ(frame(s, eye, 0.01f), ACUITY_OK);
+  uint8_t before[4], after[4];
+  ASSERT_EQ(acuity_get_levels(s, 4, ids, before, nullptr), ACUITY_OK);
+  const float biases[3] = {1000.0f, 1000.0f, std::nanf("")};
+  EXPECT_EQ(acuity_set_bias(s, 3, ids, biases), ACUITY_INVALID_ARGUMENT);
+  const float zero[1] = {0.0f};
+  EXPECT_EQ(acuity_set_bias(s, 1, ids, zero), ACUITY_INVALID_ARGUMENT);
+  const uint8_t lo[2] = {5, 5}, hi[2] = {5, 1};
+  EXPECT_EQ(acuity_set_clamps(s, 2, ids, lo, hi), ACUITY_INVALID_ARGUMENT);
+  ASSERT_EQ(frame(s, eye, 0.01f), ACUITY_OK);
+  ASSERT_EQ(acuity_get_levels(s, 4, ids, after, nullptr), ACUITY_OK);
+  EXPECT_EQ(std::memcmp(before, after, 4), 0);
+  // The same bias alone does coarsen: so the refusal above was what kept the levels.
+  ASSERT_EQ(acuity_set_bias(s, 2, ids, biases), ACUITY_OK);
+  ASSERT_EQ(frame(s, eye, 0.01f), ACUITY_OK);
+  ASSERT_EQ(acuity_get_levels(s, 4, ids, after, nullptr), ACUITY_OK);
+  EXPECT_GT(after[0], before[0]);
+  // Stale and duplicate ids.
+  const uint32_t stale_last[2] = {ids[1], 77};
+  EXPECT_EQ(acuity_remove_objects(s, 2, stale_last), ACUITY_INVALID_ARGUMENT);
+  const uint32_t twice[2] = {ids[1], ids[1]};
+  EXPECT_EQ(acuity_remove_objects(s, 2, twice), ACUITY_INVALID_ARGUMENT);
+  uint8_t l = 0;
+  EXPECT_EQ(acuity_get_levels(s, 1, &ids[1], &l, nullptr), ACUITY_OK) << "not removed by the failed calls";
+  ASSERT_EQ(acuity_remove_objects(s, 1, &ids[1]), ACUITY_OK);
+  uint8_t untouched[2] = {42, 42};
+  float fades[2] = {-1, -1};
+  EXPECT_EQ(acuity_get_levels(s, 2, ids, untouched, nullptr), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(untouched[0], 42);
+  EXPECT_EQ(acuity_get_transitions(s, 2, ids, untouched, fades), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(fades[0], -1.0f);
+  acuity_object_explain e;
+  EXPECT_EQ(acuity_explain(s, ids[1], &e), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_explain(s, 0xFFFFFFFFu, &e), ACUITY_INVALID_ARGUMENT);
+  const double p[3] = {0, 0, std::numeric_limits<double>::infinity()};
+  const float r[4] = {0, 0, 0, 1};
+  EXPECT_EQ(acuity_set_transforms(s, 1, &ids[1], p, 0, r, 0, nullptr), ACUITY_INVALID_ARGUMENT);
+  // Frame order.
+  EXPECT_EQ(acuity_update_range(s, 0, 4), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_end_frame(s), ACUITY_INVALID_ARGUMENT);
+  ASSERT_EQ(acuity_begin_frame(s, &eye, 1, 0.01f), ACUITY_OK);
+  EXPECT_EQ(acuity_begin_frame(s, &eye, 1, 0.01f), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_update_range(s, 0xFFFFFFF0u, 0x20u), ACUITY_OK);  // clipped, no wrap-around
+  EXPECT_EQ(acuity_update_range(s, 0, 4), ACUITY_OK);
+  EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
+  acuity_destroy(s);
+}
