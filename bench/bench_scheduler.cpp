@@ -1,11 +1,14 @@
 // Scheduler::update throughput for 1k .. 1M objects sharing 100 profiles (6 levels, 8 orientations,
 // 8 bands), beside the plain loops an engine would write for distance LOD and screen-size LOD, in
-// the same run. Single thread. Run:
+// the same run: the tabulated and the exact perceptual path, one thread and two threads on disjoint
+// ranges (a persistent worker, as a host job system would have). Run:
 //   build/bench/bench_scheduler --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <thread>
 #include <random>
 #include <vector>
 
@@ -60,11 +63,12 @@ struct Scene {
   Frame frame;
   std::vector<double> x, y, z;      // for the baseline loops
   std::vector<int> profile_of;
-  Scene(std::uint32_t n, SelectionRule rule, float moving) {
+  Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated) {
     SchedulerConfig c;
     c.max_objects = n;
     c.max_profiles = kProfiles;
     c.rule = rule;
+    c.evaluation = evaluation;
     scheduler = std::make_unique<Scheduler>(c);
     for (const Profile& p : library().profiles) scheduler->add_profile(p);
     std::mt19937 rng(2);
@@ -91,12 +95,45 @@ struct Scene {
   }
 };
 
-void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving) {
-  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving);
+void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation);
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
     benchmark::DoNotOptimize(scene.scheduler->stats().triangles);
   }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+}
+
+// Two threads: this one updates the first half, a persistent worker the second (spinning between
+// frames, as a job system's worker would be parked), then end_frame on this thread.
+void BM_scheduler_2threads(benchmark::State& state, float moving) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), SelectionRule::Perceptual, moving);
+  Scheduler& s = *scene.scheduler;
+  const std::uint32_t n = s.object_capacity(), half = n / 2;
+  std::atomic<int> go{0}, done{0};
+  std::atomic<bool> stop{false};
+  std::thread worker([&] {
+    int seen = 0;
+    while (true) {
+      int g;
+      while ((g = go.load(std::memory_order_acquire)) == seen)
+        if (stop.load(std::memory_order_relaxed)) return;
+      seen = g;
+      s.update(half, n - half);
+      done.store(seen, std::memory_order_release);
+    }
+  });
+  int frame = 0;
+  for (auto _ : state) {
+    s.begin_frame(scene.frame);
+    go.store(++frame, std::memory_order_release);
+    s.update(0, half);
+    while (done.load(std::memory_order_acquire) != frame) {}
+    s.end_frame();
+    benchmark::DoNotOptimize(s.stats().triangles);
+  }
+  stop.store(true);
+  worker.join();
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 
@@ -153,6 +190,10 @@ BENCHMARK(BM_distance_loop)->Apply(sizes);
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_exact, SelectionRule::Perceptual, 1.0f, Evaluation::Exact)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_static, 0.0f)->Apply(sizes)->UseRealTime();
+BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_all_moving, 1.0f)->Apply(sizes)->UseRealTime();
 BENCHMARK_CAPTURE(BM_scheduler, reddy_static, SelectionRule::Reddy, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, distance_rule, SelectionRule::Distance, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, screen_size_rule, SelectionRule::ScreenSize, 0.0f)->Apply(sizes);

@@ -60,7 +60,8 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   acuity_config_default(&c);
   const SchedulerConfig d;
   EXPECT_EQ(c.struct_size, sizeof(acuity_config));
-  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V2);
+  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V3);
+  EXPECT_EQ(c.evaluation, uint32_t(ACUITY_EVALUATION_TABULATED));
   EXPECT_EQ(c.max_objects, d.max_objects);
   EXPECT_EQ(c.fallback_level, d.fallback_level);
   EXPECT_EQ(c.min_gaze_confidence, d.min_gaze_confidence);
@@ -72,7 +73,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 2);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 3);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -87,10 +88,10 @@ TEST(CAbi, StructSizeGrowthRule) {
     EXPECT_NE(std::strstr(acuity_last_error(), "struct_size"), nullptr);
   }
   // A newer caller's larger struct: the tail this library does not know is ignored.
-  struct Newer { acuity_config v2; uint64_t evaluation; uint64_t more; } n;
+  struct Newer { acuity_config v2; uint64_t future; uint64_t more; } n;
   acuity_config_default(&n.v2);
   n.v2.struct_size = sizeof n;
-  n.evaluation = 7;
+  n.future = 7;
   n.more = ~0ull;
   s = nullptr;
   ASSERT_EQ(acuity_create(&n.v2, &s), ACUITY_OK) << acuity_last_error();
@@ -112,6 +113,56 @@ TEST(CAbi, StructSizeGrowthRule) {
   c.params.reserved = 1;
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
   EXPECT_EQ(acuity_create(nullptr, &s), ACUITY_INVALID_ARGUMENT);
+}
+
+// The version-3 field: evaluation reaches the scheduler, a version-2 caller (struct_size 160) gets the
+// tabulated default, an unknown value is refused. Seen where the two evaluations choose differently.
+TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
+  Fixture f;
+  const uint32_t n = 3000;
+  std::vector<int32_t> profiles(n, 0);
+  std::vector<double> positions;
+  std::vector<float> rotations, scales(n);
+  std::vector<uint32_t> ids(n);
+  for (uint32_t i = 0; i < n; ++i) {  // a spiral of objects 0.5 .. 150 m away, 0..40 deg off axis
+    const double z = 0.5 * std::pow(300.0, double(i) / n), a = 0.05 * i;
+    positions.insert(positions.end(), {std::sin(a) * 0.7 * z * (i % 7) / 7.0, std::cos(a) * 0.5 * z * (i % 5) / 5.0, -z});
+    rotations.insert(rotations.end(), {0, 0, 0, 1});
+    scales[i] = 0.1f + 0.4f * float(i % 11) / 11.0f;
+  }
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  eye.gaze_valid = 1;
+  auto levels = [&](uint32_t evaluation, uint32_t struct_size) {
+    acuity_config c;
+    acuity_config_default(&c);
+    c.max_objects = n;
+    c.evaluation = evaluation;
+    c.struct_size = struct_size;
+    acuity_scheduler* s = create(c, f);
+    EXPECT_EQ(acuity_add_objects(s, n, profiles.data(), positions.data(), 0, rotations.data(), 0, scales.data(), ids.data()), ACUITY_OK);
+    EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+    std::vector<uint8_t> out(n);
+    EXPECT_EQ(acuity_get_levels(s, n, ids.data(), out.data(), nullptr), ACUITY_OK);
+    acuity_destroy(s);
+    return out;
+  };
+  const auto tabulated = levels(ACUITY_EVALUATION_TABULATED, ACUITY_CONFIG_SIZE_V3);
+  const auto exact = levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V3);
+  const auto v2 = levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V2);  // the field lies past a V2 caller's struct
+  int differ = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    EXPECT_LE(tabulated[i], exact[i]);
+    differ += tabulated[i] != exact[i];
+  }
+  ASSERT_GT(differ, 0) << "no object tells the two evaluations apart";
+  EXPECT_EQ(v2, tabulated);
+  acuity_config c;
+  acuity_config_default(&c);
+  c.evaluation = 2;
+  acuity_scheduler* s = nullptr;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(s, nullptr);
 }
 
 // Every config field reaches the C++ scheduler: the C scheduler and a C++ one configured the same

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -903,5 +904,52 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     EXPECT_EQ(a.coarser, 0) << k.name;
     EXPECT_LE(a.differ * 1000, a.total * 5) << k.name << ": " << a.differ << " of " << a.total << " differ";
     std::printf("%-24s %5d of %d differ (%.2f%%)\n", k.name, a.differ, a.total, 100.0 * a.differ / a.total);
+  }
+}
+
+// Extreme but valid profiles: loss near 0 or enormous, a tiny object, one level. Tables stay finite
+// (decisions defined, never coarser than exact), and invalid input still falls back with a flag.
+TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
+  struct Extreme { const char* name; float lost_scale; float radius; std::uint32_t K; };
+  const Extreme cases[] = {{"loss near 0", 1e-30f, 1.0f, 6}, {"huge loss", 1e30f, 1.0f, 6},
+                           {"tiny radius", 1.0f, 1e-6f, 6}, {"huge radius", 1.0f, 1e6f, 6}, {"one level", 1.0f, 1.0f, 1}};
+  for (const Extreme& x : cases) {
+    TestProfile tp(x.K);
+    for (float& l : tp.data.lost) l *= x.lost_scale;
+    tp.data.sphere[3] = x.radius;
+    tp.blob = spectra::encode_profile(tp.data);
+    ASSERT_EQ(open_profile(tp.blob.data(), tp.blob.size, &tp.profile), ProfileStatus::Ok) << x.name;
+    SchedulerConfig c;
+    c.max_objects = 64;
+    SchedulerConfig e = c;
+    e.evaluation = Evaluation::Exact;
+    Scheduler tab(c), exact(e);
+    const int pt = tab.add_profile(tp.profile), pe = exact.add_profile(tp.profile);
+    EXPECT_EQ(tab.table_bytes(pt), Scheduler::table_bytes(tp.profile.meta, c)) << x.name;
+    EXPECT_EQ(tab.table_bytes(pt) == 0, x.K == 1) << x.name;
+    Rng rng(77);
+    for (int i = 0; i < 60; ++i) {
+      const double z = -std::exp(rng.uniform(std::log(x.radius * 1.5f), std::log(x.radius * 1e4f)));
+      const ObjectTransform t = at(rng.uniform(-0.3f, 0.3f) * z, 0, z);
+      const float v[3] = {rng.uniform(-2, 2) * float(-z), 0, 0};
+      const ObjectId a = tab.add_object(pt, t), b = exact.add_object(pe, t);
+      if (i % 2) { tab.set_velocity(a, v); exact.set_velocity(b, v); }
+    }
+    // One object with a NaN transform: the fallback level and the flag, in both paths.
+    ObjectTransform bad = at(0, 0, -5);
+    bad.position[0] = std::numeric_limits<double>::quiet_NaN();
+    const ObjectId bad_t = tab.add_object(pt, bad), bad_e = exact.add_object(pe, bad);
+    Frame f = looking_forward();
+    gaze_at(f, 0.1, 0, -1);
+    tab.run_frame(f);
+    exact.run_frame(f);
+    for (ObjectId id = 0; id < 60; ++id) {
+      EXPECT_LT(tab.level(id), x.K) << x.name;
+      EXPECT_LE(tab.level(id), exact.level(id)) << x.name << " object " << id;
+    }
+    EXPECT_TRUE(tab.flags(bad_t) & kFlagInvalidInput) << x.name;
+    EXPECT_EQ(tab.level(bad_t), exact.level(bad_e)) << x.name;
+    if (x.lost_scale < 1e-20f) EXPECT_EQ(tab.level(0), x.K - 1) << "nothing lost: the coarsest level";
+    if (x.lost_scale > 1e20f) EXPECT_EQ(tab.level(0), 0) << "everything visible: the finest level";
   }
 }

@@ -7,6 +7,7 @@
 
 #include "acuity/file.hpp"
 #include "acuity/profile.hpp"
+#include "acuity/scheduler.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -27,6 +28,7 @@ void run(const std::string& path, bool json) {
   j["format_version"] = kProfileVersion;
   j["sphere"] = {m.sphere[0], m.sphere[1], m.sphere[2], m.sphere[3]};
   j["snapshot_pixels"] = m.snapshot_pixels;
+  j["runtime_table_bytes"] = Scheduler::table_bytes(m, SchedulerConfig{});  // the tabulated path, default config
   j["orientations_deg"] = std::vector<float>(p.orientations, p.orientations + m.orientation_count);
   j["bands_cpod"] = std::vector<float>(p.bands, p.bands + m.band_count);
   for (std::uint32_t v = 0; v < m.view_count; ++v)
@@ -50,6 +52,8 @@ void run(const std::string& path, bool json) {
   std::printf("sphere    centre (%g, %g, %g), radius %g; snapshots %u px across\n", m.sphere[0], m.sphere[1], m.sphere[2],
               m.sphere[3], m.snapshot_pixels);
   std::printf("views     %u (lookup %u x %u per cube face)\n", m.view_count, m.lookup_resolution, m.lookup_resolution);
+  const std::size_t tables = Scheduler::table_bytes(m, SchedulerConfig{});
+  std::printf("runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile\n", tables, tables + blob.size);
   std::printf("spectra   %u orientations x %u bands:", m.orientation_count, m.band_count);
   for (std::uint32_t b = 0; b < m.band_count; ++b) std::printf(" %g", p.bands[b]);
   std::printf(" cycles per diameter\n\nlevel  triangles  geom.error  largest loss per band\n");

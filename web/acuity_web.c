@@ -32,6 +32,7 @@ acuity_status acuity_web_config_set(acuity_config* c, const char* name, double v
   ACUITY_WEB_UINT(max_objects, UINT32_MAX)
   ACUITY_WEB_UINT(max_profiles, UINT32_MAX)
   ACUITY_WEB_UINT(rule, UINT32_MAX)
+  ACUITY_WEB_UINT(evaluation, UINT32_MAX)
   ACUITY_WEB_FLOAT(quality)
   ACUITY_WEB_FLOAT(gaze_uncertainty_deg)
   ACUITY_WEB_FLOAT(no_gaze_radius_deg)

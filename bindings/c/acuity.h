@@ -33,7 +33,7 @@ extern "C" {
 
 /* Version 2 added: acuity_config.struct_size and every SchedulerConfig field, acuity_set_bias,
  * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls. */
-#define ACUITY_C_API_VERSION 2
+#define ACUITY_C_API_VERSION 3
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -52,6 +52,9 @@ enum { ACUITY_RULE_PERCEPTUAL = 0, ACUITY_RULE_REDDY = 1, ACUITY_RULE_DISTANCE =
 enum { ACUITY_MODEL_DEFAULT = 0, ACUITY_MODEL_GEISLER_PERRY = 1, ACUITY_MODEL_KELLY_DALY = 2, ACUITY_MODEL_REDDY = 3 };
 /* acuity_config.view_blend (acuity::ViewBlend) */
 enum { ACUITY_VIEW_BLEND_NEAREST = 0, ACUITY_VIEW_BLEND_MAX3 = 1 };
+/* How the perceptual rule evaluates thresholds: per-profile tables (conservative, the default) or
+ * every band and orientation through the model (see "The tabulated path" in acuity/scheduler.hpp). */
+enum { ACUITY_EVALUATION_TABULATED = 0, ACUITY_EVALUATION_EXACT = 1 };
 /* acuity_model_params.csf_fit (acuity::CsfFit) */
 enum { ACUITY_CSF_DALY1998 = 0, ACUITY_CSF_LAIRD2006 = 1 };
 
@@ -109,9 +112,14 @@ typedef struct acuity_config {
   uint32_t keep_scores;          /* 1: keep every level's score (acuity_explain needs none) */
   uint32_t reserved;             /* must be 0 */
   acuity_model_params params;
+  /* version 3 (appended): */
+  uint32_t evaluation;           /* ACUITY_EVALUATION_*; a version-2 caller gets TABULATED */
+  uint32_t reserved3;            /* must be 0 */
 } acuity_config;
-/* The size of the version-2 layout above: the smallest struct_size acuity_create accepts. */
+/* The sizes of the version-2 layout (everything up to params: the smallest struct_size
+ * acuity_create accepts) and of the version-3 layout above. */
 #define ACUITY_CONFIG_SIZE_V2 160u
+#define ACUITY_CONFIG_SIZE_V3 168u
 
 typedef struct acuity_eye {
   double position[3];            /* world [m] */

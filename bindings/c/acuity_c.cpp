@@ -36,7 +36,9 @@ static_assert(int(ACUITY_FLAG_INVALID_INPUT) == int(acuity::kFlagInvalidInput) &
               int(ACUITY_FLAG_NO_GAZE) == int(acuity::kFlagNoGaze) && int(ACUITY_FLAG_BUDGET_FORCED) == int(acuity::kFlagBudgetForced) &&
               int(ACUITY_FLAG_CHANGED) == int(acuity::kFlagChanged) && int(ACUITY_FLAG_HELD) == int(acuity::kFlagHeld));
 static_assert(ACUITY_MAX_LEVELS == acuity::kMaxLevels);
-static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V2 && sizeof(acuity_config) % 8 == 0,
+static_assert(ACUITY_EVALUATION_TABULATED == int(acuity::Evaluation::Tabulated) && ACUITY_EVALUATION_EXACT == int(acuity::Evaluation::Exact));
+static_assert(offsetof(acuity_config, evaluation) == ACUITY_CONFIG_SIZE_V2, "version 3 appends to version 2");
+static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V3 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
 // The eye and explain structs are copied field by field, so only their field types must agree.
@@ -124,9 +126,9 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   acuity_config_default(&k);
   std::memcpy(&k, c, std::min<std::size_t>(size, sizeof k));
   if (k.rule > ACUITY_RULE_SCREEN_SIZE || k.model > ACUITY_MODEL_REDDY || k.view_blend > ACUITY_VIEW_BLEND_MAX3 ||
-      k.params.csf_fit > ACUITY_CSF_LAIRD2006)
-    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: unknown rule, model, view_blend or csf_fit");
-  if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0)
+      k.params.csf_fit > ACUITY_CSF_LAIRD2006 || k.evaluation > ACUITY_EVALUATION_EXACT)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: unknown rule, model, view_blend, csf_fit or evaluation");
+  if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
   if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS || !std::isfinite(k.transition_seconds) ||
       k.transition_seconds < 0)
@@ -135,6 +137,7 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   sc.max_objects = k.max_objects;
   sc.max_profiles = k.max_profiles;
   sc.rule = static_cast<acuity::SelectionRule>(k.rule);
+  sc.evaluation = static_cast<acuity::Evaluation>(k.evaluation);
   sc.model = static_cast<acuity::ThresholdModel>(k.model);
   sc.view_blend = static_cast<acuity::ViewBlend>(k.view_blend);
   sc.quality = k.quality;
@@ -178,6 +181,7 @@ void acuity_config_default(acuity_config* c) {
   c->max_objects = d.max_objects;
   c->max_profiles = d.max_profiles;
   c->rule = static_cast<uint32_t>(d.rule);
+  c->evaluation = static_cast<uint32_t>(d.evaluation);
   c->model = static_cast<uint32_t>(d.model);
   c->view_blend = static_cast<uint32_t>(d.view_blend);
   c->quality = d.quality;

@@ -227,12 +227,15 @@ void bind_scheduler(py::module_ m) {
       .value("perceptual", SelectionRule::Perceptual).value("reddy", SelectionRule::Reddy)
       .value("distance", SelectionRule::Distance).value("screen_size", SelectionRule::ScreenSize);
   py::enum_<ViewBlend>(m, "ViewBlend").value("nearest", ViewBlend::Nearest).value("max3", ViewBlend::Max3);
+  py::enum_<Evaluation>(m, "Evaluation", "How the perceptual rule evaluates thresholds (see acuity/scheduler.hpp).")
+      .value("tabulated", Evaluation::Tabulated).value("exact", Evaluation::Exact);
 
   py::class_<SchedulerConfig>(m, "SchedulerConfig", "Scheduler settings (see acuity/scheduler.hpp).")
       .def(py::init<>())
       .def_readwrite("max_objects", &SchedulerConfig::max_objects)
       .def_readwrite("max_profiles", &SchedulerConfig::max_profiles)
       .def_readwrite("rule", &SchedulerConfig::rule)
+      .def_readwrite("evaluation", &SchedulerConfig::evaluation)
       .def_readwrite("params", &SchedulerConfig::params)
       .def_readwrite("view_blend", &SchedulerConfig::view_blend)
       .def_readwrite("quality", &SchedulerConfig::quality)

@@ -51,10 +51,6 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   return v + w * t + cross(u, t);
 }
 [[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) { return rotate(q[0], q[1], q[2], q[3], v); }
-inline Vec3 rotate_inverse(const float* q, Vec3 v) {
-  const float c[4] = {-q[0], -q[1], -q[2], q[3]};
-  return rotate(c, v);
-}
 // atan2(y, x) in degrees for y >= 0, in [0, 180]: exact reductions to |t| <= tan 15 deg, then the
 // odd Taylor series to t^9 (truncation below 6e-8 rad). Pure arithmetic: deterministic, ~4x libm's speed.
 [[gnu::always_inline]] inline float atan2_deg(float y, float x) {
@@ -526,6 +522,15 @@ void Scheduler::build_tables(ProfileCache& c) const {
         }
       }
   }
+}
+
+std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
+  const bool tables = config.rule == SelectionRule::Perceptual && config.evaluation == Evaluation::Tabulated &&
+                      (config.model == ThresholdModel::Default || config.model == ThresholdModel::GeislerPerry);
+  if (!tables || m.level_count < 2) return 0;
+  const std::size_t per_set = std::size_t(m.view_count) * (m.level_count - 1) *
+                              (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
+  return per_set * (config.hysteresis_margin > 0 ? 2 : 1) * sizeof(std::int16_t);
 }
 
 std::size_t Scheduler::table_bytes(int profile) const {

@@ -68,6 +68,7 @@ static void set_config(acuity_config* c, const char* name, double v) {
   if (!strcmp(name, "max_objects")) c->max_objects = (uint32_t)v;
   else if (!strcmp(name, "max_profiles")) c->max_profiles = (uint32_t)v;
   else if (!strcmp(name, "rule")) c->rule = (uint32_t)v;
+  else if (!strcmp(name, "evaluation")) c->evaluation = (uint32_t)v;
   else if (!strcmp(name, "quality")) c->quality = (float)v;
   else if (!strcmp(name, "gaze_uncertainty_deg")) c->gaze_uncertainty_deg = (float)v;
   else if (!strcmp(name, "no_gaze_radius_deg")) c->no_gaze_radius_deg = (float)v;

@@ -21,9 +21,9 @@ foveation = _acuity.foveation
 for _name in ("models", "spectra", "lodgen", "foveation"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
-from ._acuity import (Eye, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
+from ._acuity import (Eye, Evaluation, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
 __all__ = ["models", "spectra", "lodgen", "foveation", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
-           "SelectionRule", "ViewBlend", "__version__"]
+           "SelectionRule", "ViewBlend", "Evaluation", "__version__"]

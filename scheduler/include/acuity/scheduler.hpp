@@ -204,8 +204,10 @@ class Scheduler {
   const FrameStats& stats() const { return stats_; }
   const SchedulerConfig& config() const { return config_; }
 
-  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated).
+  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated), and what a
+  // profile with this meta would take under a configuration (before adding it).
   std::size_t table_bytes(int profile) const;
+  static std::size_t table_bytes(const ProfileMeta& meta, const SchedulerConfig& config);
 
   // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
   // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].
