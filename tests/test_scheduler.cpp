@@ -928,9 +928,9 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     EXPECT_EQ(tab.table_bytes(pt), Scheduler::table_bytes(tp.profile.meta, c)) << x.name;
     EXPECT_EQ(tab.table_bytes(pt) == 0, x.K == 1) << x.name;
     Rng rng(77);
-    for (int i = 0; i < 60; ++i) {
-      const double z = -std::exp(rng.uniform(std::log(x.radius * 1.5f), std::log(x.radius * 1e4f)));
-      const ObjectTransform t = at(rng.uniform(-0.3f, 0.3f) * z, 0, z);
+    for (int i = 0; i < 60; ++i) {  // object 0: near, at the gaze (about 20 deg across)
+      const double z = i == 0 ? -6.0 * x.radius : -std::exp(rng.uniform(std::log(x.radius * 1.5f), std::log(x.radius * 1e4f)));
+      const ObjectTransform t = at(i == 0 ? 0.0 : rng.uniform(-0.3f, 0.3f) * z, 0, z);
       const float v[3] = {rng.uniform(-2, 2) * float(-z), 0, 0};
       const ObjectId a = tab.add_object(pt, t), b = exact.add_object(pe, t);
       if (i % 2) { tab.set_velocity(a, v); exact.set_velocity(b, v); }
@@ -940,7 +940,7 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     bad.position[0] = std::numeric_limits<double>::quiet_NaN();
     const ObjectId bad_t = tab.add_object(pt, bad), bad_e = exact.add_object(pe, bad);
     Frame f = looking_forward();
-    gaze_at(f, 0.1, 0, -1);
+    gaze_at(f, 0, 0, -1);
     tab.run_frame(f);
     exact.run_frame(f);
     for (ObjectId id = 0; id < 60; ++id) {
@@ -949,7 +949,11 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     }
     EXPECT_TRUE(tab.flags(bad_t) & kFlagInvalidInput) << x.name;
     EXPECT_EQ(tab.level(bad_t), exact.level(bad_e)) << x.name;
-    if (x.lost_scale < 1e-20f) EXPECT_EQ(tab.level(0), x.K - 1) << "nothing lost: the coarsest level";
-    if (x.lost_scale > 1e20f) EXPECT_EQ(tab.level(0), 0) << "everything visible: the finest level";
+    if (x.lost_scale < 1e-20f) {
+      EXPECT_EQ(tab.level(0), x.K - 1) << "nothing lost: the coarsest level";
+    }
+    if (x.lost_scale > 1e20f) {
+      EXPECT_EQ(tab.level(0), 0) << "everything visible: the finest level";
+    }
   }
 }

@@ -125,9 +125,14 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   acuity_config k;
   acuity_config_default(&k);
   std::memcpy(&k, c, std::min<std::size_t>(size, sizeof k));
-  if (k.rule > ACUITY_RULE_SCREEN_SIZE || k.model > ACUITY_MODEL_REDDY || k.view_blend > ACUITY_VIEW_BLEND_MAX3 ||
-      k.params.csf_fit > ACUITY_CSF_LAIRD2006 || k.evaluation > ACUITY_EVALUATION_EXACT)
-    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: unknown rule, model, view_blend, csf_fit or evaluation");
+  const struct { const char* name; uint32_t value, largest; } enums[] = {
+      {"rule", k.rule, ACUITY_RULE_SCREEN_SIZE}, {"model", k.model, ACUITY_MODEL_REDDY},
+      {"view_blend", k.view_blend, ACUITY_VIEW_BLEND_MAX3}, {"params.csf_fit", k.params.csf_fit, ACUITY_CSF_LAIRD2006},
+      {"evaluation", k.evaluation, ACUITY_EVALUATION_EXACT}};
+  for (const auto& e : enums)
+    if (e.value > e.largest)
+      return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: bad ") + e.name + " " + std::to_string(e.value) +
+                                               " (0.." + std::to_string(e.largest) + ")");
   if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
   if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS || !std::isfinite(k.transition_seconds) ||
@@ -269,7 +274,8 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
     if (!s || (count && (!profiles || !positions || !rotations || !ids))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
     for (uint32_t i = 0; i < count; ++i)
       if (profiles[i] < 0 || std::size_t(profiles[i]) >= s->profiles.size())
-        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: object " + std::to_string(i) + ": profile " + std::to_string(profiles[i]) + " was not loaded");
+        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: profiles[" + std::to_string(i) + "] = " + std::to_string(profiles[i]) +
+                                                 " is not a loaded profile (" + std::to_string(s->profiles.size()) + " loaded); nothing was added");
     std::vector<uint32_t> added;
     added.reserve(count);
     for (uint32_t i = 0; i < count; ++i) {
@@ -365,7 +371,7 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: null scheduler");
-    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame begun");
+    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame begun (call acuity_begin_frame first); nothing was updated");
     const uint32_t capacity = s->scheduler.object_capacity();
     if (first >= capacity) return ACUITY_OK;
     count = std::min(count, capacity - first);
@@ -377,7 +383,7 @@ acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t 
 acuity_status acuity_end_frame(acuity_scheduler* s) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: null scheduler");
-    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame begun");
+    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame begun (call acuity_begin_frame first)");
     s->scheduler.end_frame();
     s->in_frame = false;
     return ACUITY_OK;

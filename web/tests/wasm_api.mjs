@@ -45,7 +45,7 @@ throwsAcuity(() => s.loadProfile(profile), 3, /acuity_load_profile/);  // max_pr
 
 // Objects: bad profile index, short or mistyped arrays.
 const one = [Int32Array.of(0), Float64Array.of(0, 0, -5), Float32Array.of(0, 0, 0, 1), Float32Array.of(1)];
-throwsAcuity(() => s.addObjects(Int32Array.of(7), ...one.slice(1)), 3, /^acuity_add_objects: .*profile 7/);
+throwsAcuity(() => s.addObjects(Int32Array.of(7), ...one.slice(1)), 1, /^acuity_add_objects: profiles\[0\] = 7 is not a loaded profile/);  // INVALID_ARGUMENT, not FULL
 throwsAcuity(() => s.addObjects(one[0], new Float64Array(2), one[2], one[3]), 1, /positions: 3 values/);
 throwsAcuity(() => s.addObjects(one[0], one[1], new Float64Array(4), one[3]), 1, /Float32Array/);
 

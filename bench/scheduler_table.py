@@ -1,0 +1,57 @@
+#!/usr/bin/python3
+"""Runs bench_scheduler and prints the docs/benchmarks.md table: milliseconds per frame at 1k..1M
+objects for each case, beside the plain distance loop of the same run, and the ratio to it.
+
+    /usr/bin/python3 bench/scheduler_table.py build/bench/bench_scheduler [--min-time 0.2]
+"""
+import argparse
+import json
+import subprocess
+import sys
+
+CASES = [  # (benchmark name prefix, label)
+    ("BM_distance_loop", "plain distance loop (baseline)"),
+    ("BM_scheduler/distance_rule", "scheduler, distance rule"),
+    ("BM_scheduler/perceptual_static", "perceptual, still, tabulated"),
+    ("BM_scheduler/perceptual_all_moving", "perceptual, all moving, tabulated"),
+    ("BM_scheduler/perceptual_static_exact", "perceptual, still, exact"),
+    ("BM_scheduler/perceptual_all_moving_exact", "perceptual, all moving, exact"),
+    ("BM_scheduler_2threads/perceptual_static", "perceptual, still, tabulated, 2 threads"),
+    ("BM_scheduler_2threads/perceptual_all_moving", "perceptual, all moving, tabulated, 2 threads"),
+]
+SIZES = [1000, 10000, 100000, 1000000]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("bench", help="path to bench_scheduler")
+    parser.add_argument("--min-time", default="0.2")
+    args = parser.parse_args()
+    pattern = "^(" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?$"
+    out = subprocess.run([args.bench, "--benchmark_filter=" + pattern, "--benchmark_min_time=" + args.min_time,
+                          "--benchmark_format=json"], check=True, capture_output=True, text=True).stdout
+    ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
+    for b in json.loads(out)["benchmarks"]:
+        name = b["run_name"].removesuffix("/real_time")
+        case, n = name.rsplit("/", 1)
+        scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
+        t = b["real_time"] if "2threads" in case else b["cpu_time"]
+        ms[(case, int(n))] = t * scale
+    print("| case | " + " | ".join(f"{n:,} objects" for n in SIZES) + " |")
+    print("|---|" + "---|" * len(SIZES))
+    for case, label in CASES:
+        cells = []
+        for n in SIZES:
+            t, base = ms.get((case, n)), ms.get((CASES[0][0], n))
+            if t is None:
+                cells.append("—")
+            elif case == CASES[0][0]:
+                cells.append(f"{t:.3f} ms")
+            else:
+                cells.append(f"{t:.3f} ms ({t / base:.0f}×)")
+        print(f"| {label} | " + " | ".join(cells) + " |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
