@@ -1,6 +1,7 @@
 // `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
 // head path with a gaze trace (given or generated), four rules per frame (simulation.hpp).
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -36,6 +37,9 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
   cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")->capture_default_str()->check(CLI::Range(16u, 16384u));
   cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")->capture_default_str()->check(Finite)->check(CLI::Range(10.0f, 170.0f));
   cmd->add_option("--saccade-speed", o->sim.saccade_speed, "Gaze speed above which a frame is a saccade [deg/s]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
+  cmd->add_option("--evaluation", o->sim.evaluation, "The perceptual rule's thresholds: tabulated (conservative tables) or exact")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{{"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
+      ->default_str("tabulated");
 }
 
 void simulate(const SimulateOptions& o) {

@@ -288,6 +288,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     c2.hysteresis_margin = 0.1f;
     c2.hysteresis_frames = 3;
     c2.saccade_speed = o.saccade_speed;
+    c2.evaluation = o.evaluation;
     if (rule == SelectionRule::Perceptual) c2.quality = float(parameter);
     if (rule == SelectionRule::ScreenSize) c2.pixel_error = float(parameter);
     if (rule == SelectionRule::Distance) c2.distance_scale = float(parameter);

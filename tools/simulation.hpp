@@ -35,6 +35,7 @@ struct SimulationOptions {
   std::uint32_t viewport = 1920;             // per eye, square [px]
   float fov_deg = 90;                        // per eye, full angle
   float saccade_speed = 100;                 // gaze faster than this is a saccade [deg/s]
+  Evaluation evaluation = Evaluation::Tabulated;  // the perceptual rule's thresholds
   std::uint32_t validate = 200;              // decisions judged by render-and-analyze (0: none)
   std::uint32_t images = 3;                  // frames rendered as PNG
   std::string output;                        // directory for CSV, plots, images; empty: none

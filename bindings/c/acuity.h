@@ -32,7 +32,8 @@ extern "C" {
 #endif
 
 /* Version 2 added: acuity_config.struct_size and every SchedulerConfig field, acuity_set_bias,
- * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls. */
+ * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls.
+ * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner. */
 #define ACUITY_C_API_VERSION 3
 
 typedef struct acuity_scheduler acuity_scheduler;
@@ -170,7 +171,7 @@ void acuity_eye_default(acuity_eye* eye);         /* origin, identity, 90 deg, 1
 
 /* Creates a scheduler; *out receives it (the caller owns it: acuity_destroy).
  * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
- * unknown rule/model/view_blend/csf_fit, reserved fields not 0, quality not finite and > 0,
+ * unknown rule/model/view_blend/csf_fit/evaluation, reserved fields not 0, quality not finite and > 0,
  * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds negative or not finite. *out is unchanged
  * on failure. */
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);

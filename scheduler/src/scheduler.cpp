@@ -188,27 +188,34 @@ inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
 // concave (ln of an affine function of e or v for the CSF's exponential fall-off), so the
 // interpolation stays below it; a sqrt or log weight would cut above it.
 struct Cell { std::uint32_t j; float w; };
-[[gnu::always_inline]] inline Cell e_cell(float e, std::uint32_t n) {
+// The eccentricity nodes of an n-node axis and the reciprocal widths of its cells, computed once.
+template <std::uint32_t n> struct ENodes {
+  float node[n], inv_width[n];
+  ENodes() {
+    for (std::uint32_t j = 0; j < n; ++j) node[j] = e_node(j, n);
+    for (std::uint32_t j = 0; j + 1 < n; ++j) inv_width[j] = 1.0f / (node[j + 1] - node[j]);
+    inv_width[n - 1] = 0.0f;
+  }
+};
+template <std::uint32_t n> [[gnu::always_inline]] inline Cell e_cell(float e) {
+  static const ENodes<n> axis;
   const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
-  const float lo = e_node(j, n), hi = e_node(j + 1, n);
-  return {j, std::clamp((e - lo) / (hi - lo), 0.0f, 1.0f)};
+  return {j, std::clamp((e - axis.node[j]) * axis.inv_width[j], 0.0f, 1.0f)};
 }
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
 // fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
-[[gnu::always_inline]] inline float speed_weight(float v, float lo, float hi, float v0) {
-  auto g = [](float r) { return (r - 1.0f) / (r + 1.0f); };
-  return g((v + v0) / (lo + v0)) / g((hi + v0) / (lo + v0));
-}
-[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, std::uint32_t n) {
+// node[j] = floor 2^j and inv_g[j] = 1 / g(r(2 node[j])) tabulated once: per orientation one division.
+[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, const float* node, const float* inv_g, std::uint32_t n) {
   const float r = v / floor;  // >= 1
   std::uint32_t bits;
   std::memcpy(&bits, &r, sizeof bits);
   const int octave = int((bits >> 23) & 255u) - 127;
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(std::max(octave, 0)), n - 2);
-  const float lo = floor * std::ldexp(1.0f, int(j));
-  return {j, std::clamp(speed_weight(v, lo, 2.0f * lo, v0), 0.0f, 1.0f)};
+  const float lo = node[j];
+  // g(r) = (r - 1) / (r + 1) with r = (v + v0) / (lo + v0) is (v - lo) / (v + lo + 2 v0).
+  return {j, std::clamp((v - lo) / (v + lo + 2.0f * v0) * inv_g[j], 0.0f, 1.0f)};
 }
 // The speed at weight 1/2 of cell [lo, 2 lo].
 inline float speed_midpoint(float lo, float v0) {
@@ -244,6 +251,7 @@ struct Scheduler::Precomputed {
   float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
   float distance_per_error = 0;  // Distance rule: distance_scale / tan(1 arcmin)
   float speed_offset = 1;        // tabulated path: v0 = 2 / c2 of the speed grid's weight [deg/s]
+  float speed_node[kMovingS] = {}, speed_inv_g[kMovingS] = {};  // see speed_cell()
   // velocity_terms() tabulated over ln v, linear between nodes (error ~1e-5 in ln S).
   static constexpr int kTermsSize = 2048;
   static constexpr float kTermsLnV0 = -2.31f, kTermsLnV1 = 6.91f;  // 0.0993 .. 1000 deg/s
@@ -317,8 +325,11 @@ struct Scheduler::Curves {
   // ln lost contrast y (already divided by q) stays at or below threshold: ln_band - u*, u* the
   // smallest ln f above which the curve stays >= y. Bisection on the model itself refines the sampled
   // bracket; the upper end is kept, so the result errs small (conservative).
-  static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving) {
+  // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
+  // sample step below largest_size(). `bracket` receives the sample index of that upper end (-1: the
+  // curve's ends decided, nothing to refine).
+  static float sampled_size(const float* curve, float y, float ln_band, int* bracket) {
+    *bracket = -1;
     if (!(y > curve[0])) return ln_band - kCurveU0;
     if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
     int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
@@ -326,12 +337,40 @@ struct Scheduler::Curves {
       const int mid = (lo + hi) / 2;
       (curve[mid] >= y ? hi : lo) = mid;
     }
-    float ulo = kCurveU0 + kCurveStep * float(lo), uhi = kCurveU0 + kCurveStep * float(hi);
+    *bracket = hi;
+    return ln_band - (kCurveU0 + kCurveStep * float(hi));
+  }
+  static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band, float e,
+                      float v, bool moving) {
+    float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
     for (int i = 0; i < 6; ++i) {
       const float mid = 0.5f * (ulo + uhi);
       (pre.ln_ct(c, mid, e, v, moving) >= y ? uhi : ulo) = mid;
     }
     return ln_band - uhi;
+  }
+  static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
+                            float ln_band, float e, float v, bool moving) {
+    int bracket;
+    const float sampled = sampled_size(curve, y, ln_band, &bracket);
+    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
+  }
+  // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
+  // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
+  static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, const float* y,
+                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving) {
+    float sampled[kMaxBands];
+    int bracket[kMaxBands];
+    float least = -kNever;
+    for (std::uint32_t b = 0; b < bands; ++b) {
+      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b]);
+      least = std::min(least, sampled[b]);
+    }
+    float m = -kNever;
+    for (std::uint32_t b = 0; b < bands; ++b)
+      m = std::min(m, bracket[b] >= 0 && sampled[b] <= least + 1.01f * kCurveStep
+                          ? refine(pre, c, bracket[b], y[b], ln_band[b], e, v, moving) : sampled[b]);
+    return m;
   }
 };
 
@@ -394,6 +433,10 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
   pre.distance_per_error = config_.distance_scale / std::tan(kRad / 60.0f);
   pre.speed_offset = 2.0f / pre.daly.c2;
+  for (std::uint32_t j = 0; j < kMovingS; ++j) {
+    pre.speed_node[j] = pre.floor_velocity * std::ldexp(1.0f, int(j));
+    pre.speed_inv_g[j] = (3.0f * pre.speed_node[j] + 2.0f * pre.speed_offset) / pre.speed_node[j];  // 1 / g at the cell's top, 2 node[j]
+  }
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
     pre.terms[i] = velocity_terms(std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) *
                                                                       float(i) / float(Precomputed::kTermsSize - 1)), pre.daly);
@@ -490,12 +533,10 @@ void Scheduler::build_tables(ProfileCache& c) const {
         }
         // Moving: per orientation, every band.
         for (std::uint32_t t = 0; t < T; ++t) {
+          float y[kMaxBands];
+          for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q[set];
           auto largest = [&](const float* curve, float e, float v) {
-            float m = -kNever;
-            for (std::uint32_t b = 0; b < B; ++b)
-              m = std::min(m, Curves::largest_size(pre, config_, curve, c.ln_lost[(kv * T + t) * B + b] - ln_q[set],
-                                                   c.ln_band[b], e, v, true));
-            return m;
+            return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true);
           };
           float node[kMovingS * kMovingE];
           for (std::uint32_t i = 0; i < kMovingS; ++i)
@@ -907,20 +948,27 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
     out.fine = out.coarse = static_cast<std::uint8_t>(K - 1);
     return out;  // scores stay 0
   }
-  const Cell ec = e_cell(s.e, kStillE);
+  const Cell ec = e_cell<kStillE>(s.e);
   // Moving: each orientation's speed on the speed grid, and the eccentricity cell.
   Cell sc[kMaxOrientations];
-  const Cell em = e_cell(s.e, kMovingE);
+  const Cell em = e_cell<kMovingE>(s.e);
   if (s.moving) {
     const float floor = pre_->floor_velocity;
     for (std::uint32_t t = 0; t < T; ++t)
-      sc[t] = speed_cell(std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor), floor, pre_->speed_offset, kMovingS);
+      sc[t] = speed_cell(std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor), floor, pre_->speed_offset,
+                         pre_->speed_node, pre_->speed_inv_g, kMovingS);
   }
   // The largest invisible ln diameter of level k seen from view w, table set `set`.
+  // Without scores only pass or fail matters: a moving object's bounds stop at the first that decides.
+  const bool decide_only = scores_out == nullptr;
   auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
     const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1);
     const std::int16_t* row = &pc.still[set][at];
     if (!s.moving) return decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0]));
+    // Two conservative bounds; the larger holds. The slow one knows the display's limit.
+    const std::int16_t* slow = &pc.slow[set][at];
+    const float slow_bound = decode_size(slow[0]) + ec.w * (decode_size(slow[L]) - decode_size(slow[0]));
+    if (decide_only && x <= slow_bound) return slow_bound;
     const std::int16_t* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
     float m = -kNever;
     for (std::uint32_t t = 0; t < T; ++t) {
@@ -929,10 +977,9 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
       const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]), b1 = decode_size(r1[L]);
       const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
       m = std::min(m, lo + sc[t].w * (hi - lo));
+      if (decide_only && m < x) break;  // this orientation alone makes the level visible
     }
-    const std::int16_t* slow = &pc.slow[set][at];
-    // Both bounds are conservative; the slow one knows the display's limit.
-    return std::max(m, decode_size(slow[0]) + ec.w * (decode_size(slow[L]) - decode_size(slow[0])));
+    return std::max(m, slow_bound);
   };
   bool fine_found = false;
   for (std::uint32_t k = K - 1; k >= 1; --k) {

@@ -81,6 +81,7 @@ struct SchedulerConfig {
   float transition_seconds = 0.0f;       // cross-fade length reported by transition() [s]
 
   // Budget (Funkhouser & Sequin): 0 = none; else coarsen greedily by least harm per triangle saved
+  // (a budget turns keep_scores on: harm is the next level's score)
   std::uint64_t triangle_budget = 0;
 
   // Baselines
