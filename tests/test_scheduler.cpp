@@ -957,3 +957,30 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     }
   }
 }
+
+// Issue 12, item 13: under a triangle budget, an object with invalid input (a tracking glitch) keeps
+// its fallback level: the budget pass skips it instead of coarsening it first (its score is 0).
+TEST(SchedulerPolicies, BudgetSkipsObjectsWithInvalidInput) {
+  const TestProfile tp;
+  for (const Evaluation evaluation : {Evaluation::Exact, Evaluation::Tabulated}) {
+    SchedulerConfig c;
+    c.max_objects = 16;
+    c.evaluation = evaluation;
+    c.triangle_budget = 150000;  // far below 8 objects at level 0 (100 000 triangles each)
+    Scheduler s(c);
+    const int p = s.add_profile(tp.profile);
+    for (int i = 0; i < 8; ++i) s.add_object(p, at(0.5 * i - 2, 0, -3));
+    ObjectTransform glitch = at(0, 0, -3);
+    glitch.position[1] = std::numeric_limits<double>::infinity();
+    const ObjectId bad = s.add_object(p, glitch);
+    Frame f = looking_forward();
+    gaze_at(f, 0, 0, -1);
+    s.run_frame(f);
+    EXPECT_TRUE(s.flags(bad) & kFlagInvalidInput);
+    EXPECT_EQ(s.level(bad), c.fallback_level) << to_string(evaluation);
+    EXPECT_FALSE(s.flags(bad) & kFlagBudgetForced) << to_string(evaluation);
+    int coarsened = 0;
+    for (ObjectId id = 0; id < 8; ++id) coarsened += s.level(id) > 0;
+    EXPECT_GT(coarsened, 0) << "the budget bites elsewhere";
+  }
+}
