@@ -408,35 +408,22 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     }
     // Then along the row toward the origin's column, from each side: running minima.
     double row_work = 0;
-    int mx = 4, my = 4;
-    float mb = kMaxBias;
-    for (std::uint32_t c = cols; c-- > oc + 1;) {
-      mx = std::min(mx, own_x[c]);
-      my = std::min(my, own_y[c]);
-      mb = std::min(mb, own_b[c]);
-      rate[2 * c] = static_cast<std::uint8_t>(mx);
-      rate[2 * c + 1] = static_cast<std::uint8_t>(my);
-      bias[c] = mb;
-      row_work += double(cx.extent[c] * inverse[mx * my]);
-    }
-    int lx = 4, ly = 4;
-    float lb = kMaxBias;
-    for (std::uint32_t c = 0; c < oc; ++c) {
-      lx = std::min(lx, own_x[c]);
-      ly = std::min(ly, own_y[c]);
-      lb = std::min(lb, own_b[c]);
-      rate[2 * c] = static_cast<std::uint8_t>(lx);
-      rate[2 * c + 1] = static_cast<std::uint8_t>(ly);
-      bias[c] = lb;
-      row_work += double(cx.extent[c] * inverse[lx * ly]);
-    }
-    mx = std::min({mx, lx, own_x[oc]});  // the origin's column: both sides
-    my = std::min({my, ly, own_y[oc]});
-    mb = std::min({mb, lb, own_b[oc]});
-    rate[2 * oc] = static_cast<std::uint8_t>(mx);
-    rate[2 * oc + 1] = static_cast<std::uint8_t>(my);
-    bias[oc] = mb;
-    row_work += double(cx.extent[oc] * inverse[mx * my]);
+    struct Running { int x = 4, y = 4; float b = kMaxBias; };
+    // Tile c takes the running minima with its own values, and counts its shading work.
+    auto take = [&](std::uint32_t c, Running& m) {
+      m.x = std::min(m.x, own_x[c]);
+      m.y = std::min(m.y, own_y[c]);
+      m.b = std::min(m.b, own_b[c]);
+      rate[2 * c] = static_cast<std::uint8_t>(m.x);
+      rate[2 * c + 1] = static_cast<std::uint8_t>(m.y);
+      bias[c] = m.b;
+      row_work += double(cx.extent[c] * inverse[m.x * m.y]);
+    };
+    Running right, left;
+    for (std::uint32_t c = cols; c-- > oc + 1;) take(c, right);
+    for (std::uint32_t c = 0; c < oc; ++c) take(c, left);
+    Running both{std::min(right.x, left.x), std::min(right.y, left.y), std::min(right.b, left.b)};
+    take(oc, both);  // the origin's column: both sides
     shaded += row_work * cy.extent[r];
   };
   const std::uint32_t none = rows;

@@ -179,7 +179,7 @@ inline std::int16_t encode_size(float ln_size) {
 }
 [[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / 1024.0f); }
 
-inline float e_node(std::uint32_t j, std::uint32_t n) { const float t = float(j) / float(n - 1); return kTableMaxE * t * t; }
+constexpr float e_node(std::uint32_t j, std::uint32_t n) { const float t = float(j) / float(n - 1); return kTableMaxE * t * t; }
 inline float still_e_node(std::uint32_t j) { return e_node(j, kStillE); }
 inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
 
@@ -188,17 +188,17 @@ inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
 // concave (ln of an affine function of e or v for the CSF's exponential fall-off), so the
 // interpolation stays below it; a sqrt or log weight would cut above it.
 struct Cell { std::uint32_t j; float w; };
-// The eccentricity nodes of an n-node axis and the reciprocal widths of its cells, computed once.
+// The eccentricity nodes of an n-node axis and the reciprocal widths of its cells, at compile time.
 template <std::uint32_t n> struct ENodes {
-  float node[n], inv_width[n];
-  ENodes() {
+  float node[n] = {}, inv_width[n] = {};
+  constexpr ENodes() {
     for (std::uint32_t j = 0; j < n; ++j) node[j] = e_node(j, n);
     for (std::uint32_t j = 0; j + 1 < n; ++j) inv_width[j] = 1.0f / (node[j + 1] - node[j]);
-    inv_width[n - 1] = 0.0f;
   }
 };
+template <std::uint32_t n> inline constexpr ENodes<n> kENodes{};
 template <std::uint32_t n> [[gnu::always_inline]] inline Cell e_cell(float e) {
-  static const ENodes<n> axis;
+  constexpr const ENodes<n>& axis = kENodes<n>;
   const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
   return {j, std::clamp((e - axis.node[j]) * axis.inv_width[j], 0.0f, 1.0f)};
