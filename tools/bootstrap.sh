@@ -22,6 +22,8 @@ PACKAGES=(
   emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
   assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/)
   libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run
+  g++-mingw-w64-x86-64                        # the runtime and the C ABI cross-compiled for Windows (portability check)
+  python3-distributed                         # acuity.bake on a Dask cluster (LocalCluster in the tests)
 )
 
 install_packages() {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "acuity/file.hpp"
+#include "acuity/blob.hpp"
 #include "acuity/foveation_plan.hpp"
 #include "acuity/scheduler.hpp"
 #include "acuity/version.hpp"

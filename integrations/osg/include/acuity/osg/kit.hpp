@@ -30,7 +30,7 @@
 #include <osg/observer_ptr>
 #include <osgViewer/View>
 
-#include "acuity/file.hpp"
+#include "acuity/blob.hpp"
 #include "acuity/scheduler.hpp"
 
 namespace acuity::osg {

@@ -1,18 +1,11 @@
 #pragma once
-// acuity/file.hpp — whole-file reads and atomic writes, shared by the runtime and the offline tools.
+// acuity/file.hpp — whole-file reads and atomic writes, for the offline libraries and tools (never the runtime).
 #include <cstddef>
-#include <cstdint>
 #include <string>
-#include <vector>
+
+#include "acuity/blob.hpp"
 
 namespace acuity {
-
-// Bytes in 8-byte-aligned memory (what open_profile() needs): a file read, or an encoded profile.
-struct Blob {
-  std::vector<std::uint64_t> storage;
-  std::size_t size = 0;
-  const void* data() const { return storage.data(); }
-};
 
 // Reads the whole file, which must be a regular file: a directory, FIFO or device is refused
 // without waiting on it (opened non-blocking, then checked with fstat). Returns false and sets
