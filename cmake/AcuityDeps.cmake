@@ -2,6 +2,7 @@
 # plain name; lodgen/, spectra/ and tools/ link those. The runtime (scheduler/) uses none of them.
 include_guard(GLOBAL)
 
+find_package(glm REQUIRED)                  # libglm-dev: header-only maths of the simulation and the OSG kit
 find_package(OpenMesh REQUIRED)             # libopenmesh-dev: OpenMeshCore, OpenMeshTools
 find_package(CGAL REQUIRED)                 # libcgal-dev: header-only CGAL::CGAL
 find_package(Eigen3 REQUIRED)               # libeigen3-dev: CGAL's Garland-Heckbert policies

@@ -86,6 +86,10 @@ case "${1:-test}" in
     # The runtime alone (standard library + GLM): what an engine links must build by itself.
     configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF
     ctest --test-dir build-runtime --output-on-failure -j "$JOBS"
+    # The runtime and the C ABI cross-compiled for Windows (mingw-w64, warnings as errors): static
+    # libraries and hello_lod.exe must compile and link; nothing runs (no Windows here).
+    CC= CXX= configure_and_build build-mingw -DCMAKE_TOOLCHAIN_FILE=cmake/mingw-w64.cmake \
+      -DACUITY_RUNTIME_ONLY=ON -DACUITY_TESTS=OFF -DACUITY_BENCH=OFF
     # The same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
     configure_and_build build-asan -DACUITY_SANITIZE=ON -DACUITY_BENCH=OFF -DACUITY_PYTHON=OFF -DACUITY_WEB=OFF
     ACUITY_QUICK_TESTS=1 ctest --test-dir build-asan --output-on-failure -j "$JOBS" -LE nosan
