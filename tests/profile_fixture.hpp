@@ -2,6 +2,7 @@
 // A small, fully specified profile for tests: K levels, V views spread over the sphere, T
 // orientations, B octave bands, lost contrast growing with the level.
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #include "acuity/spectra/profile_writer.hpp"
@@ -35,7 +36,7 @@ inline spectra::ProfileData small_profile(std::uint32_t K = 4, std::uint32_t V =
 // Rewrites the checksum after a deliberate change, so the structural checks are what is tested.
 inline void refresh_checksum(Blob& blob) {
   const std::uint64_t sum = profile_checksum(blob.data(), blob.size);
-  std::memcpy(reinterpret_cast<unsigned char*>(blob.storage.data()) + 24, &sum, 8);
+  std::memcpy(reinterpret_cast<unsigned char*>(blob.storage.data()) + offsetof(ProfileHeader, checksum), &sum, sizeof sum);
 }
 
 }  // namespace acuity::testing

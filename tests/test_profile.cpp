@@ -1,12 +1,14 @@
 // The profile blob: writer and reader agree; the reader rejects every damaged file cleanly.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <filesystem>
 #include <random>
 
 #include "acuity/file.hpp"
 #include "acuity/profile.hpp"
 #include "profile_fixture.hpp"
+#include "profile_v1_input.hpp"
 
 using namespace acuity;
 using acuity::testing::refresh_checksum;
@@ -20,16 +22,12 @@ ProfileStatus open(const Blob& b, ProfileError* e = nullptr) {
 }
 // Offset of section `id`'s data, read from the table.
 std::uint64_t section_offset(Blob& b, ProfileSection id) {
-  std::uint32_t count;
-  std::memcpy(&count, bytes(b) + 16, 4);
-  for (std::uint32_t i = 0; i < count; ++i) {
-    std::uint32_t sid;
-    std::memcpy(&sid, bytes(b) + 32 + i * 24, 4);
-    if (sid == static_cast<std::uint32_t>(id)) {
-      std::uint64_t off;
-      std::memcpy(&off, bytes(b) + 32 + i * 24 + 8, 8);
-      return off;
-    }
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    ProfileSectionEntry s;
+    std::memcpy(&s, bytes(b) + sizeof h + i * sizeof s, sizeof s);
+    if (s.id == static_cast<std::uint32_t>(id)) return s.offset;
   }
   return 0;
 }
@@ -144,7 +142,7 @@ TEST(Profile, SpecificDamage) {
   ProfileError e;
   {  // newer version
     Blob b = clean;
-    bytes(b)[4] = kProfileVersion + 1;
+    bytes(b)[offsetof(ProfileHeader, version)] = kProfileVersion + 1;
     refresh_checksum(b);
     EXPECT_EQ(open(b, &e), ProfileStatus::NewerVersion);
     EXPECT_NE(std::string(e.message).find("re-bake"), std::string::npos);
@@ -164,7 +162,7 @@ TEST(Profile, SpecificDamage) {
   }
   {  // view count 0 in Meta
     Blob b = clean;
-    std::memset(bytes(b) + section_offset(b, ProfileSection::Meta) + 4, 0, 4);
+    std::memset(bytes(b) + section_offset(b, ProfileSection::Meta) + offsetof(ProfileMeta, view_count), 0, 4);
     refresh_checksum(b);
     EXPECT_EQ(open(b, &e), ProfileStatus::BadCounts);
   }
@@ -214,4 +212,116 @@ TEST(Profile, AtomicFileWriteAndRead) {
   EXPECT_FALSE(read_file((dir / "nope").string(), &b, &error));
   EXPECT_NE(error.find("nope"), std::string::npos);
   fs::remove_all(dir);
+}
+
+// ---- The golden version-1 profile (tests/data/README.md) ----
+namespace {
+Blob golden_v1() {
+  Blob b;
+  std::string error;
+  EXPECT_TRUE(read_file(ACUITY_TEST_DATA "/profile_v1.acuity", &b, &error)) << error;
+  return b;
+}
+}  // namespace
+
+TEST(ProfileGolden, HeaderAndSectionTableOfVersion1) {
+  using namespace acuity::testing;
+  const Blob b = golden_v1();
+  ASSERT_GE(b.size, sizeof(ProfileHeader));
+  const auto* base = static_cast<const unsigned char*>(b.data());
+  ProfileHeader h;
+  std::memcpy(&h, base, sizeof h);
+  EXPECT_EQ(std::memcmp(base, "ACUP", 4), 0);
+  EXPECT_EQ(h.magic, kProfileMagic);
+  EXPECT_EQ(h.version, 1u);
+  EXPECT_EQ(h.total_size, b.size);
+  EXPECT_EQ(h.section_count, 8u);
+  EXPECT_EQ(h.reserved, 0u);
+  EXPECT_EQ(h.checksum, profile_checksum(base, b.size));
+  // The sections in the writer's order, each right after the previous one's 8-byte-padded end;
+  // sizes from the counts and the element types of acuity/profile.hpp.
+  const std::uint64_t K = kV1Levels, V = kV1Views, T = kV1Orientations, B = kV1Bands, R = 1;
+  const std::uint64_t sizes[8] = {sizeof(ProfileMeta), K * sizeof(ProfileLevel), V * sizeof(ProfileView),
+                                  6 * R * R * kLookupCandidates * 2, T * 4, B * 4, (K - 1) * V * T * B * 4, K * V * T * 4};
+  std::uint64_t offset = sizeof(ProfileHeader) + 8 * sizeof(ProfileSectionEntry);
+  for (std::uint32_t i = 0; i < 8; ++i) {
+    ProfileSectionEntry s;
+    std::memcpy(&s, base + sizeof h + i * sizeof s, sizeof s);
+    EXPECT_EQ(s.id, i + 1) << i;  // Meta = 1 ... Features = 8
+    EXPECT_EQ(s.reserved, 0u) << i;
+    EXPECT_EQ(s.offset, offset) << i;
+    EXPECT_EQ(s.size, sizes[i]) << i;
+    offset += (sizes[i] + 7) / 8 * 8;
+  }
+  EXPECT_EQ(offset, h.total_size);
+  EXPECT_EQ(h.total_size, 592u);  // the sum above, worked by hand: 224 + 48 + 24 + 72 + 40 + 8 + 8 + 96 + 72
+}
+
+TEST(ProfileGolden, EveryValueOfVersion1) {
+  using namespace acuity::testing;
+  const Blob b = golden_v1();
+  Profile p;
+  ProfileError e;
+  ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.meta.level_count, kV1Levels);
+  EXPECT_EQ(p.meta.view_count, kV1Views);
+  EXPECT_EQ(p.meta.orientation_count, kV1Orientations);
+  EXPECT_EQ(p.meta.band_count, kV1Bands);
+  EXPECT_EQ(p.meta.lookup_resolution, 1u);
+  EXPECT_EQ(p.meta.snapshot_pixels, 128u);
+  const float sphere[4] = {0.25f, -0.5f, 1.0f, 2.0f};
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(p.meta.sphere[i], sphere[i]) << i;
+  EXPECT_EQ(p.meta.reserved[0], 0u);
+  EXPECT_EQ(p.meta.reserved[1], 0u);
+  const ProfileLevel levels[3] = {{1000, 0.0f}, {250, 0.125f}, {60, 0.5f}};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(p.levels[k].triangles, levels[k].triangles) << k;
+    EXPECT_EQ(p.levels[k].geometric_error, levels[k].geometric_error) << k;
+  }
+  // Axis views; up is +Y made orthogonal to the direction, +Z when looking along Y.
+  const float dirs[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}}, ups[3][3] = {{0, 1, 0}, {0, 0, 1}, {0, 1, 0}};
+  for (int v = 0; v < 3; ++v)
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_EQ(p.views[v].direction[i], dirs[v][i]) << v << " " << i;
+      EXPECT_EQ(p.views[v].up[i], ups[v][i]) << v << " " << i;
+    }
+  // One cell per face (+X -X +Y -Y +Z -Z): all three views by non-increasing cosine to the face's
+  // axis; the order among equal cosines is the writer's (insertion) and is part of this file.
+  const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const std::uint16_t lookup[6][3] = {{0, 1, 2}, {1, 2, 0}, {1, 0, 2}, {0, 2, 1}, {0, 1, 2}, {2, 1, 0}};
+  for (int c = 0; c < 6; ++c) {
+    auto cosine = [&](int v) { return axes[c][0] * dirs[v][0] + axes[c][1] * dirs[v][1] + axes[c][2] * dirs[v][2]; };
+    for (int j = 0; j < 3; ++j) {
+      EXPECT_EQ(p.lookup[c * 3 + j], lookup[c][j]) << "cell " << c << " candidate " << j;
+      if (j) {
+        EXPECT_GE(cosine(lookup[c][j - 1]), cosine(lookup[c][j])) << "cell " << c;  // the table is nearest first
+      }
+    }
+    EXPECT_TRUE(lookup[c][0] != lookup[c][1] && lookup[c][1] != lookup[c][2] && lookup[c][0] != lookup[c][2]);
+  }
+  EXPECT_EQ(p.orientations[0], 0.0f);
+  EXPECT_EQ(p.orientations[1], 90.0f);
+  EXPECT_EQ(p.bands[0], 4.0f);
+  EXPECT_EQ(p.bands[1], 16.0f);
+  for (std::uint32_t k = 1; k < kV1Levels; ++k)
+    for (std::uint32_t v = 0; v < kV1Views; ++v)
+      for (std::uint32_t t = 0; t < kV1Orientations; ++t)
+        for (std::uint32_t band = 0; band < kV1Bands; ++band)
+          EXPECT_EQ(p.lost_contrast(k, v, t, band), v1_lost(k, v, t, band)) << k << v << t << band;
+  for (std::uint32_t k = 0; k < kV1Levels; ++k)
+    for (std::uint32_t v = 0; v < kV1Views; ++v)
+      for (std::uint32_t t = 0; t < kV1Orientations; ++t)
+        EXPECT_EQ(p.feature_frequency(k, v, t), v1_feature(k, v, t)) << k << v << t;
+}
+
+TEST(ProfileGolden, TheWriterStillProducesTheseBytes) {
+  // While the format is version 1 the writer must reproduce the committed file byte for byte. A
+  // new version keeps this file (old profiles must still open) and adds a golden file of its own.
+  ASSERT_EQ(kProfileVersion, 1u) << "new format version: add tests/data/profile_v" << kProfileVersion << ".acuity";
+  const Blob golden = golden_v1();
+  const Blob now = spectra::encode_profile(acuity::testing::profile_v1_input());
+  ASSERT_EQ(now.size, golden.size);
+  const auto* a = static_cast<const unsigned char*>(now.data());
+  const auto* g = static_cast<const unsigned char*>(golden.data());
+  for (std::size_t i = 0; i < golden.size; ++i) ASSERT_EQ(a[i], g[i]) << "first difference at byte " << i;
 }

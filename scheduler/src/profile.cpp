@@ -12,19 +12,7 @@ static_assert(std::endian::native == std::endian::little, "profiles are little-e
 namespace acuity {
 namespace {
 
-struct Header {
-  std::uint32_t magic, version;
-  std::uint64_t total_size;
-  std::uint32_t section_count, zero;
-  std::uint64_t checksum;
-};
-struct SectionEntry {
-  std::uint32_t id, zero;
-  std::uint64_t offset, size;
-};
-static_assert(sizeof(Header) == 32 && sizeof(SectionEntry) == 24, "part of the file format");
-constexpr std::size_t kChecksumOffset = offsetof(Header, checksum);
-constexpr std::uint32_t kMaxSections = 64;
+constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
 constexpr std::uint32_t kSectionIds = 8;
 const char* const kSectionNames[kSectionIds + 1] = {"?", "Meta", "Levels", "Views", "Lookup",
                                                      "Orientations", "Bands", "Lost", "Features"};
@@ -67,10 +55,10 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   if (!data || !out) return fail(error, ProfileStatus::NullInput, "no data");
   if (reinterpret_cast<std::uintptr_t>(data) % 8 != 0)
     return fail(error, ProfileStatus::Misaligned, "data must be 8-byte aligned");
-  if (size < sizeof(Header))
-    return fail(error, ProfileStatus::TooSmall, "%zu bytes is shorter than the %zu-byte header", size, sizeof(Header));
+  if (size < sizeof(ProfileHeader))
+    return fail(error, ProfileStatus::TooSmall, "%zu bytes is shorter than the %zu-byte header", size, sizeof(ProfileHeader));
   const auto* base = static_cast<const unsigned char*>(data);
-  Header h;
+  ProfileHeader h;
   std::memcpy(&h, base, sizeof h);
   if (h.magic != kProfileMagic) return fail(error, ProfileStatus::BadMagic, "not an acuity profile (bad magic)");
   if (h.version > kProfileVersion)
@@ -80,9 +68,9 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   if (h.total_size > size)
     return fail(error, ProfileStatus::TooSmall, "truncated: header says %llu bytes, only %zu given",
                 static_cast<unsigned long long>(h.total_size), size);
-  if (h.section_count > kMaxSections)
-    return fail(error, ProfileStatus::BadSectionTable, "%u sections (at most %u)", h.section_count, kMaxSections);
-  const std::uint64_t table_end = sizeof(Header) + std::uint64_t(h.section_count) * sizeof(SectionEntry);
+  if (h.section_count > kMaxProfileSections)
+    return fail(error, ProfileStatus::BadSectionTable, "%u sections (at most %u)", h.section_count, kMaxProfileSections);
+  const std::uint64_t table_end = sizeof(ProfileHeader) + std::uint64_t(h.section_count) * sizeof(ProfileSectionEntry);
   if (table_end > h.total_size)
     return fail(error, ProfileStatus::BadSectionTable, "section table ends at byte %llu, past the blob's %llu",
                 static_cast<unsigned long long>(table_end), static_cast<unsigned long long>(h.total_size));
@@ -91,11 +79,11 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
     return fail(error, ProfileStatus::BadChecksum, "checksum mismatch: the file was changed or damaged");
 
   // Section table: bounds, alignment, no overlap, each known id at most once.
-  SectionEntry found[kSectionIds + 1] = {};
-  SectionEntry all[kMaxSections];
+  ProfileSectionEntry found[kSectionIds + 1] = {};
+  ProfileSectionEntry all[kMaxProfileSections];
   for (std::uint32_t i = 0; i < h.section_count; ++i) {
-    SectionEntry s;
-    std::memcpy(&s, base + sizeof(Header) + i * sizeof(SectionEntry), sizeof s);
+    ProfileSectionEntry s;
+    std::memcpy(&s, base + sizeof(ProfileHeader) + i * sizeof(ProfileSectionEntry), sizeof s);
     if (s.offset % 8 != 0 || s.offset < table_end || s.offset > total || s.size > total - s.offset)
       return fail(error, ProfileStatus::BadSectionTable, "section %u (id %u): offset %llu size %llu outside the blob or misaligned",
                   i, s.id, static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
@@ -112,7 +100,7 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
     if (!found[id].id) return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
 
   auto check_size = [&](ProfileSection id, std::uint64_t expected) {
-    const SectionEntry& s = found[static_cast<std::uint32_t>(id)];
+    const ProfileSectionEntry& s = found[static_cast<std::uint32_t>(id)];
     if (s.size == expected) return true;
     fail(error, ProfileStatus::BadSize, "section %s: size %llu, expected %llu", kSectionNames[s.id],
          static_cast<unsigned long long>(s.size), static_cast<unsigned long long>(expected));

@@ -82,17 +82,15 @@ Blob encode_profile(const ProfileData& data) {
   const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
 
   // Header and table are written last, once the offsets are known.
-  constexpr std::size_t kHeader = 32, kEntry = 24, kSections = 8;
-  std::vector<unsigned char> body(kHeader + kSections * kEntry, 0);
-  std::uint64_t table[kSections][3];  // id, offset, size
+  constexpr std::size_t kSections = 8;
+  constexpr std::size_t kTableEnd = sizeof(ProfileHeader) + kSections * sizeof(ProfileSectionEntry);
+  std::vector<unsigned char> body(kTableEnd, 0);
+  ProfileSectionEntry table[kSections] = {};
   std::size_t n = 0;
   auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
     const std::size_t offset = body.size();
     append(body, values, count);
-    table[n][0] = static_cast<std::uint64_t>(id);
-    table[n][1] = offset;
-    table[n][2] = count * sizeof(*values);
-    ++n;
+    table[n++] = {static_cast<std::uint32_t>(id), 0, offset, count * sizeof(*values)};
   };
   section(ProfileSection::Meta, &meta, 1);
   section(ProfileSection::Levels, data.levels.data(), K);
@@ -103,20 +101,11 @@ Blob encode_profile(const ProfileData& data) {
   section(ProfileSection::Lost, data.lost.data(), data.lost.size());
   section(ProfileSection::Features, data.features.data(), data.features.size());
 
-  const std::uint32_t magic = kProfileMagic, version = kProfileVersion, count = kSections;
-  const std::uint64_t total = body.size();
-  std::memcpy(&body[0], &magic, 4);
-  std::memcpy(&body[4], &version, 4);
-  std::memcpy(&body[8], &total, 8);
-  std::memcpy(&body[16], &count, 4);
-  for (std::size_t i = 0; i < kSections; ++i) {
-    const std::uint32_t id = static_cast<std::uint32_t>(table[i][0]);
-    std::memcpy(&body[kHeader + i * kEntry], &id, 4);
-    std::memcpy(&body[kHeader + i * kEntry + 8], &table[i][1], 8);
-    std::memcpy(&body[kHeader + i * kEntry + 16], &table[i][2], 8);
-  }
-  const std::uint64_t checksum = profile_checksum(body.data(), body.size());
-  std::memcpy(&body[24], &checksum, 8);
+  ProfileHeader header{kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(kSections), 0, 0};
+  std::memcpy(&body[0], &header, sizeof header);
+  std::memcpy(&body[sizeof header], table, sizeof table);
+  header.checksum = profile_checksum(body.data(), body.size());
+  std::memcpy(&body[0], &header, sizeof header);
 
   Blob blob;
   blob.size = body.size();

@@ -1,15 +1,20 @@
 #pragma once
 // acuity/profile.hpp — the profile blob: what each level of one object loses, per view, orientation
-// and frequency band (design.md section 4). The runtime reads it in place, without copying or
+// and frequency band (docs/design.md section 4). The runtime reads it in place, without copying or
 // allocating; spectra/ writes it (acuity/spectra/profile_writer.hpp).
 //
-// Layout (version 1, little-endian, every section 8-byte aligned):
-//   header   {u32 magic "ACUP", u32 version, u64 total_size, u32 section_count, u32 zero, u64 checksum}
-//   table    section_count x {u32 id, u32 zero, u64 offset, u64 size}
-//   sections Meta, Levels, Views, Lookup, Orientations, Bands, Lost, Features (any order; unknown
-//            ids are skipped so a newer writer may add sections without a version bump)
+// Layout (version 1, little-endian, every section 8-byte aligned); the structs below are the one
+// definition of it, shared by the reader (scheduler/src/profile.cpp) and the writer
+// (spectra/src/profile_writer.cpp):
+//   ProfileHeader        32 bytes at offset 0
+//   ProfileSectionEntry  section_count x 24 bytes, right after the header
+//   sections             Meta, Levels, Views, Lookup, Orientations, Bands, Lost, Features (any order;
+//                        unknown ids are skipped so a newer writer may add sections without a
+//                        version bump)
 // checksum: FNV-1a 64 over the whole blob with the checksum field read as zero.
 // Compatibility: a reader accepts versions <= its own and rejects newer ones (re-bake on upgrade).
+// tests/data/profile_v1.acuity is a version-1 profile that every later reader must still open
+// (tests/test_profile.cpp, ProfileGolden).
 #include <cstddef>
 #include <cstdint>
 
@@ -25,6 +30,36 @@ inline constexpr std::uint32_t kMaxOrientations = 32;
 inline constexpr std::uint32_t kMaxBands = 32;
 inline constexpr std::uint32_t kMaxLookupResolution = 64;
 inline constexpr std::uint32_t kLookupCandidates = 3;  // nearest views stored per lookup cell
+
+inline constexpr std::uint32_t kMaxProfileSections = 64;  // entries a reader accepts in the section table
+
+// The file header, at offset 0.
+struct ProfileHeader {
+  std::uint32_t magic;          // kProfileMagic
+  std::uint32_t version;        // format version: 1..kProfileVersion
+  std::uint64_t total_size;     // the whole profile, header included [bytes]; trailing bytes are ignored
+  std::uint32_t section_count;  // entries in the section table: 0..kMaxProfileSections
+  std::uint32_t reserved;       // 0
+  std::uint64_t checksum;       // profile_checksum() of the total_size bytes
+};
+
+// One entry of the section table, which follows the header.
+struct ProfileSectionEntry {
+  std::uint32_t id;        // a ProfileSection; unknown ids are skipped
+  std::uint32_t reserved;  // 0
+  std::uint64_t offset;    // from the start of the profile [bytes]: a multiple of 8, past the table
+  std::uint64_t size;      // [bytes]; sections do not overlap
+};
+
+static_assert(sizeof(ProfileHeader) == 32 && offsetof(ProfileHeader, magic) == 0 &&
+                  offsetof(ProfileHeader, version) == 4 && offsetof(ProfileHeader, total_size) == 8 &&
+                  offsetof(ProfileHeader, section_count) == 16 && offsetof(ProfileHeader, reserved) == 20 &&
+                  offsetof(ProfileHeader, checksum) == 24,
+              "ProfileHeader is part of the file format");
+static_assert(sizeof(ProfileSectionEntry) == 24 && offsetof(ProfileSectionEntry, id) == 0 &&
+                  offsetof(ProfileSectionEntry, reserved) == 4 && offsetof(ProfileSectionEntry, offset) == 8 &&
+                  offsetof(ProfileSectionEntry, size) == 16,
+              "ProfileSectionEntry is part of the file format");
 
 enum class ProfileSection : std::uint32_t {
   Meta = 1, Levels = 2, Views = 3, Lookup = 4, Orientations = 5, Bands = 6, Lost = 7, Features = 8,
@@ -50,6 +85,9 @@ struct ProfileError {
   char message[160] = {};  // what and where, e.g. "section Lost: size 1024, expected 2048"
 };
 
+// Sections other than Meta are arrays; their element types and orders are those of Profile below:
+//   Levels ProfileLevel[K], Views ProfileView[V], Lookup u16[6 R R][kLookupCandidates],
+//   Orientations f32[T], Bands f32[B], Lost f32[(K-1) V T B], Features f32[K V T].
 struct ProfileLevel {
   std::uint32_t triangles;  // cost of drawing this level
   float geometric_error;    // Hausdorff distance to level 0 [object diameters]
@@ -60,7 +98,7 @@ struct ProfileView {
   float up[3];         // the snapshot's up vector, unit, orthogonal to direction
 };
 
-// The meta section's fixed layout (48 bytes).
+// Section Meta: the counts every other section's size follows from (48 bytes).
 struct ProfileMeta {
   std::uint32_t level_count;        // K >= 1; level 0 is the finest
   std::uint32_t view_count;         // V >= 1
@@ -69,10 +107,15 @@ struct ProfileMeta {
   std::uint32_t lookup_resolution;  // R: the lookup is a cube map of 6 R x R cells
   std::uint32_t snapshot_pixels;    // pixels across the bounding-sphere diameter in the snapshots
   float sphere[4];                  // bounding sphere: centre xyz, radius [object units]
-  std::uint32_t reserved[2];
+  std::uint32_t reserved[2];        // 0
 };
-static_assert(sizeof(ProfileMeta) == 48, "ProfileMeta is part of the file format");
-static_assert(sizeof(ProfileLevel) == 8 && sizeof(ProfileView) == 24, "part of the file format");
+static_assert(sizeof(ProfileMeta) == 48 && offsetof(ProfileMeta, lookup_resolution) == 16 &&
+                  offsetof(ProfileMeta, snapshot_pixels) == 20 && offsetof(ProfileMeta, sphere) == 24 &&
+                  offsetof(ProfileMeta, reserved) == 40,
+              "ProfileMeta is part of the file format");
+static_assert(sizeof(ProfileLevel) == 8 && offsetof(ProfileLevel, geometric_error) == 4 &&
+                  sizeof(ProfileView) == 24 && offsetof(ProfileView, up) == 12,
+              "part of the file format");
 
 // A validated, read-only view of a profile blob; every pointer points into the caller's bytes,
 // which must outlive it.
