@@ -285,6 +285,54 @@ TEST(BadInput, EveryFormatFailsCleanlyAndNamesTheFile) {
   }
 }
 
+// The two mesh readers differ only in where OpenMesh runs: the same mesh, or the same error.
+TEST(BadInput, IsolatedAndInProcessReadersAgree) {
+  const std::string off_ok = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"ok.off", off_ok},
+      {"quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"},
+      {"truncated.off", off_ok.substr(0, off_ok.size() / 2)},
+      {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"},
+      {"absurd.off", "OFF\n3 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"garbage.obj", "this is not a mesh\n"},
+      {"truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"},
+      {"truncated.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"},
+  };
+  std::vector<std::string> paths;
+  for (const auto& [name, text] : files) {
+    paths.push_back(scratch(name).string());
+    write(paths.back(), text);
+  }
+  paths.push_back((kMeshes / "elephant.off").string());
+  paths.push_back(scratch("missing.off").string());
+  int read = 0;
+  for (const std::string& path : paths) {
+    auto attempt = [&](auto reader, Mesh* out) -> std::string {
+      try {
+        *out = reader(path);
+        return "";
+      } catch (const InputError& e) {
+        return e.what();
+      }
+    };
+    Mesh here, there;
+    const std::string error_here = attempt([](const std::string& p) { return load_mesh(p); }, &here);
+    const std::string error_there = attempt([](const std::string& p) { return load_mesh_isolated(p); }, &there);
+    EXPECT_EQ(error_here, error_there) << path;
+    EXPECT_EQ(here.positions, there.positions) << path;
+    EXPECT_EQ(here.indices, there.indices) << path;
+    if (error_here.empty()) {
+      ++read;
+      LoadOptions o;
+      o.isolate_mesh_reader = false;
+      EXPECT_EQ(load_scene(path, o).meshes.at(0).indices, here.indices) << path;
+    } else {
+      EXPECT_NE(error_here.find(fs::path(path).filename().string()), std::string::npos) << error_here;
+    }
+  }
+  EXPECT_EQ(read, 3);  // ok.off, quad.obj and the elephant; every other file is refused
+}
+
 TEST(BadInput, FailedWriteLeavesNothing) {
   const fs::path dir = scratch("nowrite");
   fs::create_directories(dir);

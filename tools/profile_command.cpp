@@ -76,7 +76,7 @@ void run(const ProfileOptions& o) {
     errors = std::move(chain.errors);
     material = spectra_material(scene, meshes[0].material);
   } else {
-    for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh(path));
+    for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh_isolated(path));  // untrusted files
     errors.assign(meshes.size(), 0.0f);
   }
   std::vector<spectra::LevelInput> levels;

@@ -676,7 +676,7 @@ Scene load_scene(const std::string& path, const LoadOptions& options) {
   const std::string ext = lower_extension(path);
   if (ext != ".gltf" && ext != ".glb") {
     Scene s;
-    s.meshes.push_back(load_mesh(path));
+    s.meshes.push_back(options.isolate_mesh_reader ? load_mesh_isolated(path) : load_mesh(path));
     s.mesh_names.push_back(std::filesystem::path(path).stem().string());
     Node n;
     n.name = s.mesh_names[0];

@@ -12,12 +12,16 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <poll.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#if defined(__unix__) || defined(__APPLE__)
+#define ACUITY_HAVE_FORK 1
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#endif
 
 namespace acuity::lodgen {
 namespace {
@@ -132,6 +136,14 @@ Mesh read_openmesh(const std::string& path, std::size_t declared) {
   return mesh;
 }
 
+// The file's size and the face count its header declares, after the header checks.
+std::size_t checked_declared_faces(const std::string& path, std::uintmax_t* size) {
+  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
+  *size = std::filesystem::file_size(path);
+  return declared_faces(path, *size);
+}
+
+#ifdef ACUITY_HAVE_FORK
 bool write_all(int fd, const void* data, std::size_t size) {
   const auto* p = static_cast<const char*>(data);
   while (size) {
@@ -143,24 +155,33 @@ bool write_all(int fd, const void* data, std::size_t size) {
   }
   return true;
 }
+#endif
 
 }  // namespace
 
-// OpenMesh's readers abort (a library assert) or loop forever on some malformed files (found by
-// fuzzing), so they run in a child process with a time limit; the mesh comes back through a pipe.
-// Message: u8 ok, then u64 float count + floats and u64 index count + indices, or u64 length + text.
 Mesh load_mesh(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
-  const std::uintmax_t size = std::filesystem::file_size(path);
-  const std::size_t declared = declared_faces(path, size);
+  std::uintmax_t size = 0;
+  const std::size_t declared = checked_declared_faces(path, &size);
+  return read_openmesh(path, declared);
+}
+
+// The child reads and sends, the parent waits with a deadline. Message: u8 ok, then u64 float
+// count + floats and u64 index count + indices, or u64 length + text.
+Mesh load_mesh_isolated(const std::string& path) {
+#ifndef ACUITY_HAVE_FORK
+  throw std::runtime_error(path + ": load_mesh_isolated needs fork(), which this system lacks; use load_mesh for trusted files");
+#else
+  std::uintmax_t size = 0;
+  const std::size_t declared = checked_declared_faces(path, &size);
   int fds[2];
-  if (::pipe(fds) != 0) return read_openmesh(path, declared);  // no isolation possible: read here
+  if (::pipe(fds) != 0) throw std::runtime_error(path + ": cannot isolate the mesh reader (pipe: " + std::strerror(errno) + ")");
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) {
+    const int e = errno;
     ::close(fds[0]);
     ::close(fds[1]);
-    return read_openmesh(path, declared);
+    throw std::runtime_error(path + ": cannot isolate the mesh reader (fork: " + std::strerror(e) + ")");
   }
   if (pid == 0) {  // child: read, send, leave without running the parent's destructors
     ::close(fds[0]);
@@ -227,6 +248,7 @@ Mesh load_mesh(const std::string& path) {
   mesh.indices.resize(n);
   take(at, mesh.indices.data(), n * 4);
   return mesh;
+#endif
 }
 
 double diameter(const Mesh& mesh) {

@@ -52,10 +52,21 @@ struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Reads an OFF, OBJ, PLY or STL file (by extension) through OpenMesh and triangulates it.
-// Throws InputError naming the file when it cannot be read, has no triangles, or holds
-// non-finite coordinates.
+// Reads an OFF, OBJ, PLY or STL file (by extension) through OpenMesh, in the calling process,
+// and triangulates it. Throws InputError naming the file when it cannot be read, has no
+// triangles, holds non-finite coordinates, or its OFF/PLY header declares more elements than its
+// size can hold. For trusted files only: OpenMesh's readers abort (a library assert) or loop
+// forever on some malformed files (found by fuzzing), which no exception can report; untrusted
+// files go through load_mesh_isolated().
 Mesh load_mesh(const std::string& path);
+
+// load_mesh() in a child process (fork(), POSIX only) with a time limit of 3 s plus 1 s per 4 MB of
+// file; the mesh comes back through a pipe. An abort, a crash or a hang of the reader becomes an
+// InputError naming the file, and the child is killed. The child is a copy of the calling process:
+// call it where fork() is safe (not while another thread of the caller holds a lock the reader
+// needs). Throws std::runtime_error when no child process can be made (no pipe, no fork, or a
+// system without fork()); it never falls back to reading in the caller.
+Mesh load_mesh_isolated(const std::string& path);
 
 // What an untrusted glTF may make the reader do. Each limit is checked before the work it bounds;
 // exceeding one throws InputError naming the limit. docs/security.md lists them with the reasons.
@@ -77,10 +88,16 @@ struct LoadOptions {
   // are never followed; data: URIs always work.
   std::string asset_root;
   LoadLimits limits;
+  // OFF, OBJ, PLY and STL files: true reads them with load_mesh_isolated() (a child process with a
+  // time limit, for untrusted files: what the acuity command, Python and the fuzzers rely on);
+  // false with load_mesh(), in the calling process (trusted files, or a host where fork() is
+  // unwelcome). glTF is always read in the calling process (tinygltf behind lodgen's own checks,
+  // bounded by `limits`).
+  bool isolate_mesh_reader = true;
 };
 
 // Reads a glTF 2.0 file (.gltf with its .bin, or .glb) or, by extension, any format load_mesh
-// reads (as one node). The glTF must be a strict tree (no node with two parents or listed twice,
+// reads (as one node; in a child process unless options.isolate_mesh_reader is false). The glTF must be a strict tree (no node with two parents or listed twice,
 // no cycle; scene roots have no parent); only the images a material uses as base colour are
 // decoded. Throws InputError naming the file and the element at fault.
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
