@@ -29,7 +29,7 @@ enum class CsfFit : std::uint8_t {
 // Which threshold surface threshold() evaluates.
 enum class ThresholdModel : std::uint8_t {
   Default,       // Daly CSF held at its peak below the peak frequency (low-pass) x Geisler-Perry
-                 // eccentricity factor exp(alpha f e / e2); design.md section 5
+                 // eccentricity factor exp(alpha f e / e2); docs/design.md section 5
   GeislerPerry,  // Geisler & Perry 1998 alone: CT0 exp(alpha f (e + e2) / e2); ignores velocity
   KellyDaly,     // Daly's CSF, the exact band-pass surface, x the same eccentricity factor
   Reddy,         // step: CT = reddy_contrast up to reddy_cutoff(v, e), invisible above [unverified]

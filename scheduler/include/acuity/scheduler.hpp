@@ -1,5 +1,5 @@
 #pragma once
-// acuity/scheduler.hpp — per-frame perceptual level-of-detail selection (design.md section 6).
+// acuity/scheduler.hpp — per-frame perceptual level-of-detail selection (docs/design.md section 6).
 //
 // Shape: every array is sized at creation; begin_frame / update / end_frame allocate nothing, start
 // no threads and are deterministic (same inputs, same bits). update() takes an object range so a
@@ -12,7 +12,7 @@
 //   each frame: s.set_transform(id, ...); s.begin_frame(frame); s.update(0, s.object_capacity());
 //               s.end_frame(); draw level s.level(id)
 //
-// Conventions (design.md section 3): world positions in metres (double), angles in degrees,
+// Conventions (docs/design.md section 3): world positions in metres (double), angles in degrees,
 // angular velocities in deg/s. An eye looks along its local -Z with +Y up (OpenXR, OpenGL).
 #include <cstddef>
 #include <cstdint>

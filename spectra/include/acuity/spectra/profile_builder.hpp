@@ -1,5 +1,5 @@
 #pragma once
-// acuity/spectra/profile_builder.hpp — from a chain of levels to a profile (design.md sections 4, 7).
+// acuity/spectra/profile_builder.hpp — from a chain of levels to a profile (docs/design.md sections 4, 7).
 //
 // For each view: render every level, measure level k's lost contrast against level 0 per
 // orientation and band, and Reddy's feature frequencies per level and orientation.

@@ -1,5 +1,5 @@
 #pragma once
-// acuity/spectra/render.hpp — the embedded snapshot renderer (design.md section 7).
+// acuity/spectra/render.hpp — the embedded snapshot renderer (docs/design.md section 7).
 // Deterministic CPU rasteriser: orthographic camera framing the bounding sphere so its diameter
 // spans `pixels`, supersampled anti-aliasing, linear luminance, headlight Lambert plus ambient,
 // base colour factor and texture. Same inputs, same bytes.

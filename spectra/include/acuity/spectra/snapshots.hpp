@@ -1,5 +1,5 @@
 #pragma once
-// acuity/spectra/snapshots.hpp — profiles from a user's own snapshots (design.md section 7): the
+// acuity/spectra/snapshots.hpp — profiles from a user's own snapshots (docs/design.md section 7): the
 // analysis is of what the display shows, so an engine's own shading can be profiled.
 //
 // Manifest (JSON):
