@@ -22,7 +22,10 @@ inline float v1_feature(std::uint32_t k, std::uint32_t v, std::uint32_t t) {
 
 inline spectra::ProfileData profile_v1_input() {
   spectra::ProfileData d;
-  d.sphere[0] = 0.25f; d.sphere[1] = -0.5f; d.sphere[2] = 1.0f; d.sphere[3] = 2.0f;
+  d.sphere[0] = 0.25f;
+  d.sphere[1] = -0.5f;
+  d.sphere[2] = 1.0f;
+  d.sphere[3] = 2.0f;
   d.snapshot_pixels = 128;
   d.lookup_resolution = 1;  // one cell per cube face: the cell centres are the six axes
   d.levels = {{1000, 0.0f}, {250, 0.125f}, {60, 0.5f}};
