@@ -1,5 +1,5 @@
 // `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
-// head path with a gaze trace (given or generated), four rules per frame (simulation.hpp).
+// head path with a gaze trace (given or generated), four rules per frame (acuity/sim/simulation.hpp).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
