@@ -24,8 +24,8 @@
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/output.hpp"
+#include "acuity/sim/tracks.hpp"
 #include "profile_fixture.hpp"
-#include "tracks.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -511,7 +511,7 @@ TEST(Files, NanReferenceHeightIsRefusedNotWrittenAsNull) {
 // --- 17: a byte order mark in a CSV track ------------------------------------------------------
 
 TEST(Tracks, Utf8ByteOrderMarkIsAccepted) {
-  const tools::Table t = tools::parse_table("\xEF\xBB\xBFt,x,y,z\n0,0,0,-1\n1,0,0,-1\n", "gaze.csv", false);
+  const sim::Table t = sim::parse_table("\xEF\xBB\xBFt,x,y,z\n0,0,0,-1\n1,0,0,-1\n", "gaze.csv", false);
   EXPECT_EQ(t.column("t", true), 0);
   EXPECT_EQ(t.rows.size(), 2u);
 }

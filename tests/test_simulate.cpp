@@ -14,13 +14,14 @@
 #include <sstream>
 
 #include "acuity/lodgen/gltf.hpp"
-#include "frame_image.hpp"
+#include "acuity/sim/frame_image.hpp"
+#include "acuity/sim/results.hpp"
 #include "mesh_fixture.hpp"
-#include "simulation.hpp"
 
 namespace fs = std::filesystem;
 using namespace acuity;
-using namespace acuity::tools;
+using namespace acuity::sim;
+using namespace acuity::tools;  // the scene bake (load_scene_assets, decompose)
 
 namespace {
 
@@ -93,7 +94,6 @@ SimulationOptions small_options(const std::string& output) {
   o.movers = 2;
   o.validate = std::getenv("ACUITY_QUICK_TESTS") ? 4 : 12;  // the sanitizer run judges fewer
   o.images = 1;
-  o.plots = false;
   o.output = output.empty() ? std::string() : scratch(output).string();
   return o;
 }
@@ -222,6 +222,15 @@ TEST(Scene, InstancesShareMeshesAndKeepTheirPlacement) {
   EXPECT_NEAR(t.rotation[3], std::cos(0.15), 1e-6);
 }
 
+// A run as `acuity simulate` makes it: every frame, the judged decisions, the results, the files.
+void run_simulation(const SceneAssets& scene, const SimulationOptions& o) {
+  Simulation sim(scene, o);
+  sim.run();
+  std::vector<Judged> judged;
+  if (o.validate > 0) judged = judge_decisions(sim, o.validate, o.seed);
+  write_outputs(sim, analyse(sim, judged), judged, o.output);
+}
+
 TEST(Simulate, FixedSeedReproducesEveryOutputByte) {
   const SceneAssets& scene = small_scene();
   run_simulation(scene, small_options("run_a"));
@@ -276,6 +285,53 @@ TEST(Simulate, RulesAndGroundTruthAgreeWhereTheyMust) {
     ASSERT_TRUE(sim.rule("perceptual").scheduler->explain(i, &e));
     EXPECT_LE(e.levels[level].score, 1.0f) << text;
   }
+}
+
+TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
+  const SceneAssets& scene = small_scene();
+  Simulation sim(scene, small_options(""));
+  sim.run();
+  const std::vector<Judged> judged = judge_decisions(sim, 20, 1);
+  const std::vector<RuleRun>& rules = sim.rules();
+  const std::size_t objects = scene.instances.size();
+  const Results r = analyse(sim, judged);
+  EXPECT_EQ(r.frames, sim.frame_count());
+  EXPECT_EQ(r.judged, judged.size());
+  ASSERT_EQ(r.visible_losses.size(), rules.size());
+  EXPECT_EQ(&rules[std::size_t(r.perceptual)], &sim.rule("perceptual"));
+  // Losses, counted here decision by decision: the level a rule chose scores above 1.
+  for (std::size_t i = 0; i < rules.size(); ++i) {
+    std::uint32_t losses = 0;
+    for (const Judged& j : judged)
+      if (j.scores[rules[i].levels[std::size_t(j.frame) * objects + j.object]] > 1.0f) ++losses;
+    EXPECT_EQ(r.visible_losses[i], losses) << rules[i].name << " " << rules[i].parameter;
+  }
+  // The tuned screen-size baseline: a sweep entry at most as lossy, and none as safe is cheaper.
+  auto check = [&](const Match& m, const std::string& name, std::size_t to) {
+    for (std::size_t i = 0; i < rules.size(); ++i) {
+      if (!rules[i].sweep || rules[i].name != name || r.visible_losses[i] > r.visible_losses[to]) continue;
+      ASSERT_GE(m.rule, 0) << name;
+      EXPECT_LE(rules[std::size_t(m.rule)].triangles, rules[i].triangles) << name;
+    }
+    if (m.rule < 0) return;
+    EXPECT_TRUE(rules[std::size_t(m.rule)].sweep && rules[std::size_t(m.rule)].name == name);
+    EXPECT_LE(r.visible_losses[std::size_t(m.rule)], r.visible_losses[to]);
+    EXPECT_DOUBLE_EQ(m.ratio, rules[std::size_t(m.rule)].triangles / rules[to].triangles);
+  };
+  check(r.screen_size, "screen-size", std::size_t(r.perceptual));
+  check(r.distance, "distance", std::size_t(r.perceptual));
+  ASSERT_EQ(r.quality_sweep.size(), 9u);  // q = 2^(i/4), i = -6..2
+  for (const Results::QualityPoint& q : r.quality_sweep) check(q.screen_size, "screen-size", std::size_t(q.rule));
+  // The summary names every main rule with its losses out of the judged decisions.
+  const std::string text = summary_text(sim, r);
+  for (const char* name : {"perceptual", "reddy", "distance", "screen-size"}) {
+    const std::size_t i = std::size_t(&sim.rule(name) - rules.data());
+    EXPECT_NE(text.find("(" + std::to_string(r.visible_losses[i]) + "/20)"), std::string::npos) << name << "\n" << text;
+  }
+  // With nothing judged, no rate is claimed.
+  const Results none = analyse(sim, {});
+  EXPECT_EQ(none.fraction(std::size_t(none.perceptual)), 0.0);
+  EXPECT_EQ(summary_text(sim, none).find("visible"), std::string::npos);
 }
 
 TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {

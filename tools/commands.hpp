@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <vector>
+
+#include "acuity/sim/simulation.hpp"
 
 namespace acuity::tools {
 // A finite number: CLI11's Range, PositiveNumber and NonNegativeNumber let NaN through (every
@@ -26,4 +29,13 @@ void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
 void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
 void add_plan_command(CLI::App& app);     // `acuity plan`: foveation maps
+
+// What a run leaves: the files written, and a decision worth explaining.
+struct RunResult {
+  std::vector<std::string> written;
+  sim::Decision example;
+};
+// Runs every frame, judges options.validate decisions, prints the summary, writes the outputs into
+// options.output (when set) and lists them, with the command that plots them when plot_hint.
+RunResult run_simulation(const SceneAssets& scene, const sim::SimulationOptions& options, bool plot_hint);
 }  // namespace acuity::tools

@@ -14,12 +14,12 @@
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "commands.hpp"
-#include "simulation.hpp"
 
 namespace acuity::tools {
 namespace {
 
 namespace fs = std::filesystem;
+using sim::SimulationOptions;
 constexpr double kPi = 3.14159265358979323846;
 
 struct DemoOptions {
@@ -112,14 +112,14 @@ void run(const DemoOptions& o) {
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(scene_path, ao);
   std::printf("\nsimulate: %.0f s at %.0f Hz, fixations, saccades, pursuit of %u moving objects, blinks\n", o.sim.seconds,
               o.sim.fps, o.sim.movers);
-  const RunResult result = run_simulation(*scene, so);
+  const RunResult result = run_simulation(*scene, so, true);
   std::printf("\nacuity demo finished in %.1f s.\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  if (result.example_object >= 0) {
+  if (result.example.object >= 0) {
     std::error_code ec;
     const fs::path self = fs::read_symlink("/proc/self/exe", ec);
     std::printf("Why the object looked at in frame %zu got its level:\n  %s explain %s --profiles %s --seconds %g --seed %u --frame %zu --object %s\n",
-                result.example_frame, ec ? "acuity" : self.string().c_str(), scene_path.c_str(), ao.profiles.c_str(),
-                so.seconds, so.seed, result.example_frame, scene->instances[std::size_t(result.example_object)].name.c_str());
+                result.example.frame, ec ? "acuity" : self.string().c_str(), scene_path.c_str(), ao.profiles.c_str(),
+                so.seconds, so.seed, result.example.frame, scene->instances[std::size_t(result.example.object)].name.c_str());
   }
 }
 

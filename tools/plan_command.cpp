@@ -12,11 +12,13 @@
 #include "acuity/file.hpp"
 #include "acuity/foveation_plan.hpp"
 #include "commands.hpp"
-#include "foveation_report.hpp"
-#include "tracks.hpp"
+#include "acuity/sim/foveation_report.hpp"
+#include "acuity/sim/tracks.hpp"
 
 namespace acuity::tools {
 namespace {
+
+using namespace acuity::sim;  // the planner's pictures and table, the gaze track reader
 
 struct Options {
   std::string display = "2000x2000";
@@ -67,18 +69,7 @@ void run(const Options& o) {
   // Gazes per frame: a track, or the one given.
   std::vector<Gaze> gazes;
   if (!o.gaze_track.empty()) {
-    const Table table = read_table(o.gaze_track);
-    const int t = table.column("t", true);
-    const double seconds = table.rows.empty() ? 0.0 : table.rows.back()[static_cast<std::size_t>(t)];
-    const std::size_t frames = static_cast<std::size_t>(std::floor(seconds * o.fps)) + 1;
-    if (frames > 1000000) throw std::runtime_error(o.gaze_track + ": more than a million frames");
-    for (const GazeSample& s : gaze_trace_from(table, o.fps, frames)) {
-      Gaze g;
-      for (int k = 0; k < 3; ++k) g.direction[k] = static_cast<float>(s.direction[k]);
-      g.confidence = s.confidence;
-      g.valid = s.confidence > 0;
-      gazes.push_back(g);
-    }
+    gazes = gazes_from_track(read_table(o.gaze_track), o.fps);
   } else {
     if (o.gaze.size() != 2) throw std::runtime_error("--gaze: YAW,PITCH in degrees");
     Gaze g = gaze_toward(o.gaze[0], o.gaze[1]);
@@ -89,30 +80,18 @@ void run(const Options& o) {
   same_file_guard(o.png, o.gaze_track);
   same_file_guard(o.csv, o.gaze_track);
 
-  std::string csv = "frame,time_s,status,origin_x_px,origin_y_px,shaded_px,full_px,saved\n";
-  double total_saved = 0;
-  PlanResult shown;
-  char line[256];
-  for (std::size_t f = 0; f < gazes.size(); ++f) {
-    PlanResult r = plan_eye(*planner, eye, gazes[f], o.tile);
-    std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.2f,%.2f,%.0f,%.0f,%.6f\n", f, double(f) / o.fps, to_string(r.status),
-                  r.maps.origin_px[0], r.maps.origin_px[1], r.maps.shaded, r.maps.pixels, r.saved());
-    csv += line;
-    total_saved += r.saved();
-    if (f == o.frame) shown = std::move(r);
-  }
+  const TrackPlan plan = plan_track(*planner, eye, gazes, o.tile, o.fps, o.frame);
+  const PlanResult& shown = plan.shown;
   std::printf("display %ux%u px, %.1f deg horizontal, tile %u px, model %s, q %.2f: %zu frame(s), mean shading work saved %.1f%%\n",
-              w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(), 100 * total_saved / double(gazes.size()));
+              w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(), 100 * plan.total_saved / double(gazes.size()));
   std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status), 100 * shown.saved(),
               shown.maps.cols, shown.maps.rows);
   if (!o.csv.empty()) {
     std::string error;
-    if (!write_file_atomically(o.csv, csv.data(), csv.size(), &error)) throw std::runtime_error(error);
+    if (!write_file_atomically(o.csv, plan.csv.data(), plan.csv.size(), &error)) throw std::runtime_error(error);
     std::printf("wrote %s\n", o.csv.c_str());
   }
   if (!o.png.empty()) {
-    shown.maps.shading_rate = shown.rate.data();  // after the move
-    shown.maps.mip_bias = shown.bias.data();
     char caption[256];
     std::snprintf(caption, sizeof caption, "%ux%u PX, %.0f DEG, GAZE %s, TILE %u PX, MODEL %s, Q %.2f: SHADING WORK SAVED %.1f%%", w,
                   h, o.fov, shown.status == FoveationStatus::Ok ? "TRACKED" : "NONE (30 DEG DISC)", o.tile, o.model.c_str(),

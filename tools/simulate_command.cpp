@@ -1,24 +1,46 @@
 // `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
-// head path with a gaze trace (given or generated), four rules per frame (simulation.hpp).
+// head path with a gaze trace (given or generated), four rules per frame (acuity/sim/simulation.hpp).
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
 
 #include "acuity/lodgen/output.hpp"
+#include "acuity/sim/results.hpp"
 #include "commands.hpp"
-#include "simulation.hpp"
 
 namespace acuity::tools {
 namespace {
+
+using sim::Simulation;
+using sim::SimulationOptions;
 
 struct SimulateOptions {
   std::string scene;
   AssetOptions assets;
   SimulationOptions sim;
+  bool plot_hint = true;
   std::size_t frame = 0;
   std::string object;
 };
+
+// A path as a POSIX shell reads it back: as is when plain, else in single quotes.
+std::string shell_quoted(const std::string& path) {
+  if (!path.empty() && path.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./+-") == std::string::npos)
+    return path;
+  std::string out = "'";
+  for (char c : path) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The plot script: next to the sources in a build tree, in share/acuity when installed.
+std::string plot_script() {
+  for (const char* p : {ACUITY_PLOT_SCRIPT_SOURCE, ACUITY_PLOT_SCRIPT_INSTALLED})
+    if (std::filesystem::exists(p)) return p;
+  return "plot_simulation.py";
+}
 
 // The options simulate and explain share.
 void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
@@ -47,7 +69,7 @@ void simulate(const SimulateOptions& o) {
   lodgen::check_output_folder(o.assets.profiles);
   std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
-  run_simulation(*scene, o.sim);
+  run_simulation(*scene, o.sim, o.plot_hint);
 }
 
 void explain(const SimulateOptions& o) {
@@ -68,19 +90,47 @@ void explain(const SimulateOptions& o) {
   if (o.frame >= sim.frame_count())
     throw std::runtime_error("explain: frame " + std::to_string(o.frame) + " is past the run's " + std::to_string(sim.frame_count()) + " frames");
   while (sim.frame_index() <= o.frame) sim.step();
-  std::fputs(explain_text(sim, object).c_str(), stdout);
+  std::fputs(sim::explain_text(sim, object).c_str(), stdout);
 }
 
 }  // namespace
+
+RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Simulation sim(scene, options);
+  sim.run();
+  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<sim::Judged> judged;
+  if (options.validate > 0) judged = sim::judge_decisions(sim, options.validate, options.seed);
+  const auto t2 = std::chrono::steady_clock::now();
+  std::printf("\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in %.1f s\n",
+              sim.frame_count(), sim.rules().size(), std::chrono::duration<double>(t1 - t0).count(), judged.size(),
+              std::chrono::duration<double>(t2 - t1).count());
+  const sim::Results results = sim::analyse(sim, judged);
+  std::fputs(sim::summary_text(sim, results).c_str(), stdout);
+  RunResult run;
+  if (!options.output.empty()) {
+    run.written = sim::write_outputs(sim, results, judged, options.output);
+    std::printf("\nwritten to %s:\n", options.output.c_str());
+    for (const std::string& p : run.written) std::printf("  %s\n", p.c_str());
+    std::printf("(frames: perceptual left, %s right; level 0 blue, 1 cyan, 2 green, 3 yellow, 4 orange; ring = gaze)\n",
+                results.screen_size.rule >= 0 ? "screen-size tuned to the same visible losses" : "screen-size at 1 px");
+    if (plot_hint)
+      std::printf("plots (triangles.png, sweep.png; needs python3-matplotlib):\n  python3 %s %s\n", shell_quoted(plot_script()).c_str(),
+                  shell_quoted(options.output).c_str());
+  }
+  run.example = sim::example_decision(sim);
+  return run;
+}
 
 void add_simulate_commands(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Run a scene along a head path and gaze trace through four LOD rules");
   add_scene_options(cmd, o.get());
-  cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, plots and frame images")->capture_default_str();
+  cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, JSON and frame images")->capture_default_str();
   cmd->add_option("--validate", o->sim.validate, "Decisions judged by rendering both levels at the exact view (0: none)")->capture_default_str();
   cmd->add_option("--images", o->sim.images, "Frames rendered as PNG")->capture_default_str();
-  cmd->add_flag("!--no-plots", o->sim.plots, "Do not run the matplotlib script");
+  cmd->add_flag("!--no-plots", o->plot_hint, "Do not print the command that plots the run");
   cmd->callback([o] { simulate(*o); });
 
   auto e = std::make_shared<SimulateOptions>();

@@ -18,8 +18,8 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
-#include "frame_image.hpp"
-#include "tracks.hpp"
+#include "acuity/sim/frame_image.hpp"
+#include "acuity/sim/tracks.hpp"
 #include "profile_fixture.hpp"
 
 namespace {
@@ -190,8 +190,8 @@ std::string gaze_csv() {  // a sideways sweep with a blink (confidence 0) from 0
 TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   World w(12, 0.0f, false);
   const int frames = 90;
-  const auto head = acuity::tools::head_path_from(acuity::tools::parse_table(head_csv(), "head.csv", false), kFps, frames);
-  const auto samples = acuity::tools::gaze_trace_from(acuity::tools::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
+  const auto head = acuity::sim::head_path_from(acuity::sim::parse_table(head_csv(), "head.csv", false), kFps, frames);
+  const auto samples = acuity::sim::gaze_trace_from(acuity::sim::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
   ASSERT_EQ(head.size(), std::size_t(frames));
   w.kit->set_gaze_source(new acuity::osg::TrackGaze(samples));  // sample 0 at the first frame
   acuity::Scheduler ref(w.config);
@@ -404,7 +404,7 @@ TEST(Osg, APngOfAFrameIsWrittenAndIsNotBlank) {
   w.viewer.frame(0);
   const ::osg::Image& im = *w.capture->image;
   ASSERT_EQ(im.s(), kWidth);
-  acuity::tools::RgbImage out;
+  acuity::sim::RgbImage out;
   out.width = im.s();
   out.height = im.t();
   std::set<int> colors;
@@ -418,7 +418,7 @@ TEST(Osg, APngOfAFrameIsWrittenAndIsNotBlank) {
     }
   const std::string path = (std::filesystem::path(ACUITY_OSG_TEST_OUT) / "osg_frame.png").string();
   std::filesystem::create_directories(ACUITY_OSG_TEST_OUT);
-  acuity::tools::write_png(path, out);
+  acuity::sim::write_png(path, out);
   EXPECT_GT(std::filesystem::file_size(path), 1000u);
   EXPECT_GT(lit, kWidth * kHeight / 50) << "objects were drawn";
   EXPECT_LT(lit, kWidth * kHeight) << "the background shows";

@@ -7,6 +7,7 @@ import os
 import shutil
 import struct
 import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -200,6 +201,13 @@ def test_simulate_then_explain_a_plain_mesh_scene(tmp_path):
     assert len(frames) == 61 and frames[0].startswith("frame,seconds,saccade")
     assert (out / "frame_0030.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert (profiles / "grid.acuity").exists()  # built here, reused next time
+    # acuity runs no other program; the plots come from the script over the CSVs it wrote.
+    assert "plot_simulation.py" not in r.stdout and not (out / "triangles.png").exists()
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "tools", "plot_simulation.py")
+    p = subprocess.run([sys.executable, script, str(out)], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    for png in ("triangles.png", "sweep.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = [l.split(",") for l in (out / "levels.csv").read_text().splitlines()]
     header = rows[0]
     recorded = next(row for row in rows[1:] if row[0] == "30" and row[2] == "grid")

@@ -48,7 +48,7 @@ Gaze MouseGaze::gaze(std::uint32_t, double, const ::osg::Camera& camera, std::ui
   return g;
 }
 
-TrackGaze::TrackGaze(std::vector<tools::GazeSample> samples, std::uint32_t first_frame)
+TrackGaze::TrackGaze(std::vector<sim::GazeSample> samples, std::uint32_t first_frame)
     : samples_(std::move(samples)), first_(first_frame) {}
 
 Gaze TrackGaze::gaze(std::uint32_t frame, double, const ::osg::Camera&, std::uint32_t) {
@@ -56,7 +56,7 @@ Gaze TrackGaze::gaze(std::uint32_t frame, double, const ::osg::Camera&, std::uin
   if (samples_.empty()) return g;
   if (first_ == kFirstAsked) first_ = frame;
   const std::size_t i = std::min<std::size_t>(frame > first_ ? frame - first_ : 0, samples_.size() - 1);
-  const tools::GazeSample& s = samples_[i];
+  const sim::GazeSample& s = samples_[i];
   for (int k = 0; k < 3; ++k) g.direction[k] = float(s.direction[k]);
   g.confidence = s.confidence;
   g.valid = s.confidence > 0;

@@ -31,8 +31,8 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
-#include "frame_image.hpp"
-#include "simulation.hpp"
+#include "acuity/sim/frame_image.hpp"
+#include "acuity/sim/generators.hpp"
 
 namespace fs = std::filesystem;
 using namespace acuity;
@@ -60,8 +60,8 @@ struct Capture : ::osg::Camera::DrawCallback {
   }
 };
 
-tools::RgbImage to_rgb(const ::osg::Image& im) {
-  tools::RgbImage out;
+sim::RgbImage to_rgb(const ::osg::Image& im) {
+  sim::RgbImage out;
   out.width = im.s();
   out.height = im.t();
   out.pixels.reserve(std::size_t(out.width) * std::size_t(out.height) * 3);
@@ -92,7 +92,7 @@ std::vector<tools::Instance> grid(const tools::SceneAssets& s, std::uint32_t n) 
   return out;
 }
 
-::osg::Matrixd view_of(const tools::HeadPose& h) {
+::osg::Matrixd view_of(const sim::HeadPose& h) {
   const ::osg::Quat q(h.orientation.x, h.orientation.y, h.orientation.z, h.orientation.w);
   return ::osg::Matrixd::inverse(::osg::Matrixd::rotate(q) * ::osg::Matrixd::translate(h.position.x, h.position.y, h.position.z));
 }
@@ -170,8 +170,8 @@ int run(const Options& o) {
 
   // Head path and gaze.
   const std::size_t frames = o.frames ? o.frames : std::size_t(std::llround(o.seconds * o.fps));
-  const std::vector<tools::HeadPose> head =
-      o.head.empty() ? tools::flythrough(*assets, o.seconds, o.fps) : tools::head_path_from(tools::read_table(o.head), o.fps, frames);
+  const std::vector<sim::HeadPose> head =
+      o.head.empty() ? sim::flythrough(*assets, o.seconds, o.fps) : sim::head_path_from(sim::read_table(o.head), o.fps, frames);
   if (head.empty()) throw std::runtime_error("the head path is empty (--seconds too short?)");
   std::string mode = o.gaze_mode;
   if (mode == "auto") mode = !o.gaze_file.empty() ? "track" : o.headless ? "generated" : "mouse";
@@ -179,9 +179,9 @@ int run(const Options& o) {
   ::osg::ref_ptr<aosg::MouseGaze> mouse;
   if (mode == "track") {
     if (o.gaze_file.empty()) throw std::runtime_error("--gaze-source track needs --gaze FILE");
-    gaze = new aosg::TrackGaze(tools::gaze_trace_from(tools::read_table(o.gaze_file), o.fps, frames));
+    gaze = new aosg::TrackGaze(sim::gaze_trace_from(sim::read_table(o.gaze_file), o.fps, frames));
   } else if (mode == "generated") {
-    gaze = new aosg::TrackGaze(tools::generate_gaze(*assets, head, {}, o.fps, o.seed).samples);
+    gaze = new aosg::TrackGaze(sim::generate_gaze(*assets, head, {}, o.fps, o.seed).samples);
   } else if (mode == "mouse") {
     mouse = new aosg::MouseGaze;
     gaze = mouse.get();
@@ -320,7 +320,7 @@ int run(const Options& o) {
       if (png) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%05zu.png", f);
-        tools::write_png((fs::path(o.out) / name).string(), to_rgb(*capture->image));
+        sim::write_png((fs::path(o.out) / name).string(), to_rgb(*capture->image));
         ++pngs;
       }
     }

@@ -1,4 +1,4 @@
-#include "foveation_report.hpp"
+#include "acuity/sim/foveation_report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include <stb_easy_font.h>
 
-namespace acuity::tools {
+namespace acuity::sim {
 namespace {
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
@@ -120,6 +120,40 @@ PlanResult plan_eye(const FoveationPlanner& planner, const Eye& eye, const Gaze&
   r.maps.mip_bias = r.bias.data();
   r.status = plan_foveation(planner, eye, gaze, &r.maps);
   return r;
+}
+
+std::vector<Gaze> gazes_from_track(const Table& track, double fps) {
+  const int t = track.column("t", true);
+  const double seconds = track.rows.empty() ? 0.0 : track.rows.back()[static_cast<std::size_t>(t)];
+  const std::size_t frames = static_cast<std::size_t>(std::floor(seconds * fps)) + 1;
+  if (frames > 1000000) throw std::runtime_error(track.source + ": more than a million frames");
+  std::vector<Gaze> gazes;
+  for (const GazeSample& s : gaze_trace_from(track, fps, frames)) {
+    Gaze g;
+    for (int k = 0; k < 3; ++k) g.direction[k] = static_cast<float>(s.direction[k]);
+    g.confidence = s.confidence;
+    g.valid = s.confidence > 0;
+    gazes.push_back(g);
+  }
+  return gazes;
+}
+
+TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes, std::uint32_t tile_px,
+                     double fps, std::size_t shown) {
+  TrackPlan out;
+  out.csv = "frame,time_s,status,origin_x_px,origin_y_px,shaded_px,full_px,saved\n";
+  char line[256];
+  for (std::size_t f = 0; f < gazes.size(); ++f) {
+    PlanResult r = plan_eye(planner, eye, gazes[f], tile_px);
+    std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.2f,%.2f,%.0f,%.0f,%.6f\n", f, double(f) / fps, to_string(r.status),
+                  r.maps.origin_px[0], r.maps.origin_px[1], r.maps.shaded, r.maps.pixels, r.saved());
+    out.csv += line;
+    out.total_saved += r.saved();
+    if (f == shown) out.shown = std::move(r);
+  }
+  out.shown.maps.shading_rate = out.shown.rate.data();  // after the move
+  out.shown.maps.mip_bias = out.shown.bias.data();
+  return out;
 }
 
 RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width, const std::string& caption) {
@@ -240,4 +274,4 @@ std::string savings_table(const FoveationConfig& config, std::uint32_t tile_px) 
   return out;
 }
 
-}  // namespace acuity::tools
+}  // namespace acuity::sim

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "simulation.hpp"
+#include "acuity/sim/simulation.hpp"
 
-namespace acuity::tools {
+namespace acuity::sim {
 
 struct RgbImage {
   int width = 0, height = 0;
@@ -23,4 +23,4 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
 // PNG, written atomically. Throws std::runtime_error naming the path.
 void write_png(const std::string& path, const RgbImage& image);
 
-}  // namespace acuity::tools
+}  // namespace acuity::sim

@@ -1,4 +1,4 @@
-#include "frame_image.hpp"
+#include "acuity/sim/frame_image.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "acuity/file.hpp"
 
-namespace acuity::tools {
+namespace acuity::sim {
 namespace {
 
 constexpr std::uint8_t kPalette[8][3] = {{40, 110, 230}, {40, 190, 210}, {70, 190, 70}, {235, 205, 50},
@@ -111,4 +111,4 @@ void write_png(const std::string& path, const RgbImage& image) {
   if (!write_file_atomically(path, png.data(), png.size(), &error)) throw std::runtime_error(error);
 }
 
-}  // namespace acuity::tools
+}  // namespace acuity::sim

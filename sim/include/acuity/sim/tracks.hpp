@@ -1,6 +1,6 @@
 #pragma once
-// Head paths and gaze traces as files: a small table reader (CSV or JSON) and the resampling of
-// tracks to frames. Units as in acuity/scheduler.hpp: metres, seconds; the head looks along its
+// Head paths and gaze traces as files: a small table reader (CSV or JSON), the resampling of
+// tracks to frames, and the writers of the CSV the readers take back. Units as in acuity/scheduler.hpp: metres, seconds; the head looks along its
 // local -Z with +Y up; gaze directions are unit vectors in head space.
 #include <cstdint>
 #include <string>
@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-namespace acuity::tools {
+namespace acuity::sim {
 
 // A table of numbers with named columns: CSV with a header line, or JSON: an array of flat objects.
 // Throws std::runtime_error naming the file and the line (CSV) or row (JSON) at fault.
@@ -39,4 +39,9 @@ const char* to_string(GazePhase phase);
 std::vector<HeadPose> head_path_from(const Table& table, double fps, std::size_t frames);
 std::vector<GazeSample> gaze_trace_from(const Table& table, double fps, std::size_t frames);
 
-}  // namespace acuity::tools
+// The inverse: the first `frames` poses (samples) at t = frame / fps as CSV text with those
+// columns, numbers with 17 significant digits (read back exactly).
+std::string head_path_csv(const std::vector<HeadPose>& head, double fps, std::size_t frames);
+std::string gaze_trace_csv(const std::vector<GazeSample>& gaze, double fps, std::size_t frames);
+
+}  // namespace acuity::sim

@@ -1,4 +1,4 @@
-#include "tracks.hpp"
+#include "acuity/sim/tracks.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -12,7 +12,7 @@
 
 #include "acuity/file.hpp"
 
-namespace acuity::tools {
+namespace acuity::sim {
 namespace {
 
 [[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
@@ -115,6 +115,17 @@ struct Resampler {
 
 }  // namespace
 
+const char* to_string(GazePhase p) {
+  switch (p) {
+    case GazePhase::Fixation: return "fixation";
+    case GazePhase::Saccade: return "saccade";
+    case GazePhase::Pursuit: return "pursuit";
+    case GazePhase::Blink: return "blink";
+    case GazePhase::Recorded: return "recorded";
+  }
+  return "?";
+}
+
 int Table::column(const std::string& name, bool required) const {
   for (std::size_t i = 0; i < columns.size(); ++i)
     if (columns[i] == name) return int(i);
@@ -176,4 +187,27 @@ std::vector<GazeSample> gaze_trace_from(const Table& table, double fps, std::siz
   return out;
 }
 
-}  // namespace acuity::tools
+std::string head_path_csv(const std::vector<HeadPose>& head, double fps, std::size_t frames) {
+  std::ostringstream h;
+  h.precision(17);
+  h << "t,x,y,z,qx,qy,qz,qw\n";
+  for (std::size_t i = 0; i < frames; ++i) {
+    const HeadPose& p = head[i];
+    h << double(i) / fps << "," << p.position.x << "," << p.position.y << "," << p.position.z << "," << p.orientation.x << ","
+      << p.orientation.y << "," << p.orientation.z << "," << p.orientation.w << "\n";
+  }
+  return h.str();
+}
+
+std::string gaze_trace_csv(const std::vector<GazeSample>& gaze, double fps, std::size_t frames) {
+  std::ostringstream g;
+  g.precision(17);
+  g << "t,x,y,z,confidence\n";
+  for (std::size_t i = 0; i < frames; ++i) {
+    const GazeSample& z = gaze[i];
+    g << double(i) / fps << "," << z.direction.x << "," << z.direction.y << "," << z.direction.z << "," << z.confidence << "\n";
+  }
+  return g.str();
+}
+
+}  // namespace acuity::sim

@@ -7,9 +7,10 @@
 #include <vector>
 
 #include "acuity/foveation_plan.hpp"
-#include "frame_image.hpp"
+#include "acuity/sim/frame_image.hpp"
+#include "acuity/sim/tracks.hpp"
 
-namespace acuity::tools {
+namespace acuity::sim {
 
 // A flat display of width x height pixels spanning hfov_deg horizontally, centred on the view axis,
 // square pixels (the vertical field follows from the aspect). Throws on a degenerate display.
@@ -26,6 +27,20 @@ struct PlanResult {
 };
 PlanResult plan_eye(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze, std::uint32_t tile_px);
 
+// A gaze track (columns t,x,y,z[,confidence], head space) as one gaze per frame at `fps`, frames
+// 0 to floor(last t x fps). Throws std::runtime_error naming the track past a million frames.
+std::vector<Gaze> gazes_from_track(const Table& track, double fps);
+
+// The planner over every gaze: CSV text, one line per frame (frame,time_s,status,origin_x_px,
+// origin_y_px,shaded_px,full_px,saved), the sum of the fractions saved, and frame `shown`'s plan.
+struct TrackPlan {
+  std::string csv;
+  double total_saved = 0;
+  PlanResult shown;
+};
+TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes, std::uint32_t tile_px,
+                     double fps, std::size_t shown);
+
 // Two panels side by side, each `panel_width` wide: the shading rate and the mip bias over a grey
 // test frame, with rings every 10 deg around the gaze, the gaze cross, colour legends and a caption.
 RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width, const std::string& caption);
@@ -35,4 +50,4 @@ RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int
 // pixel saving from the same model.
 std::string savings_table(const FoveationConfig& config, std::uint32_t tile_px);
 
-}  // namespace acuity::tools
+}  // namespace acuity::sim

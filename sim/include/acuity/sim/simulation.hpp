@@ -1,7 +1,8 @@
 #pragma once
-// `acuity simulate`: a scene, a head path and a gaze trace, run frame by frame through four rules
-// (perceptual, Reddy, distance, screen-size) plus the two baselines at a sweep of their tuning,
-// with the chosen levels judged afterwards by rendering both levels at the exact view.
+// The simulation behind `acuity simulate`: a scene, a head path and a gaze trace, run frame by
+// frame through four rules (perceptual, Reddy, distance, screen-size) plus the two baselines at a
+// sweep of their tuning, with the chosen levels judged afterwards by rendering both levels at the
+// exact view. What a run means is computed by analyse() (acuity/sim/results.hpp).
 //
 // Conventions as in acuity/scheduler.hpp: metres, degrees, seconds; the head (camera) looks along
 // its local -Z with +Y up; gaze directions are unit vectors in head space (both eyes share the
@@ -13,18 +14,11 @@
 #include <vector>
 
 #include "acuity/scheduler.hpp"
-#include "scene_assets.hpp"
-#include "tracks.hpp"
+#include "acuity/sim/generators.hpp"
+#include "acuity/sim/scene.hpp"
+#include "acuity/sim/tracks.hpp"
 
-namespace acuity::tools {
-
-// An object that moves on a horizontal circle (so gaze can pursue it).
-struct Mover {
-  std::uint32_t instance = 0;
-  glm::dvec3 centre{0.0};
-  double radius = 1, speed = 1, phase = 0;   // [m], [m/s], [rad]
-  glm::dvec3 position(double t) const;
-};
+namespace acuity::sim {
 
 struct SimulationOptions {
   double seconds = 20, fps = 60;
@@ -38,23 +32,8 @@ struct SimulationOptions {
   Evaluation evaluation = Evaluation::Tabulated;  // the perceptual rule's thresholds
   std::uint32_t validate = 200;              // decisions judged by render-and-analyze (0: none)
   std::uint32_t images = 3;                  // frames rendered as PNG
-  std::string output;                        // directory for CSV, plots, images; empty: none
-  bool plots = true;                         // run tools/plot_simulation.py with Debian's python3
+  std::string output;                        // directory for CSV, JSON, images (write_outputs); empty: none
 };
-
-// The built-in generators. A fly-through walks the long horizontal axis of the scene's bounds at
-// eye height 1.6 m with a slow yaw sway; the gaze fixates objects in view (200-450 ms), moves
-// between them by saccades on the main sequence (21 ms + 2.2 ms/deg, cosine velocity profile),
-// pursues movers (0.6-1.5 s) and blinks every 2-6 s (150 ms, confidence 0).
-std::vector<HeadPose> flythrough(const SceneAssets& scene, double seconds, double fps);
-std::vector<Mover> choose_movers(const SceneAssets& scene, std::uint32_t count, unsigned seed);
-struct GeneratedGaze {
-  std::vector<GazeSample> samples;
-  std::vector<GazePhase> phases;
-  std::vector<std::int32_t> targets;         // instance looked at, -1 none
-};
-GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
-                            const std::vector<Mover>& movers, double fps, unsigned seed);
 
 // One rule at one tuning, run on every frame.
 struct RuleRun {
@@ -66,7 +45,6 @@ struct RuleRun {
   std::vector<double> drawn;                 // [frame] triangles of the objects in view
   double triangles = 0;                      // sum of drawn
   std::uint64_t switches = 0, switches_outside_saccades = 0;
-  std::uint32_t visible_losses = 0;          // among the judged decisions
 };
 
 class Simulation {
@@ -80,7 +58,7 @@ class Simulation {
 
   const SceneAssets& scene() const { return scene_; }
   const SimulationOptions& options() const { return options_; }
-  std::vector<RuleRun>& rules() { return rules_; }
+  const std::vector<RuleRun>& rules() const { return rules_; }
   const RuleRun& rule(const std::string& name) const;
   const Frame& frame(std::size_t f) const { return frames_[f]; }
   ObjectTransform transform(std::uint32_t object, std::size_t frame) const;
@@ -118,23 +96,16 @@ struct Judged {
 };
 std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, unsigned seed);
 
+// A decision worth explaining: the middle frame and the object the generated gaze looks at then,
+// or else the first object in view; object -1 when there is none (or no frame).
+struct Decision {
+  std::size_t frame = 0;
+  std::int64_t object = -1;
+};
+Decision example_decision(const Simulation& sim);
+
 // Why the perceptual rule chose the level of `object` in the last frame run: every level's score,
 // limiting band and orientation, distance, eccentricity, retinal velocity; the other rules' levels.
 std::string explain_text(const Simulation& sim, std::uint32_t object);
 
-// What a run leaves: the files written, and a decision worth explaining (the middle frame and the
-// object looked at then, or the first object in view; -1 when none).
-struct RunResult {
-  std::vector<std::string> written;
-  std::size_t example_frame = 0;
-  std::int64_t example_object = -1;
-};
-
-// Runs every frame, judges options.validate decisions, writes and prints the report.
-RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options);
-
-// Writes frames.csv, levels.csv, sweep.csv, judged.csv, gaze.csv, frame PNGs and plots into
-// options.output and prints the summary; returns the paths written.
-std::vector<std::string> report(Simulation& sim, const std::vector<Judged>& judged);
-
-}  // namespace acuity::tools
+}  // namespace acuity::sim

@@ -1,0 +1,37 @@
+#pragma once
+// The built-in generators of a run: a head path through the scene, objects moving on circles, and
+// a gaze trace over them. Deterministic for a seed. Units as in acuity/scheduler.hpp: metres,
+// degrees, seconds; the head looks along its local -Z with +Y up.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "acuity/sim/scene.hpp"
+#include "acuity/sim/tracks.hpp"
+
+namespace acuity::sim {
+
+// An object that moves on a horizontal circle (so gaze can pursue it).
+struct Mover {
+  std::uint32_t instance = 0;
+  glm::dvec3 centre{0.0};
+  double radius = 1, speed = 1, phase = 0;   // [m], [m/s], [rad]
+  glm::dvec3 position(double t) const;
+};
+
+// The built-in generators. A fly-through walks the long horizontal axis of the scene's bounds at
+// eye height 1.6 m with a slow yaw sway; the gaze fixates objects in view (200-450 ms), moves
+// between them by saccades on the main sequence (21 ms + 2.2 ms/deg, cosine velocity profile),
+// pursues movers (0.6-1.5 s) and blinks every 2-6 s (150 ms, confidence 0).
+std::vector<HeadPose> flythrough(const SceneAssets& scene, double seconds, double fps);
+std::vector<Mover> choose_movers(const SceneAssets& scene, std::uint32_t count, unsigned seed);
+struct GeneratedGaze {
+  std::vector<GazeSample> samples;
+  std::vector<GazePhase> phases;
+  std::vector<std::int32_t> targets;         // instance looked at, -1 none
+};
+GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
+                            const std::vector<Mover>& movers, double fps, unsigned seed);
+
+}  // namespace acuity::sim

@@ -1,0 +1,156 @@
+// write_outputs(): the files a simulation run leaves (acuity/sim/results.hpp).
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "acuity/file.hpp"
+#include "acuity/sim/frame_image.hpp"
+#include "acuity/sim/results.hpp"
+
+namespace acuity::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+void save(const std::string& path, const std::string& text, std::vector<std::string>* written) {
+  std::string error;
+  if (!write_file_atomically(path, text.data(), text.size(), &error)) throw std::runtime_error(error);
+  written->push_back(path);
+}
+
+// Per frame: time, saccade, gaze, the generator's phase and target, triangles of each main rule.
+std::string frames_csv(const Simulation& sim, const Results& r) {
+  std::ostringstream f;
+  f << "frame,seconds,saccade,gaze_confidence,phase,target,all_finest";
+  for (const RuleRun& run : sim.rules())
+    if (!run.sweep) f << "," << run.name;
+  f << "\n";
+  const GeneratedGaze& gen = sim.generated();
+  for (std::size_t i = 0; i < r.frames; ++i) {
+    f << i << "," << double(i) / sim.options().fps << "," << sim.saccade(i) << "," << sim.gaze()[i].confidence << ","
+      << (gen.phases.empty() ? "recorded" : to_string(gen.phases[i])) << "," << (gen.targets.empty() ? -1 : gen.targets[i]) << ","
+      << sim.finest(i);
+    for (const RuleRun& run : sim.rules())
+      if (!run.sweep) f << "," << run.drawn[i];
+    f << "\n";
+  }
+  return f.str();
+}
+
+// Per frame and object: in view, the level of each main rule.
+std::string levels_csv(const Simulation& sim, const Results& r) {
+  std::ostringstream l;
+  l << "frame,object,name,in_view";
+  for (const RuleRun& run : sim.rules())
+    if (!run.sweep) l << "," << run.name;
+  l << "\n";
+  for (std::size_t i = 0; i < r.frames; ++i)
+    for (std::uint32_t k = 0; k < r.objects; ++k) {
+      l << i << "," << k << "," << sim.scene().instances[k].name << "," << sim.in_view(k, i);
+      for (const RuleRun& run : sim.rules())
+        if (!run.sweep) l << "," << int(run.levels[i * r.objects + k]);
+      l << "\n";
+    }
+  return l.str();
+}
+
+// Per rule setting: its triangles and visible losses.
+std::string sweep_csv(const Simulation& sim, const Results& r) {
+  std::ostringstream s;
+  s << "rule,parameter,sweep,triangles_per_frame,visible_losses,judged\n";
+  const std::vector<RuleRun>& rules = sim.rules();
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    s << rules[i].name << "," << rules[i].parameter << "," << rules[i].sweep << "," << rules[i].triangles * (1.0 / double(r.frames))
+      << "," << r.visible_losses[i] << "," << r.judged << "\n";
+  return s.str();
+}
+
+// Per judged decision: every level's score and each main rule's level.
+std::string judged_csv(const Simulation& sim, const Results& r, const std::vector<Judged>& judged) {
+  std::ostringstream j;
+  j << "frame,object,pixels";
+  for (std::uint32_t k = 0; k < kMaxLevels; ++k) j << ",score" << k;
+  for (const RuleRun& run : sim.rules())
+    if (!run.sweep) j << "," << run.name;
+  j << "\n";
+  for (const Judged& d : judged) {
+    j << d.frame << "," << d.object << "," << d.pixels;
+    for (float v : d.scores) j << "," << v;
+    for (const RuleRun& run : sim.rules())
+      if (!run.sweep) j << "," << int(run.levels[std::size_t(d.frame) * r.objects + d.object]);
+    j << "\n";
+  }
+  return j.str();
+}
+
+// The results as JSON: the main rules, the tuned baselines and the quality sweep (when judged).
+std::string summary_json(const Simulation& sim, const Results& r) {
+  const std::vector<RuleRun>& rules = sim.rules();
+  const double per_frame = 1.0 / double(r.frames);
+  nlohmann::json summary;
+  summary["frames"] = r.frames;
+  summary["objects"] = r.objects;
+  summary["seed"] = sim.options().seed;
+  summary["all_finest_triangles_per_frame"] = r.all_finest;
+  summary["judged_decisions"] = r.judged;
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    if (!rules[i].sweep)
+      summary["rules"][rules[i].name] = {{"triangles_per_frame", rules[i].triangles * per_frame}, {"switches", rules[i].switches},
+                                         {"switches_outside_saccades", rules[i].switches_outside_saccades},
+                                         {"visible_losses", r.visible_losses[i]}};
+  if (r.judged == 0) return summary.dump(2) + "\n";
+  for (const char* name : {"screen-size", "distance"}) {
+    const Match& m = std::string(name) == "screen-size" ? r.screen_size : r.distance;
+    if (m.rule < 0) continue;
+    const RuleRun& run = rules[std::size_t(m.rule)];
+    summary["tuned"][name] = {{"parameter", run.parameter}, {"triangles_per_frame", run.triangles * per_frame},
+                              {"visible_losses", r.visible_losses[std::size_t(m.rule)]}, {"ratio_to_perceptual", m.ratio}};
+  }
+  for (const Results::QualityPoint& q : r.quality_sweep) {
+    const RuleRun& run = rules[std::size_t(q.rule)];
+    summary["quality_sweep"].push_back({{"quality", run.parameter}, {"triangles_per_frame", run.triangles * per_frame},
+                                        {"visible_losses", r.visible_losses[std::size_t(q.rule)]},
+                                        {"screen_size_ratio", q.screen_size.rule >= 0 ? q.screen_size.ratio : 0.0}});
+  }
+  return summary.dump(2) + "\n";
+}
+
+}  // namespace
+
+std::vector<std::string> write_outputs(const Simulation& sim, const Results& r, const std::vector<Judged>& judged,
+                                       const std::string& dir) {
+  fs::create_directories(dir);
+  std::vector<std::string> written;
+  const fs::path out(dir);
+  save((out / "frames.csv").string(), frames_csv(sim, r), &written);
+  save((out / "levels.csv").string(), levels_csv(sim, r), &written);
+  save((out / "sweep.csv").string(), sweep_csv(sim, r), &written);
+  if (!judged.empty()) save((out / "judged.csv").string(), judged_csv(sim, r, judged), &written);
+  save((out / "head.csv").string(), head_path_csv(sim.head(), sim.options().fps, r.frames), &written);
+  save((out / "gaze.csv").string(), gaze_trace_csv(sim.gaze(), sim.options().fps, r.frames), &written);
+  save((out / "summary.json").string(), summary_json(sim, r), &written);
+
+  // Frames: the perceptual rule beside the screen-size rule tuned to the same visible losses (or at 1 px).
+  const RuleRun& left = sim.rules()[std::size_t(r.perceptual)];
+  const RuleRun& right = r.screen_size.rule >= 0 ? sim.rules()[std::size_t(r.screen_size.rule)] : sim.rule("screen-size");
+  const std::uint32_t images = sim.options().images;
+  for (std::uint32_t k = 0; k < images && r.frames > 0; ++k) {
+    const std::size_t i = r.frames * (2 * k + 1) / (2 * images);
+    RgbImage im;
+    im.height = 480;
+    im.width = 2 * im.height + 8;
+    im.pixels.assign(std::size_t(im.width) * std::size_t(im.height) * 3, 255);
+    draw_levels(sim, i, &left.levels[i * r.objects], &im, 0);
+    draw_levels(sim, i, &right.levels[i * r.objects], &im, im.height + 8);
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%04zu.png", i);
+    write_png((out / name).string(), im);
+    written.push_back((out / name).string());
+  }
+  return written;
+}
+
+}  // namespace acuity::sim
