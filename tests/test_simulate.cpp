@@ -67,8 +67,8 @@ const SceneAssets& small_scene() {
   static std::unique_ptr<SceneAssets> scene = [] {
     lodgen::LodObject obj;
     obj.name = "ball";
-    for (int s : {3, 2, 1}) obj.levels.push_back(sphere_mesh(s));
-    obj.geometric_error = {0, 0.004, 0.02};
+    const double errors[] = {0, 0.004, 0.02};
+    for (int s : {3, 2, 1}) obj.chain.levels.push_back({sphere_mesh(s), 0, errors[3 - s], 0});
     std::vector<lodgen::LodInstance> field;
     for (int i = 0; i < 9; ++i) {
       lodgen::LodInstance in;

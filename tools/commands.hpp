@@ -26,4 +26,5 @@ void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
 void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
 void add_plan_command(CLI::App& app);     // `acuity plan`: foveation maps
+void add_bake_command(CLI::App& app);     // `acuity bake`: a library of assets, cached
 }  // namespace acuity::tools

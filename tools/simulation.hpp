@@ -13,10 +13,18 @@
 #include <vector>
 
 #include "acuity/scheduler.hpp"
-#include "scene_assets.hpp"
+#include "acuity/bake/scene.hpp"
 #include "tracks.hpp"
 
 namespace acuity::tools {
+
+// The scene and its assets come from acuity::bake.
+using bake::Asset;
+using bake::AssetOptions;
+using bake::decompose;
+using bake::Instance;
+using bake::load_scene_assets;
+using bake::SceneAssets;
 
 // An object that moves on a horizontal circle (so gaze can pursue it).
 struct Mover {

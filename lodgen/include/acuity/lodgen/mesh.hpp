@@ -77,6 +77,9 @@ struct LoadOptions {
   // are never followed; data: URIs always work.
   std::string asset_root;
   LoadLimits limits;
+  // When set, receives the canonical path of every file a uri named that was read (buffers,
+  // images), in reading order: what a content hash of the asset must cover besides the file itself.
+  std::vector<std::string>* files_read = nullptr;
 };
 
 // Reads a glTF 2.0 file (.gltf with its .bin, or .glb) or, by extension, any format load_mesh
