@@ -214,7 +214,8 @@ TEST(Bake, BadInputIsRefusedClearly) {
   EXPECT_NE(error_of([&] { bake::plan_bake(in, in, "", {}); }).find("inside the input folder"), std::string::npos);
   EXPECT_NE(error_of([&] { bake::plan_bake(in, in + "/baked", "", {}); }).find("inside the input folder"), std::string::npos);
   EXPECT_NE(error_of([&] { bake::plan_bake(in, (root / "out").string(), in + "/cache", {}); }).find("cache folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::plan_bake(in + "/ball.off", in + "/x", "", {}); }).find("inside the input folder"), std::string::npos);
+  EXPECT_NE(error_of([&] { bake::plan_bake(in + "/ball.off", in, "", {}); }).find("is the input folder"), std::string::npos);
+  EXPECT_EQ(error_of([&] { bake::plan_bake(in + "/ball.off", in + "/x", "", {}); }), "no error");  // one file: beside it is fine
   EXPECT_NE(error_of([&] { bake::parse_options(R"({"pixels": 48})", {}, "m"); }).find("power of two"), std::string::npos);
   EXPECT_NE(error_of([&] { bake::parse_options(R"({"ratio": 2})", {}, "m"); }).find("'ratio'"), std::string::npos);
   EXPECT_NE(error_of([&] { bake::parse_options(R"({"colour": 1})", {}, "m"); }).find("unknown option 'colour'"), std::string::npos);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "acuity/bake/chains.hpp"
+#include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/lodgen/output.hpp"
@@ -62,16 +63,16 @@ void run(const ProfileOptions& o) {
     }
   }
   const std::vector<spectra::LevelInput> levels = bake::spectra_levels(file.chain);
-  spectra::ProfileSettings s;
-  s.render.pixels = o.pixels;
-  s.analysis.orientations = o.orientations;
-  s.analysis.bands = o.bands;
-  s.jobs = o.jobs;
-  s.view_tolerance = o.tolerance;
+  bake::BakeOptions b;
+  b.pixels = o.pixels;
+  b.orientations = o.orientations;
+  b.bands = o.bands;
+  b.tolerance = o.tolerance;
   if (o.views != "auto") {
-    try { s.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { s.views = 0; }
-    if (s.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
+    try { b.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { b.views = 0; }
+    if (b.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
   }
+  const spectra::ProfileSettings s = bake::profile_settings(b, o.jobs);
   const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spectra::ProfileReport report;
   const spectra::ProfileData data = spectra::build_profile(levels, file.material, s, progress_bar, &report);

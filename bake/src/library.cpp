@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -20,7 +21,6 @@
 #include "acuity/file.hpp"
 #include "acuity/lodgen/versions.hpp"
 #include "acuity/profile.hpp"
-#include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/versions.hpp"
 #include "acuity/version.hpp"
 
@@ -244,14 +244,8 @@ void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_job
   // The profile `acuity profile` makes of the chain file: its first object with MSFT_lod levels.
   const auto top = std::find_if(sc.objects.begin(), sc.objects.end(), [](const lodgen::LodObject& obj) { return obj.chain.levels.size() > 1; });
   if (top == sc.objects.end()) throw lodgen::InputError(job.input + ": no object has more than one level (too few triangles to decimate)");
-  spectra::ProfileSettings s;
-  s.render.pixels = o.pixels;
-  s.analysis.orientations = o.orientations;
-  s.analysis.bands = o.bands;
-  s.views = o.views;
-  s.view_tolerance = o.tolerance;
-  s.jobs = profile_jobs;
-  const spectra::ProfileData data = spectra::build_profile(spectra_levels(top->chain), spectra_material(sc.scene, top->material), s);
+  const spectra::ProfileData data =
+      spectra::build_profile(spectra_levels(top->chain), spectra_material(sc.scene, top->material), profile_settings(o, profile_jobs));
   const Blob blob = spectra::encode_profile(data);
   profile->assign(static_cast<const char*>(blob.data()), blob.size);
   for (const lodgen::Level& l : top->chain.levels) {
@@ -276,6 +270,17 @@ std::string tool_version() {
 
 std::string options_json(const BakeOptions& options) { return to_json(options).dump(); }
 
+spectra::ProfileSettings profile_settings(const BakeOptions& o, unsigned jobs) {
+  spectra::ProfileSettings s;
+  s.render.pixels = o.pixels;
+  s.analysis.orientations = o.orientations;
+  s.analysis.bands = o.bands;
+  s.views = o.views;
+  s.view_tolerance = o.tolerance;
+  s.jobs = jobs;
+  return s;
+}
+
 BakeOptions parse_options(const std::string& text, const BakeOptions& defaults, const std::string& where) {
   json j;
   try {
@@ -297,7 +302,8 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
   std::error_code ec;
   const fs::file_status st = fs::status(input, ec);
   if (ec || !fs::exists(st)) throw lodgen::InputError(input + ": no such file or folder");
-  std::set<fs::path> folders;  // every folder holding an input: OUT may not be one of them or inside one
+  std::set<fs::path> folders;        // every folder holding an input: OUT and the cache may not be one
+  std::optional<fs::path> walked;    // a folder INPUT: OUT and the cache may not lie inside it
   auto add = [&](const fs::path& file, std::string name, const BakeOptions& options) {
     if (plan.jobs.size() >= max_assets)
       throw lodgen::InputError(input + ": more than " + std::to_string(max_assets) + " assets");
@@ -306,7 +312,7 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
   };
   auto default_name = [](const fs::path& rel) { return (rel.parent_path() / rel.stem()).generic_string(); };
   if (fs::is_directory(st)) {
-    folders.insert(canonical_folder(input));
+    walked = canonical_folder(input);
     std::vector<fs::path> files;
     for (fs::recursive_directory_iterator it(input, fs::directory_options::none, ec), end; !ec && it != end; it.increment(ec)) {
       if (it->is_regular_file() && !it->is_symlink() && bakeable(it->path())) files.push_back(it->path());
@@ -332,7 +338,6 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
     if (!m.is_object() || !m.contains("assets") || !m["assets"].is_array())
       throw lodgen::InputError(input + ": a manifest is {\"options\": {...}, \"assets\": [{\"input\": ..., \"name\": ..., \"options\": {...}}]}");
     if (m.contains("options")) plan.defaults = from_json(m["options"], defaults, input + ": options");
-    folders.insert(canonical_folder(dir.empty() ? fs::path(".") : dir));
     for (std::size_t i = 0; i < m["assets"].size(); ++i) {
       const json& a = m["assets"][i];
       const std::string where = input + ": assets[" + std::to_string(i) + "]";
@@ -350,9 +355,11 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
   }
   const fs::path out_path = canonical_folder(out);
   const fs::path cache_path = canonical_folder(plan.cache);
-  for (const fs::path& f : folders) {
-    if (within(out_path, f)) throw lodgen::InputError(out + ": the output folder is or lies inside the input folder " + f.string());
-    if (within(cache_path, f)) throw lodgen::InputError(plan.cache + ": the cache folder is or lies inside the input folder " + f.string());
+  if (walked && within(out_path, *walked)) throw lodgen::InputError(out + ": the output folder is or lies inside the input folder " + walked->string());
+  if (walked && within(cache_path, *walked)) throw lodgen::InputError(plan.cache + ": the cache folder is or lies inside the input folder " + walked->string());
+  for (const fs::path& f : folders) {  // an output could replace an input
+    if (out_path == f) throw lodgen::InputError(out + ": the output folder is the input folder " + f.string());
+    if (cache_path == f) throw lodgen::InputError(plan.cache + ": the cache folder is the input folder " + f.string());
   }
   if (fs::exists(out) && !fs::is_directory(out)) throw lodgen::InputError(out + ": exists and is not a folder");
   std::sort(plan.jobs.begin(), plan.jobs.end(), [](const AssetJob& a, const AssetJob& b) { return a.name < b.name; });

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "acuity/spectra/profile_builder.hpp"
+
 namespace acuity::bake {
 
 // One asset's options; every field enters the cache key. Units and ranges as in `acuity lodgen`
@@ -37,6 +39,10 @@ struct BakeOptions {
   float tolerance = 0.25f;           // adaptive views' switching-distance error, >= 0
   std::string asset_root;            // folder a glTF's uris may read ("": the glTF's own folder)
 };
+
+// The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)
+// with `jobs` threads (0: all cores).
+spectra::ProfileSettings profile_settings(const BakeOptions& options, unsigned jobs);
 
 // The options as canonical JSON text (sorted keys), and back: `json` holds any subset of the
 // fields over `defaults`. Throws lodgen::InputError naming `where` and the field for an unknown
@@ -62,9 +68,9 @@ struct BakePlan {
 // letters appended on a clash). A file INPUT ending in .json is a manifest:
 //   {"options": {...defaults...}, "assets": [{"input": "path", "name": "n", "options": {...}}, ...]}
 // (paths relative to the manifest's folder; name defaults as for a folder). Any other file is one
-// asset. Throws lodgen::InputError for a missing INPUT, OUT equal to or inside an input folder
-// (the manifest's folder, or any folder holding an input), a malformed manifest, clashing names,
-// more than max_assets assets.
+// asset. Throws lodgen::InputError for a missing INPUT; OUT or the cache inside a folder INPUT (or
+// equal to it), or equal to the folder of any input (an output could replace it); a malformed
+// manifest; clashing names; more than max_assets assets.
 BakePlan plan_bake(const std::string& input, const std::string& out, const std::string& cache,
                    const BakeOptions& defaults, std::size_t max_assets = 1000000);
 
