@@ -57,6 +57,26 @@ std::map<std::string, std::string> tree(const fs::path& dir) {
   return out;
 }
 
+// The same ellipsoid as a .gltf whose buffer is a separate `<bin>` file beside it.
+void write_gltf_with_bin(const fs::path& gltf, const std::string& bin, float sy) {
+  const acuity::testing::TestMesh m = acuity::testing::icosphere(2);
+  std::vector<float> p = m.positions;
+  for (std::size_t v = 1; v < p.size(); v += 3) p[v] *= sy;
+  const std::size_t pos_bytes = p.size() * 4, idx_bytes = m.indices.size() * 4;
+  std::ofstream b(gltf.parent_path() / bin, std::ios::binary);
+  b.write(reinterpret_cast<const char*>(p.data()), std::streamsize(pos_bytes));
+  b.write(reinterpret_cast<const char*>(m.indices.data()), std::streamsize(idx_bytes));
+  json doc = {{"asset", {{"version", "2.0"}}},
+              {"buffers", {{{"byteLength", pos_bytes + idx_bytes}, {"uri", bin}}}},
+              {"bufferViews", {{{"buffer", 0}, {"byteLength", pos_bytes}}, {{"buffer", 0}, {"byteOffset", pos_bytes}, {"byteLength", idx_bytes}}}},
+              {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", p.size() / 3}, {"type", "VEC3"}},
+                             {{"bufferView", 1}, {"componentType", 5125}, {"count", m.indices.size()}, {"type", "SCALAR"}}}},
+              {"meshes", {{{"name", "egg"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+              {"nodes", {{{"mesh", 0}, {"name", "egg"}}}},
+              {"scenes", {{{"nodes", {0}}}}}};
+  std::ofstream(gltf) << doc.dump();
+}
+
 bake::BakeOptions small() {
   bake::BakeOptions o;
   o.pixels = 32;
@@ -166,6 +186,27 @@ TEST(Bake, ChangedInputIsRebakedAlone) {
   const json index = json::parse(slurp(root / "out" / "index.json"));
   const std::string egg = slurp(root / "in" / "props" / "egg.off");
   EXPECT_EQ(index["assets"]["props/egg"]["input_sha256"], bake::sha256_hex(egg.data(), egg.size()));
+}
+
+// The key covers the files a glTF's uris read: a changed buffer rebakes the asset though the .gltf
+// itself is unchanged.
+TEST(Bake, ChangedBufferFileIsRebaked) {
+  const fs::path root = scratch("buffer");
+  fs::create_directories(root / "in");
+  write_gltf_with_bin(root / "in" / "egg.gltf", "egg.bin", 1.2f);
+  const bake::BakePlan plan = bake::plan_bake((root / "in").string(), (root / "out").string(), "", small());
+  ASSERT_EQ(plan.jobs.size(), 1u);
+  const bake::AssetResult first = bake::bake_asset(plan.jobs[0], plan.cache);
+  ASSERT_TRUE(first.ok) << first.error;
+  const std::string gltf = slurp(root / "in" / "egg.gltf");
+  write_gltf_with_bin(root / "in" / "egg.gltf", "egg.bin", 1.5f);
+  ASSERT_EQ(slurp(root / "in" / "egg.gltf"), gltf);  // the .gltf is the same bytes; only egg.bin changed
+  const bake::AssetResult second = bake::bake_asset(plan.jobs[0], plan.cache);
+  ASSERT_TRUE(second.ok) << second.error;
+  EXPECT_EQ(second.input_sha256, first.input_sha256);
+  EXPECT_NE(second.key, first.key);
+  EXPECT_FALSE(second.cached);
+  EXPECT_TRUE(bake::bake_asset(plan.jobs[0], plan.cache).cached);
 }
 
 TEST(Bake, DamagedCacheEntryIsRebakedNotServed) {
