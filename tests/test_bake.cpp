@@ -38,8 +38,10 @@ void write_off(const fs::path& path, int subdivisions, float sx, float sy, float
   const acuity::testing::TestMesh m = acuity::testing::icosphere(subdivisions);
   std::ofstream f(path);
   f << "OFF\n" << m.positions.size() / 3 << " " << m.indices.size() / 3 << " 0\n";
-  for (std::size_t v = 0; v < m.positions.size(); v += 3) f << m.positions[v] * sx << " " << m.positions[v + 1] * sy << " " << m.positions[v + 2] * sz << "\n";
-  for (std::size_t t = 0; t < m.indices.size(); t += 3) f << "3 " << m.indices[t] << " " << m.indices[t + 1] << " " << m.indices[t + 2] << "\n";
+  for (std::size_t v = 0; v < m.positions.size(); v += 3)
+    f << m.positions[v] * sx << " " << m.positions[v + 1] * sy << " " << m.positions[v + 2] * sz << "\n";
+  for (std::size_t t = 0; t < m.indices.size(); t += 3)
+    f << "3 " << m.indices[t] << " " << m.indices[t + 1] << " " << m.indices[t + 2] << "\n";
 }
 
 std::string slurp(const fs::path& p) {
@@ -66,14 +68,18 @@ void write_gltf_with_bin(const fs::path& gltf, const std::string& bin, float sy)
   std::ofstream b(gltf.parent_path() / bin, std::ios::binary);
   b.write(reinterpret_cast<const char*>(p.data()), std::streamsize(pos_bytes));
   b.write(reinterpret_cast<const char*>(m.indices.data()), std::streamsize(idx_bytes));
-  json doc = {{"asset", {{"version", "2.0"}}},
-              {"buffers", {{{"byteLength", pos_bytes + idx_bytes}, {"uri", bin}}}},
-              {"bufferViews", {{{"buffer", 0}, {"byteLength", pos_bytes}}, {{"buffer", 0}, {"byteOffset", pos_bytes}, {"byteLength", idx_bytes}}}},
-              {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", p.size() / 3}, {"type", "VEC3"}},
-                             {{"bufferView", 1}, {"componentType", 5125}, {"count", m.indices.size()}, {"type", "SCALAR"}}}},
-              {"meshes", {{{"name", "egg"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
-              {"nodes", {{{"mesh", 0}, {"name", "egg"}}}},
-              {"scenes", {{{"nodes", {0}}}}}};
+  json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"byteLength", pos_bytes + idx_bytes}, {"uri", bin}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteLength", pos_bytes}},
+        {{"buffer", 0}, {"byteOffset", pos_bytes}, {"byteLength", idx_bytes}}}},
+      {"accessors",
+       {{{"bufferView", 0}, {"componentType", 5126}, {"count", p.size() / 3}, {"type", "VEC3"}},
+        {{"bufferView", 1}, {"componentType", 5125}, {"count", m.indices.size()}, {"type", "SCALAR"}}}},
+      {"meshes", {{{"name", "egg"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+      {"nodes", {{{"mesh", 0}, {"name", "egg"}}}},
+      {"scenes", {{{"nodes", {0}}}}}};
   std::ofstream(gltf) << doc.dump();
 }
 
@@ -114,8 +120,10 @@ BakeRun bake_folder(const fs::path& root, unsigned jobs = 2) {
 TEST(Sha256, FipsExamples) {
   EXPECT_EQ(bake::sha256_hex("", 0), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
   EXPECT_EQ(bake::sha256_hex("abc", 3), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  const std::string two = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";  // 448 bits: padding spills a block
-  EXPECT_EQ(bake::sha256_hex(two.data(), two.size()), "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  const std::string two =
+      "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";  // 448 bits: padding spills a block
+  EXPECT_EQ(bake::sha256_hex(two.data(), two.size()),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
   const std::string million(1000000, 'a');
   bake::Sha256 h;  // fed in uneven pieces: the same digest
   for (std::size_t at = 0, step = 1; at < million.size(); at += step, step = step * 3 % 1000 + 1)
@@ -161,8 +169,10 @@ TEST(Bake, OneBrokenAssetFailsAloneAndLeavesNothing) {
   std::vector<std::string> top;
   for (const auto& e : fs::directory_iterator(root / "out")) top.push_back(e.path().filename().string());
   std::sort(top.begin(), top.end());
-  EXPECT_EQ(top, (std::vector<std::string>{".cache", "ball.acuity", "ball.glb", "index.json", "props_egg.acuity", "props_egg.glb"}));
-  for (const auto& [file, bytes] : tree(root / "out")) EXPECT_EQ(file.find(".tmp"), std::string::npos) << file;
+  EXPECT_EQ(top, (std::vector<std::string>{".cache", "ball.acuity", "ball.glb", "index.json",
+                                           "props_egg.acuity", "props_egg.glb"}));
+  for (const auto& [file, bytes] : tree(root / "out"))
+    EXPECT_EQ(file.find(".tmp"), std::string::npos) << file;
 }
 
 TEST(Bake, RerunIsAnsweredByTheCacheWithTheSameBytes) {
@@ -170,8 +180,9 @@ TEST(Bake, RerunIsAnsweredByTheCacheWithTheSameBytes) {
   const BakeRun first = bake_folder(root);
   const auto before = tree(root / "out");
   const BakeRun second = bake_folder(root, 1);
-  for (const bake::AssetResult& r : second.results) EXPECT_EQ(r.cached, r.name != "broken") << r.name;  // load errors are not cached
-  EXPECT_EQ(tree(root / "out"), before);  // index, chains, profiles and cache: the same bytes
+  for (const bake::AssetResult& r : second.results)
+    EXPECT_EQ(r.cached, r.name != "broken") << r.name;  // load errors are not cached
+  EXPECT_EQ(tree(root / "out"), before);                // index, chains, profiles and cache: the same bytes
 }
 
 TEST(Bake, ChangedInputIsRebakedAlone) {
@@ -227,7 +238,8 @@ TEST(Bake, ManifestGivesPerAssetOptions) {
   const fs::path root = library("manifest");
   std::ofstream(root / "in" / "bake.json") << R"({"options": {"pixels": 32, "views": 6},
     "assets": [{"input": "ball.off", "name": "ball2", "options": {"levels": 2}}, {"input": "ball.off"}]})";
-  const bake::BakePlan plan = bake::plan_bake((root / "in" / "bake.json").string(), (root / "out").string(), "", {});
+  const bake::BakePlan plan =
+      bake::plan_bake((root / "in" / "bake.json").string(), (root / "out").string(), "", {});
   ASSERT_EQ(plan.jobs.size(), 2u);
   EXPECT_EQ(plan.jobs[1].name, "ball2");
   EXPECT_EQ(plan.jobs[1].options.levels, 2u);
@@ -246,22 +258,37 @@ TEST(Bake, BadInputIsRefusedClearly) {
   auto error_of = [](auto f) {
     try {
       f();
-    } catch (const lodgen::InputError& e) {
-      return std::string(e.what());
-    }
+    } catch (const lodgen::InputError& e) { return std::string(e.what()); }
     return std::string("no error");
   };
-  EXPECT_NE(error_of([&] { bake::plan_bake((root / "nope").string(), (root / "out").string(), "", {}); }).find("no such file"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::plan_bake(in, in, "", {}); }).find("inside the input folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::plan_bake(in, in + "/baked", "", {}); }).find("inside the input folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::plan_bake(in, (root / "out").string(), in + "/cache", {}); }).find("cache folder"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::plan_bake(in + "/ball.off", in, "", {}); }).find("is the input folder"), std::string::npos);
-  EXPECT_EQ(error_of([&] { bake::plan_bake(in + "/ball.off", in + "/x", "", {}); }), "no error");  // one file: beside it is fine
-  EXPECT_NE(error_of([&] { bake::parse_options(R"({"pixels": 48})", {}, "m"); }).find("power of two"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::parse_options(R"({"ratio": 2})", {}, "m"); }).find("'ratio'"), std::string::npos);
-  EXPECT_NE(error_of([&] { bake::parse_options(R"({"colour": 1})", {}, "m"); }).find("unknown option 'colour'"), std::string::npos);
-  std::ofstream(root / "in" / "list.json") << R"({"assets": [{"input": "ball.off", "name": "a b"}, {"input": "ball.off", "name": "a_b"}]})";
-  EXPECT_NE(error_of([&] { bake::plan_bake((root / "in" / "list.json").string(), (root / "o2").string(), "", {}); }).find("both be written as a_b"), std::string::npos);
+  EXPECT_NE(error_of([&] {
+              bake::plan_bake((root / "nope").string(), (root / "out").string(), "", {});
+            }).find("no such file"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { bake::plan_bake(in, in, "", {}); }).find("inside the input folder"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { bake::plan_bake(in, in + "/baked", "", {}); }).find("inside the input folder"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { bake::plan_bake(in, (root / "out").string(), in + "/cache", {}); }).find("cache folder"),
+      std::string::npos);
+  EXPECT_NE(error_of([&] { bake::plan_bake(in + "/ball.off", in, "", {}); }).find("is the input folder"),
+            std::string::npos);
+  EXPECT_EQ(error_of([&] { bake::plan_bake(in + "/ball.off", in + "/x", "", {}); }),
+            "no error");  // one file: beside it is fine
+  EXPECT_NE(error_of([&] { bake::parse_options(R"({"pixels": 48})", {}, "m"); }).find("power of two"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { bake::parse_options(R"({"ratio": 2})", {}, "m"); }).find("'ratio'"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { bake::parse_options(R"({"colour": 1})", {}, "m"); }).find("unknown option 'colour'"),
+      std::string::npos);
+  std::ofstream(root / "in" / "list.json")
+      << R"({"assets": [{"input": "ball.off", "name": "a b"}, {"input": "ball.off", "name": "a_b"}]})";
+  EXPECT_NE(error_of([&] {
+              bake::plan_bake((root / "in" / "list.json").string(), (root / "o2").string(), "", {});
+            }).find("both be written as a_b"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(root / "out"));
   EXPECT_FALSE(fs::exists(root / "o2"));
 }
@@ -271,7 +298,8 @@ TEST(Bake, BadInputIsRefusedClearly) {
 TEST(Bake, HostileAssetFailsAloneAndNothingOutsideOutIsWritten) {
   const fs::path root = library("hostile");
   std::ofstream(root / "secret.bin") << std::string(36, '\1');
-  std::ofstream(root / "in" / "thief.gltf") << R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "../secret.bin"}],
+  std::ofstream(root / "in" / "thief.gltf")
+      << R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 36, "uri": "../secret.bin"}],
     "bufferViews": [{"buffer": 0, "byteLength": 36}], "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]})";
   const auto before = tree(root);
@@ -282,6 +310,7 @@ TEST(Bake, HostileAssetFailsAloneAndNothingOutsideOutIsWritten) {
   EXPECT_NE(index["assets"]["thief"]["error"].get<std::string>().find("../secret.bin"), std::string::npos);
   EXPECT_EQ(index["assets"]["ball"]["status"], "ok");
   auto after = tree(root);
-  for (auto it = after.begin(); it != after.end();) it = it->first.rfind("out/", 0) == 0 ? after.erase(it) : std::next(it);
+  for (auto it = after.begin(); it != after.end();)
+    it = it->first.rfind("out/", 0) == 0 ? after.erase(it) : std::next(it);
   EXPECT_EQ(after, before);
 }

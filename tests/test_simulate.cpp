@@ -209,7 +209,7 @@ TEST(Scene, InstancesShareMeshesAndKeepTheirPlacement) {
   ASSERT_EQ(scene.instances.size(), 9u);
   EXPECT_EQ(scene.scene.meshes.size(), 3u);  // one chain, shared by nine instances
   EXPECT_EQ(scene.assets[0].chain.levels.size(), 3u);
-  EXPECT_NEAR(scene.assets[0].chain.errors[2], 0.02f, 1e-4f);  // through MSFT_screencoverage
+  EXPECT_NEAR(scene.assets[0].chain.levels[2].hausdorff, 0.02, 1e-4);  // through MSFT_screencoverage
   EXPECT_EQ(scene.instances[4].name, "ball_4");
   EXPECT_DOUBLE_EQ(scene.instances[4].transform.position[2], -7.0);
   EXPECT_FLOAT_EQ(scene.instances[4].transform.scale, 0.5f);

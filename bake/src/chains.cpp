@@ -31,9 +31,7 @@ void place_objects(SceneChains& out, const std::string& where) {
   std::vector<lodgen::PlacedNode> placed;
   try {
     placed = lodgen::world_matrices(out.scene);
-  } catch (const lodgen::InputError& e) {
-    throw lodgen::InputError(where + ": " + e.what());
-  }
+  } catch (const lodgen::InputError& e) { throw lodgen::InputError(where + ": " + e.what()); }
   for (const lodgen::PlacedNode& p : placed) {
     const lodgen::Node& node = out.scene.nodes[std::size_t(p.node)];
     if (node.mesh < 0) continue;
@@ -49,12 +47,13 @@ void place_objects(SceneChains& out, const std::string& where) {
 
 }  // namespace
 
-SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, const lodgen::ChainOptions& options,
-                            const lodgen::ChainProgress& progress) {
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
+                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress) {
   SceneChains out;
   out.scene = std::move(scene);
   for (std::size_t m = 0; m < out.scene.meshes.size(); ++m)
-    out.chains.push_back(lodgen::build_chain(out.scene.meshes[m], where + ": mesh '" + out.scene.mesh_names[m] + "'", options, progress));
+    out.chains.push_back(lodgen::build_chain(
+        out.scene.meshes[m], where + ": mesh '" + out.scene.mesh_names[m] + "'", options, progress));
   place_objects(out, where);
   return out;
 }

@@ -1,8 +1,8 @@
 #include "acuity/bake/library.hpp"
 
-#include <nlohmann/json.hpp>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -35,17 +35,25 @@ constexpr const char* kInputToken = "{input}";  // stands for the asset's path i
 // ---- Options ------------------------------------------------------------------------------------
 
 json to_json(const BakeOptions& o) {
-  return {{"levels", o.levels},       {"ratio", o.ratio},   {"max_error", o.max_error},
-          {"backend", o.backend},     {"lock_border", o.lock_border}, {"reference_height", o.reference_height},
-          {"pixels", o.pixels},       {"orientations", o.orientations}, {"bands", o.bands},
-          {"views", o.views},         {"tolerance", o.tolerance}, {"asset_root", o.asset_root}};
+  return {{"levels", o.levels},
+          {"ratio", o.ratio},
+          {"max_error", o.max_error},
+          {"backend", o.backend},
+          {"lock_border", o.lock_border},
+          {"reference_height", o.reference_height},
+          {"pixels", o.pixels},
+          {"orientations", o.orientations},
+          {"bands", o.bands},
+          {"views", o.views},
+          {"tolerance", o.tolerance},
+          {"asset_root", o.asset_root}};
 }
 
 template <typename T>
 T number(const json& v, const std::string& where, const std::string& key, double lo, double hi) {
   if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < lo || v.get<double>() > hi)
-    throw lodgen::InputError(where + ": option '" + key + "' must be a number in [" + json(lo).dump() + ", " + json(hi).dump() +
-                             "], not " + v.dump());
+    throw lodgen::InputError(where + ": option '" + key + "' must be a number in [" + json(lo).dump() + ", " +
+                             json(hi).dump() + "], not " + v.dump());
   if constexpr (std::is_integral_v<T>) {
     if (v.get<double>() != std::floor(v.get<double>()))
       throw lodgen::InputError(where + ": option '" + key + "' must be a whole number, not " + v.dump());
@@ -56,15 +64,24 @@ T number(const json& v, const std::string& where, const std::string& key, double
 BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
   if (!j.is_object()) throw lodgen::InputError(where + ": options must be a JSON object");
   for (const auto& [key, v] : j.items()) {
-    if (key == "levels") o.levels = number<std::uint32_t>(v, where, key, 0, 32);
-    else if (key == "ratio") o.ratio = number<double>(v, where, key, 0.01, 0.99);
-    else if (key == "max_error") o.max_error = number<double>(v, where, key, 0, 1e6);
-    else if (key == "reference_height") o.reference_height = number<double>(v, where, key, 1, 1e6);
-    else if (key == "pixels") o.pixels = number<std::uint32_t>(v, where, key, 16, 4096);
-    else if (key == "orientations") o.orientations = number<std::uint32_t>(v, where, key, 1, 32);
-    else if (key == "bands") o.bands = number<std::uint32_t>(v, where, key, 0, 32);
-    else if (key == "views") o.views = number<std::uint32_t>(v, where, key, 0, 4096);
-    else if (key == "tolerance") o.tolerance = number<float>(v, where, key, 0, 1e6);
+    if (key == "levels")
+      o.levels = number<std::uint32_t>(v, where, key, 0, 32);
+    else if (key == "ratio")
+      o.ratio = number<double>(v, where, key, 0.01, 0.99);
+    else if (key == "max_error")
+      o.max_error = number<double>(v, where, key, 0, 1e6);
+    else if (key == "reference_height")
+      o.reference_height = number<double>(v, where, key, 1, 1e6);
+    else if (key == "pixels")
+      o.pixels = number<std::uint32_t>(v, where, key, 16, 4096);
+    else if (key == "orientations")
+      o.orientations = number<std::uint32_t>(v, where, key, 1, 32);
+    else if (key == "bands")
+      o.bands = number<std::uint32_t>(v, where, key, 0, 32);
+    else if (key == "views")
+      o.views = number<std::uint32_t>(v, where, key, 0, 4096);
+    else if (key == "tolerance")
+      o.tolerance = number<float>(v, where, key, 0, 1e6);
     else if (key == "lock_border") {
       if (!v.is_boolean()) throw lodgen::InputError(where + ": option 'lock_border' must be true or false");
       o.lock_border = v.get<bool>();
@@ -77,8 +94,11 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
   }
   lodgen::Backend backend;
   if (!lodgen::parse_backend(o.backend, &backend))
-    throw lodgen::InputError(where + ": option 'backend' must be openmesh, cgal or cgal-lt, not '" + o.backend + "'");
-  if (o.pixels & (o.pixels - 1)) throw lodgen::InputError(where + ": option 'pixels' must be a power of two, not " + std::to_string(o.pixels));
+    throw lodgen::InputError(where + ": option 'backend' must be openmesh, cgal or cgal-lt, not '" +
+                             o.backend + "'");
+  if (o.pixels & (o.pixels - 1))
+    throw lodgen::InputError(where + ": option 'pixels' must be a power of two, not " +
+                             std::to_string(o.pixels));
   return o;
 }
 
@@ -97,7 +117,8 @@ bool read_bounded(const std::string& path, std::uint64_t max_bytes, Blob* out, s
   std::error_code ec;
   const auto size = fs::file_size(path, ec);
   if (!ec && size > max_bytes) {
-    *error = path + ": " + std::to_string(size) + " bytes, more than the load limit max_file_bytes (" + std::to_string(max_bytes) + ")";
+    *error = path + ": " + std::to_string(size) + " bytes, more than the load limit max_file_bytes (" +
+             std::to_string(max_bytes) + ")";
     return false;
   }
   return read_file(path, out, error);
@@ -118,7 +139,8 @@ void write_or_throw(const std::string& path, const std::string& bytes) {
 bool same_bytes(const std::string& path, const std::string& bytes) {
   Blob b;
   std::string error;
-  return read_file(path, &b, &error) && b.size == bytes.size() && std::equal(bytes.begin(), bytes.end(), static_cast<const char*>(b.data()));
+  return read_file(path, &b, &error) && b.size == bytes.size() &&
+         std::equal(bytes.begin(), bytes.end(), static_cast<const char*>(b.data()));
 }
 
 fs::path canonical_folder(const fs::path& p) {
@@ -135,7 +157,8 @@ bool within(const fs::path& inner, const fs::path& outer) {
 
 void replace_all(std::string& s, const std::string& from, const std::string& to) {
   if (from.empty()) return;
-  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
+  for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size()))
+    s.replace(at, from.size(), to);
 }
 
 // ---- Cache entries ------------------------------------------------------------------------------
@@ -146,7 +169,8 @@ struct EntryPaths {
 
 EntryPaths entry_paths(const std::string& cache, const std::string& key) {
   const fs::path dir = fs::path(cache) / key.substr(0, 2);
-  return {(dir / (key + ".json")).string(), (dir / (key + ".glb")).string(), (dir / (key + ".acuity")).string()};
+  return {(dir / (key + ".json")).string(), (dir / (key + ".glb")).string(),
+          (dir / (key + ".acuity")).string()};
 }
 
 void summary_to_json(const AssetResult& r, json& j) {
@@ -172,8 +196,10 @@ bool lookup(const std::string& cache, const AssetJob& job, AssetResult& r) {
   std::string error;
   if (!fs::exists(p.record) || !read_file(p.record, &record, &error)) return false;
   try {
-    const json j = json::parse(static_cast<const char*>(record.data()), static_cast<const char*>(record.data()) + record.size);
-    if (j.at("format").get<std::string>() != kCacheFormat || j.at("key").get<std::string>() != r.key) return false;
+    const json j = json::parse(static_cast<const char*>(record.data()),
+                               static_cast<const char*>(record.data()) + record.size);
+    if (j.at("format").get<std::string>() != kCacheFormat || j.at("key").get<std::string>() != r.key)
+      return false;
     r.seconds = j.at("seconds").get<double>();
     if (j.at("status").get<std::string>() == "error") {
       r.error = j.at("error").get<std::string>();
@@ -186,14 +212,13 @@ bool lookup(const std::string& cache, const AssetJob& job, AssetResult& r) {
     if (sha256_hex(chain.data(), chain.size) != j.at("chain_sha256").get<std::string>() ||
         sha256_hex(profile.data(), profile.size) != j.at("profile_sha256").get<std::string>())
       return false;  // damaged: rebake
-  } catch (const json::exception&) {
-    return false;
-  }
+  } catch (const json::exception&) { return false; }
   r.ok = r.cached = true;
   return true;
 }
 
-void store(const std::string& cache, const AssetJob& job, const AssetResult& r, const std::string& chain, const std::string& profile) {
+void store(const std::string& cache, const AssetJob& job, const AssetResult& r, const std::string& chain,
+           const std::string& profile) {
   const EntryPaths p = entry_paths(cache, r.key);
   fs::create_directories(fs::path(p.record).parent_path());
   json j = {{"format", kCacheFormat}, {"key", r.key}, {"seconds", r.seconds}};
@@ -214,10 +239,13 @@ void store(const std::string& cache, const AssetJob& job, const AssetResult& r, 
 }
 
 // The cache key: format, versions, options, the input's bytes and every file its uris read.
-std::string cache_key(const AssetJob& job, const std::string& input_sha256, const std::vector<std::string>& files_read) {
+std::string cache_key(const AssetJob& job, const std::string& input_sha256,
+                      const std::vector<std::string>& files_read) {
   Sha256 h;
-  h.update(std::string(kCacheFormat) + "\n" + tool_version() + "\n" + options_json(job.options) + "\ninput " + input_sha256 + "\n");
-  const fs::path base = canonical_folder(fs::path(job.input).parent_path().empty() ? fs::path(".") : fs::path(job.input).parent_path());
+  h.update(std::string(kCacheFormat) + "\n" + tool_version() + "\n" + options_json(job.options) + "\ninput " +
+           input_sha256 + "\n");
+  const fs::path base = canonical_folder(
+      fs::path(job.input).parent_path().empty() ? fs::path(".") : fs::path(job.input).parent_path());
   for (const std::string& f : files_read) {
     Blob b;
     std::string error;
@@ -228,8 +256,8 @@ std::string cache_key(const AssetJob& job, const std::string& input_sha256, cons
 }
 
 // The chain's bytes, its profile's bytes and the summary of the profiled object.
-void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_jobs, AssetResult& r, std::string* chain,
-                  std::string* profile) {
+void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_jobs, AssetResult& r,
+                  std::string* chain, std::string* profile) {
   const BakeOptions& o = job.options;
   lodgen::ChainOptions co;
   co.levels = o.levels;
@@ -242,10 +270,14 @@ void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_job
   wo.reference_height = o.reference_height;
   *chain = lodgen::encode_lod_gltf(sc.objects, sc.scene.materials, wo);
   // The profile `acuity profile` makes of the chain file: its first object with MSFT_lod levels.
-  const auto top = std::find_if(sc.objects.begin(), sc.objects.end(), [](const lodgen::LodObject& obj) { return obj.chain.levels.size() > 1; });
-  if (top == sc.objects.end()) throw lodgen::InputError(job.input + ": no object has more than one level (too few triangles to decimate)");
+  const auto top = std::find_if(sc.objects.begin(), sc.objects.end(),
+                                [](const lodgen::LodObject& obj) { return obj.chain.levels.size() > 1; });
+  if (top == sc.objects.end())
+    throw lodgen::InputError(job.input +
+                             ": no object has more than one level (too few triangles to decimate)");
   const spectra::ProfileData data =
-      spectra::build_profile(spectra_levels(top->chain), spectra_material(sc.scene, top->material), profile_settings(o, profile_jobs));
+      spectra::build_profile(spectra_levels(top->chain), spectra_material(sc.scene, top->material),
+                             profile_settings(o, profile_jobs));
   const Blob blob = spectra::encode_profile(data);
   profile->assign(static_cast<const char*>(blob.data()), blob.size);
   for (const lodgen::Level& l : top->chain.levels) {
@@ -264,8 +296,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 std::string tool_version() {
-  return std::string("acuity ") + ACUITY_VERSION_STRING + "; profile format " + std::to_string(kProfileVersion) + "; " +
-         lodgen::library_versions() + "; " + spectra::library_versions();
+  return std::string("acuity ") + ACUITY_VERSION_STRING + "; profile format " +
+         std::to_string(kProfileVersion) + "; " + lodgen::library_versions() + "; " +
+         spectra::library_versions();
 }
 
 std::string options_json(const BakeOptions& options) { return to_json(options).dump(); }
@@ -293,8 +326,8 @@ BakeOptions parse_options(const std::string& text, const BakeOptions& defaults, 
 
 // ---- Plan ---------------------------------------------------------------------------------------
 
-BakePlan plan_bake(const std::string& input, const std::string& out, const std::string& cache, const BakeOptions& defaults,
-                   std::size_t max_assets) {
+BakePlan plan_bake(const std::string& input, const std::string& out, const std::string& cache,
+                   const BakeOptions& defaults, std::size_t max_assets) {
   BakePlan plan;
   plan.out = out;
   plan.cache = cache.empty() ? (fs::path(out) / ".cache").string() : cache;
@@ -302,8 +335,8 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
   std::error_code ec;
   const fs::file_status st = fs::status(input, ec);
   if (ec || !fs::exists(st)) throw lodgen::InputError(input + ": no such file or folder");
-  std::set<fs::path> folders;        // every folder holding an input: OUT and the cache may not be one
-  std::optional<fs::path> walked;    // a folder INPUT: OUT and the cache may not lie inside it
+  std::set<fs::path> folders;      // every folder holding an input: OUT and the cache may not be one
+  std::optional<fs::path> walked;  // a folder INPUT: OUT and the cache may not lie inside it
   auto add = [&](const fs::path& file, std::string name, const BakeOptions& options) {
     if (plan.jobs.size() >= max_assets)
       throw lodgen::InputError(input + ": more than " + std::to_string(max_assets) + " assets");
@@ -314,7 +347,8 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
   if (fs::is_directory(st)) {
     walked = canonical_folder(input);
     std::vector<fs::path> files;
-    for (fs::recursive_directory_iterator it(input, fs::directory_options::none, ec), end; !ec && it != end; it.increment(ec)) {
+    for (fs::recursive_directory_iterator it(input, fs::directory_options::none, ec), end; !ec && it != end;
+         it.increment(ec)) {
       if (it->is_regular_file() && !it->is_symlink() && bakeable(it->path())) files.push_back(it->path());
     }
     if (ec) throw lodgen::InputError(input + ": cannot walk the folder: " + ec.message());
@@ -336,37 +370,53 @@ BakePlan plan_bake(const std::string& input, const std::string& out, const std::
       throw lodgen::InputError(input + ": the manifest is not JSON: " + e.what());
     }
     if (!m.is_object() || !m.contains("assets") || !m["assets"].is_array())
-      throw lodgen::InputError(input + ": a manifest is {\"options\": {...}, \"assets\": [{\"input\": ..., \"name\": ..., \"options\": {...}}]}");
+      throw lodgen::InputError(input +
+                               ": a manifest is {\"options\": {...}, \"assets\": [{\"input\": ..., \"name\": "
+                               "..., \"options\": {...}}]}");
     if (m.contains("options")) plan.defaults = from_json(m["options"], defaults, input + ": options");
     for (std::size_t i = 0; i < m["assets"].size(); ++i) {
       const json& a = m["assets"][i];
       const std::string where = input + ": assets[" + std::to_string(i) + "]";
-      if (!a.is_object() || !a.contains("input") || !a["input"].is_string()) throw lodgen::InputError(where + ": needs \"input\": \"path\"");
+      if (!a.is_object() || !a.contains("input") || !a["input"].is_string())
+        throw lodgen::InputError(where + ": needs \"input\": \"path\"");
       const fs::path file = dir / a["input"].get<std::string>();
       std::string name = default_name(fs::path(a["input"].get<std::string>()).lexically_normal());
       if (a.contains("name")) {
-        if (!a["name"].is_string() || a["name"].get<std::string>().empty()) throw lodgen::InputError(where + ": \"name\" must be a non-empty string");
+        if (!a["name"].is_string() || a["name"].get<std::string>().empty())
+          throw lodgen::InputError(where + ": \"name\" must be a non-empty string");
         name = a["name"].get<std::string>();
       }
-      add(file, name, a.contains("options") ? from_json(a["options"], plan.defaults, where + ": options") : plan.defaults);
+      add(file, name,
+          a.contains("options") ? from_json(a["options"], plan.defaults, where + ": options")
+                                : plan.defaults);
     }
   } else {
     add(fs::path(input), fs::path(input).stem().string(), defaults);
   }
   const fs::path out_path = canonical_folder(out);
   const fs::path cache_path = canonical_folder(plan.cache);
-  if (walked && within(out_path, *walked)) throw lodgen::InputError(out + ": the output folder is or lies inside the input folder " + walked->string());
-  if (walked && within(cache_path, *walked)) throw lodgen::InputError(plan.cache + ": the cache folder is or lies inside the input folder " + walked->string());
+  if (walked && within(out_path, *walked))
+    throw lodgen::InputError(out + ": the output folder is or lies inside the input folder " +
+                             walked->string());
+  if (walked && within(cache_path, *walked))
+    throw lodgen::InputError(plan.cache + ": the cache folder is or lies inside the input folder " +
+                             walked->string());
   for (const fs::path& f : folders) {  // an output could replace an input
-    if (out_path == f) throw lodgen::InputError(out + ": the output folder is the input folder " + f.string());
-    if (cache_path == f) throw lodgen::InputError(plan.cache + ": the cache folder is the input folder " + f.string());
+    if (out_path == f)
+      throw lodgen::InputError(out + ": the output folder is the input folder " + f.string());
+    if (cache_path == f)
+      throw lodgen::InputError(plan.cache + ": the cache folder is the input folder " + f.string());
   }
-  if (fs::exists(out) && !fs::is_directory(out)) throw lodgen::InputError(out + ": exists and is not a folder");
-  std::sort(plan.jobs.begin(), plan.jobs.end(), [](const AssetJob& a, const AssetJob& b) { return a.name < b.name; });
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw lodgen::InputError(out + ": exists and is not a folder");
+  std::sort(plan.jobs.begin(), plan.jobs.end(),
+            [](const AssetJob& a, const AssetJob& b) { return a.name < b.name; });
   std::map<std::string, std::string> files;  // file_safe name -> asset
   for (const AssetJob& j : plan.jobs) {
     const auto [it, fresh] = files.try_emplace(file_safe(j.name), j.name);
-    if (!fresh) throw lodgen::InputError(input + ": assets '" + it->second + "' and '" + j.name + "' would both be written as " + it->first);
+    if (!fresh)
+      throw lodgen::InputError(input + ": assets '" + it->second + "' and '" + j.name +
+                               "' would both be written as " + it->first);
   }
   return plan;
 }
@@ -404,9 +454,7 @@ AssetResult bake_asset(const AssetJob& job, const std::string& cache, unsigned p
     r.error = e.what(), content_fault = true;
   } catch (const std::invalid_argument& e) {
     r.error = job.input + ": " + e.what(), content_fault = true;
-  } catch (const std::exception& e) {
-    r.error = job.input + ": " + e.what();
-  }
+  } catch (const std::exception& e) { r.error = job.input + ": " + e.what(); }
   r.seconds = seconds_since(start);
   if (r.ok || content_fault) {
     try {
@@ -421,20 +469,26 @@ AssetResult bake_asset(const AssetJob& job, const std::string& cache, unsigned p
 
 // ---- Transport ----------------------------------------------------------------------------------
 
-std::string job_json(const AssetJob& job) { return json{{"name", job.name}, {"input", job.input}, {"options", to_json(job.options)}}.dump(); }
+std::string job_json(const AssetJob& job) {
+  return json{{"name", job.name}, {"input", job.input}, {"options", to_json(job.options)}}.dump();
+}
 
 AssetJob parse_job(const std::string& text) {
   try {
     const json j = json::parse(text);
-    return {j.at("name").get<std::string>(), j.at("input").get<std::string>(), from_json(j.at("options"), BakeOptions{}, "job")};
-  } catch (const json::exception& e) {
-    throw lodgen::InputError(std::string("not a bake job: ") + e.what());
-  }
+    return {j.at("name").get<std::string>(), j.at("input").get<std::string>(),
+            from_json(j.at("options"), BakeOptions{}, "job")};
+  } catch (const json::exception& e) { throw lodgen::InputError(std::string("not a bake job: ") + e.what()); }
 }
 
 std::string result_json(const AssetResult& r) {
-  json j = {{"name", r.name}, {"ok", r.ok}, {"error", r.error}, {"key", r.key}, {"input_sha256", r.input_sha256},
-            {"seconds", r.seconds}, {"cached", r.cached}};
+  json j = {{"name", r.name},
+            {"ok", r.ok},
+            {"error", r.error},
+            {"key", r.key},
+            {"input_sha256", r.input_sha256},
+            {"seconds", r.seconds},
+            {"cached", r.cached}};
   summary_to_json(r, j);
   return j.dump();
 }
@@ -467,12 +521,15 @@ std::vector<AssetResult> bake_all(const BakePlan& plan, unsigned jobs, const Bak
   const auto start = std::chrono::steady_clock::now();
   oneapi::tbb::task_arena arena{static_cast<int>(threads)};
   arena.execute([&] {
-    oneapi::tbb::parallel_for(std::size_t(0), plan.jobs.size(), [&](std::size_t i) {
-      results[i] = bake_asset(plan.jobs[i], plan.cache, threads);
-      const std::lock_guard<std::mutex> lock(m);
-      ++done;
-      if (progress) progress(done, plan.jobs.size(), plan.jobs[i].name, seconds_since(start));
-    }, oneapi::tbb::simple_partitioner());
+    oneapi::tbb::parallel_for(
+        std::size_t(0), plan.jobs.size(),
+        [&](std::size_t i) {
+          results[i] = bake_asset(plan.jobs[i], plan.cache, threads);
+          const std::lock_guard<std::mutex> lock(m);
+          ++done;
+          if (progress) progress(done, plan.jobs.size(), plan.jobs[i].name, seconds_since(start));
+        },
+        oneapi::tbb::simple_partitioner());
   });
   return results;
 }
@@ -483,7 +540,10 @@ std::string index_json(const BakePlan& plan, const std::vector<AssetResult>& res
   for (std::size_t i = 0; i < results.size(); ++i) {
     const AssetResult& r = results[i];
     const AssetJob& job = plan.jobs[i];
-    json a = {{"status", r.ok ? "ok" : "error"}, {"input", job.input}, {"input_sha256", r.input_sha256}, {"seconds", r.seconds}};
+    json a = {{"status", r.ok ? "ok" : "error"},
+              {"input", job.input},
+              {"input_sha256", r.input_sha256},
+              {"seconds", r.seconds}};
     if (r.ok) {
       const std::string file = file_safe(job.name);
       a["chain"] = file + ".glb";
@@ -499,13 +559,17 @@ std::string index_json(const BakePlan& plan, const std::vector<AssetResult>& res
     if (options_json(job.options) != options_json(plan.defaults)) a["options"] = to_json(job.options);
     assets[job.name] = a;
   }
-  const json index = {{"tool", tool_version()}, {"options", to_json(plan.defaults)}, {"assets", assets},
-                      {"ok", results.size() - failed}, {"failed", failed}};
+  const json index = {{"tool", tool_version()},
+                      {"options", to_json(plan.defaults)},
+                      {"assets", assets},
+                      {"ok", results.size() - failed},
+                      {"failed", failed}};
   return index.dump(2) + "\n";
 }
 
 std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& results) {
-  if (results.size() != plan.jobs.size()) throw std::invalid_argument("finish_bake: one result per job expected");
+  if (results.size() != plan.jobs.size())
+    throw std::invalid_argument("finish_bake: one result per job expected");
   fs::create_directories(plan.out);
   std::size_t failed = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {

@@ -12,16 +12,16 @@
 namespace acuity::bake {
 
 struct ChainRequest {
-  std::string input;                // OFF, OBJ, PLY, STL, glTF or GLB
-  std::string asset_root;           // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
-  lodgen::ChainOptions chain;       // decimation (ignored when refine > 0)
-  int refine = 0;                   // > 0: the input is a cage refined this many times (OpenSubdiv)
+  std::string input;           // OFF, OBJ, PLY, STL, glTF or GLB
+  std::string asset_root;      // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
+  lodgen::ChainOptions chain;  // decimation (ignored when refine > 0)
+  int refine = 0;              // > 0: the input is a cage refined this many times (OpenSubdiv)
 };
 
 struct SceneChains {
-  lodgen::Scene scene;                      // as loaded (a cage: one node, identity matrix)
-  std::vector<lodgen::Chain> chains;        // one per scene mesh; instances share it
-  std::vector<lodgen::LodObject> objects;   // one per node drawing a mesh, at its world matrix
+  lodgen::Scene scene;                     // as loaded (a cage: one node, identity matrix)
+  std::vector<lodgen::Chain> chains;       // one per scene mesh; instances share it
+  std::vector<lodgen::LodObject> objects;  // one per node drawing a mesh, at its world matrix
 };
 
 // Loads `request.input` and builds every mesh's chain; one object per node that draws a mesh
@@ -29,8 +29,8 @@ struct SceneChains {
 // the file for bad input, and when the scene draws no mesh.
 SceneChains build_scene_chains(const ChainRequest& request, const lodgen::ChainProgress& progress = {});
 // The same from a scene already loaded from `where` (decimation only).
-SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, const lodgen::ChainOptions& options,
-                            const lodgen::ChainProgress& progress = {});
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
+                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress = {});
 
 // A chain file (glTF from write_lod_gltf or any MSFT_lod writer): its first node with MSFT_lod
 // levels, read back as a chain. `material` points into `scene` (keep them together).

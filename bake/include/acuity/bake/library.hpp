@@ -26,18 +26,18 @@ namespace acuity::bake {
 // One asset's options; every field enters the cache key. Units and ranges as in `acuity lodgen`
 // and `acuity profile`.
 struct BakeOptions {
-  std::uint32_t levels = 0;          // 0: halve down to ~1%; at most 32
-  double ratio = 0.5;                // triangles of each level over the previous, in [0.01, 0.99]
-  double max_error = 0;              // >= 0 [bounding-sphere diameters]
-  std::string backend = "cgal";      // openmesh | cgal | cgal-lt
+  std::uint32_t levels = 0;      // 0: halve down to ~1%; at most 32
+  double ratio = 0.5;            // triangles of each level over the previous, in [0.01, 0.99]
+  double max_error = 0;          // >= 0 [bounding-sphere diameters]
+  std::string backend = "cgal";  // openmesh | cgal | cgal-lt
   bool lock_border = false;
-  double reference_height = 1080;    // pixels, for MSFT_screencoverage, in [1, 1e6]
-  std::uint32_t pixels = 256;        // profile snapshot pixels (power of two, 16 .. 4096)
-  std::uint32_t orientations = 8;    // 1 .. 32
-  std::uint32_t bands = 0;           // 0: all up to pixels / 4
-  std::uint32_t views = 0;           // 0: adaptive
-  float tolerance = 0.25f;           // adaptive views' switching-distance error, >= 0
-  std::string asset_root;            // folder a glTF's uris may read ("": the glTF's own folder)
+  double reference_height = 1080;  // pixels, for MSFT_screencoverage, in [1, 1e6]
+  std::uint32_t pixels = 256;      // profile snapshot pixels (power of two, 16 .. 4096)
+  std::uint32_t orientations = 8;  // 1 .. 32
+  std::uint32_t bands = 0;         // 0: all up to pixels / 4
+  std::uint32_t views = 0;         // 0: adaptive
+  float tolerance = 0.25f;         // adaptive views' switching-distance error, >= 0
+  std::string asset_root;          // folder a glTF's uris may read ("": the glTF's own folder)
 };
 
 // The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)
@@ -51,15 +51,15 @@ std::string options_json(const BakeOptions& options);
 BakeOptions parse_options(const std::string& json, const BakeOptions& defaults, const std::string& where);
 
 struct AssetJob {
-  std::string name;      // key in index.json, unique; its file_safe() form names OUT/<name>.glb/.acuity
-  std::string input;     // the asset's file
+  std::string name;   // key in index.json, unique; its file_safe() form names OUT/<name>.glb/.acuity
+  std::string input;  // the asset's file
   BakeOptions options;
 };
 
 struct BakePlan {
-  std::string out;       // OUT
-  std::string cache;     // the cache folder (default OUT/.cache)
-  BakeOptions defaults;  // as given on the command line / to Python, recorded in the index
+  std::string out;             // OUT
+  std::string cache;           // the cache folder (default OUT/.cache)
+  BakeOptions defaults;        // as given on the command line / to Python, recorded in the index
   std::vector<AssetJob> jobs;  // sorted by name
 };
 
@@ -84,8 +84,8 @@ struct AssetResult {
   std::vector<std::uint64_t> triangles;  // per level: triangles obtained
   std::vector<double> errors;            // per level: Hausdorff error to level 0 [diameters]
   std::uint64_t chain_bytes = 0, profile_bytes = 0;
-  double seconds = 0;                    // of the bake that made the cache entry
-  bool cached = false;                   // answered by the cache in this run
+  double seconds = 0;   // of the bake that made the cache entry
+  bool cached = false;  // answered by the cache in this run
 };
 
 // Bakes one asset into the cache, or finds it there (verified by the recorded SHA-256 of both
@@ -102,7 +102,8 @@ std::string result_json(const AssetResult& result);
 AssetResult parse_result(const std::string& json);
 
 // done, total, the asset just finished, seconds since the start.
-using BakeProgress = std::function<void(std::size_t done, std::size_t total, const std::string& current, double seconds)>;
+using BakeProgress =
+    std::function<void(std::size_t done, std::size_t total, const std::string& current, double seconds)>;
 
 // bake_asset for every job on up to `jobs` threads (0: all cores; oneTBB), results in plan order.
 // `progress` is called after each asset, one call at a time.
