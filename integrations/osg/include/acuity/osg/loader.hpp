@@ -3,7 +3,7 @@
 // chains (or plain meshes, chained on the fly by lodgen exactly as `acuity simulate` does) plus a
 // profiles folder (<asset>.acuity, built and saved there when missing) become one LodNode per
 // instance under a MatrixTransform, registered with a Kit. The glTF is read by lodgen's reader and
-// the chains and profiles come from tools/scene_assets (the code `simulate` uses).
+// the chains and profiles come from acuity::bake (acuity/bake/scene.hpp, the code `simulate` uses).
 #include <memory>
 #include <string>
 #include <vector>
