@@ -499,9 +499,8 @@ TEST(Files, OutputMustNotBeAnInput) {
 TEST(Files, NanReferenceHeightIsRefusedNotWrittenAsNull) {
   lodgen::LodObject o;
   o.name = "tri";
-  o.levels.push_back(lodgen::load_scene(save(triangle_gltf(), "tri.gltf").string()).meshes[0]);
-  o.levels.push_back(o.levels[0]);
-  o.geometric_error = {0, 0.1};
+  const lodgen::Mesh tri = lodgen::load_scene(save(triangle_gltf(), "tri.gltf").string()).meshes[0];
+  o.chain.levels = {{tri, 1, 0.0, 0.0}, {tri, 1, 0.1, 0.0}};
   lodgen::GltfWriteOptions w;
   w.reference_height = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(error_of([&] { lodgen::write_lod_gltf(scratch("nan.glb").string(), {o}, {}, w); }).find("reference height"), std::string::npos);

@@ -161,19 +161,16 @@ TEST(Gltf, RoundTripKeepsLevelsCountsAndAttributes) {
   LodObject obj;
   obj.name = "elephant";
   obj.matrix[12] = 3;  // translated
-  for (const Level& l : c.levels) {
-    obj.levels.push_back(l.mesh);
-    obj.geometric_error.push_back(l.hausdorff);
-  }
+  obj.chain = c;
   Material red;
   red.name = "red";
   red.base_color[0] = 0.9f;
   red.width = red.height = 2;
   red.pixels = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
   obj.material = 0;
-  for (auto& l : obj.levels) {  // texture coordinates too
-    l.texcoords.assign(l.vertex_count() * 2, 0.25f);
-    l.material = 0;
+  for (Level& l : obj.chain.levels) {  // texture coordinates too
+    l.mesh.texcoords.assign(l.mesh.vertex_count() * 2, 0.25f);
+    l.mesh.material = 0;
   }
   for (const char* file : {"round.glb", "round.gltf"}) {
     const fs::path path = scratch(file);
@@ -185,18 +182,29 @@ TEST(Gltf, RoundTripKeepsLevelsCountsAndAttributes) {
     const Node& top = s.nodes[s.roots[0]];
     ASSERT_EQ(top.lods.size(), 3u);
     EXPECT_EQ(top.matrix[12], 3.0);
-    const std::vector<double> expected = screen_coverage(obj.geometric_error, 1080);
+    std::vector<double> errors;
+    for (const Level& l : obj.chain.levels) errors.push_back(l.hausdorff);
+    const std::vector<double> expected = screen_coverage(errors, 1080);
     ASSERT_EQ(top.screen_coverage.size(), 4u);
     for (int k = 0; k < 4; ++k) EXPECT_NEAR(top.screen_coverage[k], expected[k], 1e-12);
     for (int k = 0; k < 4; ++k) {
       const Node& n = s.nodes[k == 0 ? s.roots[0] : top.lods[k - 1]];
       const Mesh& m = s.meshes[n.mesh];
-      EXPECT_EQ(m.triangle_count(), obj.levels[k].triangle_count());
-      EXPECT_EQ(m.positions, obj.levels[k].positions);
-      EXPECT_EQ(m.indices, obj.levels[k].indices);
-      EXPECT_EQ(m.normals, obj.levels[k].normals);
-      EXPECT_EQ(m.texcoords, obj.levels[k].texcoords);
+      const Mesh& written = obj.chain.levels[std::size_t(k)].mesh;
+      EXPECT_EQ(m.triangle_count(), written.triangle_count());
+      EXPECT_EQ(m.positions, written.positions);
+      EXPECT_EQ(m.indices, written.indices);
+      EXPECT_EQ(m.normals, written.normals);
+      EXPECT_EQ(m.texcoords, written.texcoords);
       EXPECT_EQ(m.material, 0);
+    }
+    // chain_of_node reads the chain back: the same meshes and errors.
+    const Chain back = chain_of_node(s, top);
+    ASSERT_EQ(back.levels.size(), obj.chain.levels.size());
+    for (std::size_t k = 0; k < back.levels.size(); ++k) {
+      EXPECT_EQ(back.levels[k].mesh.positions, obj.chain.levels[k].mesh.positions);
+      EXPECT_EQ(back.levels[k].hausdorff, obj.chain.levels[k].hausdorff);
+      EXPECT_EQ(back.levels[k].target_triangles, obj.chain.levels[k].mesh.triangle_count());
     }
     ASSERT_EQ(s.materials.size(), 1u);
     EXPECT_EQ(s.materials[0].pixels, red.pixels);
@@ -217,18 +225,18 @@ TEST(Gltf, GeometricErrorsSurviveAnyReferenceHeight) {
   Mesh m;
   m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   m.indices = {0, 1, 2};
-  obj.levels = {m, m, m};
-  obj.geometric_error = {0, 0.003, 0.02};
+  const std::vector<double> errors = {0, 0.003, 0.02};
+  for (double e : errors) obj.chain.levels.push_back({m, 1, e, 0});
   GltfWriteOptions wo;
   wo.reference_height = 720;
   const fs::path path = scratch("heights.glb");
   write_lod_gltf(path.string(), {obj}, {}, wo);
   Node top = load_scene(path.string()).nodes[0];
-  EXPECT_EQ(lod_geometric_errors(top, 3), obj.geometric_error);
+  EXPECT_EQ(lod_geometric_errors(top, 3), errors);
   top.geometric_error.clear();  // as another writer leaves it
-  top.screen_coverage = screen_coverage(obj.geometric_error, GltfWriteOptions{}.reference_height);
+  top.screen_coverage = screen_coverage(errors, GltfWriteOptions{}.reference_height);
   const std::vector<double> inverted = lod_geometric_errors(top, 3);
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(inverted[k], obj.geometric_error[k], 1e-12);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(inverted[k], errors[std::size_t(k)], 1e-12);
 }
 
 TEST(Refine, OpenSubdivCounts) {
@@ -337,8 +345,7 @@ TEST(BadInput, FailedWriteLeavesNothing) {
   const fs::path dir = scratch("nowrite");
   fs::create_directories(dir);
   LodObject obj;
-  obj.levels.push_back(quad());
-  obj.geometric_error.push_back(0);
+  obj.chain.levels.push_back({quad(), 2, 0, 0});
   EXPECT_THROW(write_lod_gltf((dir / "missing" / "out.glb").string(), {obj}, {}), std::runtime_error);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 0);
 }

@@ -15,13 +15,14 @@
 
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/frame_image.hpp"
+#include "acuity/bake/scene.hpp"
 #include "acuity/sim/results.hpp"
 #include "mesh_fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace acuity;
 using namespace acuity::sim;
-using namespace acuity::tools;  // the scene bake (load_scene_assets, decompose)
+using namespace acuity::bake;  // the scene bake (load_scene_assets, decompose)
 
 namespace {
 
@@ -68,8 +69,8 @@ const SceneAssets& small_scene() {
   static std::unique_ptr<SceneAssets> scene = [] {
     lodgen::LodObject obj;
     obj.name = "ball";
-    for (int s : {3, 2, 1}) obj.levels.push_back(sphere_mesh(s));
-    obj.geometric_error = {0, 0.004, 0.02};
+    const double errors[] = {0, 0.004, 0.02};
+    for (int s : {3, 2, 1}) obj.chain.levels.push_back({sphere_mesh(s), 0, errors[3 - s], 0});
     std::vector<lodgen::LodInstance> field;
     for (int i = 0; i < 9; ++i) {
       lodgen::LodInstance in;
@@ -209,7 +210,7 @@ TEST(Scene, InstancesShareMeshesAndKeepTheirPlacement) {
   ASSERT_EQ(scene.instances.size(), 9u);
   EXPECT_EQ(scene.scene.meshes.size(), 3u);  // one chain, shared by nine instances
   EXPECT_EQ(scene.assets[0].chain.levels.size(), 3u);
-  EXPECT_NEAR(scene.assets[0].chain.errors[2], 0.02f, 1e-4f);  // through MSFT_screencoverage
+  EXPECT_NEAR(scene.assets[0].chain.levels[2].hausdorff, 0.02, 1e-4);  // through MSFT_screencoverage
   EXPECT_EQ(scene.instances[4].name, "ball_4");
   EXPECT_DOUBLE_EQ(scene.instances[4].transform.position[2], -7.0);
   EXPECT_FLOAT_EQ(scene.instances[4].transform.scale, 0.5f);

@@ -7,9 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "acuity/bake/scene.hpp"
 #include "acuity/sim/simulation.hpp"
 
 namespace acuity::tools {
+using bake::AssetOptions;       // the scene bake the subcommands load scenes with
+using bake::load_scene_assets;
+using bake::SceneAssets;
+
 // A finite number: CLI11's Range, PositiveNumber and NonNegativeNumber let NaN through (every
 // comparison with NaN is false), so every floating-point option also checks this.
 inline const CLI::Validator Finite(
@@ -29,6 +34,7 @@ void add_inspect_command(CLI::App& app);  // `acuity inspect`
 void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
 void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
 void add_plan_command(CLI::App& app);     // `acuity plan`: foveation maps
+void add_bake_command(CLI::App& app);     // `acuity bake`: a library of assets, cached
 
 // What a run leaves: the files written, and a decision worth explaining.
 struct RunResult {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "acuity/lodgen/chain.hpp"
+#include "acuity/bake/chains.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "commands.hpp"
 
@@ -34,28 +34,18 @@ lodgen::LodObject chain_for(const std::string& name, const DemoOptions& o) {
   lodgen::LodObject obj;
   obj.name = name;
   if (fs::exists(glb)) {
-    const lodgen::Scene scene = lodgen::load_scene(glb.string());
-    for (const lodgen::Node& n : scene.nodes)
-      if (n.mesh >= 0 && !n.lods.empty()) {
-        LodChain c = chain_of_node(scene, n);
-        obj.levels = std::move(c.levels);
-        obj.geometric_error.assign(c.errors.begin(), c.errors.end());
-        std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
-        return obj;
-      }
+    obj.chain = bake::read_chain_file(glb.string()).chain;
+    std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
+    return obj;
   }
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string src = (fs::path(o.meshes) / (name + ".off")).string();
-  lodgen::ChainOptions co;
-  co.levels = 5;
-  const lodgen::Chain chain = lodgen::build_chain(lodgen::load_mesh(src), src, co);
-  for (const lodgen::Level& l : chain.levels) {
-    obj.levels.push_back(l.mesh);
-    obj.geometric_error.push_back(l.hausdorff);
-  }
+  bake::ChainRequest request;
+  request.input = (fs::path(o.meshes) / (name + ".off")).string();
+  request.chain.levels = 5;
+  obj = std::move(bake::build_scene_chains(request).objects.at(0));
   lodgen::write_lod_gltf(glb.string(), {obj}, {});
-  std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(), obj.levels.front().triangle_count(),
-              obj.levels.back().triangle_count(), obj.levels.size(),
+  std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(), obj.chain.levels.front().mesh.triangle_count(),
+              obj.chain.levels.back().mesh.triangle_count(), obj.chain.levels.size(),
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   return obj;
 }
@@ -66,7 +56,7 @@ std::vector<lodgen::LodInstance> field(const std::vector<lodgen::LodObject>& obj
   struct Bounds { double centre[3], scale; };  // bounding-box centre, scale to a 0.75 m radius
   std::vector<Bounds> bounds;
   for (const lodgen::LodObject& obj : objects) {
-    const lodgen::Mesh& m = obj.levels[0];
+    const lodgen::Mesh& m = obj.chain.levels[0].mesh;
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (std::size_t v = 0; v < m.vertex_count(); ++v)
       for (int k = 0; k < 3; ++k) {

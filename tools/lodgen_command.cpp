@@ -1,18 +1,15 @@
 // `acuity lodgen INPUT -o OUTPUT`: a measured chain of levels, written as glTF with MSFT_lod.
 #include <nlohmann/json.hpp>
 
-#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "acuity/bake/chains.hpp"
 #include "acuity/file.hpp"
-#include "acuity/lodgen/chain.hpp"
-#include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/output.hpp"
-#include "acuity/lodgen/refine.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -25,12 +22,6 @@ struct LodgenOptions {
   int refine = 0;
   bool lock_border = false, quiet = false;
 };
-
-bool is_gltf_text(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".gltf";
-}
 
 void progress(const char* stage, std::size_t done, std::size_t total) {
   std::fprintf(stderr, "\r%-10s %zu/%zu", stage, done, total);
@@ -50,49 +41,21 @@ void run(const LodgenOptions& o) {
     throw std::runtime_error("--backend: openmesh, cgal or cgal-lt, not '" + o.backend + "'");
   const lodgen::ChainProgress report = o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress);
 
-  lodgen::Scene scene;
-  std::vector<lodgen::Chain> chains;  // one per scene mesh (instances share it)
-  if (o.refine > 0) {
-    const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(o.input);
-    chains.push_back(lodgen::measure_chain(lodgen::refine(cage, o.refine), report));
-    scene.mesh_names.push_back(std::filesystem::path(o.input).stem().string());
-    lodgen::Node node;  // identity matrix by default
-    node.name = scene.mesh_names[0];
-    node.mesh = 0;
-    scene.nodes.push_back(node);
-    scene.roots.push_back(0);
-  } else {
-    lodgen::LoadOptions lo;
-    lo.asset_root = o.asset_root;
-    scene = lodgen::load_scene(o.input, lo);
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
-      chains.push_back(lodgen::build_chain(scene.meshes[m], o.input + ": mesh '" + scene.mesh_names[m] + "'", co, report));
-  }
+  bake::ChainRequest request;
+  request.input = o.input;
+  request.asset_root = o.asset_root;
+  request.chain = co;
+  request.refine = o.refine;
+  const bake::SceneChains sc = bake::build_scene_chains(request, report);
+  const lodgen::Scene& scene = sc.scene;
+  const std::vector<lodgen::Chain>& chains = sc.chains;
   for (const auto& c : chains)
     for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
-  // One LOD object per node that draws a mesh; instances reuse that mesh's chain.
-  std::vector<lodgen::LodObject> objects;
-  for (const lodgen::PlacedNode& placed : lodgen::world_matrices(scene)) {
-    const lodgen::Node& node = scene.nodes[std::size_t(placed.node)];
-    if (node.mesh >= 0) {
-      lodgen::LodObject obj;
-      obj.name = node.name.empty() ? scene.mesh_names[std::size_t(node.mesh)] : node.name;
-      obj.matrix = placed.world;
-      for (const lodgen::Level& l : chains[std::size_t(node.mesh)].levels) {
-        obj.levels.push_back(l.mesh);
-        obj.geometric_error.push_back(l.hausdorff);
-      }
-      obj.material = obj.levels[0].material;
-      objects.push_back(std::move(obj));
-    }
-  }
-  if (objects.empty()) throw std::runtime_error(o.input + ": the scene draws no mesh");
-
   lodgen::GltfWriteOptions wo;
   wo.reference_height = o.reference_height;
-  wo.binary = !is_gltf_text(o.output);
-  lodgen::write_lod_gltf(o.output, objects, scene.materials, wo);
+  wo.binary = !bake::is_gltf_text_path(o.output);
+  lodgen::write_lod_gltf(o.output, sc.objects, scene.materials, wo);
 
   // Summary table, and the same as JSON beside the output.
   nlohmann::json summary;
@@ -118,7 +81,7 @@ void run(const LodgenOptions& o) {
   const std::string text = summary.dump(2) + "\n";
   std::string error;
   if (!write_file_atomically(o.output + ".json", text.data(), text.size(), &error)) throw std::runtime_error(error);
-  std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), objects.size(), o.output.c_str(), seconds);
+  std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), sc.objects.size(), o.output.c_str(), seconds);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   acuity::tools::add_simulate_commands(app);
   acuity::tools::add_plan_command(app);
   acuity::tools::add_demo_command(app);
+  acuity::tools::add_bake_command(app);
   try {
     app.parse(argc, argv);
     if (app.get_subcommands().empty()) {

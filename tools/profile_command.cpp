@@ -1,20 +1,19 @@
 // `acuity profile LEVEL0 LEVEL1 ... -o OUT.acuity`: snapshots, lost-contrast spectra, profile.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "acuity/lodgen/gltf.hpp"
+#include "acuity/bake/chains.hpp"
+#include "acuity/bake/library.hpp"
+#include "acuity/bake/scene.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/lodgen/output.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
-#include "level_input.hpp"
-#include "scene_assets.hpp"
 
 namespace acuity::tools {
 namespace {
@@ -35,11 +34,6 @@ void progress_bar(const char* stage, std::size_t done, std::size_t total) {
   if (done == total) std::fputc('\n', stderr);
 }
 
-bool is_gltf(const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  return ext == ".glb" || ext == ".gltf";
-}
-
 void run_snapshots(const ProfileOptions& o) {
   lodgen::check_output(o.output, {o.snapshots});
   spectra::AnalysisSettings a;
@@ -58,42 +52,30 @@ void run(const ProfileOptions& o) {
     throw std::runtime_error("profile: " + std::to_string(o.levels.size()) + " level files, more than " + std::to_string(kMaxLevels));
   lodgen::check_output(o.output, o.levels);  // before any work
   const auto start = std::chrono::steady_clock::now();
-  std::vector<lodgen::Mesh> meshes;
-  std::vector<float> errors;
-  spectra::Material material;
-  lodgen::Scene scene;
-  if (o.levels.size() == 1 && is_gltf(o.levels[0])) {
-    // lodgen's output: the first node with MSFT_lod holds the chain; errors from its coverage.
-    lodgen::LoadOptions lo;
-    lo.asset_root = o.asset_root;
-    scene = lodgen::load_scene(o.levels[0], lo);
-    const lodgen::Node* top = nullptr;
-    for (const lodgen::Node& n : scene.nodes)
-      if (n.mesh >= 0 && !n.lods.empty()) { top = &n; break; }
-    if (!top) throw std::runtime_error(o.levels[0] + ": no node with MSFT_lod levels");
-    LodChain chain = chain_of_node(scene, *top);
-    meshes = std::move(chain.levels);
-    errors = std::move(chain.errors);
-    material = spectra_material(scene, meshes[0].material);
-  } else {
-    for (const std::string& path : o.levels) meshes.push_back(lodgen::load_mesh_isolated(path));  // untrusted files
-    errors.assign(meshes.size(), 0.0f);
+  bake::ChainFile file;  // lodgen's output: the first node with MSFT_lod holds the chain
+  if (o.levels.size() == 1 && bake::is_gltf_path(o.levels[0])) {
+    file = bake::read_chain_file(o.levels[0], o.asset_root);
+  } else {  // mesh files, finest first, without errors
+    for (const std::string& path : o.levels) {
+      lodgen::Mesh mesh = lodgen::load_mesh_isolated(path);  // untrusted files
+      const std::size_t triangles = mesh.triangle_count();
+      file.chain.levels.push_back({std::move(mesh), triangles, 0.0, 0.0});
+    }
   }
-  std::vector<spectra::LevelInput> levels;
-  for (std::size_t k = 0; k < meshes.size(); ++k) levels.push_back(level_input(meshes[k], errors[k]));
-  spectra::ProfileSettings s;
-  s.render.pixels = o.pixels;
-  s.analysis.orientations = o.orientations;
-  s.analysis.bands = o.bands;
-  s.jobs = o.jobs;
-  s.view_tolerance = o.tolerance;
+  const std::vector<spectra::LevelInput> levels = bake::spectra_levels(file.chain);
+  bake::BakeOptions b;
+  b.pixels = o.pixels;
+  b.orientations = o.orientations;
+  b.bands = o.bands;
+  b.tolerance = o.tolerance;
   if (o.views != "auto") {
-    try { s.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { s.views = 0; }
-    if (s.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
+    try { b.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { b.views = 0; }
+    if (b.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
   }
+  const spectra::ProfileSettings s = bake::profile_settings(b, o.jobs);
   const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spectra::ProfileReport report;
-  const spectra::ProfileData data = spectra::build_profile(levels, material, s, progress_bar, &report);
+  const spectra::ProfileData data = spectra::build_profile(levels, file.material, s, progress_bar, &report);
   spectra::write_profile(o.output, data);
   const Blob blob = spectra::encode_profile(data);
   std::printf("profile   %s\n", o.output.c_str());

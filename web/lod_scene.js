@@ -21,7 +21,7 @@ export async function fetchBytes(url, what) {
   return new Uint8Array(await response.arrayBuffer());
 }
 
-function fileSafe(name) {  // as tools/scene_assets.cpp names <mesh>.acuity
+function fileSafe(name) {  // as acuity::bake::file_safe (bake/src/scene.cpp) names <mesh>.acuity
   const s = (name || '').replace(/[^A-Za-z0-9_-]/g, '_');
   return s || 'object';
 }

@@ -5,8 +5,7 @@
 
 #include <cmath>
 
-#include "acuity/lodgen/chain.hpp"
-#include "acuity/lodgen/gltf.hpp"
+#include "acuity/bake/chains.hpp"
 #include "acuity/lodgen/output.hpp"
 #include "bindings.hpp"
 
@@ -30,40 +29,28 @@ void bind_lodgen(py::module_ m) {
     py::dict summary;
     py::list meshes;
     {
-      lodgen::Scene scene;
-      std::vector<lodgen::Chain> chains;
+      bake::SceneChains sc;
       {
         py::gil_scoped_release release;
         if (!output.empty()) lodgen::check_output(output, {input}, {".glb", ".gltf"});  // before any work
-        lodgen::LoadOptions lo;
-        lo.asset_root = asset_root;
-        scene = lodgen::load_scene(input, lo);
-        for (std::size_t i = 0; i < scene.meshes.size(); ++i)
-          chains.push_back(lodgen::build_chain(scene.meshes[i], input + ": mesh '" + scene.mesh_names[i] + "'", o));
-        std::vector<lodgen::LodObject> objects;
-        for (std::size_t i = 0; i < chains.size(); ++i) {
-          lodgen::LodObject obj;
-          obj.name = scene.mesh_names[i];
-          for (const auto& l : chains[i].levels) {
-            obj.levels.push_back(l.mesh);
-            obj.geometric_error.push_back(l.hausdorff);
-          }
-          obj.material = obj.levels[0].material;
-          objects.push_back(std::move(obj));
-        }
+        bake::ChainRequest request;
+        request.input = input;
+        request.asset_root = asset_root;
+        request.chain = o;
+        sc = bake::build_scene_chains(request);
         if (!output.empty()) {
           lodgen::GltfWriteOptions wo;
-          wo.binary = output.size() < 5 || (output.compare(output.size() - 5, 5, ".gltf") != 0 && output.compare(output.size() - 5, 5, ".GLTF") != 0);
-          lodgen::write_lod_gltf(output, objects, scene.materials, wo);
+          wo.binary = !bake::is_gltf_text_path(output);
+          lodgen::write_lod_gltf(output, sc.objects, sc.scene.materials, wo);
         }
       }
-      for (std::size_t i = 0; i < chains.size(); ++i) {
+      for (std::size_t i = 0; i < sc.chains.size(); ++i) {
         py::list lv;
-        for (const auto& l : chains[i].levels)
+        for (const auto& l : sc.chains[i].levels)
           lv.append(py::dict("target"_a = l.target_triangles, "triangles"_a = l.mesh.triangle_count(),
                              "hausdorff_diameters"_a = l.hausdorff, "seconds"_a = l.seconds));
-        meshes.append(py::dict("name"_a = scene.mesh_names[i], "diameter"_a = chains[i].diameter, "levels"_a = lv,
-                               "warnings"_a = chains[i].warnings));
+        meshes.append(py::dict("name"_a = sc.scene.mesh_names[i], "diameter"_a = sc.chains[i].diameter, "levels"_a = lv,
+                               "warnings"_a = sc.chains[i].warnings));
       }
     }
     summary["input"] = input;
@@ -74,7 +61,8 @@ void bind_lodgen(py::module_ m) {
   }, "input"_a, "output"_a = "", "levels"_a = 0, "ratio"_a = 0.5, "max_error"_a = 0.0, "backend"_a = "cgal",
      "lock_border"_a = false, "asset_root"_a = "",
   "Build a measured chain of levels for every mesh of `input` (OFF/OBJ/PLY/STL/glTF/GLB); write\n"
-  "it as glTF with MSFT_lod when `output` is given. Returns the summary as a dict. Raises\n"
+  "it as glTF with MSFT_lod when `output` is given, each node that draws a mesh at its world matrix:\n"
+  "the same code and the same bytes as `acuity lodgen` (acuity::bake::build_scene_chains). Returns the summary as a dict. Raises\n"
   "acuity.lodgen.InputError (a ValueError) for bad input, a refused output (not .glb/.gltf, not a\n"
   "regular file, the input itself) or a glTF uri outside `asset_root` (default: the glTF's folder).");
 }

@@ -426,6 +426,7 @@ struct Reader {
   Budget budget;
   std::vector<bool> used_images;  // decoded only when a material uses them
   std::string error;              // the first refusal, for a clear message
+  std::vector<std::string>* files_read = nullptr;  // LoadOptions::files_read
 };
 
 std::string expand_path(const std::string& path, void*) { return path; }  // no ~, no variables, no wordexp
@@ -452,6 +453,7 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   std::string why;
   const std::string file = confined(joined, r, &why);
   bool ok = !file.empty() && read_regular(file, r.limits.max_file_bytes, r.budget, out, &why);
+  if (ok && r.files_read) r.files_read->push_back(file);
   if (!ok) {
     if (err) *err += why;
     if (r.error.empty()) r.error = why;
@@ -617,6 +619,7 @@ std::uint32_t le32(const unsigned char* p) { return std::uint32_t(p[0]) | std::u
 Scene load_gltf(const std::string& path, const LoadOptions& options) {
   Reader r;
   r.limits = options.limits;
+  r.files_read = options.files_read;
   r.budget.left = options.limits.max_total_bytes;
   r.budget.path = path;
   std::error_code ec;
@@ -737,10 +740,36 @@ std::vector<double> lod_geometric_errors(const Node& top, std::size_t levels) {
   return out;
 }
 
+Chain chain_of_node(const Scene& scene, const Node& top) {
+  Chain c;
+  std::vector<Mesh> meshes = {scene.meshes[std::size_t(top.mesh)]};
+  for (int id : top.lods)
+    if (scene.nodes[std::size_t(id)].mesh >= 0) meshes.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
+  const std::vector<double> errors = lod_geometric_errors(top, meshes.size());
+  for (std::size_t k = 0; k < meshes.size(); ++k) {
+    const std::size_t triangles = meshes[k].triangle_count();
+    c.levels.push_back({std::move(meshes[k]), triangles, errors[k], 0.0});
+  }
+  c.diameter = diameter(c.levels[0].mesh);
+  return c;
+}
+
 void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects, const std::vector<Material>& materials,
                     const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
+  std::string bytes;
+  try {
+    bytes = encode_lod_gltf(objects, materials, options, instances);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  }
+  std::string error;
+  if (!write_file_atomically(path, bytes.data(), bytes.size(), &error)) throw std::runtime_error(error);
+}
+
+std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::vector<Material>& materials,
+                            const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
   if (!(options.reference_height >= 1) || !std::isfinite(options.reference_height))
-    throw std::runtime_error(path + ": reference height " + std::to_string(options.reference_height) + " is not a finite height >= 1 px");
+    throw std::runtime_error("reference height " + std::to_string(options.reference_height) + " is not a finite height >= 1 px");
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "acuity lodgen";
@@ -755,7 +784,7 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
     if (!src.pixels.empty()) {
       std::vector<unsigned char> png;
       if (!stbi_write_png_to_func(append_png, &png, src.width, src.height, 4, src.pixels.data(), src.width * 4))
-        throw std::runtime_error(path + ": cannot encode the texture of material '" + src.name + "'");
+        throw std::runtime_error("cannot encode the texture of material '" + src.name + "'");
       tinygltf::Image img;
       img.mimeType = "image/png";
       img.bufferView = w.view(png.data(), png.size(), 0);
@@ -771,8 +800,8 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
   std::vector<std::vector<int>> mesh_ids(objects.size());
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const LodObject& o = objects[i];
-    for (std::size_t k = 0; k < o.levels.size(); ++k) {
-      const Mesh& mesh = o.levels[k];
+    for (std::size_t k = 0; k < o.chain.levels.size(); ++k) {
+      const Mesh& mesh = o.chain.levels[k].mesh;
       tinygltf::Primitive prim;
       prim.mode = TINYGLTF_MODE_TRIANGLES;
       prim.attributes["POSITION"] = w.accessor(mesh.positions, 3, true);
@@ -793,11 +822,13 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
   tinygltf::Scene scene;
   for (const LodInstance& in : placed) {
     if (in.object < 0 || in.object >= int(objects.size()))
-      throw std::runtime_error(path + ": instance '" + in.name + "' names object " + std::to_string(in.object) + ", which does not exist");
+      throw std::runtime_error("instance '" + in.name + "' names object " + std::to_string(in.object) + ", which does not exist");
     const LodObject& o = objects[std::size_t(in.object)];
-    const std::vector<double> coverage = screen_coverage(o.geometric_error, options.reference_height);
+    std::vector<double> geometric_error;
+    for (const Level& l : o.chain.levels) geometric_error.push_back(l.hausdorff);
+    const std::vector<double> coverage = screen_coverage(geometric_error, options.reference_height);
     std::vector<int> node_ids;
-    for (std::size_t k = 0; k < o.levels.size(); ++k) {
+    for (std::size_t k = 0; k < o.chain.levels.size(); ++k) {
       tinygltf::Node node;
       node.name = in.name + (k ? "_LOD" + std::to_string(k) : std::string());
       node.mesh = mesh_ids[std::size_t(in.object)][k];
@@ -810,7 +841,7 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
       tinygltf::Value::Array ids, cov, err;
       for (std::size_t k = 1; k < node_ids.size(); ++k) ids.emplace_back(node_ids[k]);
       for (double c : coverage) cov.emplace_back(c);
-      for (double e : o.geometric_error) err.emplace_back(e);
+      for (double e : geometric_error) err.emplace_back(e);
       tinygltf::Value::Object lod;
       lod["ids"] = tinygltf::Value(ids);
       top.extensions["MSFT_lod"] = tinygltf::Value(lod);
@@ -830,10 +861,8 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
   tinygltf::TinyGLTF writer;
   // .glb, or .gltf with the buffer embedded as a data URI: one file holds everything.
   if (!writer.WriteGltfSceneToStream(&model, stream, !options.binary, options.binary))
-    throw std::runtime_error(path + ": cannot encode glTF");
-  const std::string bytes = stream.str();
-  std::string error;
-  if (!write_file_atomically(path, bytes.data(), bytes.size(), &error)) throw std::runtime_error(error);
+    throw std::runtime_error("cannot encode glTF");
+  return stream.str();
 }
 
 }  // namespace acuity::lodgen

@@ -44,7 +44,7 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
     const Instance& in = scene.instances[i];
     const Asset& a = scene.assets[std::size_t(in.asset)];
     const std::uint8_t level = std::min<std::uint8_t>(levels[i], std::uint8_t(a.chain.levels.size() - 1));
-    const lodgen::Mesh& m = a.chain.levels[level];
+    const lodgen::Mesh& m = a.chain.levels[level].mesh;
     const ObjectTransform t = sim.transform(i, frame);
     const glm::dquat q(t.rotation[3], t.rotation[0], t.rotation[1], t.rotation[2]);
     const glm::dvec3 p(t.position[0], t.position[1], t.position[2]);

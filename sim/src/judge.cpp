@@ -69,8 +69,7 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
   std::map<std::pair<int, std::uint32_t>, std::unique_ptr<spectra::ProfileMeasurer>> measurers;
   std::vector<std::vector<spectra::LevelInput>> inputs(scene.assets.size());
   for (std::size_t a = 0; a < scene.assets.size(); ++a)
-    for (std::size_t k = 0; k < scene.assets[a].chain.levels.size(); ++k)
-      inputs[a].push_back(level_input(scene.assets[a].chain.levels[k], scene.assets[a].chain.errors[k]));
+    inputs[a] = bake::spectra_levels(scene.assets[a].chain);
   for (const Task& t : tasks) {
     auto& m = measurers[{t.asset, t.j.pixels}];
     if (!m) {

@@ -6,6 +6,7 @@ Submodules:
     acuity.spectra  snapshots, lost-contrast analysis, Reddy features, profiling, profile files
     acuity.lodgen   chains of levels of detail (decimation, Hausdorff error, glTF with MSFT_lod)
     acuity.foveation  per-tile shading-rate and mip-bias maps and Guenter layers for one eye
+    acuity.bake     (import acuity.bake) bake an asset library (chains, profiles, index) through the cache, locally or on Dask
 
 Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3).
 """

@@ -10,7 +10,7 @@
 #include <osg/Transform>
 #include <osg/Uniform>
 
-#include "scene_assets.hpp"  // tools::decompose
+#include "acuity/bake/scene.hpp"  // bake::decompose
 
 namespace acuity::osg {
 namespace {
@@ -228,7 +228,7 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
     const ::osg::Matrixd m = ::osg::computeLocalToWorld(path_);
     std::array<double, 16> a;
     std::copy(m.ptr(), m.ptr() + 16, a.begin());  // osg's row-vector layout is the column-major array
-    scheduler_->set_transform(n->id_, tools::decompose(a));
+    scheduler_->set_transform(n->id_, bake::decompose(a));
   }
   const auto t1 = std::chrono::steady_clock::now();
   scheduler_->run_frame(frame_);

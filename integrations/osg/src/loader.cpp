@@ -19,23 +19,23 @@ namespace acuity::osg {
   return g;
 }
 
-SceneNodes make_nodes(const tools::SceneAssets& assets, const std::vector<tools::Instance>& instances, Kit& kit) {
+SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances, Kit& kit) {
   SceneNodes out;
   out.root = new ::osg::Group;
   out.root->setName("acuity_scene");
   std::vector<std::vector<::osg::ref_ptr<::osg::Geometry>>> levels;
-  for (const tools::Asset& a : assets.assets) {
+  for (const bake::Asset& a : assets.assets) {
     out.profile_of_asset.push_back(kit.add_profile(a.blob.data(), a.blob.size));
     ::osg::ref_ptr<::osg::StateSet> material = new ::osg::StateSet;
     const float* c = a.material.base_color;
     material->addUniform(new ::osg::Uniform("acuity_color", ::osg::Vec4(c[0], c[1], c[2], c[3])));
     levels.emplace_back();
-    for (const lodgen::Mesh& m : a.chain.levels) {
-      levels.back().push_back(make_geometry(m));
+    for (const lodgen::Level& l : a.chain.levels) {
+      levels.back().push_back(make_geometry(l.mesh));
       levels.back().back()->setStateSet(material.get());
     }
   }
-  for (const tools::Instance& in : instances) {
+  for (const bake::Instance& in : instances) {
     if (in.asset < 0 || std::size_t(in.asset) >= assets.assets.size()) throw std::runtime_error("acuity::osg: bad asset index in an instance");
     const ObjectTransform& t = in.transform;
     ::osg::ref_ptr<::osg::MatrixTransform> xf = new ::osg::MatrixTransform(
@@ -53,9 +53,9 @@ SceneNodes make_nodes(const tools::SceneAssets& assets, const std::vector<tools:
   return out;
 }
 
-LoadedScene load_scene(const std::string& path, const tools::AssetOptions& options, Kit& kit) {
+LoadedScene load_scene(const std::string& path, const bake::AssetOptions& options, Kit& kit) {
   LoadedScene s;
-  s.assets = tools::load_scene_assets(path, options);
+  s.assets = bake::load_scene_assets(path, options);
   s.nodes = make_nodes(*s.assets, s.assets->instances, kit);
   return s;
 }

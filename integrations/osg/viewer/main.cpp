@@ -74,11 +74,11 @@ sim::RgbImage to_rgb(const ::osg::Image& im) {
 
 // N objects on a square grid 3 m apart in front of the origin, cycling the scene's assets, each
 // scaled to a 0.75 m bounding sphere resting at eye level's feet (for measuring scale).
-std::vector<tools::Instance> grid(const tools::SceneAssets& s, std::uint32_t n) {
-  std::vector<tools::Instance> out;
+std::vector<bake::Instance> grid(const bake::SceneAssets& s, std::uint32_t n) {
+  std::vector<bake::Instance> out;
   const auto side = std::uint32_t(std::ceil(std::sqrt(double(n))));
   for (std::uint32_t i = 0; i < n; ++i) {
-    tools::Instance in;
+    bake::Instance in;
     in.asset = int(i % s.assets.size());
     const float* sphere = s.assets[std::size_t(in.asset)].profile.meta.sphere;
     const double scale = 0.75 / std::max(1e-9, double(sphere[3]));
@@ -151,12 +151,12 @@ int run(const Options& o) {
   config.transition_seconds = o.transition;
   config.quality = o.quality;
   // Load the scene (lodgen chains, profiles); the instances may be replaced by a grid of N objects.
-  tools::AssetOptions ao;
+  bake::AssetOptions ao;
   ao.profiles = o.profiles;
   ao.profile_pixels = o.res;
   ao.quiet = o.quiet;
   if (!o.quiet) std::printf("acuity-osg: loading %s\n", o.scene.c_str());
-  std::unique_ptr<tools::SceneAssets> assets = tools::load_scene_assets(o.scene, ao);
+  std::unique_ptr<bake::SceneAssets> assets = bake::load_scene_assets(o.scene, ao);
   if (o.objects) assets->instances = grid(*assets, o.objects);
   config.max_objects = std::uint32_t(assets->instances.size());
   config.max_profiles = std::uint32_t(assets->assets.size());

@@ -10,15 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/mesh.hpp"
 
 namespace acuity::lodgen {
 
-// One object's levels (finest first) with their geometric errors [object diameters].
+// One object: its chain (levels finest first; Level::hausdorff is the geometric error written to
+// the file [object diameters]), placed at `matrix`.
 struct LodObject {
   std::string name;
-  std::vector<Mesh> levels;
-  std::vector<double> geometric_error;
+  Chain chain;
   std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   int material = -1;  // into the materials passed to write_lod_gltf
 };
@@ -43,6 +44,15 @@ std::vector<double> screen_coverage(const std::vector<double>& geometric_error, 
 // recorded them, else inverted from MSFT_screencoverage at the default reference height (other
 // writers); 0 where neither says.
 std::vector<double> lod_geometric_errors(const Node& top, std::size_t levels);
+
+// The chain a node with MSFT_lod holds (the node itself, then its lods), as write_lod_gltf wrote
+// it: each level's mesh, target_triangles = its triangle count, hausdorff = lod_geometric_errors,
+// diameter of level 0; seconds 0. The inverse of write_lod_gltf for one object.
+Chain chain_of_node(const Scene& scene, const Node& top);
+
+// The file write_lod_gltf writes, as bytes (.glb when options.binary, else .gltf text).
+std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::vector<Material>& materials,
+                            const GltfWriteOptions& options = {}, const std::vector<LodInstance>& instances = {});
 
 // Writes the objects as one scene, atomically (a temporary renamed into place): each object once at
 // its own matrix, or, when instances are given, each instance. Throws std::runtime_error naming the

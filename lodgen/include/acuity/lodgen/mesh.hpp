@@ -94,6 +94,9 @@ struct LoadOptions {
   // unwelcome). glTF is always read in the calling process (tinygltf behind lodgen's own checks,
   // bounded by `limits`).
   bool isolate_mesh_reader = true;
+  // When set, receives the canonical path of every file a uri named that was read (buffers,
+  // images), in reading order: what a content hash of the asset must cover besides the file itself.
+  std::vector<std::string>* files_read = nullptr;
 };
 
 // Reads a glTF 2.0 file (.gltf with its .bin, or .glb) or, by extension, any format load_mesh

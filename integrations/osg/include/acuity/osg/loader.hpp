@@ -3,7 +3,7 @@
 // chains (or plain meshes, chained on the fly by lodgen exactly as `acuity simulate` does) plus a
 // profiles folder (<asset>.acuity, built and saved there when missing) become one LodNode per
 // instance under a MatrixTransform, registered with a Kit. The glTF is read by lodgen's reader and
-// the chains and profiles come from tools/scene_assets (the code `simulate` uses).
+// the chains and profiles come from acuity::bake (acuity/bake/scene.hpp, the code `simulate` uses).
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,7 +12,7 @@
 #include <osg/Group>
 
 #include "acuity/osg/kit.hpp"
-#include "scene_assets.hpp"
+#include "acuity/bake/scene.hpp"
 
 namespace acuity::osg {
 
@@ -27,13 +27,13 @@ struct SceneNodes {
 
 // Nodes for `instances` of the assets (each asset's levels shared by its instances), registered
 // with the kit. Throws std::runtime_error when the kit is full.
-SceneNodes make_nodes(const tools::SceneAssets& assets, const std::vector<tools::Instance>& instances, Kit& kit);
+SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances, Kit& kit);
 
 struct LoadedScene {
-  std::unique_ptr<tools::SceneAssets> assets;
+  std::unique_ptr<bake::SceneAssets> assets;
   SceneNodes nodes;
 };
-// Reads the glTF at `path` (see tools::load_scene_assets for the options) and makes its nodes.
-LoadedScene load_scene(const std::string& path, const tools::AssetOptions& options, Kit& kit);
+// Reads the glTF at `path` (see bake::load_scene_assets for the options) and makes its nodes.
+LoadedScene load_scene(const std::string& path, const bake::AssetOptions& options, Kit& kit);
 
 }  // namespace acuity::osg

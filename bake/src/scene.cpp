@@ -1,4 +1,4 @@
-#include "scene_assets.hpp"
+#include "acuity/bake/scene.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,13 +12,26 @@
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/spectra/profile_writer.hpp"
-#include "level_input.hpp"
 
-namespace acuity::tools {
+namespace acuity::bake {
 namespace fs = std::filesystem;
 namespace {
 
 using Matrix = std::array<double, 16>;
+
+// Reads the cached profile into a when it describes this chain (same level count and triangles).
+bool load_matching_profile(const std::string& path, const lodgen::Chain& chain, Asset* a) {
+  std::string error;
+  if (!fs::exists(path) || !read_file(path, &a->blob, &error)) return false;
+  const Profile& p = a->profile;
+  if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size())
+    return false;
+  for (std::size_t k = 0; k < chain.levels.size(); ++k)
+    if (p.levels[k].triangles != chain.levels[k].mesh.triangle_count()) return false;
+  return true;
+}
+
+}  // namespace
 
 std::string file_safe(const std::string& name) {
   std::string s;
@@ -26,19 +39,22 @@ std::string file_safe(const std::string& name) {
   return s.empty() ? "object" : s;
 }
 
-// Reads the cached profile into a when it describes this chain (same level count and triangles).
-bool load_matching_profile(const std::string& path, const LodChain& chain, Asset* a) {
-  std::string error;
-  if (!fs::exists(path) || !read_file(path, &a->blob, &error)) return false;
-  const Profile& p = a->profile;
-  if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size())
-    return false;
-  for (std::size_t k = 0; k < chain.levels.size(); ++k)
-    if (p.levels[k].triangles != chain.levels[k].triangle_count()) return false;
-  return true;
+std::vector<spectra::LevelInput> spectra_levels(const lodgen::Chain& chain) {
+  std::vector<spectra::LevelInput> out;
+  for (const lodgen::Level& level : chain.levels) {
+    const lodgen::Mesh& m = level.mesh;
+    spectra::LevelInput l;
+    l.mesh.positions = m.positions.data();
+    l.mesh.vertex_count = m.vertex_count();
+    l.mesh.indices = m.indices.data();
+    l.mesh.index_count = m.indices.size();
+    l.mesh.normals = m.normals.empty() ? nullptr : m.normals.data();
+    l.mesh.texcoords = m.texcoords.empty() ? nullptr : m.texcoords.data();
+    l.geometric_error = float(level.hausdorff);
+    out.push_back(l);
+  }
+  return out;
 }
-
-}  // namespace
 
 ObjectTransform decompose(const Matrix& m) {
   ObjectTransform t;
@@ -59,15 +75,6 @@ ObjectTransform decompose(const Matrix& m) {
   t.rotation[3] = float(q.w);
   t.scale = float(largest);
   return t;
-}
-
-LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top) {
-  LodChain c;
-  c.levels.push_back(scene.meshes[std::size_t(top.mesh)]);
-  for (int id : top.lods)
-    if (scene.nodes[std::size_t(id)].mesh >= 0) c.levels.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
-  for (double e : lodgen::lod_geometric_errors(top, c.levels.size())) c.errors.push_back(float(e));
-  return c;
 }
 
 spectra::Material spectra_material(const lodgen::Scene& scene, int index) {
@@ -128,22 +135,17 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
     const auto t0 = std::chrono::steady_clock::now();
     std::string what;
     if (!top->lods.empty()) {
-      a.chain = chain_of_node(scene, *top);
+      a.chain = lodgen::chain_of_node(scene, *top);
     } else {  // a plain mesh: lodgen builds its chain
       lodgen::ChainOptions co;
       co.levels = o.lod_levels;
-      const lodgen::Chain chain = lodgen::build_chain(scene.meshes[std::size_t(top->mesh)], path + ": mesh " + a.name, co);
-      for (const lodgen::Level& l : chain.levels) {
-        a.chain.levels.push_back(l.mesh);
-        a.chain.errors.push_back(float(l.hausdorff));
-      }
+      a.chain = lodgen::build_chain(scene.meshes[std::size_t(top->mesh)], path + ": mesh " + a.name, co);
       what = "lodgen + ";
     }
-    a.material = spectra_material(scene, a.chain.levels[0].material);
+    a.material = spectra_material(scene, a.chain.levels[0].mesh.material);
     const std::string file = o.profiles.empty() ? std::string() : (fs::path(o.profiles) / (a.name + ".acuity")).string();
     if (file.empty() || !load_matching_profile(file, a.chain, &a)) {
-      std::vector<spectra::LevelInput> levels;
-      for (std::size_t k = 0; k < a.chain.levels.size(); ++k) levels.push_back(level_input(a.chain.levels[k], a.chain.errors[k]));
+      const std::vector<spectra::LevelInput> levels = spectra_levels(a.chain);
       spectra::ProfileSettings ps;
       ps.render.pixels = o.profile_pixels;
       spectra::ProfileReport report;
@@ -158,7 +160,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
     }
     if (!o.quiet)
       std::printf("  %-12s %zu levels, %zu -> %zu triangles: %s, %.1f s\n", a.name.c_str(), a.chain.levels.size(),
-                  a.chain.levels.front().triangle_count(), a.chain.levels.back().triangle_count(), what.c_str(),
+                  a.chain.levels.front().mesh.triangle_count(), a.chain.levels.back().mesh.triangle_count(), what.c_str(),
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     out->assets.push_back(std::move(a));
   }
@@ -166,4 +168,4 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
   return out;
 }
 
-}  // namespace acuity::tools
+}  // namespace acuity::bake

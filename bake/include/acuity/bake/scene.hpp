@@ -1,6 +1,7 @@
 #pragma once
-// A glTF scene as the scheduler sees it: distinct LOD chains (assets) with their profiles, and the
-// instances placing them in the world. Shared by `simulate`, `explain`, `demo` and `profile`.
+// acuity/bake/scene.hpp — a glTF scene as the scheduler sees it: distinct LOD chains (assets) with
+// their profiles, and the instances placing them in the world. Shared by `simulate`, `explain`,
+// `demo`, the OSG loader and `profile`.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -8,26 +9,23 @@
 #include <vector>
 
 #include "acuity/file.hpp"
+#include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 
-namespace acuity::tools {
+namespace acuity::bake {
 
-// One object's levels, finest first, with their geometric errors [object diameters].
-struct LodChain {
-  std::vector<lodgen::Mesh> levels;
-  std::vector<float> errors;
-};
-
-// The chain a node with MSFT_lod holds (itself, then its lods), with lodgen::lod_geometric_errors.
-LodChain chain_of_node(const lodgen::Scene& scene, const lodgen::Node& top);
-// The renderer's material for scene material `index` (-1: default); points into the scene.
+// The renderer's material for scene material `index` (-1 or out of range: default); points into the scene.
 spectra::Material spectra_material(const lodgen::Scene& scene, int index);
+
+// A chain's levels as spectra inputs (the arrays are borrowed: the chain must outlive the result);
+// each level's geometric error is its Level::hausdorff [object diameters].
+std::vector<spectra::LevelInput> spectra_levels(const lodgen::Chain& chain);
 
 struct Asset {
   std::string name;            // file-safe, unique in the scene
-  LodChain chain;
+  lodgen::Chain chain;
   spectra::Material material;  // points into SceneAssets::scene
   Blob blob;                   // the profile's bytes
   Profile profile{};
@@ -61,4 +59,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
 // A world transform (column-major 4x4) as position, rotation and uniform scale (the largest axis).
 ObjectTransform decompose(const std::array<double, 16>& matrix);
 
-}  // namespace acuity::tools
+// "armadillo.1" -> "armadillo_1": letters, digits, '-' and '_' kept, anything else '_'; "" -> "object".
+std::string file_safe(const std::string& name);
+
+}  // namespace acuity::bake

@@ -1,0 +1,50 @@
+#pragma once
+// acuity/bake/chains.hpp — a scene file to measured LOD chains and back: the one path `acuity
+// lodgen`, `acuity profile`, `acuity bake`, the demo and Python's acuity.lodgen.build share.
+#include <string>
+#include <vector>
+
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/gltf.hpp"
+#include "acuity/lodgen/mesh.hpp"
+#include "acuity/spectra/render.hpp"
+
+namespace acuity::bake {
+
+struct ChainRequest {
+  std::string input;           // OFF, OBJ, PLY, STL, glTF or GLB
+  std::string asset_root;      // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
+  lodgen::ChainOptions chain;  // decimation (ignored when refine > 0)
+  int refine = 0;              // > 0: the input is a cage refined this many times (OpenSubdiv)
+};
+
+struct SceneChains {
+  lodgen::Scene scene;                     // as loaded (a cage: one node, identity matrix)
+  std::vector<lodgen::Chain> chains;       // one per scene mesh; instances share it
+  std::vector<lodgen::LodObject> objects;  // one per node drawing a mesh, at its world matrix
+};
+
+// Loads `request.input` and builds every mesh's chain; one object per node that draws a mesh
+// (lodgen::world_matrices order, named by the node, else its mesh). Throws lodgen::InputError naming
+// the file for bad input, and when the scene draws no mesh.
+SceneChains build_scene_chains(const ChainRequest& request, const lodgen::ChainProgress& progress = {});
+// The same from a scene already loaded from `where` (decimation only).
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
+                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress = {});
+
+// A chain file (glTF from write_lod_gltf or any MSFT_lod writer): its first node with MSFT_lod
+// levels, read back as a chain. `material` points into `scene` (keep them together).
+struct ChainFile {
+  lodgen::Scene scene;
+  lodgen::Chain chain;
+  spectra::Material material;
+};
+// Throws lodgen::InputError naming the file when it has no node with MSFT_lod levels.
+ChainFile read_chain_file(const std::string& path, const std::string& asset_root = {});
+
+// True when `path` ends in .glb or .gltf (any case).
+bool is_gltf_path(const std::string& path);
+// True when `path` ends in .gltf (any case): lodgen writes text glTF there, binary otherwise.
+bool is_gltf_text_path(const std::string& path);
+
+}  // namespace acuity::bake

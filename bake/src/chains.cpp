@@ -1,0 +1,94 @@
+#include "acuity/bake/chains.hpp"
+
+#include <cctype>
+#include <filesystem>
+
+#include "acuity/bake/scene.hpp"
+#include "acuity/lodgen/refine.hpp"
+
+namespace acuity::bake {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+bool is_gltf_path(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  return ext == ".glb" || ext == ".gltf";
+}
+
+bool is_gltf_text_path(const std::string& path) { return lower_extension(path) == ".gltf"; }
+
+namespace {
+
+// One object per node that draws a mesh, at its world matrix, with its mesh's chain.
+void place_objects(SceneChains& out, const std::string& where) {
+  std::vector<lodgen::PlacedNode> placed;
+  try {
+    placed = lodgen::world_matrices(out.scene);
+  } catch (const lodgen::InputError& e) { throw lodgen::InputError(where + ": " + e.what()); }
+  for (const lodgen::PlacedNode& p : placed) {
+    const lodgen::Node& node = out.scene.nodes[std::size_t(p.node)];
+    if (node.mesh < 0) continue;
+    lodgen::LodObject obj;
+    obj.name = node.name.empty() ? out.scene.mesh_names[std::size_t(node.mesh)] : node.name;
+    obj.matrix = p.world;
+    obj.chain = out.chains[std::size_t(node.mesh)];
+    obj.material = obj.chain.levels[0].mesh.material;
+    out.objects.push_back(std::move(obj));
+  }
+  if (out.objects.empty()) throw lodgen::InputError(where + ": the scene draws no mesh");
+}
+
+}  // namespace
+
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
+                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress) {
+  SceneChains out;
+  out.scene = std::move(scene);
+  for (std::size_t m = 0; m < out.scene.meshes.size(); ++m)
+    out.chains.push_back(lodgen::build_chain(
+        out.scene.meshes[m], where + ": mesh '" + out.scene.mesh_names[m] + "'", options, progress));
+  place_objects(out, where);
+  return out;
+}
+
+SceneChains build_scene_chains(const ChainRequest& r, const lodgen::ChainProgress& progress) {
+  if (r.refine <= 0) {
+    lodgen::LoadOptions lo;
+    lo.asset_root = r.asset_root;
+    return chains_of_scene(lodgen::load_scene(r.input, lo), r.input, r.chain, progress);
+  }
+  SceneChains out;
+  const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(r.input);
+  out.chains.push_back(lodgen::measure_chain(lodgen::refine(cage, r.refine), progress));
+  out.scene.mesh_names.push_back(std::filesystem::path(r.input).stem().string());
+  lodgen::Node node;  // identity matrix by default
+  node.name = out.scene.mesh_names[0];
+  node.mesh = 0;
+  out.scene.nodes.push_back(node);
+  out.scene.roots.push_back(0);
+  place_objects(out, r.input);
+  return out;
+}
+
+ChainFile read_chain_file(const std::string& path, const std::string& asset_root) {
+  ChainFile f;
+  lodgen::LoadOptions lo;
+  lo.asset_root = asset_root;
+  f.scene = lodgen::load_scene(path, lo);
+  for (const lodgen::Node& n : f.scene.nodes)
+    if (n.mesh >= 0 && !n.lods.empty()) {
+      f.chain = lodgen::chain_of_node(f.scene, n);
+      f.material = spectra_material(f.scene, f.chain.levels[0].mesh.material);
+      return f;
+    }
+  throw lodgen::InputError(path + ": no node with MSFT_lod levels");
+}
+
+}  // namespace acuity::bake

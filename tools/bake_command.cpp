@@ -1,0 +1,153 @@
+// `acuity bake INPUT -o OUT`: every asset of a folder or manifest to its LOD chain (.glb) and
+// profile (.acuity), through a content-addressed cache, on all cores; OUT/index.json lists them.
+// `--dask ADDRESS` hands the same job to `python3 -m acuity.bake` (acuity/bake.py), which runs each
+// asset as a task on a dask.distributed cluster.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acuity/bake/library.hpp"
+#include "commands.hpp"
+
+namespace acuity::tools {
+namespace {
+
+struct BakeCommandOptions {
+  std::string input, output, cache, dask;
+  bake::BakeOptions bake;
+  unsigned jobs = 0;
+  bool quiet = false;
+};
+
+// "[#####     ] 3/10  elephant  ETA 12 s" on stderr, rewritten in place.
+void progress_line(std::size_t done, std::size_t total, const std::string& current, double seconds) {
+  const int width = 24, filled = total ? int(width * done / total) : width;
+  const double eta = done ? seconds / double(done) * double(total - done) : 0;
+  std::fprintf(stderr, "\r[%.*s%*s] %zu/%zu  %-24.24s ETA %4.0f s", filled, "########################",
+               width - filled, "", done, total, current.c_str(), eta);
+  if (done == total) std::fputc('\n', stderr);
+}
+
+void print_summary(const bake::BakePlan& plan, const std::vector<bake::AssetResult>& results,
+                   double seconds) {
+  std::printf("%-28s %-6s %6s %20s %10s %8s %s\n", "asset", "status", "levels", "triangles", "profile",
+              "seconds", "");
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const bake::AssetResult& r = results[i];
+    hits += r.cached;
+    if (!r.ok) {
+      std::printf("%-28.28s %-6s %s\n", plan.jobs[i].name.c_str(), "error", r.error.c_str());
+      continue;
+    }
+    const std::string tris =
+        std::to_string(r.triangles.front()) + " -> " + std::to_string(r.triangles.back());
+    std::printf("%-28.28s %-6s %6zu %20s %10llu %8.2f %s\n", plan.jobs[i].name.c_str(), "ok",
+                r.triangles.size(), tris.c_str(), static_cast<unsigned long long>(r.profile_bytes), r.seconds,
+                r.cached ? "cached" : "");
+  }
+  std::printf("%zu assets in %.2f s (%zu from the cache, %.1f assets/min); index %s/index.json\n",
+              results.size(), seconds, hits, seconds > 0 ? 60.0 * double(results.size()) / seconds : 0.0,
+              plan.out.c_str());
+}
+
+// Replaces this process with `python3 -m acuity.bake ... --dask ADDRESS` (no shell).
+[[noreturn]] void run_dask(const BakeCommandOptions& o) {
+  const std::string path = std::string(ACUITY_PYTHON_DIR) +
+                           (std::getenv("PYTHONPATH") ? std::string(":") + std::getenv("PYTHONPATH") : "");
+  ::setenv("PYTHONPATH", path.c_str(), 1);
+  std::vector<std::string> args = {
+      "python3", "-m",     "acuity.bake", o.input,     "-o",
+      o.output,  "--dask", o.dask,        "--options", bake::options_json(o.bake)};
+  if (!o.cache.empty()) args.insert(args.end(), {"--cache", o.cache});
+  if (o.quiet) args.push_back("--quiet");
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  ::execv(ACUITY_PYTHON3, argv.data());
+  throw std::runtime_error(std::string("--dask: cannot run ") + ACUITY_PYTHON3 + " -m acuity.bake");
+}
+
+void run(const BakeCommandOptions& o) {
+  if (!o.dask.empty()) run_dask(o);
+  const auto start = std::chrono::steady_clock::now();
+  const bake::BakePlan plan = bake::plan_bake(o.input, o.output, o.cache, o.bake);
+  if (!o.quiet)
+    std::fprintf(stderr, "baking %zu assets into %s (cache %s)\n", plan.jobs.size(), plan.out.c_str(),
+                 plan.cache.c_str());
+  const std::vector<bake::AssetResult> results =
+      bake::bake_all(plan, o.jobs, o.quiet ? bake::BakeProgress{} : progress_line);
+  const std::size_t failed = bake::finish_bake(plan, results);
+  print_summary(plan, results,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  if (failed)
+    throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(results.size()) +
+                             " assets failed (see " + plan.out + "/index.json)");
+}
+
+}  // namespace
+
+void add_bake_command(CLI::App& app) {
+  auto o = std::make_shared<BakeCommandOptions>();
+  bake::BakeOptions& b = o->bake;
+  CLI::App* cmd = app.add_subcommand(
+      "bake", "Bake a folder or manifest of assets: LOD chains, profiles and an index, cached");
+  cmd->add_option("input", o->input,
+                  "A folder (walked for glTF, GLB, OBJ, PLY, STL, OFF), a manifest (.json) or one asset")
+      ->required();
+  cmd->add_option("-o,--output", o->output, "Output folder (index.json, <asset>.glb, <asset>.acuity)")
+      ->required();
+  cmd->add_option("--cache", o->cache, "Cache folder, shareable between machines (default OUTPUT/.cache)");
+  cmd->add_option("-j,--jobs", o->jobs, "Threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--dask", o->dask,
+                  "Run each asset as a task on this dask.distributed scheduler (tcp://host:8786) through "
+                  "python3 -m acuity.bake");
+  cmd->add_option("--levels", b.levels, "Levels (0: halve down to ~1%; at most 32)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 32));
+  cmd->add_option("--ratio", b.ratio, "Triangles of each level over the previous")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.01, 0.99));
+  cmd->add_option("--max-error", b.max_error, "Stop at this Hausdorff error [diameters]")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--backend", b.backend, "openmesh | cgal | cgal-lt")->capture_default_str();
+  cmd->add_flag("--lock-border", b.lock_border, "Keep border vertices in place");
+  cmd->add_option("--reference-height", b.reference_height, "Pixels, for MSFT_screencoverage")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--res", b.pixels, "Profile snapshot pixels (power of two)")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096));
+  cmd->add_option("--orientations", b.orientations, "Orientations over 180 deg")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 32));
+  cmd->add_option("--bands", b.bands, "Octave bands (0: all up to res / 4)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 32));
+  cmd->add_option("--views", b.views, "Views (0: adaptive)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4096));
+  cmd->add_option("--tolerance", b.tolerance, "Adaptive views: switching-distance error allowed")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--asset-root", b.asset_root,
+                  "Folder glTF uris may read from (default: each glTF's folder)");
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+  cmd->callback([o] {
+    o->bake = bake::parse_options(bake::options_json(o->bake), bake::BakeOptions{},
+                                  "options");  // the library's checks
+    run(*o);
+  });
+}
+
+}  // namespace acuity::tools
