@@ -229,8 +229,8 @@ class Scheduler {
   bool perceptual() const { return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy; }
   void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
-  Choice evaluate(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, float* scores,
-                  ObjectExplain* explain) const;
+  void probe(ObjectId id, Sight* s) const;  // tabulated path: grid cells, table rows prefetched
+  Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
   Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
@@ -239,7 +239,8 @@ class Scheduler {
     return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
            (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
   }
-  void select(ObjectId id, const Block* blocks, std::uint32_t j);
+  static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
+  void select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j);
   void apply_budget();
 
   SchedulerConfig config_;
