@@ -29,6 +29,13 @@ namespace {
 #define ACUITY_NO_ALIAS
 #endif
 
+// A hint to load a cache line that is read a pass later.
+#if defined(__GNUC__) || defined(__clang__)
+#define ACUITY_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define ACUITY_PREFETCH(p) ((void)(p))
+#endif
+
 constexpr float kDeg = 180.0f / std::numbers::pi_v<float>;
 constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -727,6 +734,7 @@ struct Scheduler::Sight {
   // Perceptual and Reddy only:
   Vec3 u;                  // unit direction eye -> centre, world
   Vec3 image, slip;        // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  Vec3 to_eye;             // unit direction centre -> eye, object space
   float e;                 // eccentricity [deg]
   float nyquist_cpd;       // the display's limit in the object's direction
   const std::uint16_t* cand;  // the lookup cell's candidate views
@@ -777,13 +785,28 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
     for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
     // Every object's sight first, with its table rows prefetched, then the decisions: the rows of
     // 64 objects load in parallel instead of one cache miss after another.
-    for (std::uint32_t j = 0; j < n; ++j) {
-      const ObjectId id = start + j;
-      if (profile_of_[id] < 0) continue;
-      for (std::uint32_t i = 0; i < eye_count_; ++i) {
-        looks[i][j] = sight(id, eyes_[i], blocks[i], j, &sights[i][j]);
-        if (curves_ && looks[i][j] == Look::Ok) probe(id, &sights[i][j]);
-      }
+    // Passes over the block, each prefetching what the next reads: the lookup cell, the candidate
+    // views, the table rows. The misses of a block's objects overlap instead of queueing.
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (profile_of_[start + j] >= 0)
+        for (std::uint32_t i = 0; i < eye_count_; ++i) looks[i][j] = sight(start + j, eyes_[i], blocks[i], j, &sights[i][j]);
+    if (perceptual()) {
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (profile_of_[start + j] >= 0)
+          for (std::uint32_t i = 0; i < eye_count_; ++i)
+            if (looks[i][j] == Look::Ok) prefetch_views(start + j, sights[i][j]);
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (profile_of_[start + j] >= 0)
+          for (std::uint32_t i = 0; i < eye_count_; ++i)
+            if (looks[i][j] == Look::Ok) {
+              aim(start + j, &sights[i][j]);
+              if (curves_) probe(start + j, &sights[i][j]);
+            }
+      if (curves_)
+        for (std::uint32_t j = 0; j < n; ++j)
+          if (profile_of_[start + j] >= 0)
+            for (std::uint32_t i = 0; i < eye_count_; ++i)
+              if (looks[i][j] == Look::Ok) prefetch_moving(start + j, sights[i][j]);
     }
     for (std::uint32_t j = 0; j < n; ++j)
       if (profile_of_[start + j] >= 0) select(start + j, looks, sights, j);
@@ -884,17 +907,31 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
     const float vi = length(s->image);
     if (vi > 0) s->slip = (daly_retinal_velocity(vi, config_.params) / vi) * s->image;
   }
-  // The profile's view nearest to the direction from the object to the eye.
-  const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-  const float dir[3] = {to_eye.x, to_eye.y, to_eye.z};
+  // The lookup cell of the direction from the object to the eye; aim() picks the nearest view.
+  s->to_eye = Vec3{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+  const float dir[3] = {s->to_eye.x, s->to_eye.y, s->to_eye.z};
   s->cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
+  ACUITY_PREFETCH(s->cand);
+  return Look::Ok;
+}
+
+// The candidate views' directions prefetched (between sight() and aim(), a pass apart).
+void Scheduler::prefetch_views(ObjectId id, const Sight& s) const {
+  const Profile& p = profiles_[profile_of_[id]].profile;
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) ACUITY_PREFETCH(&p.views[s.cand[k]]);
+}
+
+// The profile's view nearest to the direction from the object to the eye, and the retinal slip in
+// that snapshot's image axes, so it meets the profile's orientations in one frame.
+void Scheduler::aim(ObjectId id, Sight* s) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
   s->view = s->cand[0];
   float best = -2.0f;
   for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
-    const float dd = dot(to_eye, load(p.views[s->cand[k]].direction));
+    const float dd = dot(s->to_eye, load(p.views[s->cand[k]].direction));
     if (dd > best) { best = dd; s->view = s->cand[k]; }
   }
-  // Slip in the snapshot's image axes, so it meets the profile's orientations in one frame.
   s->vx = s->vy = 0;
   const Vec3 slip = s->slip;
   if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
@@ -903,7 +940,6 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
     s->vy = dot(slip, rotate(q, load(p.views[s->view].up)));
   }
   s->moving = s->vx != 0.0f || s->vy != 0.0f;
-  return Look::Ok;
 }
 
 // One eye's view of one object (sight() and, tabulated, probe() done) through the configured rule.
@@ -945,12 +981,6 @@ Scheduler::Choice Scheduler::choose_by_error(const Sight& s, const Profile& p) c
   return {level, level, 0};
 }
 
-#if defined(__GNUC__) || defined(__clang__)
-#define ACUITY_PREFETCH(p) __builtin_prefetch(p)
-#else
-#define ACUITY_PREFETCH(p) ((void)(p))
-#endif
-
 // The tabulated path's grid position of one object, and its table rows prefetched (the decision
 // reads them a block later, so the misses of a block's objects overlap).
 void Scheduler::probe(ObjectId id, Sight* s) const {
@@ -977,6 +1007,28 @@ void Scheduler::probe(ObjectId id, Sight* s) const {
   for (std::uint32_t t = 0; t < T; ++t)
     s->sc[t] = speed_cell(std::max(std::abs(s->vx * pc.cos_t[t] + s->vy * pc.sin_t[t]), floor), floor, pre_->speed_offset,
                           pre_->speed_node, pre_->speed_inv_g, kMovingS);
+}
+
+// A moving object's rows of the moving tables prefetched, where the slow bound (read a pass after
+// probe() prefetched it) does not already pass the coarsest level: most objects never read them.
+void Scheduler::prefetch_moving(ObjectId id, const Sight& s) const {
+  if (!s.moving || s.bands_visible == 0) return;
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count, L = K - 1;
+  if (L == 0) return;
+  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
+  for (std::uint32_t c = 0; c < blended; ++c) {
+    const std::uint32_t w = blended == 1 ? s.view : s.cand[c];
+    const std::int16_t* slow = &pc.slow[0][((std::size_t(w) * B + (s.bands_visible - 1)) * kStillE + s.ec.j) * L + (L - 1)];
+    if (s.ln_diam <= decode_size(slow[0]) + s.ec.w * (decode_size(slow[L]) - decode_size(slow[0]))) continue;
+    const std::int16_t* base = &pc.moving[0][std::size_t(w) * T * kMovingS * kMovingE * L];
+    for (std::uint32_t t = 0; t < T; ++t) {
+      const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + s.sc[t].j) * kMovingE + s.em.j) * L;
+      ACUITY_PREFETCH(r0);
+      ACUITY_PREFETCH(r0 + std::size_t(kMovingE) * L);
+    }
+  }
 }
 
 // The perceptual rule through the tables: per level, is the object's angular size at most the largest
@@ -1284,6 +1336,7 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
     look_block(eyes_[i], id, 1, &block);
     Sight s;
     const Look look = sight(id, eyes_[i], block, 0, &s);
+    if (look == Look::Ok && perceptual()) aim(id, &s);
     const Choice c = evaluate(id, look, s, nullptr, &tmp);
     if (c.fine < best) { best = c.fine; *out = tmp; }
   }

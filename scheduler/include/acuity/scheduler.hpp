@@ -229,7 +229,10 @@ class Scheduler {
   bool perceptual() const { return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy; }
   void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
-  void probe(ObjectId id, Sight* s) const;  // tabulated path: grid cells, table rows prefetched
+  void prefetch_views(ObjectId id, const Sight& s) const;
+  void aim(ObjectId id, Sight* s) const;     // perceptual rules: the nearest view, the slip in its axes
+  void probe(ObjectId id, Sight* s) const;
+  void prefetch_moving(ObjectId id, const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
   Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
