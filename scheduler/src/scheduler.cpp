@@ -335,11 +335,27 @@ struct Scheduler::Curves {
   // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
   // sample step below largest_size(). `bracket` receives the sample index of that upper end (-1: the
   // curve's ends decided, nothing to refine).
-  static float sampled_size(const float* curve, float y, float ln_band, int* bracket) {
+  // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
+  // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
+  static float sampled_size(const float* curve, float y, float ln_band, int* bracket, int hint = kCurveSamples / 2) {
     *bracket = -1;
     if (!(y > curve[0])) return ln_band - kCurveU0;
     if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
     int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
+    hint = std::clamp(hint, 1, kCurveSamples - 1);
+    if (curve[hint] >= y) {  // gallop down from the hint
+      hi = hint;
+      for (int step = 1; hi - step > 0; step *= 2) {
+        if (curve[hi - step] < y) { lo = hi - step; break; }
+        hi -= step;
+      }
+    } else {  // gallop up
+      lo = hint;
+      for (int step = 1; lo + step < kCurveSamples - 1; step *= 2) {
+        if (curve[lo + step] >= y) { hi = lo + step; break; }
+        lo += step;
+      }
+    }
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       (curve[mid] >= y ? hi : lo) = mid;
@@ -357,20 +373,22 @@ struct Scheduler::Curves {
     return ln_band - uhi;
   }
   static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving) {
+                            float ln_band, float e, float v, bool moving, int* hint) {
     int bracket;
-    const float sampled = sampled_size(curve, y, ln_band, &bracket);
+    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint);
+    if (bracket >= 0) *hint = bracket;
     return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
   }
   // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
   // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, const float* y,
-                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving) {
+                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving, int* hint) {
     float sampled[kMaxBands];
     int bracket[kMaxBands];
     float least = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b]);
+      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
+      if (bracket[b] >= 0) hint[b] = bracket[b];
       least = std::min(least, sampled[b]);
     }
     float m = -kNever;
@@ -509,17 +527,21 @@ void Scheduler::build_tables(ProfileCache& c) const {
         for (int moving_floor = 0; moving_floor < 2; ++moving_floor) {
           const bool slow = moving_floor != 0;
           float node[kStillE][kMaxBands], mid[kStillE][kMaxBands];
+          int hint[kMaxBands], mid_hint[kMaxBands];  // each band's bracket at the previous node
+          std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
+          std::fill(mid_hint, mid_hint + kMaxBands, kCurveSamples / 2);
           for (std::uint32_t j = 0; j < kStillE; ++j) {
             const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
             const float* centre = &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
             float prefix = -kNever, mid_prefix = -kNever;
             for (std::uint32_t b = 0; b < B; ++b) {
               const float y = c.ln_lost_any[kv * B + b] - ln_q[set];
-              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity, slow));
+              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity,
+                                                             slow, &hint[b]));
               node[j][b] = prefix;
               if (j + 1 < kStillE)
                 mid_prefix = std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
-                                                                       pre.floor_velocity, slow));
+                                                                       pre.floor_velocity, slow, &mid_hint[b]));
               mid[j][b] = mid_prefix;
             }
           }
@@ -542,14 +564,17 @@ void Scheduler::build_tables(ProfileCache& c) const {
         for (std::uint32_t t = 0; t < T; ++t) {
           float y[kMaxBands];
           for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q[set];
-          auto largest = [&](const float* curve, float e, float v) {
-            return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true);
+          int hint[kMaxBands], centre_hint[kMaxBands];  // each band's bracket at the previous node
+          std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
+          std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
+          auto largest = [&](const float* curve, float e, float v, int* h) {
+            return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true, h);
           };
           float node[kMovingS * kMovingE];
           for (std::uint32_t i = 0; i < kMovingS; ++i)
             for (std::uint32_t j = 0; j < kMovingE; ++j)
               node[i * kMovingE + j] = largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
-                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity));
+                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity), hint);
           // Concave along each axis keeps the cell's edges below; where the midpoint shows the
           // bilinear surface above the truth, the cell's corners come down by the excess.
           float lower[kMovingS * kMovingE] = {};
@@ -560,7 +585,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
               if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
               const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
               const float truth = largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
-                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset));
+                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), centre_hint);
               const float excess = mean - truth;
               if (excess > 0)
                 for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
