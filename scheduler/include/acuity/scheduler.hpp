@@ -164,7 +164,9 @@ struct FrameStats {
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
-// from the tables. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
+// from the tables. update() runs each block of 64 objects as passes (geometry, view lookup, table
+// positions, decisions), each prefetching the per-profile data the next reads, so the cache misses of
+// a block's objects overlap. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
 // band-pass CSF rises with speed at low frequencies) and the Reddy step model evaluate exactly, as
 // does an object whose bias is not 1 (tables are built for q).
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
