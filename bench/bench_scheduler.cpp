@@ -179,6 +179,29 @@ void BM_screen_size_loop(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * state.range(0));
 }
 
+// add_profile for one of the library's 14-view profiles: the tabulated path builds its tables, the
+// exact path only its logarithms (the ratio is the tables' set-up cost). A fresh scheduler, made
+// outside the timing, whenever the current one is full.
+void BM_add_profile(benchmark::State& state, Evaluation evaluation) {
+  SchedulerConfig c;
+  c.max_objects = 1;
+  c.max_profiles = 64;
+  c.evaluation = evaluation;
+  auto scheduler = std::make_unique<Scheduler>(c);
+  const Profile& p = library().profiles[0];
+  for (auto _ : state) {
+    int index = scheduler->add_profile(p);
+    if (index < 0) {
+      state.PauseTiming();
+      scheduler = std::make_unique<Scheduler>(c);
+      state.ResumeTiming();
+      index = scheduler->add_profile(p);
+    }
+    benchmark::DoNotOptimize(index);
+  }
+  state.counters["table_bytes"] = static_cast<double>(scheduler->table_bytes(0));
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int n : {1000, 10000, 100000, 1000000}) b->Arg(n);
   b->Unit(benchmark::kMillisecond);
@@ -197,4 +220,6 @@ BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_all_moving, 1.0f)->Apply(siz
 BENCHMARK_CAPTURE(BM_scheduler, reddy_static, SelectionRule::Reddy, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, distance_rule, SelectionRule::Distance, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, screen_size_rule, SelectionRule::ScreenSize, 0.0f)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_add_profile, tabulated, Evaluation::Tabulated)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_add_profile, exact, Evaluation::Exact)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -27,12 +27,17 @@ def main():
     parser.add_argument("bench", help="path to bench_scheduler")
     parser.add_argument("--min-time", default="0.2")
     args = parser.parse_args()
-    pattern = "^(" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?$"
+    pattern = "^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?|BM_add_profile/.*)$"
     out = subprocess.run([args.bench, "--benchmark_filter=" + pattern, "--benchmark_min_time=" + args.min_time,
                           "--benchmark_format=json"], check=True, capture_output=True, text=True).stdout
     ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
+    setup = {}  # "tabulated" / "exact" -> (CPU ms per add_profile, table bytes)
     for b in json.loads(out)["benchmarks"]:
         name = b["run_name"].removesuffix("/real_time")
+        if name.startswith("BM_add_profile/"):
+            scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
+            setup[name.split("/")[1]] = (b["cpu_time"] * scale, b.get("table_bytes", 0))
+            continue
         case, n = name.rsplit("/", 1)
         scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
         t = b["real_time"] if "2threads" in case else b["cpu_time"]
@@ -50,6 +55,10 @@ def main():
             else:
                 cells.append(f"{t:.3f} ms ({t / base:.0f}×)")
         print(f"| {label} | " + " | ".join(cells) + " |")
+    if "tabulated" in setup and "exact" in setup:
+        (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
+        print(f"\nadd_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
+              f"exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
     return 0
 
 

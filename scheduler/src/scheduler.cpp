@@ -29,6 +29,13 @@ namespace {
 #define ACUITY_NO_ALIAS
 #endif
 
+// A hint to load a cache line that is read a pass later.
+#if defined(__GNUC__) || defined(__clang__)
+#define ACUITY_PREFETCH(p) __builtin_prefetch(p)
+#else
+#define ACUITY_PREFETCH(p) ((void)(p))
+#endif
+
 constexpr float kDeg = 180.0f / std::numbers::pi_v<float>;
 constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -328,11 +335,27 @@ struct Scheduler::Curves {
   // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
   // sample step below largest_size(). `bracket` receives the sample index of that upper end (-1: the
   // curve's ends decided, nothing to refine).
-  static float sampled_size(const float* curve, float y, float ln_band, int* bracket) {
+  // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
+  // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
+  static float sampled_size(const float* curve, float y, float ln_band, int* bracket, int hint = kCurveSamples / 2) {
     *bracket = -1;
     if (!(y > curve[0])) return ln_band - kCurveU0;
     if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
     int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
+    hint = std::clamp(hint, 1, kCurveSamples - 1);
+    if (curve[hint] >= y) {  // gallop down from the hint
+      hi = hint;
+      for (int step = 1; hi - step > 0; step *= 2) {
+        if (curve[hi - step] < y) { lo = hi - step; break; }
+        hi -= step;
+      }
+    } else {  // gallop up
+      lo = hint;
+      for (int step = 1; lo + step < kCurveSamples - 1; step *= 2) {
+        if (curve[lo + step] >= y) { hi = lo + step; break; }
+        lo += step;
+      }
+    }
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
       (curve[mid] >= y ? hi : lo) = mid;
@@ -350,20 +373,22 @@ struct Scheduler::Curves {
     return ln_band - uhi;
   }
   static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving) {
+                            float ln_band, float e, float v, bool moving, int* hint) {
     int bracket;
-    const float sampled = sampled_size(curve, y, ln_band, &bracket);
+    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint);
+    if (bracket >= 0) *hint = bracket;
     return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
   }
   // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
   // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, const float* y,
-                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving) {
+                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving, int* hint) {
     float sampled[kMaxBands];
     int bracket[kMaxBands];
     float least = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b]);
+      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
+      if (bracket[b] >= 0) hint[b] = bracket[b];
       least = std::min(least, sampled[b]);
     }
     float m = -kNever;
@@ -502,17 +527,21 @@ void Scheduler::build_tables(ProfileCache& c) const {
         for (int moving_floor = 0; moving_floor < 2; ++moving_floor) {
           const bool slow = moving_floor != 0;
           float node[kStillE][kMaxBands], mid[kStillE][kMaxBands];
+          int hint[kMaxBands], mid_hint[kMaxBands];  // each band's bracket at the previous node
+          std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
+          std::fill(mid_hint, mid_hint + kMaxBands, kCurveSamples / 2);
           for (std::uint32_t j = 0; j < kStillE; ++j) {
             const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
             const float* centre = &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
             float prefix = -kNever, mid_prefix = -kNever;
             for (std::uint32_t b = 0; b < B; ++b) {
               const float y = c.ln_lost_any[kv * B + b] - ln_q[set];
-              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity, slow));
+              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity,
+                                                             slow, &hint[b]));
               node[j][b] = prefix;
               if (j + 1 < kStillE)
                 mid_prefix = std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
-                                                                       pre.floor_velocity, slow));
+                                                                       pre.floor_velocity, slow, &mid_hint[b]));
               mid[j][b] = mid_prefix;
             }
           }
@@ -535,14 +564,17 @@ void Scheduler::build_tables(ProfileCache& c) const {
         for (std::uint32_t t = 0; t < T; ++t) {
           float y[kMaxBands];
           for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q[set];
-          auto largest = [&](const float* curve, float e, float v) {
-            return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true);
+          int hint[kMaxBands], centre_hint[kMaxBands];  // each band's bracket at the previous node
+          std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
+          std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
+          auto largest = [&](const float* curve, float e, float v, int* h) {
+            return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true, h);
           };
           float node[kMovingS * kMovingE];
           for (std::uint32_t i = 0; i < kMovingS; ++i)
             for (std::uint32_t j = 0; j < kMovingE; ++j)
               node[i * kMovingE + j] = largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
-                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity));
+                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity), hint);
           // Concave along each axis keeps the cell's edges below; where the midpoint shows the
           // bilinear surface above the truth, the cell's corners come down by the excess.
           float lower[kMovingS * kMovingE] = {};
@@ -553,7 +585,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
               if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
               const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
               const float truth = largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
-                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset));
+                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), centre_hint);
               const float excess = mean - truth;
               if (excess > 0)
                 for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
@@ -719,9 +751,32 @@ void Scheduler::begin_frame(const Frame& frame) {
   }
 }
 
+// One eye's view of one object: everything the rules read.
+struct Scheduler::Sight {
+  float d, r;              // distance to the sphere's centre, radius [m]
+  float radius_deg, diameter_deg, ln_diam;
+  float focal_px;
+  // Perceptual and Reddy only:
+  Vec3 u;                  // unit direction eye -> centre, world
+  Vec3 image, slip;        // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  Vec3 to_eye;             // unit direction centre -> eye, object space
+  float e;                 // eccentricity [deg]
+  float nyquist_cpd;       // the display's limit in the object's direction
+  const std::uint16_t* cand;  // the lookup cell's candidate views
+  std::uint32_t view;      // the nearest of them
+  float vx, vy;            // slip in the view's image axes [deg/s]
+  bool moving;
+  std::uint8_t flags;      // kFlagNoGaze
+  // Tabulated path (probe()): the bands the display shows, the grid cells of the eccentricity
+  // (still and moving grids) and of each orientation's speed.
+  std::uint32_t bands_visible;
+  Cell ec, em;
+  Cell sc[kMaxOrientations];
+};
+
 // One eye's view of up to kSize consecutive objects, structure of arrays (the frame loop's first pass).
 struct Scheduler::Block {
-  static constexpr std::uint32_t kSize = 64;
+  static constexpr std::uint32_t kSize = kBlock;
   float d[kSize], r[kSize], radius_deg[kSize], ln_diam[kSize];
   // Perceptual and Reddy only:
   float test[kSize];       // 0 where the input is valid (NaN otherwise)
@@ -735,6 +790,8 @@ struct Scheduler::Block {
 void Scheduler::update(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t end = first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
   Block blocks[2];
+  Sight sights[2][Block::kSize];
+  Look looks[2][Block::kSize];
   for (std::uint32_t start = first; start < end; start += Block::kSize) {
     const std::uint32_t n = std::min(Block::kSize, end - start);
     // Velocities not given are derived from the positions and dt.
@@ -751,27 +808,36 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
       }
     }
     for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
+    // Every object's sight first, with its table rows prefetched, then the decisions: the rows of
+    // 64 objects load in parallel instead of one cache miss after another.
+    // Passes over the block, each prefetching what the next reads: the lookup cell, the candidate
+    // views, the table rows. The misses of a block's objects overlap instead of queueing.
     for (std::uint32_t j = 0; j < n; ++j)
-      if (profile_of_[start + j] >= 0) select(start + j, blocks, j);
+      if (profile_of_[start + j] >= 0)
+        for (std::uint32_t i = 0; i < eye_count_; ++i) looks[i][j] = sight(start + j, eyes_[i], blocks[i], j, &sights[i][j]);
+    if (perceptual()) {
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (profile_of_[start + j] >= 0)
+          for (std::uint32_t i = 0; i < eye_count_; ++i)
+            if (looks[i][j] == Look::Ok) prefetch_views(start + j, sights[i][j]);
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (profile_of_[start + j] >= 0)
+          for (std::uint32_t i = 0; i < eye_count_; ++i)
+            if (looks[i][j] == Look::Ok) {
+              aim(start + j, &sights[i][j]);
+              if (curves_) probe(start + j, &sights[i][j]);
+            }
+      if (curves_)
+        for (std::uint32_t j = 0; j < n; ++j)
+          if (profile_of_[start + j] >= 0)
+            for (std::uint32_t i = 0; i < eye_count_; ++i)
+              if (looks[i][j] == Look::Ok) prefetch_moving(start + j, sights[i][j]);
+    }
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (profile_of_[start + j] >= 0) select(start + j, looks, sights, j);
   }
 }
 
-// One eye's view of one object: everything the rules read.
-struct Scheduler::Sight {
-  float d, r;              // distance to the sphere's centre, radius [m]
-  float radius_deg, diameter_deg, ln_diam;
-  float focal_px;
-  // Perceptual and Reddy only:
-  Vec3 u;                  // unit direction eye -> centre, world
-  Vec3 image, slip;        // image-plane and retinal angular velocity [deg/s], world tangent vectors
-  float e;                 // eccentricity [deg]
-  float nyquist_cpd;       // the display's limit in the object's direction
-  const std::uint16_t* cand;  // the lookup cell's candidate views
-  std::uint32_t view;      // the nearest of them
-  float vx, vy;            // slip in the view's image axes [deg/s]
-  bool moving;
-  std::uint8_t flags;      // kFlagNoGaze
-};
 
 // The first pass, for `count` consecutive objects from `first` and one eye: arithmetic only, no
 // branches and no calls, so the compiler vectorises it. Camera-relative geometry subtracts in double
@@ -866,17 +932,31 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
     const float vi = length(s->image);
     if (vi > 0) s->slip = (daly_retinal_velocity(vi, config_.params) / vi) * s->image;
   }
-  // The profile's view nearest to the direction from the object to the eye.
-  const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-  const float dir[3] = {to_eye.x, to_eye.y, to_eye.z};
+  // The lookup cell of the direction from the object to the eye; aim() picks the nearest view.
+  s->to_eye = Vec3{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+  const float dir[3] = {s->to_eye.x, s->to_eye.y, s->to_eye.z};
   s->cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
+  ACUITY_PREFETCH(s->cand);
+  return Look::Ok;
+}
+
+// The candidate views' directions prefetched (between sight() and aim(), a pass apart).
+void Scheduler::prefetch_views(ObjectId id, const Sight& s) const {
+  const Profile& p = profiles_[profile_of_[id]].profile;
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) ACUITY_PREFETCH(&p.views[s.cand[k]]);
+}
+
+// The profile's view nearest to the direction from the object to the eye, and the retinal slip in
+// that snapshot's image axes, so it meets the profile's orientations in one frame.
+void Scheduler::aim(ObjectId id, Sight* s) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
   s->view = s->cand[0];
   float best = -2.0f;
   for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
-    const float dd = dot(to_eye, load(p.views[s->cand[k]].direction));
+    const float dd = dot(s->to_eye, load(p.views[s->cand[k]].direction));
     if (dd > best) { best = dd; s->view = s->cand[k]; }
   }
-  // Slip in the snapshot's image axes, so it meets the profile's orientations in one frame.
   s->vx = s->vy = 0;
   const Vec3 slip = s->slip;
   if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
@@ -885,17 +965,15 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
     s->vy = dot(slip, rotate(q, load(p.views[s->view].up)));
   }
   s->moving = s->vx != 0.0f || s->vy != 0.0f;
-  return Look::Ok;
 }
 
-// One eye's view of one object through the configured rule. scores_out (K floats) and ex are optional.
-Scheduler::Choice Scheduler::evaluate(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j,
-                                      float* scores_out, ObjectExplain* ex) const {
+// One eye's view of one object (sight() and, tabulated, probe() done) through the configured rule.
+// scores_out (K floats) and ex are optional.
+Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out, ObjectExplain* ex) const {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
   if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
-  Sight s;
-  switch (sight(id, eye, block, j, &s)) {
+  switch (look) {
     case Look::Invalid: {
       const auto fallback = static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, K - 1));
       return {fallback, fallback, kFlagInvalidInput};
@@ -928,6 +1006,56 @@ Scheduler::Choice Scheduler::choose_by_error(const Sight& s, const Profile& p) c
   return {level, level, 0};
 }
 
+// The tabulated path's grid position of one object, and its table rows prefetched (the decision
+// reads them a block later, so the misses of a block's objects overlap).
+void Scheduler::probe(ObjectId id, Sight* s) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count, L = K - 1;
+  // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
+  const float inv_diam = 1.0f / s->diameter_deg;  // as the exact path computes each band's frequency
+  std::uint32_t n = 0;
+  for (std::uint32_t b = 0; b < B; ++b) n += p.bands[b] * inv_diam <= s->nyquist_cpd;
+  s->bands_visible = n;
+  s->ec = e_cell<kStillE>(s->e);
+  s->em = e_cell<kMovingE>(s->e);
+  if (n == 0 || L == 0) return;
+  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
+  for (std::uint32_t c = 0; c < blended; ++c) {
+    const std::uint32_t w = blended == 1 ? s->view : s->cand[c];
+    const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + s->ec.j) * L;
+    ACUITY_PREFETCH(&pc.still[0][at]);
+    if (s->moving) ACUITY_PREFETCH(&pc.slow[0][at]);
+  }
+  if (!s->moving) return;
+  const float floor = pre_->floor_velocity;
+  for (std::uint32_t t = 0; t < T; ++t)
+    s->sc[t] = speed_cell(std::max(std::abs(s->vx * pc.cos_t[t] + s->vy * pc.sin_t[t]), floor), floor, pre_->speed_offset,
+                          pre_->speed_node, pre_->speed_inv_g, kMovingS);
+}
+
+// A moving object's rows of the moving tables prefetched, where the slow bound (read a pass after
+// probe() prefetched it) does not already pass the coarsest level: most objects never read them.
+void Scheduler::prefetch_moving(ObjectId id, const Sight& s) const {
+  if (!s.moving || s.bands_visible == 0) return;
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count, L = K - 1;
+  if (L == 0) return;
+  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
+  for (std::uint32_t c = 0; c < blended; ++c) {
+    const std::uint32_t w = blended == 1 ? s.view : s.cand[c];
+    const std::int16_t* slow = &pc.slow[0][((std::size_t(w) * B + (s.bands_visible - 1)) * kStillE + s.ec.j) * L + (L - 1)];
+    if (s.ln_diam <= decode_size(slow[0]) + s.ec.w * (decode_size(slow[L]) - decode_size(slow[0]))) continue;
+    const std::int16_t* base = &pc.moving[0][std::size_t(w) * T * kMovingS * kMovingE * L];
+    for (std::uint32_t t = 0; t < T; ++t) {
+      const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + s.sc[t].j) * kMovingE + s.em.j) * L;
+      ACUITY_PREFETCH(r0);
+      ACUITY_PREFETCH(r0 + std::size_t(kMovingE) * L);
+    }
+  }
+}
+
 // The perceptual rule through the tables: per level, is the object's angular size at most the largest
 // invisible one at its eccentricity (and, moving, per orientation at its retinal speed)?
 Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float* scores_out) const {
@@ -940,24 +1068,13 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
   const float x = s.ln_diam;
   Choice out{0, 0, s.flags};
 
-  // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
-  const float inv_diam = 1.0f / s.diameter_deg;  // as the exact path computes each band's frequency
-  std::uint32_t n = 0;
-  for (std::uint32_t b = 0; b < B; ++b) n += p.bands[b] * inv_diam <= s.nyquist_cpd;
+  const std::uint32_t n = s.bands_visible;
   if (n == 0) {
     out.fine = out.coarse = static_cast<std::uint8_t>(K - 1);
     return out;  // scores stay 0
   }
-  const Cell ec = e_cell<kStillE>(s.e);
-  // Moving: each orientation's speed on the speed grid, and the eccentricity cell.
-  Cell sc[kMaxOrientations];
-  const Cell em = e_cell<kMovingE>(s.e);
-  if (s.moving) {
-    const float floor = pre_->floor_velocity;
-    for (std::uint32_t t = 0; t < T; ++t)
-      sc[t] = speed_cell(std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor), floor, pre_->speed_offset,
-                         pre_->speed_node, pre_->speed_inv_g, kMovingS);
-  }
+  const Cell ec = s.ec, em = s.em;
+  const Cell* sc = s.sc;
   // The largest invisible ln diameter of level k seen from view w, table set `set`.
   // Without scores only pass or fail matters: a moving object's bounds stop at the first that decides.
   const bool decide_only = scores_out == nullptr;
@@ -1120,7 +1237,7 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   return out;
 }
 
-void Scheduler::select(ObjectId id, const Block* blocks, std::uint32_t j) {
+void Scheduler::select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j) {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
 
@@ -1128,7 +1245,7 @@ void Scheduler::select(ObjectId id, const Block* blocks, std::uint32_t j) {
   float* kept = config_.keep_scores ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
   float eye_scores[kMaxLevels];
   for (std::uint32_t i = 0; i < eye_count_; ++i) {  // both eyes agree: the finer need wins
-    const Choice c = evaluate(id, eyes_[i], blocks[i], j, kept ? eye_scores : nullptr, nullptr);
+    const Choice c = evaluate(id, looks[i][j], sights[i][j], kept ? eye_scores : nullptr, nullptr);
     fine = std::min(fine, c.fine);
     coarse = std::min(coarse, c.coarse);
     flags |= c.flags;
@@ -1242,7 +1359,10 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
     ObjectExplain tmp{};
     Block block;
     look_block(eyes_[i], id, 1, &block);
-    const Choice c = evaluate(id, eyes_[i], block, 0, nullptr, &tmp);
+    Sight s;
+    const Look look = sight(id, eyes_[i], block, 0, &s);
+    if (look == Look::Ok && perceptual()) aim(id, &s);
+    const Choice c = evaluate(id, look, s, nullptr, &tmp);
     if (c.fine < best) { best = c.fine; *out = tmp; }
   }
   out->level = level_[id];

@@ -164,7 +164,9 @@ struct FrameStats {
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
-// from the tables. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
+// from the tables. update() runs each block of 64 objects as passes (geometry, view lookup, table
+// positions, decisions), each prefetching the per-profile data the next reads, so the cache misses of
+// a block's objects overlap. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
 // band-pass CSF rises with speed at low frequencies) and the Reddy step model evaluate exactly, as
 // does an object whose bias is not 1 (tables are built for q).
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
@@ -229,8 +231,11 @@ class Scheduler {
   bool perceptual() const { return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy; }
   void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
-  Choice evaluate(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, float* scores,
-                  ObjectExplain* explain) const;
+  void prefetch_views(ObjectId id, const Sight& s) const;
+  void aim(ObjectId id, Sight* s) const;     // perceptual rules: the nearest view, the slip in its axes
+  void probe(ObjectId id, Sight* s) const;
+  void prefetch_moving(ObjectId id, const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
+  Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
   Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
@@ -239,7 +244,8 @@ class Scheduler {
     return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
            (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
   }
-  void select(ObjectId id, const Block* blocks, std::uint32_t j);
+  static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
+  void select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j);
   void apply_budget();
 
   SchedulerConfig config_;
