@@ -817,6 +817,11 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
       tinygltf::Value::Object extras;
       extras["MSFT_screencoverage"] = tinygltf::Value(cov);
       extras["acuity_geometric_error"] = tinygltf::Value(err);
+      if (o.normal_deviation.size() == o.levels.size()) {
+        tinygltf::Value::Array normal;
+        for (double d : o.normal_deviation) normal.emplace_back(d);
+        extras["acuity_normal_deviation"] = tinygltf::Value(normal);
+      }
       top.extras = tinygltf::Value(extras);
     }
     scene.nodes.push_back(node_ids[0]);

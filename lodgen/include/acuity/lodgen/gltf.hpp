@@ -6,7 +6,8 @@
 // screen height; level k takes over from level k-1 where its geometric error e_k (fraction of the
 // diameter) covers one pixel at the reference height: coverage = 1 / (e_k x height). Since the
 // coverage depends on that height and is clamped, lodgen also writes the errors themselves as
-// extras.acuity_geometric_error on the same node.
+// extras.acuity_geometric_error on the same node, and the shading error beside it as
+// extras.acuity_normal_deviation (per level, degrees; lodgen::Level::normal_deviation).
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct LodObject {
   std::string name;
   std::vector<Mesh> levels;
   std::vector<double> geometric_error;
+  std::vector<double> normal_deviation;  // per level [degrees], or empty (then not written)
   std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   int material = -1;  // into the materials passed to write_lod_gltf
 };
