@@ -46,7 +46,7 @@ void run(const LodgenOptions& o) {
   co.ratio = o.ratio;
   co.max_error = o.max_error;
   co.decimate.lock_border = o.lock_border;
-  co.crease_degrees = o.crease_degrees;
+  co.decimate.crease_degrees = o.crease_degrees;
   if (!lodgen::parse_backend(o.backend, &co.decimate.backend))
     throw std::runtime_error("--backend: meshopt, openmesh, cgal or cgal-lt, not '" + o.backend + "'");
   const lodgen::ChainProgress report = o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress);

@@ -48,7 +48,7 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     c.warnings.push_back(where + ": repaired " + report.summary());
   }
   // meshopt decimates the split mesh (its seams keep creases); the others need it welded.
-  const Mesh base = split_creases(welded, o.crease_degrees);
+  const Mesh base = split_creases(welded, o.decimate.crease_degrees);
   const std::size_t n0 = base.triangle_count();
   const std::size_t floor_count = std::max<std::size_t>(o.min_triangles, n0 / 100);
   // Targets: level k has ratio^k of level 0's triangles, down to about 1% (or min_triangles). With
@@ -64,7 +64,7 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     const auto t = std::chrono::steady_clock::now();
     Level l;
     l.mesh = o.decimate.backend == Backend::Meshopt ? decimate(base, targets[k], o.decimate)
-                                                    : split_creases(decimate(welded, targets[k], o.decimate), o.crease_degrees);
+                                                    : split_creases(decimate(welded, targets[k], o.decimate), o.decimate.crease_degrees);
     l.target_triangles = targets[k];
     l.seconds = seconds_since(t);
     c.levels.push_back(std::move(l));

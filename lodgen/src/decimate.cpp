@@ -35,7 +35,7 @@ Mesh decimate(const Mesh& mesh, std::size_t target, const DecimateOptions& o) {
   }
   switch (o.backend) {
     case Backend::OpenMesh: return detail::decimate_openmesh(mesh, target, o.lock_border);
-    case Backend::Meshopt: return detail::decimate_meshopt(mesh, target, o.lock_border);
+    case Backend::Meshopt: return detail::decimate_meshopt(mesh, target, o.lock_border, o.crease_degrees);
     case Backend::CgalGarlandHeckbert:
     case Backend::CgalLindstromTurk: break;
   }
@@ -59,6 +59,12 @@ void normalize_or_up(float* n) {
   if (len > 0) for (int k = 0; k < 3; ++k) n[k] /= len;
   else { n[0] = 0; n[1] = 0; n[2] = 1; }
 }
+
+// Union-find over the mesh's corners (3 per triangle).
+std::size_t find_root(std::vector<std::size_t>& parent, std::size_t c) {
+  while (parent[c] != c) c = parent[c] = parent[parent[c]];
+  return c;
+}
 }  // namespace
 
 Mesh split_creases(const Mesh& m, double crease_degrees) {
@@ -69,52 +75,73 @@ Mesh split_creases(const Mesh& m, double crease_degrees) {
   }
   const double cos_crease = std::cos(crease_degrees * std::numbers::pi / 180);
   const std::size_t nv = m.vertex_count(), nt = m.triangle_count();
-  std::vector<std::array<float, 3>> area_normal(nt), unit(nt);
+  std::vector<std::array<float, 3>> area_normal(nt);
+  std::vector<std::array<double, 3>> unit(nt);
   for (std::size_t f = 0; f < nt; ++f) {
-    area_normal[f] = unit[f] = face_normal(m, 3 * f);
-    const float len = std::sqrt(unit[f][0] * unit[f][0] + unit[f][1] * unit[f][1] + unit[f][2] * unit[f][2]);
-    for (float& x : unit[f]) x = len > 0 ? x / len : 0.0f;
+    area_normal[f] = face_normal(m, 3 * f);
+    const auto& n = area_normal[f];
+    const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
+    for (int k = 0; k < 3; ++k) unit[f][std::size_t(k)] = len > 0 ? n[std::size_t(k)] / len : 0.0;
   }
-  // Corners around each vertex (compressed rows).
+  // Corners around a vertex stay together across every edge shared by exactly two triangles whose
+  // normals lie within the crease angle (a degenerate triangle joins either side); each resulting
+  // fan becomes one vertex. A crease that ends inside a surface leaves its end vertex one fan.
+  struct HalfEdge { std::uint32_t lo, hi; std::size_t corner_lo, corner_hi; };
+  std::vector<HalfEdge> edges;
+  edges.reserve(m.indices.size());
+  for (std::size_t c = 0; c < m.indices.size(); ++c) {
+    const std::size_t next = c - c % 3 + (c + 1) % 3;
+    const std::uint32_t a = m.indices[c], b = m.indices[next];
+    if (a == b) continue;
+    edges.push_back(a < b ? HalfEdge{a, b, c, next} : HalfEdge{b, a, next, c});
+  }
+  std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) { return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi; });
+  std::vector<std::size_t> parent(m.indices.size());
+  for (std::size_t c = 0; c < parent.size(); ++c) parent[c] = c;
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    if (j - i == 2) {
+      const auto& n1 = unit[edges[i].corner_lo / 3];
+      const auto& n2 = unit[edges[i + 1].corner_lo / 3];
+      const bool degenerate = (n1[0] == 0 && n1[1] == 0 && n1[2] == 0) || (n2[0] == 0 && n2[1] == 0 && n2[2] == 0);
+      if (degenerate || n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] >= cos_crease) {
+        parent[find_root(parent, edges[i].corner_lo)] = find_root(parent, edges[i + 1].corner_lo);
+        parent[find_root(parent, edges[i].corner_hi)] = find_root(parent, edges[i + 1].corner_hi);
+      }
+    }
+    i = j;
+  }
+  // One output vertex per (vertex, fan), numbered in vertex order; unused vertices are kept.
   std::vector<std::size_t> first(nv + 1, 0), corners(m.indices.size());
   for (std::uint32_t v : m.indices) ++first[v + 1];
   for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
   std::vector<std::size_t> fill(first.begin(), first.end() - 1);
   for (std::size_t c = 0; c < m.indices.size(); ++c) corners[fill[m.indices[c]]++] = c;
-
   Mesh out;
   out.material = m.material;
   out.indices.resize(m.indices.size());
   const bool uv = m.texcoords.size() == 2 * nv;
-  std::vector<std::size_t> group_face;  // the first face of each group of the current vertex
+  std::vector<std::size_t> roots;
+  auto add_vertex = [&](std::size_t v) {
+    out.positions.insert(out.positions.end(), m.positions.begin() + 3 * v, m.positions.begin() + 3 * v + 3);
+    out.normals.insert(out.normals.end(), {0.0f, 0.0f, 0.0f});
+    if (uv) out.texcoords.insert(out.texcoords.end(), m.texcoords.begin() + 2 * v, m.texcoords.begin() + 2 * v + 2);
+  };
   for (std::size_t v = 0; v < nv; ++v) {
-    group_face.clear();
+    roots.clear();
     const std::size_t base = out.vertex_count();
     for (std::size_t i = first[v]; i < first[v + 1]; ++i) {
-      const std::size_t c = corners[i], f = c / 3;
-      std::size_t g = 0;
-      while (g < group_face.size()) {
-        const auto& a = unit[group_face[g]];
-        const double dot = double(a[0]) * unit[f][0] + double(a[1]) * unit[f][1] + double(a[2]) * unit[f][2];
-        const bool degenerate = (a[0] == 0 && a[1] == 0 && a[2] == 0) || (unit[f][0] == 0 && unit[f][1] == 0 && unit[f][2] == 0);
-        if (degenerate || dot >= cos_crease) break;
-        ++g;
+      const std::size_t c = corners[i], root = find_root(parent, c);
+      const std::size_t g = std::size_t(std::find(roots.begin(), roots.end(), root) - roots.begin());
+      if (g == roots.size()) {
+        roots.push_back(root);
+        add_vertex(v);
       }
-      if (g == group_face.size()) {
-        group_face.push_back(f);
-        out.positions.insert(out.positions.end(), m.positions.begin() + 3 * v, m.positions.begin() + 3 * v + 3);
-        out.normals.insert(out.normals.end(), {0.0f, 0.0f, 0.0f});
-        if (uv) out.texcoords.insert(out.texcoords.end(), m.texcoords.begin() + 2 * v, m.texcoords.begin() + 2 * v + 2);
-      }
-      const std::size_t w = base + g;
-      out.indices[c] = std::uint32_t(w);
-      for (int k = 0; k < 3; ++k) out.normals[3 * w + k] += area_normal[f][k];
+      out.indices[c] = std::uint32_t(base + g);
+      for (int k = 0; k < 3; ++k) out.normals[3 * (base + g) + std::size_t(k)] += area_normal[c / 3][std::size_t(k)];
     }
-    if (first[v] == first[v + 1]) {  // unused vertex: kept so indices stay meaningful to callers
-      out.positions.insert(out.positions.end(), m.positions.begin() + 3 * v, m.positions.begin() + 3 * v + 3);
-      out.normals.insert(out.normals.end(), {0.0f, 0.0f, 1.0f});
-      if (uv) out.texcoords.insert(out.texcoords.end(), m.texcoords.begin() + 2 * v, m.texcoords.begin() + 2 * v + 2);
-    }
+    if (roots.empty()) add_vertex(v);
   }
   for (std::size_t w = 0; w < out.vertex_count(); ++w) normalize_or_up(&out.normals[3 * w]);
   return out;

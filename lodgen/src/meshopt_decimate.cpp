@@ -8,14 +8,40 @@
 
 namespace acuity::lodgen::detail {
 
-Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border) {
-  std::vector<std::uint32_t> kept(in.indices.size());
+namespace {
+std::vector<std::uint32_t> simplify(const Mesh& in, const std::vector<std::uint32_t>& indices, std::size_t target,
+                                    bool lock_border) {
+  std::vector<std::uint32_t> kept(indices.size());
   // target_error 1 = the whole extent: only the triangle count stops it.
-  const std::size_t n = meshopt_simplify(kept.data(), in.indices.data(), in.indices.size(), in.positions.data(),
-                                         in.vertex_count(), 3 * sizeof(float), 3 * target, 1.0f,
-                                         lock_border ? unsigned(meshopt_SimplifyLockBorder) : 0u, nullptr);
-  kept.resize(n);
-  // Compact: the surviving vertices, in their original order, with their attributes.
+  kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), in.positions.data(), in.vertex_count(),
+                               3 * sizeof(float), 3 * target, 1.0f, lock_border ? unsigned(meshopt_SimplifyLockBorder) : 0u,
+                               nullptr));
+  return kept;
+}
+
+// The mesh with one vertex per position (meshoptimizer sees any two vertices at one position as a
+// seam, used or not), without normals; each keeps the texture coordinates of its first vertex.
+Mesh weld(const Mesh& in) {
+  std::vector<std::uint32_t> shadow(in.indices.size());
+  meshopt_generateShadowIndexBuffer(shadow.data(), in.indices.data(), in.indices.size(), in.positions.data(),
+                                    in.vertex_count(), 3 * sizeof(float), 3 * sizeof(float));
+  Mesh out;
+  out.material = in.material;
+  std::vector<std::uint32_t> remap(in.vertex_count(), std::numeric_limits<std::uint32_t>::max());
+  for (std::uint32_t v : shadow) {
+    if (remap[v] == std::numeric_limits<std::uint32_t>::max()) {
+      remap[v] = std::uint32_t(out.vertex_count());
+      out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v, in.positions.begin() + 3 * v + 3);
+      if (in.texcoords.size() == 2 * in.vertex_count())
+        out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v, in.texcoords.begin() + 2 * v + 2);
+    }
+    out.indices.push_back(remap[v]);
+  }
+  return out;
+}
+
+// The vertices `kept` uses, in their original order with their attributes, and `kept` renumbered.
+Mesh compact(const Mesh& in, const std::vector<std::uint32_t>& kept) {
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> remap(in.vertex_count(), kUnused);
   for (std::uint32_t v : kept) remap[v] = 0;
@@ -31,8 +57,21 @@ Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border) {
   }
   out.indices.reserve(kept.size());
   for (std::uint32_t v : kept) out.indices.push_back(remap[v]);
-  if (!normals) compute_normals(out);
   return out;
+}
+}  // namespace
+
+Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
+  const std::vector<std::uint32_t> kept = simplify(in, in.indices, target, lock_border);
+  if (kept.size() / 3 <= target + target / 20 + 2) {
+    Mesh out = compact(in, kept);
+    if (out.normals.empty()) compute_normals(out);
+    return out;
+  }
+  // Seams everywhere (a coarse organic mesh split at many creases) left too few collapses:
+  // decimate the welded mesh and split its creases afresh (UV seams close there).
+  const Mesh welded = weld(in);
+  return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)), crease_degrees);
 }
 
 }  // namespace acuity::lodgen::detail

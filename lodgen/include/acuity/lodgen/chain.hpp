@@ -15,9 +15,9 @@ struct ChainOptions {
   double max_error = 0;           // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
                                   // Hausdorff distance [object diameters]
   std::size_t min_triangles = 64;
-  DecimateOptions decimate;
+  DecimateOptions decimate;       // decimate.crease_degrees: edges sharper than this are drawn sharp
+                                  // in every level (split_creases); >= 180: all smooth
   bool repair = true;             // repair bad input (with a warning) instead of rejecting it
-  double crease_degrees = 45;     // edges sharper than this are drawn sharp (split_creases); >= 180: all smooth
   DeviationOptions measure;       // bounds on the error measurement (sample count, seconds per level)
 };
 
@@ -40,7 +40,7 @@ struct Chain {
 // stage, done, total
 using ChainProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
 
-// Level 0 is the input (repaired if needed) with normals split at creases (crease_degrees); each
+// Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees); each
 // level is decimated from level 0 (not from the previous level), so errors do not compound. With
 // the meshopt back-end creases stay sharp and vertices keep level 0's normals. Every level is
 // measured against level 0 (lodgen::deviation, bounded by options.measure): the Hausdorff error and

@@ -24,23 +24,25 @@ const char* to_string(Backend backend);
 struct DecimateOptions {
   Backend backend = Backend::Meshopt;
   bool lock_border = false;  // border vertices and edges stay where they are
+  double crease_degrees = 45;  // meshopt: for the welded fallback's normals (split_creases)
 };
 
 // A copy of `mesh` with about `target_triangles` triangles (never more than it had).
 // Meshopt: `mesh` is taken as the renderer sees it — vertices at one position with different
 // normals or texture coordinates (a crease split by split_creases, a UV seam) form a seam that
 // collapses only along itself, so creases and seams stay sharp and in place; surviving vertices
-// keep their normals and texture coordinates (no vertex moves). It may stop above the target
-// when only seam-breaking collapses remain.
+// keep their normals and texture coordinates (no vertex moves). When the seams leave too few
+// collapses to come within 5% of the target, it decimates the welded mesh instead (seams then
+// move) and splits the result's creases at crease_degrees.
 // OpenMesh and CGAL: `mesh` must be welded (one vertex per position; seams would open as holes);
 // vertex normals are recomputed smooth, texture coordinates follow the surviving vertices.
 Mesh decimate(const Mesh& mesh, std::size_t target_triangles, const DecimateOptions& options = {});
 
-// The mesh with vertex normals a renderer shows: each vertex is split into one copy per group of
-// its triangles whose face normals lie within `crease_degrees` of the group's first (an edge whose
-// dihedral angle exceeds it is drawn sharp); each copy gets the area-weighted normal of its group
-// and the vertex's texture coordinates. crease_degrees >= 180 gives smooth normals everywhere
-// (compute_normals). Triangles and their order are unchanged.
+// The mesh with vertex normals a renderer shows: an edge is a crease when its two triangles' normals
+// differ by more than `crease_degrees` (or it has one or three and more triangles); each vertex is
+// split into one copy per fan of triangles around it not separated by creases, with the fan's
+// area-weighted normal and the vertex's texture coordinates. crease_degrees >= 180 gives smooth
+// normals everywhere (compute_normals). Triangles and their order are unchanged.
 Mesh split_creases(const Mesh& mesh, double crease_degrees);
 
 // How far `approx` strays from `reference`, both ways, measured on sample points: every vertex and
