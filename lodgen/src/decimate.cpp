@@ -83,41 +83,35 @@ Mesh split_creases(const Mesh& m, double crease_degrees) {
     const double len = std::sqrt(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2]);
     for (int k = 0; k < 3; ++k) unit[f][std::size_t(k)] = len > 0 ? n[std::size_t(k)] / len : 0.0;
   }
-  // Corners around a vertex stay together across every edge shared by exactly two triangles whose
-  // normals lie within the crease angle (a degenerate triangle joins either side); each resulting
-  // fan becomes one vertex. A crease that ends inside a surface leaves its end vertex one fan.
-  struct HalfEdge { std::uint32_t lo, hi; std::size_t corner_lo, corner_hi; };
-  std::vector<HalfEdge> edges;
-  edges.reserve(m.indices.size());
-  for (std::size_t c = 0; c < m.indices.size(); ++c) {
-    const std::size_t next = c - c % 3 + (c + 1) % 3;
-    const std::uint32_t a = m.indices[c], b = m.indices[next];
-    if (a == b) continue;
-    edges.push_back(a < b ? HalfEdge{a, b, c, next} : HalfEdge{b, a, next, c});
-  }
-  std::sort(edges.begin(), edges.end(), [](const HalfEdge& x, const HalfEdge& y) { return x.lo != y.lo ? x.lo < y.lo : x.hi < y.hi; });
-  std::vector<std::size_t> parent(m.indices.size());
-  for (std::size_t c = 0; c < parent.size(); ++c) parent[c] = c;
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-    if (j - i == 2) {
-      const auto& n1 = unit[edges[i].corner_lo / 3];
-      const auto& n2 = unit[edges[i + 1].corner_lo / 3];
-      const bool degenerate = (n1[0] == 0 && n1[1] == 0 && n1[2] == 0) || (n2[0] == 0 && n2[1] == 0 && n2[2] == 0);
-      if (degenerate || n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] >= cos_crease) {
-        parent[find_root(parent, edges[i].corner_lo)] = find_root(parent, edges[i + 1].corner_lo);
-        parent[find_root(parent, edges[i].corner_hi)] = find_root(parent, edges[i + 1].corner_hi);
-      }
-    }
-    i = j;
-  }
-  // One output vertex per (vertex, fan), numbered in vertex order; unused vertices are kept.
+  // Corners around each vertex (compressed rows).
   std::vector<std::size_t> first(nv + 1, 0), corners(m.indices.size());
   for (std::uint32_t v : m.indices) ++first[v + 1];
   for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
   std::vector<std::size_t> fill(first.begin(), first.end() - 1);
   for (std::size_t c = 0; c < m.indices.size(); ++c) corners[fill[m.indices[c]]++] = c;
+  const auto next = [](std::size_t c) { return c - c % 3 + (c + 1) % 3; };
+  // Corners around a vertex stay together across every edge shared by exactly two triangles, in
+  // opposite directions, whose normals lie within the crease angle (a degenerate triangle joins
+  // either side); each resulting fan becomes one vertex. A crease that ends inside a surface
+  // leaves its end vertex one fan.
+  std::vector<std::size_t> parent(m.indices.size());
+  for (std::size_t c = 0; c < parent.size(); ++c) parent[c] = c;
+  for (std::size_t c = 0; c < m.indices.size(); ++c) {
+    const std::uint32_t a = m.indices[c], b = m.indices[next(c)];
+    if (a >= b) continue;  // each edge once, from its lower vertex
+    std::size_t twin = 0, twins = 0, same = 0;
+    for (std::size_t i = first[b]; i < first[b + 1]; ++i)
+      if (m.indices[next(corners[i])] == a) { twin = corners[i]; ++twins; }
+    for (std::size_t i = first[a]; i < first[a + 1]; ++i) same += m.indices[next(corners[i])] == b;
+    if (twins != 1 || same != 1) continue;  // a border, or three and more triangles: a crease
+    const auto& n1 = unit[c / 3];
+    const auto& n2 = unit[twin / 3];
+    const bool degenerate = (n1[0] == 0 && n1[1] == 0 && n1[2] == 0) || (n2[0] == 0 && n2[1] == 0 && n2[2] == 0);
+    if (!degenerate && n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] < cos_crease) continue;
+    parent[find_root(parent, c)] = find_root(parent, next(twin));   // the corners at a
+    parent[find_root(parent, next(c))] = find_root(parent, twin);   // the corners at b
+  }
+  // One output vertex per (vertex, fan), numbered in vertex order; unused vertices are kept.
   Mesh out;
   out.material = m.material;
   out.indices.resize(m.indices.size());
