@@ -44,10 +44,15 @@ std::array<std::size_t, 2> grid(const K::Triangle_3& t, double spacing) {
   return {steps(longest), steps(height)};
 }
 
-std::size_t grid_samples(const Triangles& tris, double spacing) {
+// Every `stride`-th triangle is sampled, so that one sample per triangle fits `budget`.
+std::size_t triangle_stride(const Triangles& tris, std::size_t budget) {
+  return std::max<std::size_t>(1, (tris.size() + budget - 1) / std::max<std::size_t>(1, budget));
+}
+
+std::size_t grid_samples(const Triangles& tris, double spacing, std::size_t stride) {
   std::size_t n = 0;
-  for (const auto& t : tris) {
-    const auto g = grid(t, spacing);
+  for (std::size_t i = 0; i < tris.size(); i += stride) {
+    const auto g = grid(tris[i], spacing);
     n += std::max<std::size_t>(1, g[0] * g[1] / 2);
   }
   return n;
@@ -82,10 +87,10 @@ struct Side {
 // Samples on `from` matched against `to`'s tree.
 Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<std::size_t>& from_index, const Mesh& to,
               const Tree& to_tree, const Triangles& to_tris, const std::vector<std::size_t>& to_index,
-              const DeviationOptions& o, double spacing) {
+              const DeviationOptions& o, double spacing, std::size_t face_stride) {
   Side s;
   const bool normals = from.normals.size() == from.positions.size() && to.normals.size() == to.positions.size();
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.max_seconds));
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::clamp(o.max_seconds, 0.0, 1e6)));
   auto out_of_time = [&] {
     if ((s.samples & 1023) != 0 || Clock::now() < deadline) return false;
     s.complete = false;
@@ -93,16 +98,18 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
   };
   // Vertices (strided when there are more than half the budget): positions only, since a vertex on
   // a crease has one normal per side.
-  const std::size_t nv = from.vertex_count(), stride = std::max<std::size_t>(1, nv / std::max<std::size_t>(1, o.max_samples / 2) + (nv > o.max_samples / 2));
+  const std::size_t nv = from.vertex_count(), half = std::max<std::size_t>(1, o.max_samples / 2);
+  const std::size_t stride = std::max<std::size_t>(1, nv / half + (nv % half != 0));
   for (std::size_t v = 0; v < nv; v += stride, ++s.samples) {
     if (out_of_time()) return s;
     const P3 p = vertex(from, std::uint32_t(v));
     s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, to_tree.closest_point(p))));
   }
-  // Face grids: cell centres of a grid along the longest edge and across it, inside the triangle.
+  // Face grids: cell centres of a grid along the longest edge and across it, inside the triangle
+  // (every face_stride-th triangle when there are more triangles than the budget).
   const auto angle_degrees = [](double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi; };
   std::vector<std::pair<double, double>> cells;  // (u, w): along the longest edge, across it
-  for (std::size_t i = 0; i < from_tris.size(); ++i) {
+  for (std::size_t i = 0; i < from_tris.size(); i += face_stride) {
     const K::Triangle_3& t = from_tris[i];
     int a = 0;  // the longest edge runs from t[a] to t[a+1]
     for (int e = 1; e < 3; ++e)
@@ -149,16 +156,17 @@ Deviation deviation(const Mesh& reference, const Mesh& approx, const DeviationOp
   double spacing = o.spacing > 0 ? o.spacing : diameter(reference) / 250;
   if (!(spacing > 0) || !std::isfinite(spacing)) spacing = 1;
   const std::size_t face_budget = std::max<std::size_t>(1, o.max_samples / 2);
+  const std::size_t stride_a = triangle_stride(ta, face_budget), stride_b = triangle_stride(tb, face_budget);
   for (int i = 0; i < 64; ++i) {
-    const std::size_t n = std::max(grid_samples(ta, spacing), grid_samples(tb, spacing));
+    const std::size_t n = std::max(grid_samples(ta, spacing, stride_a), grid_samples(tb, spacing, stride_b));
     if (n <= face_budget) break;
     spacing *= std::max(1.1, std::sqrt(double(n) / double(face_budget)));
   }
   Tree tree_a(ta.begin(), ta.end()), tree_b(tb.begin(), tb.end());
   tree_a.accelerate_distance_queries();
   tree_b.accelerate_distance_queries();
-  Side ab = one_side(reference, ta, ia, approx, tree_b, tb, ib, o, spacing);
-  Side ba = one_side(approx, tb, ib, reference, tree_a, ta, ia, o, spacing);
+  Side ab = one_side(reference, ta, ia, approx, tree_b, tb, ib, o, spacing, stride_a);
+  Side ba = one_side(approx, tb, ib, reference, tree_a, ta, ia, o, spacing, stride_b);
   d.hausdorff = std::max(ab.hausdorff, ba.hausdorff);
   d.samples = ab.samples + ba.samples;
   d.complete = ab.complete && ba.complete;
