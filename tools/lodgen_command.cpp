@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cctype>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -21,7 +22,7 @@ namespace {
 struct LodgenOptions {
   std::string input, output, backend = "meshopt", asset_root;
   std::size_t levels = 0;
-  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45;
+  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45, measure_seconds = 40;
   int refine = 0;
   bool lock_border = false, quiet = false;
 };
@@ -66,8 +67,15 @@ void run(const LodgenOptions& o) {
     lodgen::LoadOptions lo;
     lo.asset_root = o.asset_root;
     scene = lodgen::load_scene(o.input, lo);
-    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+    // The error measurement shares one time budget across the asset's meshes: each level's two
+    // sides get an equal part of what is left (decimation itself is bounded by meshoptimizer's speed).
+    const auto measure_start = std::chrono::steady_clock::now();
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
+      const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - measure_start).count();
+      const double sides = 2.0 * 8.0 * double(scene.meshes.size() - m);  // about 8 levels a chain (1% in halvings)
+      co.measure.max_seconds = std::max(0.01, (o.measure_seconds - spent) / sides);
       chains.push_back(lodgen::build_chain(scene.meshes[m], o.input + ": mesh '" + scene.mesh_names[m] + "'", co, report));
+    }
   }
   for (const auto& c : chains)
     for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -138,6 +146,7 @@ void add_lodgen_command(CLI::App& app) {
   cmd->add_option("--backend", o->backend, "meshopt (keeps creases and seams) | openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")->capture_default_str();
   cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")->capture_default_str()->check(CLI::Range(0, 6));
   cmd->add_option("--crease", o->crease_degrees, "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")->capture_default_str()->check(Finite)->check(CLI::Range(0.0, 180.0));
+  cmd->add_option("--measure-seconds", o->measure_seconds, "Time budget for measuring the errors of all meshes; past it errors are lower bounds (a warning)")->capture_default_str()->check(Finite)->check(CLI::Range(0.1, 1e5));
   cmd->add_flag("--lock-border", o->lock_border, "Keep border vertices in place");
   cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")->capture_default_str()->check(Finite)->check(CLI::Range(1.0, 1e6));
   cmd->add_option("--asset-root", o->asset_root, "Folder a glTF's uris may read from (default: the glTF's own folder)");

@@ -100,15 +100,20 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
   // a crease has one normal per side.
   const std::size_t nv = from.vertex_count(), half = std::max<std::size_t>(1, o.max_samples / 2);
   const std::size_t stride = std::max<std::size_t>(1, nv / half + (nv % half != 0));
+  P3 last;
   for (std::size_t v = 0; v < nv; v += stride, ++s.samples) {
     if (out_of_time()) return s;
     const P3 p = vertex(from, std::uint32_t(v));
-    s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, to_tree.closest_point(p))));
+    const P3 q = v ? to_tree.closest_point(p, last) : to_tree.closest_point(p);
+    last = q;
+    s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, q)));
   }
   // Face grids: cell centres of a grid along the longest edge and across it, inside the triangle
   // (every face_stride-th triangle when there are more triangles than the budget).
   const auto angle_degrees = [](double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi; };
   std::vector<std::pair<double, double>> cells;  // (u, w): along the longest edge, across it
+  Tree::Point_and_primitive_id hint;
+  bool have_hint = false;
   for (std::size_t i = 0; i < from_tris.size(); i += face_stride) {
     const K::Triangle_3& t = from_tris[i];
     int a = 0;  // the longest edge runs from t[a] to t[a+1]
@@ -131,7 +136,10 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
       b[std::size_t((a + 1) % 3)] = u;
       b[std::size_t((a + 2) % 3)] = w;
       const P3 p = CGAL::barycenter(t[0], b[0], t[1], b[1], t[2], b[2]);
-      const auto hit = to_tree.closest_point_and_primitive(p);
+      // The previous answer (a nearby sample's) bounds the search: far fewer tree nodes visited.
+      const auto hit = have_hint ? to_tree.closest_point_and_primitive(p, hint) : to_tree.closest_point_and_primitive(p);
+      hint = hit;
+      have_hint = true;
       s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, hit.first)));
       if (!normals) continue;
       const std::size_t to_local = std::size_t(hit.second - to_tris.begin());

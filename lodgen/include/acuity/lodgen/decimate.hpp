@@ -53,7 +53,7 @@ Mesh split_creases(const Mesh& mesh, double crease_degrees);
 // side with `complete` false. Deterministic unless the time cap is hit.
 struct DeviationOptions {
   double spacing = 0;                  // [mesh units]; <= 0: diameter(reference) / 250
-  std::size_t max_samples = 200000;    // per side, vertices included (vertices are strided past it)
+  std::size_t max_samples = 60000;     // per side: up to half vertices (strided past it), half face points
   double max_seconds = 20;             // per side
 };
 struct Deviation {
