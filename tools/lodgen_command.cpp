@@ -4,6 +4,7 @@
 #include <cctype>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -67,13 +68,21 @@ void run(const LodgenOptions& o) {
     lodgen::LoadOptions lo;
     lo.asset_root = o.asset_root;
     scene = lodgen::load_scene(o.input, lo);
-    // The error measurement shares one time budget across the asset's meshes: each level's two
-    // sides get an equal part of what is left (decimation itself is bounded by meshoptimizer's speed).
+    // The error measurement shares one time budget across the asset's meshes: each measured side
+    // of a coarser level gets an equal part of what is left (decimation itself is bounded by
+    // meshoptimizer's speed; an error whose measurement is cut short is a lower bound, with a warning).
     const auto measure_start = std::chrono::steady_clock::now();
+    auto sides = [&](const lodgen::Mesh& mesh) {  // two per coarser level build_chain will make
+      const double n = double(mesh.triangle_count()), floor = std::max(64.0, n / 100);
+      const double levels = n > floor ? std::floor(std::log(n / floor) / std::log(1 / o.ratio)) : 0;
+      return 2 * std::min(levels, o.levels ? double(o.levels) - 1 : 31.0);
+    };
+    double sides_left = 0;
+    for (const lodgen::Mesh& mesh : scene.meshes) sides_left += sides(mesh);
     for (std::size_t m = 0; m < scene.meshes.size(); ++m) {
       const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - measure_start).count();
-      const double sides = 2.0 * 8.0 * double(scene.meshes.size() - m);  // about 8 levels a chain (1% in halvings)
-      co.measure.max_seconds = std::max(0.01, (o.measure_seconds - spent) / sides);
+      co.measure.max_seconds = std::max(0.01, (o.measure_seconds - spent) / std::max(1.0, sides_left));
+      sides_left -= sides(scene.meshes[m]);
       chains.push_back(lodgen::build_chain(scene.meshes[m], o.input + ": mesh '" + scene.mesh_names[m] + "'", co, report));
     }
   }
