@@ -47,7 +47,8 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     welded = repair(input, where);
     c.warnings.push_back(where + ": repaired " + report.summary());
   }
-  // meshopt decimates the split mesh (its seams keep creases); the others need it welded.
+  // meshopt decimates the split mesh (its seams keep creases in place); the others need it welded
+  // and their levels are split at their own creases.
   const Mesh base = split_creases(welded, o.decimate.crease_degrees);
   const std::size_t n0 = base.triangle_count();
   const std::size_t floor_count = std::max<std::size_t>(o.min_triangles, n0 / 100);

@@ -40,6 +40,24 @@ Mesh weld(const Mesh& in) {
   return out;
 }
 
+// How many triangles face against the sum of their vertex normals (flipped).
+std::size_t flips(const Mesh& m) {
+  std::size_t flipped = 0;
+  for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+    const float* p[3];
+    double n[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i) {
+      p[i] = &m.positions[3 * m.indices[t + std::size_t(i)]];
+      for (int k = 0; k < 3; ++k) n[k] += m.normals[3 * m.indices[t + std::size_t(i)] + std::size_t(k)];
+    }
+    const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+    const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+    const double f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    flipped += f[0] * n[0] + f[1] * n[1] + f[2] * n[2] < 0;
+  }
+  return flipped;
+}
+
 // The vertices `kept` uses, in their original order with their attributes, and `kept` renumbered.
 Mesh compact(const Mesh& in, const std::vector<std::uint32_t>& kept) {
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
@@ -65,11 +83,15 @@ Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, doub
   const std::vector<std::uint32_t> kept = simplify(in, in.indices, target, lock_border);
   if (kept.size() / 3 <= target + target / 20 + 2) {
     Mesh out = compact(in, kept);
-    if (out.normals.empty()) compute_normals(out);
-    return out;
+    if (out.normals.empty()) {
+      compute_normals(out);
+      return out;
+    }
+    if (flips(out) * 100 <= out.triangle_count()) return out;
   }
-  // Seams everywhere (a coarse organic mesh split at many creases) left too few collapses:
-  // decimate the welded mesh and split its creases afresh (UV seams close there).
+  // Over 1% of the triangles flipped (meshoptimizer 0.18 checks one side of a seam), or seams everywhere (a
+  // coarse organic mesh split at many creases) left too few collapses: decimate the welded mesh and
+  // split its creases afresh (UV seams close there).
   const Mesh welded = weld(in);
   return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)), crease_degrees);
 }

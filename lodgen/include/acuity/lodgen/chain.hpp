@@ -41,8 +41,9 @@ struct Chain {
 using ChainProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
 
 // Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees); each
-// level is decimated from level 0 (not from the previous level), so errors do not compound. With
-// the meshopt back-end creases stay sharp and vertices keep level 0's normals. Every level is
+// level is decimated from level 0 (not from the previous level), so errors do not compound. meshopt
+// keeps level 0's creases as seams (see decimate()); the other back-ends decimate the welded input
+// and split each level at its own creases. Every level is
 // measured against level 0 (lodgen::deviation, bounded by options.measure): the Hausdorff error and
 // the normal deviations are made non-decreasing along the chain (a level is never reported better
 // than a finer one). Throws InputError for unusable input.

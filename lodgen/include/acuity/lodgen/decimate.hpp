@@ -7,15 +7,14 @@
 
 namespace acuity::lodgen {
 
-// The default is meshoptimizer's edge collapse on the shading-split mesh (see decimate()): in
-// bench/bench_lodgen it runs within a few percent of plain meshoptimizer's time, keeps creases, UV
-// seams and material borders, and the CGAL back-ends stay available for lower geometric error at
-// 10-50x the time (docs/lodgen.md).
+// The default is meshoptimizer's edge collapse on the crease-split mesh (see decimate()): figures
+// against plain meshoptimizer and the others in docs/lodgen.md (bench/bench_lodgen); the CGAL
+// back-ends stay available for lower geometric error at 10-50x the time.
 enum class Backend {
   OpenMesh,             // OpenMesh Decimater: quadric error, normal-flip and aspect-ratio guards
   CgalGarlandHeckbert,  // CGAL edge collapse, Garland-Heckbert plane quadrics
   CgalLindstromTurk,    // CGAL edge collapse, Lindstrom-Turk cost and placement
-  Meshopt,              // meshoptimizer edge collapse keeping attribute seams (default)
+  Meshopt,              // meshoptimizer edge collapse, quadric error, vertices kept in place (default)
 };
 // "openmesh", "cgal" (= GH), "cgal-lt", "meshopt"
 bool parse_backend(const std::string& name, Backend* out);
@@ -30,10 +29,11 @@ struct DecimateOptions {
 // A copy of `mesh` with about `target_triangles` triangles (never more than it had).
 // Meshopt: `mesh` is taken as the renderer sees it — vertices at one position with different
 // normals or texture coordinates (a crease split by split_creases, a UV seam) form a seam that
-// collapses only along itself, so creases and seams stay sharp and in place; surviving vertices
-// keep their normals and texture coordinates (no vertex moves). When the seams leave too few
-// collapses to come within 5% of the target, it decimates the welded mesh instead (seams then
-// move) and splits the result's creases at crease_degrees.
+// collapses only along itself, so creases and seams stay in place; surviving vertices keep their
+// normals and texture coordinates (no vertex moves). meshoptimizer 0.18 neither checks a seam's far
+// side for flipped triangles nor always finds collapses past many seams: when over 1% of the
+// result's triangles face against their vertex normals, or it stops more than 5% above the
+// target, the welded mesh is decimated instead (seams close) and split at crease_degrees.
 // OpenMesh and CGAL: `mesh` must be welded (one vertex per position; seams would open as holes);
 // vertex normals are recomputed smooth, texture coordinates follow the surviving vertices.
 Mesh decimate(const Mesh& mesh, std::size_t target_triangles, const DecimateOptions& options = {});
