@@ -111,7 +111,6 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
   // Face grids: cell centres of a grid along the longest edge and across it, inside the triangle
   // (every face_stride-th triangle when there are more triangles than the budget).
   const auto angle_degrees = [](double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi; };
-  std::vector<std::pair<double, double>> cells;  // (u, w): along the longest edge, across it
   Tree::Point_and_primitive_id hint;
   bool have_hint = false;
   for (std::size_t i = 0; i < from_tris.size(); i += face_stride) {
@@ -121,15 +120,7 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
       if (CGAL::squared_distance(t[e], t[(e + 1) % 3]) > CGAL::squared_distance(t[a], t[(a + 1) % 3])) a = e;
     const auto g = grid(t, spacing);
     const std::size_t nu = std::max<std::size_t>(1, g[0]), nw = std::max<std::size_t>(1, g[1]);
-    cells.clear();
-    for (std::size_t iu = 0; iu < nu; ++iu)
-      for (std::size_t iw = 0; iw < nw; ++iw) {
-        const double u = (double(iu) + 0.5) / double(nu), w = (double(iw) + 0.5) / double(nw);
-        if (u + w < 1) cells.push_back({u, w});
-      }
-    if (cells.empty()) cells.push_back({1.0 / 3, 1.0 / 3});  // no cell centre inside: the centroid
-    for (const auto& [u, w] : cells) {
-      if (out_of_time()) return s;
+    auto sample = [&](double u, double w) {
       ++s.samples;
       std::array<double, 3> b{};  // barycentric in t's own vertex order
       b[std::size_t(a)] = 1 - u - w;
@@ -141,11 +132,27 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
       hint = hit;
       have_hint = true;
       s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, hit.first)));
-      if (!normals) continue;
+      if (!normals) return;
       const std::size_t to_local = std::size_t(hit.second - to_tris.begin());
       const K::Vector_3 n0 = shading_normal(from, from_index[i], b);
       const K::Vector_3 n1 = shading_normal(to, to_index[to_local], barycentric(to_tris[to_local], hit.first));
       s.angles.push_back(float(angle_degrees(n0 * n1)));
+    };
+    bool inside = false;
+    for (std::size_t iu = 0; iu < nu; ++iu) {
+      const double u = (double(iu) + 0.5) / double(nu);
+      if (u + 0.5 / double(nw) >= 1) break;  // this column and the later ones lie outside
+      for (std::size_t iw = 0; iw < nw; ++iw) {
+        const double w = (double(iw) + 0.5) / double(nw);
+        if (u + w >= 1) break;  // the rest of this column lies outside too
+        if (out_of_time()) return s;
+        inside = true;
+        sample(u, w);
+      }
+    }
+    if (!inside) {  // no cell centre inside: the centroid
+      if (out_of_time()) return s;
+      sample(1.0 / 3, 1.0 / 3);
     }
   }
   return s;
