@@ -69,7 +69,8 @@ void run(const LodgenOptions& o) {
     lo.asset_root = o.asset_root;
     scene = lodgen::load_scene(o.input, lo);
     // The error measurement shares one time budget across the asset's meshes: each measured side
-    // of a coarser level gets an equal part of what is left (decimation itself is bounded by
+    // of a coarser level gets an equal part of what is left (a side's samples follow the mesh's
+    // size, not its triangle count, up to the sample cap; decimation itself is bounded by
     // meshoptimizer's speed; an error whose measurement is cut short is a lower bound, with a warning).
     const auto measure_start = std::chrono::steady_clock::now();
     auto sides = [&](const lodgen::Mesh& mesh) {  // two per coarser level build_chain will make
