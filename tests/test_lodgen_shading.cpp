@@ -7,9 +7,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <numbers>
 
 #include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/gltf.hpp"
 
 using namespace acuity::lodgen;
 namespace fs = std::filesystem;
@@ -134,4 +138,30 @@ TEST(Chain, FandiskNormalDeviationCatchesWhatHausdorffMisses) {
     EXPECT_GE(sharp.levels[k].normal_deviation_max, sharp.levels[k].normal_deviation);
     EXPECT_TRUE(sharp.levels[k].measured_fully);
   }
+}
+
+// The normal deviation travels beside the geometric error in lodgen's glTF extras.
+TEST(Gltf, WritesNormalDeviationBesideGeometricError) {
+  LodObject obj;
+  obj.name = "grid";
+  obj.levels = {grid(4), grid(2)};
+  obj.geometric_error = {0, 0.01};
+  obj.normal_deviation = {0, 12.5};
+  const fs::path path = fs::temp_directory_path() / "acuity_lodgen_shading_test.gltf";
+  GltfWriteOptions wo;
+  wo.binary = false;
+  write_lod_gltf(path.string(), {obj}, {}, wo);
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t at = text.find("\"acuity_normal_deviation\"");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_NE(text.find("12.5", at), std::string::npos);
+  EXPECT_NE(text.find("\"acuity_geometric_error\""), std::string::npos);
+  // Without per-level values nothing is written.
+  obj.normal_deviation.clear();
+  write_lod_gltf(path.string(), {obj}, {}, wo);
+  std::ifstream again(path);
+  const std::string plain((std::istreambuf_iterator<char>(again)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(plain.find("acuity_normal_deviation"), std::string::npos);
+  fs::remove(path);
 }
