@@ -27,3 +27,8 @@ endif()
 # stb (PNG encoding): Debian's libstb-dev, the shared library tinygltf itself links.
 find_path(STB_INCLUDE_DIR stb_image_write.h PATH_SUFFIXES stb REQUIRED)
 find_library(STB_LIBRARY stb REQUIRED)
+
+# meshoptimizer (lodgen's default decimation back-end): Debian's libmeshoptimizer-dev ships the
+# shared library and header without a CMake config.
+find_path(MESHOPTIMIZER_INCLUDE_DIR meshoptimizer.h REQUIRED)
+find_library(MESHOPTIMIZER_LIBRARY meshoptimizer REQUIRED)

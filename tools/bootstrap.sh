@@ -59,6 +59,15 @@ install_web_packages() {
   fi
 }
 
+# Third-party models for lodgen's real-asset tests (npm @webxr-input-profiles/assets: 82 controller
+# models, MIT), exactly as pinned in assets/third_party's lockfile; installed here, never at test time.
+install_third_party_assets() {
+  if ! cmp -s assets/third_party/package-lock.json assets/third_party/node_modules/.acuity-installed-lock 2>/dev/null; then
+    echo "== npm ci (assets/third_party/)"
+    (cd assets/third_party && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.acuity-installed-lock)
+  fi
+}
+
 JOBS=${JOBS:-$(nproc)}
 # Debian's python3, never a pyenv one found first on PATH: the bindings must load in it.
 PY=/usr/bin/python3
@@ -71,7 +80,7 @@ configure_and_build() { # $1 build dir, rest: extra cmake args; CC/CXX pick the 
 }
 
 case "${1:-test}" in
-  deps) install_packages; install_web_packages ;;
+  deps) install_packages; install_web_packages; install_third_party_assets ;;
   demo)
     install_packages
     install_web_packages
@@ -81,6 +90,7 @@ case "${1:-test}" in
   test)
     install_packages
     install_web_packages
+    install_third_party_assets
     # Formatting (.clang-format, clang-format 14): enabled once the whole tree is formatted in its
     # own commit; until then `bash tools/check_format.sh FILE...` checks given files.
     # bash tools/check_format.sh --all

@@ -1,6 +1,9 @@
 #include "acuity/bake/chains.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "acuity/bake/scene.hpp"
@@ -47,13 +50,28 @@ void place_objects(SceneChains& out, const std::string& where) {
 
 }  // namespace
 
-SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
-                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress) {
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodgen::ChainOptions options,
+                            const lodgen::ChainProgress& progress, double measure_seconds) {
   SceneChains out;
   out.scene = std::move(scene);
-  for (std::size_t m = 0; m < out.scene.meshes.size(); ++m)
+  // One measurement budget for the asset: each measured side of a coarser level gets an equal part
+  // of what is left (a side's samples follow the mesh's size, not its triangle count, up to the
+  // sample cap; decimation itself is bounded by meshoptimizer's speed).
+  const auto start = std::chrono::steady_clock::now();
+  auto sides = [&](const lodgen::Mesh& mesh) {  // two per coarser level build_chain will make
+    const double n = double(mesh.triangle_count()), floor = std::max(64.0, n / 100);
+    const double levels = n > floor ? std::floor(std::log(n / floor) / std::log(1 / options.ratio)) : 0;
+    return 2 * std::min(levels, options.levels ? double(options.levels) - 1 : 31.0);
+  };
+  double sides_left = 0;
+  for (const lodgen::Mesh& mesh : out.scene.meshes) sides_left += sides(mesh);
+  for (std::size_t m = 0; m < out.scene.meshes.size(); ++m) {
+    const double spent = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    options.measure.max_seconds = std::max(0.01, (measure_seconds - spent) / std::max(1.0, sides_left));
+    sides_left -= sides(out.scene.meshes[m]);
     out.chains.push_back(lodgen::build_chain(
         out.scene.meshes[m], where + ": mesh '" + out.scene.mesh_names[m] + "'", options, progress));
+  }
   place_objects(out, where);
   return out;
 }
@@ -62,7 +80,7 @@ SceneChains build_scene_chains(const ChainRequest& r, const lodgen::ChainProgres
   if (r.refine <= 0) {
     lodgen::LoadOptions lo;
     lo.asset_root = r.asset_root;
-    return chains_of_scene(lodgen::load_scene(r.input, lo), r.input, r.chain, progress);
+    return chains_of_scene(lodgen::load_scene(r.input, lo), r.input, r.chain, progress, r.measure_seconds);
   }
   SceneChains out;
   const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(r.input);

@@ -25,7 +25,7 @@ void bind_lodgen(py::module_ m) {
     o.ratio = ratio;
     o.max_error = max_error;
     o.decimate.lock_border = lock_border;
-    if (!lodgen::parse_backend(backend, &o.decimate.backend)) throw py::value_error("backend: openmesh, cgal or cgal-lt");
+    if (!lodgen::parse_backend(backend, &o.decimate.backend)) throw py::value_error("backend: meshopt, openmesh, cgal or cgal-lt");
     py::dict summary;
     py::list meshes;
     {
@@ -48,7 +48,8 @@ void bind_lodgen(py::module_ m) {
         py::list lv;
         for (const auto& l : sc.chains[i].levels)
           lv.append(py::dict("target"_a = l.target_triangles, "triangles"_a = l.mesh.triangle_count(),
-                             "hausdorff_diameters"_a = l.hausdorff, "seconds"_a = l.seconds));
+                             "hausdorff_diameters"_a = l.hausdorff, "normal_deviation_degrees"_a = l.normal_deviation,
+                             "seconds"_a = l.seconds));
         meshes.append(py::dict("name"_a = sc.scene.mesh_names[i], "diameter"_a = sc.chains[i].diameter, "levels"_a = lv,
                                "warnings"_a = sc.chains[i].warnings));
       }
@@ -58,7 +59,7 @@ void bind_lodgen(py::module_ m) {
     summary["backend"] = backend;
     summary["meshes"] = meshes;
     return summary;
-  }, "input"_a, "output"_a = "", "levels"_a = 0, "ratio"_a = 0.5, "max_error"_a = 0.0, "backend"_a = "cgal",
+  }, "input"_a, "output"_a = "", "levels"_a = 0, "ratio"_a = 0.5, "max_error"_a = 0.0, "backend"_a = "meshopt",
      "lock_border"_a = false, "asset_root"_a = "",
   "Build a measured chain of levels for every mesh of `input` (OFF/OBJ/PLY/STL/glTF/GLB); write\n"
   "it as glTF with MSFT_lod when `output` is given, each node that draws a mesh at its world matrix:\n"

@@ -1,6 +1,5 @@
-// Everything CGAL: soup repair, edge-collapse decimation, Hausdorff distance.
+// CGAL: soup repair and edge-collapse decimation (deviation.cpp measures with its AABB tree).
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
@@ -129,15 +128,5 @@ Mesh decimate_cgal(const Mesh& mesh, std::size_t target, bool lindstrom_turk, bo
 }
 
 }  // namespace detail
-
-double hausdorff(const Mesh& a, const Mesh& b, double spacing) {
-  Converted ca, cb;
-  to_surface_mesh(a, ca);
-  to_surface_mesh(b, cb);
-  if (ca.mesh.number_of_faces() == 0 || cb.mesh.number_of_faces() == 0) return 0;
-  // Deterministic grid sampling of vertices, edges and faces on both sides.
-  const auto np = CGAL::parameters::use_grid_sampling(true).grid_spacing(spacing).do_sample_vertices(true).do_sample_edges(true);
-  return PMP::approximate_symmetric_Hausdorff_distance<CGAL::Sequential_tag>(ca.mesh, cb.mesh, np, np);
-}
 
 }  // namespace acuity::lodgen

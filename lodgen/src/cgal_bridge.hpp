@@ -1,5 +1,6 @@
 #pragma once
-// The CGAL-based pieces, kept in one translation unit (cgal.cpp) because CGAL's templates are
+// The back-ends' entry points (decimate() picks one). The CGAL-based pieces are kept in one
+// translation unit (cgal.cpp) because CGAL's templates are
 // heavy to compile.
 #include <array>
 #include <cstddef>
@@ -16,5 +17,6 @@ bool repair_soup(std::vector<std::array<double, 3>>& points, std::vector<std::ar
 
 Mesh decimate_cgal(const Mesh& mesh, std::size_t target_triangles, bool lindstrom_turk, bool lock_border);
 Mesh decimate_openmesh(const Mesh& mesh, std::size_t target_triangles, bool lock_border);
+Mesh decimate_meshopt(const Mesh& mesh, std::size_t target_triangles, bool lock_border, double crease_degrees);
 
 }  // namespace acuity::lodgen::detail

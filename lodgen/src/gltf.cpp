@@ -848,6 +848,9 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
       tinygltf::Value::Object extras;
       extras["MSFT_screencoverage"] = tinygltf::Value(cov);
       extras["acuity_geometric_error"] = tinygltf::Value(err);
+      tinygltf::Value::Array normal;
+      for (const Level& l : o.chain.levels) normal.emplace_back(l.normal_deviation);
+      extras["acuity_normal_deviation"] = tinygltf::Value(normal);
       top.extras = tinygltf::Value(extras);
     }
     scene.nodes.push_back(node_ids[0]);

@@ -97,7 +97,12 @@ std::size_t declared_faces(const std::string& path, std::uintmax_t size) {
           malformed(line);
         ++properties;
       } else {
-        malformed(line);
+        // A line with no keyword (Blender 2.4 wrote "Created by Blender3D ..." without "comment"):
+        // a comment, as assimp reads it. OpenMesh skips such words one by one, so a keyword later
+        // in the line would be taken as one: reject those.
+        static const char* const kKeywords[] = {"ply", "format", "element", "property", "end_header", "comment", "obj_info"};
+        for (std::istringstream all(line); all >> a;)
+          if (std::find(std::begin(kKeywords), std::end(kKeywords), a) != std::end(kKeywords)) malformed(line);
       }
     }
     if (!format || !ended || !vertices) throw InputError(path + ": PLY header is incomplete (format, a vertex element and end_header are needed)");

@@ -11,11 +11,17 @@
 
 namespace acuity::bake {
 
+// The default time budget for measuring the errors of all of a scene's meshes [s]. Each measured
+// side of a coarser level gets an equal part of what is left; a measurement cut short is a lower
+// bound, with a warning (lodgen::DeviationOptions::max_seconds).
+inline constexpr double kMeasureSeconds = 40;
+
 struct ChainRequest {
   std::string input;           // OFF, OBJ, PLY, STL, glTF or GLB
   std::string asset_root;      // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
   lodgen::ChainOptions chain;  // decimation (ignored when refine > 0)
   int refine = 0;              // > 0: the input is a cage refined this many times (OpenSubdiv)
+  double measure_seconds = kMeasureSeconds;  // error-measurement budget for all the scene's meshes [s]
 };
 
 struct SceneChains {
@@ -29,8 +35,8 @@ struct SceneChains {
 // the file for bad input, and when the scene draws no mesh.
 SceneChains build_scene_chains(const ChainRequest& request, const lodgen::ChainProgress& progress = {});
 // The same from a scene already loaded from `where` (decimation only).
-SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where,
-                            const lodgen::ChainOptions& options, const lodgen::ChainProgress& progress = {});
+SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodgen::ChainOptions options,
+                            const lodgen::ChainProgress& progress = {}, double measure_seconds = kMeasureSeconds);
 
 // A chain file (glTF from write_lod_gltf or any MSFT_lod writer): its first node with MSFT_lod
 // levels, read back as a chain. `material` points into `scene` (keep them together).

@@ -15,14 +15,19 @@ struct ChainOptions {
   double max_error = 0;           // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
                                   // Hausdorff distance [object diameters]
   std::size_t min_triangles = 64;
-  DecimateOptions decimate;
+  DecimateOptions decimate;       // decimate.crease_degrees: edges sharper than this are drawn sharp
+                                  // in every level (split_creases); >= 180: all smooth
   bool repair = true;             // repair bad input (with a warning) instead of rejecting it
+  DeviationOptions measure;       // bounds on the error measurement (sample count, seconds per level)
 };
 
 struct Level {
   Mesh mesh;
   std::size_t target_triangles = 0;
   double hausdorff = 0;           // to level 0 [object diameters]
+  double normal_deviation = 0;    // 99th-percentile angle between its shading normals and level 0's [degrees]
+  double normal_deviation_max = 0;  // the largest such angle [degrees]
+  bool measured_fully = true;     // false: the measurement's time cap cut sampling short (a looser lower bound)
   double seconds = 0;             // to build this level
 };
 
@@ -35,13 +40,18 @@ struct Chain {
 // stage, done, total
 using ChainProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
 
-// Each level is decimated from level 0 (not from the previous level), so errors do not compound;
-// the Hausdorff error is made non-decreasing along the chain (a level is never reported better
+// Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees); each
+// level is decimated from level 0 (not from the previous level), so errors do not compound. meshopt
+// keeps level 0's creases as seams (see decimate()); the other back-ends decimate the welded input
+// and split each level at its own creases. Every level is
+// measured against level 0 (lodgen::deviation, bounded by options.measure): the Hausdorff error and
+// the normal deviations are made non-decreasing along the chain (a level is never reported better
 // than a finer one). Throws InputError for unusable input.
 Chain build_chain(const Mesh& mesh, const std::string& where, const ChainOptions& options,
                   const ChainProgress& progress = {});
 
-// A chain from given levels (refinement output): measures Hausdorff errors only.
-Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress = {});
+// A chain from given levels (refinement output), measured as build_chain does.
+Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress = {},
+                    const DeviationOptions& measure = {});
 
 }  // namespace acuity::lodgen

@@ -6,7 +6,8 @@
 // screen height; level k takes over from level k-1 where its geometric error e_k (fraction of the
 // diameter) covers one pixel at the reference height: coverage = 1 / (e_k x height). Since the
 // coverage depends on that height and is clamped, lodgen also writes the errors themselves as
-// extras.acuity_geometric_error on the same node.
+// extras.acuity_geometric_error on the same node, and the shading error beside it as
+// extras.acuity_normal_deviation (per level, degrees; lodgen::Level::normal_deviation).
 #include <string>
 #include <vector>
 
