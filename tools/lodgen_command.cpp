@@ -20,7 +20,7 @@ namespace {
 struct LodgenOptions {
   std::string input, output, backend = "meshopt", asset_root;
   std::size_t levels = 0;
-  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45, measure_seconds = 40;
+  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45, measure_seconds = bake::kMeasureSeconds;
   int refine = 0;
   bool lock_border = false, quiet = false;
 };

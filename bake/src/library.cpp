@@ -40,6 +40,8 @@ json to_json(const BakeOptions& o) {
           {"max_error", o.max_error},
           {"backend", o.backend},
           {"lock_border", o.lock_border},
+          {"crease", o.crease},
+          {"measure_seconds", o.measure_seconds},
           {"reference_height", o.reference_height},
           {"pixels", o.pixels},
           {"orientations", o.orientations},
@@ -70,6 +72,10 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
       o.ratio = number<double>(v, where, key, 0.01, 0.99);
     else if (key == "max_error")
       o.max_error = number<double>(v, where, key, 0, 1e6);
+    else if (key == "crease")
+      o.crease = number<double>(v, where, key, 0, 180);
+    else if (key == "measure_seconds")
+      o.measure_seconds = number<double>(v, where, key, 0.1, 1e5);
     else if (key == "reference_height")
       o.reference_height = number<double>(v, where, key, 1, 1e6);
     else if (key == "pixels")
@@ -94,7 +100,7 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
   }
   lodgen::Backend backend;
   if (!lodgen::parse_backend(o.backend, &backend))
-    throw lodgen::InputError(where + ": option 'backend' must be openmesh, cgal or cgal-lt, not '" +
+    throw lodgen::InputError(where + ": option 'backend' must be meshopt, openmesh, cgal or cgal-lt, not '" +
                              o.backend + "'");
   if (o.pixels & (o.pixels - 1))
     throw lodgen::InputError(where + ": option 'pixels' must be a power of two, not " +
@@ -264,8 +270,9 @@ void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_job
   co.ratio = o.ratio;
   co.max_error = o.max_error;
   co.decimate.lock_border = o.lock_border;
+  co.decimate.crease_degrees = o.crease;
   lodgen::parse_backend(o.backend, &co.decimate.backend);  // checked by parse_options
-  const SceneChains sc = chains_of_scene(std::move(scene), job.input, co);
+  const SceneChains sc = chains_of_scene(std::move(scene), job.input, co, {}, o.measure_seconds);
   lodgen::GltfWriteOptions wo;
   wo.reference_height = o.reference_height;
   *chain = lodgen::encode_lod_gltf(sc.objects, sc.scene.materials, wo);

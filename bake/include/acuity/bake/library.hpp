@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "acuity/bake/chains.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 
 namespace acuity::bake {
@@ -29,8 +30,10 @@ struct BakeOptions {
   std::uint32_t levels = 0;      // 0: halve down to ~1%; at most 32
   double ratio = 0.5;            // triangles of each level over the previous, in [0.01, 0.99]
   double max_error = 0;          // >= 0 [bounding-sphere diameters]
-  std::string backend = "cgal";  // openmesh | cgal | cgal-lt
+  std::string backend = "meshopt";  // meshopt | openmesh | cgal | cgal-lt
   bool lock_border = false;
+  double crease = 45;              // edges sharper than this are drawn sharp [degrees], in [0, 180]
+  double measure_seconds = kMeasureSeconds;  // error-measurement budget for the asset [s], in [0.1, 1e5]
   double reference_height = 1080;  // pixels, for MSFT_screencoverage, in [1, 1e6]
   std::uint32_t pixels = 256;      // profile snapshot pixels (power of two, 16 .. 4096)
   std::uint32_t orientations = 8;  // 1 .. 32
