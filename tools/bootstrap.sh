@@ -40,32 +40,23 @@ install_packages() {
   fi
 }
 
-# The Khronos glTF validator, for the test that checks lodgen's output (when npm is there).
-install_node_tools() {
-  if command -v npm >/dev/null && [ ! -d build/node/node_modules/gltf-validator ]; then
-    mkdir -p build/node
-    npm install --silent --no-audit --no-fund --prefix build/node gltf-validator >/dev/null || \
-      echo "warning: npm could not install gltf-validator; its test will be skipped" >&2
-  fi
-}
-
-# web/'s npm packages (three, playwright-core, pngjs), exactly as pinned in its lockfile; node and npm
-# are on the machine already (never in PACKAGES: NodeSource's nodejs conflicts with Debian's npm).
-# No browser download: the tests drive Debian's chromium.
-install_web_packages() {
-  if ! cmp -s web/package-lock.json web/node_modules/.acuity-installed-lock 2>/dev/null; then
-    echo "== npm ci (web/)"
-    (cd web && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.acuity-installed-lock)
-  fi
-}
-
-# Third-party models for lodgen's real-asset tests (npm @webxr-input-profiles/assets: 82 controller
-# models, MIT), exactly as pinned in assets/third_party's lockfile; installed here, never at test time.
-install_third_party_assets() {
-  if ! cmp -s assets/third_party/package-lock.json assets/third_party/node_modules/.acuity-installed-lock 2>/dev/null; then
-    echo "== npm ci (assets/third_party/)"
-    (cd assets/third_party && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.acuity-installed-lock)
-  fi
+# npm packages, each folder exactly as pinned in its lockfile (npm ci; reinstalled only when the
+# lockfile changed); node and npm are on the machine already (never in PACKAGES: NodeSource's nodejs
+# conflicts with Debian's npm). Nothing is fetched at build or test time.
+#   web/               three, playwright-core, pngjs: the page and its tests (no browser download:
+#                      the tests drive Debian's chromium)
+#   assets/third_party/ @webxr-input-profiles/assets: 82 controller models (MIT) for lodgen's
+#                      real-asset tests
+#   tests/node/        gltf-validator: the Khronos validator run on lodgen's output
+install_npm_packages() {
+  local dir
+  for dir in web assets/third_party tests/node; do
+    if ! cmp -s "$dir/package-lock.json" "$dir/node_modules/.acuity-installed-lock" 2>/dev/null; then
+      echo "== npm ci ($dir/)"
+      (cd "$dir" && PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund --loglevel=error && \
+        cp package-lock.json node_modules/.acuity-installed-lock)
+    fi
+  done
 }
 
 JOBS=${JOBS:-$(nproc)}
@@ -80,22 +71,20 @@ configure_and_build() { # $1 build dir, rest: extra cmake args; CC/CXX pick the 
 }
 
 case "${1:-test}" in
-  deps) install_packages; install_web_packages; install_third_party_assets ;;
+  deps) install_packages; install_npm_packages ;;
   demo)
     install_packages
-    install_web_packages
+    install_npm_packages
     configure_and_build build
     ./build/tools/acuity demo
     ;;
   test)
     install_packages
-    install_web_packages
-    install_third_party_assets
+    install_npm_packages
     # Formatting (.clang-format, clang-format 14): enabled once the whole tree is formatted in its
     # own commit; until then `bash tools/check_format.sh FILE...` checks given files.
     # bash tools/check_format.sh --all
     configure_and_build build
-    install_node_tools
     ctest --test-dir build --output-on-failure -j "$JOBS"
     # The runtime alone (standard library + GLM): what an engine links must build by itself.
     configure_and_build build-runtime -DACUITY_RUNTIME_ONLY=ON -DACUITY_BENCH=OFF
