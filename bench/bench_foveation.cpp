@@ -15,7 +15,10 @@ using namespace acuity;
 namespace {
 Eye display_eye() {
   Eye eye;
-  eye.fov_deg[0] = -50; eye.fov_deg[1] = 50; eye.fov_deg[2] = 50; eye.fov_deg[3] = -50;
+  eye.fov_deg[0] = -50;
+  eye.fov_deg[1] = 50;
+  eye.fov_deg[2] = 50;
+  eye.fov_deg[3] = -50;
   eye.viewport[0] = eye.viewport[1] = 2000;
   return eye;
 }
@@ -44,7 +47,11 @@ void BM_plan_foveation(benchmark::State& state) {
   Buffers b(eye, static_cast<std::uint32_t>(state.range(1)));
   Gaze gaze;
   gaze.valid = state.range(0) != 2;
-  if (state.range(0) == 1) { gaze.direction[0] = 0.34f; gaze.direction[1] = 0.17f; gaze.direction[2] = -0.92f; }
+  if (state.range(0) == 1) {
+    gaze.direction[0] = 0.34f;
+    gaze.direction[1] = 0.17f;
+    gaze.direction[2] = -0.92f;
+  }
   if (state.range(0) == 3) eye.angular_velocity[1] = 100;
   for (auto _ : state) {
     plan_foveation(*planner, eye, gaze, &b.maps);

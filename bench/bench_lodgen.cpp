@@ -31,8 +31,9 @@ Mesh meshopt(const Mesh& in, std::size_t target) {
   Mesh out = in;
   out.indices.resize(in.indices.size());
   float error = 0;
-  const std::size_t n = meshopt_simplify(out.indices.data(), in.indices.data(), in.indices.size(), in.positions.data(),
-                                         in.vertex_count(), 12, target * 3, 1.0f, 0, &error);
+  const std::size_t n =
+      meshopt_simplify(out.indices.data(), in.indices.data(), in.indices.size(), in.positions.data(),
+                       in.vertex_count(), 12, target * 3, 1.0f, 0, &error);
   out.indices.resize(n);
   return out;
 }
@@ -53,22 +54,32 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "build/cgal-data/data/meshes";
   const int repeats = argc > 2 ? std::max(1, std::atoi(argv[2])) : 3;
-  const int order[] = {int(Backend::Meshopt), int(Backend::CgalGarlandHeckbert), int(Backend::CgalLindstromTurk),
-                       int(Backend::OpenMesh), 4};
-  struct Summary { std::vector<double> time, error, normal; int at_or_below = 0; };
+  const int order[] = {int(Backend::Meshopt), int(Backend::CgalGarlandHeckbert),
+                       int(Backend::CgalLindstromTurk), int(Backend::OpenMesh), 4};
+  struct Summary {
+    std::vector<double> time, error, normal;
+    int at_or_below = 0;
+  };
   std::map<std::string, Summary> summary;
-  struct ChainRow { std::string mesh; double split_ms, meshopt_ms, reference_ms; };
+  struct ChainRow {
+    std::string mesh;
+    double split_ms, meshopt_ms, reference_ms;
+  };
   std::vector<ChainRow> chains;
-  std::printf("| mesh | triangles | kept | backend | result | time [ms] | Hausdorff [diam] | normal p99 [deg] | time / meshopt | error / meshopt |\n");
+  std::printf(
+      "| mesh | triangles | kept | backend | result | time [ms] | Hausdorff [diam] | normal p99 [deg] | time "
+      "/ meshopt | error / meshopt |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const char* name : {"elephant.off", "fandisk.off", "camel.off", "ChineseDragon-10kv.off", "armadillo.off", "bunny00.off"}) {
+  for (const char* name : {"elephant.off", "fandisk.off", "camel.off", "ChineseDragon-10kv.off",
+                           "armadillo.off", "bunny00.off"}) {
     const Mesh m = load_mesh(dir + "/" + name);
     double split_ms = 1e30;
     Mesh shaded;
     for (int r = 0; r < repeats; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
       shaded = split_creases(m, kCrease);
-      split_ms = std::min(split_ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      split_ms = std::min(
+          split_ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
     chains.push_back({name, split_ms, split_ms, 0});
     const double d = diameter(m);
@@ -76,7 +87,12 @@ int main(int argc, char** argv) {
     measure.spacing = d / 250;
     for (double keep : {0.5, 0.25, 0.125, 0.0625}) {
       const std::size_t target = std::size_t(double(m.triangle_count()) * keep);
-      struct Row { std::string backend; double ms; Deviation error; std::size_t triangles; };
+      struct Row {
+        std::string backend;
+        double ms;
+        Deviation error;
+        std::size_t triangles;
+      };
       std::vector<Row> rows;
       for (int b : order) {
         Mesh best;
@@ -84,17 +100,20 @@ int main(int argc, char** argv) {
         for (int r = 0; r < repeats; ++r) {
           const auto t0 = std::chrono::steady_clock::now();
           Mesh out = run(b, m, shaded, target);
-          ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          ms = std::min(
+              ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
           best = std::move(out);
         }
         if (b == 4) best = split_creases(best, kCrease);
-        rows.push_back({b == 4 ? "meshoptimizer" : to_string(Backend(b)), ms, deviation(shaded, best, measure), best.triangle_count()});
+        rows.push_back({b == 4 ? "meshoptimizer" : to_string(Backend(b)), ms,
+                        deviation(shaded, best, measure), best.triangle_count()});
       }
       const Row& ref = rows.back();
       for (const Row& r : rows) {
         const double tr = r.ms / ref.ms, er = r.error.hausdorff / ref.error.hausdorff;
-        std::printf("| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name, m.triangle_count(), 100 * keep,
-                    r.backend.c_str(), r.triangles, r.ms, r.error.hausdorff / d, r.error.normal_p99_degrees, tr, er);
+        std::printf("| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name,
+                    m.triangle_count(), 100 * keep, r.backend.c_str(), r.triangles, r.ms,
+                    r.error.hausdorff / d, r.error.normal_p99_degrees, tr, er);
         if (r.backend == "meshopt") chains.back().meshopt_ms += r.ms;
         if (r.backend == "meshoptimizer") chains.back().reference_ms += r.ms;
         Summary& s = summary[r.backend];
@@ -106,21 +125,27 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
-  std::printf("\n| mesh | crease split [ms] | meshopt chain: split + 4 levels [ms] | meshoptimizer: 4 levels [ms] | chain time / meshoptimizer |\n");
+  std::printf(
+      "\n| mesh | crease split [ms] | meshopt chain: split + 4 levels [ms] | meshoptimizer: 4 levels [ms] | "
+      "chain time / meshoptimizer |\n");
   std::printf("|---|---|---|---|---|\n");
   std::vector<double> chain_ratio;
   for (const ChainRow& c : chains) {
     chain_ratio.push_back(c.meshopt_ms / c.reference_ms);
-    std::printf("| %s | %.1f | %.1f | %.1f | %.2f |\n", c.mesh.c_str(), c.split_ms, c.meshopt_ms, c.reference_ms, chain_ratio.back());
+    std::printf("| %s | %.1f | %.1f | %.1f | %.2f |\n", c.mesh.c_str(), c.split_ms, c.meshopt_ms,
+                c.reference_ms, chain_ratio.back());
   }
   std::printf("| median | | | | %.2f |\n", median(chain_ratio));
-  std::printf("\n| backend | time / meshoptimizer, median (range) | Hausdorff / meshoptimizer, median | normal p99 / meshoptimizer, median | rows at or below meshoptimizer's Hausdorff |\n");
+  std::printf(
+      "\n| backend | time / meshoptimizer, median (range) | Hausdorff / meshoptimizer, median | normal p99 / "
+      "meshoptimizer, median | rows at or below meshoptimizer's Hausdorff |\n");
   std::printf("|---|---|---|---|---|\n");
   for (int b : order) {
     const std::string label = b == 4 ? "meshoptimizer" : to_string(Backend(b));
     const Summary& s = summary[label];
     std::printf("| %s | %.2fx (%.2f-%.2f) | %.2f | %.2f | %d / %zu |\n", label.c_str(), median(s.time),
-                *std::min_element(s.time.begin(), s.time.end()), *std::max_element(s.time.begin(), s.time.end()),
-                median(s.error), median(s.normal), s.at_or_below, s.time.size());
+                *std::min_element(s.time.begin(), s.time.end()),
+                *std::max_element(s.time.begin(), s.time.end()), median(s.error), median(s.normal),
+                s.at_or_below, s.time.size());
   }
 }

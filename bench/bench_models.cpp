@@ -13,16 +13,22 @@ using namespace acuity;
 namespace {
 constexpr std::size_t kN = 4096;
 
-template <class T> struct Inputs {
+template <class T>
+struct Inputs {
   std::vector<T> f, e, v, out;
   Inputs() : f(kN), e(kN), v(kN), out(kN) {
     std::mt19937 rng(1);
     std::uniform_real_distribution<double> uf(0.1, 40), ue(0, 60), uv(0, 30);
-    for (std::size_t i = 0; i < kN; ++i) { f[i] = T(uf(rng)); e[i] = T(ue(rng)); v[i] = T(uv(rng)); }
+    for (std::size_t i = 0; i < kN; ++i) {
+      f[i] = T(uf(rng));
+      e[i] = T(ue(rng));
+      v[i] = T(uv(rng));
+    }
   }
 };
 
-template <class T> void BM_threshold_scalar(benchmark::State& state) {
+template <class T>
+void BM_threshold_scalar(benchmark::State& state) {
   const auto model = static_cast<ThresholdModel>(state.range(0));
   Inputs<T> in;
   const ModelParams p;
@@ -35,7 +41,8 @@ template <class T> void BM_threshold_scalar(benchmark::State& state) {
   state.SetLabel(to_string(model));
 }
 
-template <class T> void BM_threshold_batch(benchmark::State& state) {
+template <class T>
+void BM_threshold_batch(benchmark::State& state) {
   const auto model = static_cast<ThresholdModel>(state.range(0));
   Inputs<T> in;
   const ModelParams p;
@@ -60,7 +67,9 @@ void BM_max_visible_frequency(benchmark::State& state) {
   state.SetLabel(to_string(model));
 }
 
-void models(benchmark::internal::Benchmark* b) { for (int m = 0; m < 4; ++m) b->Arg(m); }
+void models(benchmark::internal::Benchmark* b) {
+  for (int m = 0; m < 4; ++m) b->Arg(m);
+}
 }  // namespace
 
 BENCHMARK(BM_threshold_scalar<double>)->Apply(models);

@@ -26,7 +26,9 @@ struct Setting {
   std::uint32_t views, pixels, orientations, bands;
 };
 
-struct ErrorStats { double median, p95, worst, optimistic; };
+struct ErrorStats {
+  double median, p95, worst, optimistic;
+};
 
 // |ln(predicted / direct)| of switching angles over levels and views; `optimistic` is the share of
 // predictions that switch later (a larger angle) than the truth: a visible loss let through.
@@ -42,13 +44,15 @@ int main(int argc, char** argv) {
   const std::string dir = argc > 1 ? argv[1] : "build/cgal-data/data/meshes";
   const int random_views = argc > 2 ? std::atoi(argv[2]) : 24;
   // The chain.
-  const lodgen::Mesh refined = lodgen::refine(lodgen::to_polygons(lodgen::load_mesh(dir + "/armadillo.off")), 1)[0];
+  const lodgen::Mesh refined =
+      lodgen::refine(lodgen::to_polygons(lodgen::load_mesh(dir + "/armadillo.off")), 1)[0];
   std::vector<lodgen::Mesh> meshes = {lodgen::decimate(refined, 100000)};
   for (int k = 1; k < 6; ++k) meshes.push_back(lodgen::decimate(meshes[0], meshes[0].triangle_count() >> k));
   std::vector<LevelInput> levels;
   for (const auto& m : meshes) {
     LevelInput l;
-    l.mesh = {m.positions.data(), m.vertex_count(), m.indices.data(), m.indices.size(), m.normals.data(), nullptr};
+    l.mesh = {m.positions.data(), m.vertex_count(), m.indices.data(),
+              m.indices.size(),   m.normals.data(), nullptr};
     levels.push_back(l);
   }
   std::printf("chain: armadillo refined and decimated; triangles");
@@ -69,7 +73,9 @@ int main(int argc, char** argv) {
       {"4 orientations", 0, 256, 4, 0},
       {"4 bands", 0, 256, 8, 4},
   };
-  std::printf("| setting | views kept | profile time [s] | size [bytes] | nearest: median / p95 / worst error | nearest: optimistic | max of 3: median / p95 / worst | max of 3: optimistic |\n");
+  std::printf(
+      "| setting | views kept | profile time [s] | size [bytes] | nearest: median / p95 / worst error | "
+      "nearest: optimistic | max of 3: median / p95 / worst | max of 3: optimistic |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const Setting& s : settings) {
     ProfileSettings ps;
@@ -82,7 +88,8 @@ int main(int argc, char** argv) {
     const std::size_t size = encode_profile(profile).size;
     // Ground truth at the probes with the same analysis settings.
     const ProfileMeasurer measurer(levels, Material{}, ps);
-    const std::size_t K = levels.size(), T = profile.orientations.size(), B = profile.bands.size(), V = profile.views.size();
+    const std::size_t K = levels.size(), T = profile.orientations.size(), B = profile.bands.size(),
+                      V = profile.views.size();
     std::vector<double> near_logs, max_logs;
     std::size_t near_opt = 0, max_opt = 0;
     for (const ProfileView& probe : probes) {
@@ -90,7 +97,8 @@ int main(int argc, char** argv) {
       std::vector<std::pair<float, std::size_t>> order;
       for (std::size_t v = 0; v < V; ++v) {
         const float* d = profile.views[v].direction;
-        order.push_back({-(d[0] * probe.direction[0] + d[1] * probe.direction[1] + d[2] * probe.direction[2]), v});
+        order.push_back(
+            {-(d[0] * probe.direction[0] + d[1] * probe.direction[1] + d[2] * probe.direction[2]), v});
       }
       std::sort(order.begin(), order.end());
       for (std::size_t k = 1; k < K; ++k) {
@@ -108,9 +116,11 @@ int main(int argc, char** argv) {
       }
     }
     const ErrorStats a = stats(near_logs, near_opt), b = stats(max_logs, max_opt);
-    std::printf("| %s | %u of %u | %.2f | %zu | %.1f%% / %.1f%% / %.1f%% | %.0f%% | %.1f%% / %.1f%% / %.1f%% | %.0f%% |\n", s.name,
-                report.views_kept, report.views_measured, report.seconds, size, 100 * a.median, 100 * a.p95, 100 * a.worst,
-                100 * a.optimistic, 100 * b.median, 100 * b.p95, 100 * b.worst, 100 * b.optimistic);
+    std::printf(
+        "| %s | %u of %u | %.2f | %zu | %.1f%% / %.1f%% / %.1f%% | %.0f%% | %.1f%% / %.1f%% / %.1f%% | "
+        "%.0f%% |\n",
+        s.name, report.views_kept, report.views_measured, report.seconds, size, 100 * a.median, 100 * a.p95,
+        100 * a.worst, 100 * a.optimistic, 100 * b.median, 100 * b.p95, 100 * b.worst, 100 * b.optimistic);
     std::fflush(stdout);
   }
 }

@@ -8,8 +8,8 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
-#include <thread>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "acuity/scheduler.hpp"
@@ -31,9 +31,9 @@ struct Library {
       spectra::ProfileData d;
       d.sphere[3] = 0.5f + u(rng);
       for (int k = 0; k < kLevels; ++k) d.levels.push_back({20000u >> k, 0.002f * float((1 << k) - 1)});
-      const float axes[14][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-                                 {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
-                                 {-1, -1, 1}, {-1, -1, -1}};
+      const float axes[14][3] = {{1, 0, 0},  {-1, 0, 0},  {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
+                                 {0, 0, -1}, {1, 1, 1},   {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                                 {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
       for (const auto& a : axes) d.views.push_back(spectra::make_view(a[0], a[1], a[2]));
       for (int t = 0; t < kOrientations; ++t) d.orientations.push_back(180.0f * float(t) / kOrientations);
       for (int b = 0; b < kBands; ++b) d.bands.push_back(2.0f * std::pow(2.0f, float(b)));
@@ -41,7 +41,8 @@ struct Library {
         for (int v = 0; v < 14; ++v)
           for (int t = 0; t < kOrientations; ++t)
             for (int b = 0; b < kBands; ++b)
-              d.lost.push_back(0.25f * u(rng) / (1.0f + std::exp(-2.0f * (float(b) - float(kBands) + 1.3f * float(k)))));
+              d.lost.push_back(0.25f * u(rng) /
+                               (1.0f + std::exp(-2.0f * (float(b) - float(kBands) + 1.3f * float(k)))));
       for (int k = 0; k < kLevels; ++k)
         for (int v = 0; v < 14 * kOrientations; ++v) d.features.push_back(256.0f / float(1 << k));
       blobs.push_back(spectra::encode_profile(d));
@@ -61,7 +62,7 @@ const Library& library() {
 struct Scene {
   std::unique_ptr<Scheduler> scheduler;
   Frame frame;
-  std::vector<double> x, y, z;      // for the baseline loops
+  std::vector<double> x, y, z;  // for the baseline loops
   std::vector<int> profile_of;
   Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated) {
     SchedulerConfig c;
@@ -85,7 +86,9 @@ struct Scene {
       const ObjectId id = scheduler->add_object(p, t);
       const float v[3] = {u(rng) < moving ? (u(rng) - 0.5f) * 20 : 0.0f, 0, 0};
       scheduler->set_velocity(id, v);
-      x.push_back(t.position[0]); y.push_back(t.position[1]); z.push_back(t.position[2]);
+      x.push_back(t.position[0]);
+      y.push_back(t.position[1]);
+      z.push_back(t.position[2]);
       profile_of.push_back(p);
     }
     frame.gaze[0].valid = true;
@@ -95,7 +98,8 @@ struct Scene {
   }
 };
 
-void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated) {
+void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
+                  Evaluation evaluation = Evaluation::Tabulated) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation);
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
@@ -147,7 +151,8 @@ void BM_distance_loop(benchmark::State& state) {
     for (int k = 0; k < kLevels; ++k) thresholds[p][k] = 10.0f * float(k);
   for (auto _ : state) {
     for (std::size_t i = 0; i < n; ++i) {
-      const float d = static_cast<float>(std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
+      const float d = static_cast<float>(
+          std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
       std::uint8_t l = 0;
       for (int k = 1; k < kLevels; ++k) l = d >= thresholds[scene.profile_of[i]][k] ? std::uint8_t(k) : l;
       level[i] = l;
@@ -168,10 +173,12 @@ void BM_screen_size_loop(benchmark::State& state) {
   const float radius = 1.0f, half_tan = 1.0f;
   for (auto _ : state) {
     for (std::size_t i = 0; i < n; ++i) {
-      const float d = static_cast<float>(std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
+      const float d = static_cast<float>(
+          std::sqrt(scene.x[i] * scene.x[i] + scene.y[i] * scene.y[i] + scene.z[i] * scene.z[i]));
       const float height = radius / (d * half_tan);
       std::uint8_t l = 0;
-      for (int k = 1; k < kLevels; ++k) l = height <= thresholds[scene.profile_of[i]][k] ? std::uint8_t(k) : l;
+      for (int k = 1; k < kLevels; ++k)
+        l = height <= thresholds[scene.profile_of[i]][k] ? std::uint8_t(k) : l;
       level[i] = l;
     }
     benchmark::DoNotOptimize(level.data());
@@ -213,8 +220,11 @@ BENCHMARK(BM_distance_loop)->Apply(sizes);
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);
-BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)->Apply(sizes);
-BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_exact, SelectionRule::Perceptual, 1.0f, Evaluation::Exact)->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)
+    ->Apply(sizes);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_exact, SelectionRule::Perceptual, 1.0f,
+                  Evaluation::Exact)
+    ->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_static, 0.0f)->Apply(sizes)->UseRealTime();
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_all_moving, 1.0f)->Apply(sizes)->UseRealTime();
 BENCHMARK_CAPTURE(BM_scheduler, reddy_static, SelectionRule::Reddy, 0.0f)->Apply(sizes);

@@ -10,22 +10,28 @@
 
 #define OBJECTS 20
 
-static void *read_all(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  void *data;
+static void* read_all(const char* path, size_t* size) {
+  FILE* f = fopen(path, "rb");
+  void* data;
   long n;
   if (!f) return NULL;
-  if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) { fclose(f); return NULL; }
+  if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0) {
+    fclose(f);
+    return NULL;
+  }
   data = malloc((size_t)n + 1);
-  if (data && fread(data, 1, (size_t)n, f) != (size_t)n) { free(data); data = NULL; }
+  if (data && fread(data, 1, (size_t)n, f) != (size_t)n) {
+    free(data);
+    data = NULL;
+  }
   fclose(f);
   *size = (size_t)n;
   return data;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char** argv) {
   acuity_config config;
-  acuity_scheduler *s = NULL;
+  acuity_scheduler* s = NULL;
   acuity_eye eye;
   int32_t profile = -1, profiles[OBJECTS];
   double positions[OBJECTS][3];
@@ -34,7 +40,7 @@ int main(int argc, char **argv) {
   uint8_t levels[OBJECTS], previous[OBJECTS];
   float fades[OBJECTS];
   size_t size = 0;
-  void *bytes;
+  void* bytes;
   int i, frame;
 
   if (argc < 2 || !(bytes = read_all(argv[1], &size))) {
@@ -62,7 +68,8 @@ int main(int argc, char **argv) {
     velocities[i][0] = i % 3 == 0 ? 2.0f : 0.0f;
     velocities[i][1] = velocities[i][2] = 0.0f;
   }
-  if (acuity_add_objects(s, OBJECTS, profiles, &positions[0][0], 0, &rotations[0][0], 0, scales, ids) != ACUITY_OK ||
+  if (acuity_add_objects(s, OBJECTS, profiles, &positions[0][0], 0, &rotations[0][0], 0, scales, ids) !=
+          ACUITY_OK ||
       acuity_set_velocities(s, OBJECTS, ids, &velocities[0][0], 0) != ACUITY_OK) {
     fprintf(stderr, "hello_lod: %s\n", acuity_last_error());
     acuity_destroy(s);
@@ -74,8 +81,9 @@ int main(int argc, char **argv) {
     eye.gaze_direction[0] = 0.125f * (float)frame;
     eye.gaze_direction[1] = 0.0f;
     eye.gaze_direction[2] = -1.0f;
-    if (acuity_begin_frame(s, &eye, 1, 1.0f / 64.0f) != ACUITY_OK || acuity_update_range(s, 0, 10) != ACUITY_OK ||
-        acuity_update_range(s, 10, 10) != ACUITY_OK || acuity_end_frame(s) != ACUITY_OK) {
+    if (acuity_begin_frame(s, &eye, 1, 1.0f / 64.0f) != ACUITY_OK ||
+        acuity_update_range(s, 0, 10) != ACUITY_OK || acuity_update_range(s, 10, 10) != ACUITY_OK ||
+        acuity_end_frame(s) != ACUITY_OK) {
       fprintf(stderr, "hello_lod: %s\n", acuity_last_error());
       acuity_destroy(s);
       return 1;
@@ -91,7 +99,8 @@ int main(int argc, char **argv) {
   for (i = 0; i < OBJECTS; ++i) printf(" %u", (unsigned)levels[i]);
   printf("\nfading:");
   for (i = 0; i < OBJECTS; ++i)
-    if (fades[i] < 1.0f) printf(" %d:%u>%u@%.4f", i, (unsigned)previous[i], (unsigned)levels[i], (double)fades[i]);
+    if (fades[i] < 1.0f)
+      printf(" %d:%u>%u@%.4f", i, (unsigned)previous[i], (unsigned)levels[i], (double)fades[i]);
   printf("\ntriangles: %llu\n", (unsigned long long)acuity_frame_triangles(s));
   acuity_destroy(s);
   return 0;

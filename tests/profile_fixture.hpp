@@ -12,7 +12,10 @@ namespace acuity::testing {
 inline spectra::ProfileData small_profile(std::uint32_t K = 4, std::uint32_t V = 6, std::uint32_t T = 4,
                                           std::uint32_t B = 5) {
   spectra::ProfileData d;
-  d.sphere[0] = 0.5f; d.sphere[1] = -1; d.sphere[2] = 2; d.sphere[3] = 1.5f;
+  d.sphere[0] = 0.5f;
+  d.sphere[1] = -1;
+  d.sphere[2] = 2;
+  d.sphere[3] = 1.5f;
   for (std::uint32_t k = 0; k < K; ++k) d.levels.push_back({1000u >> k, 0.01f * float(k)});
   const float dirs[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   for (std::uint32_t v = 0; v < V; ++v) {
@@ -36,7 +39,8 @@ inline spectra::ProfileData small_profile(std::uint32_t K = 4, std::uint32_t V =
 // Rewrites the checksum after a deliberate change, so the structural checks are what is tested.
 inline void refresh_checksum(Blob& blob) {
   const std::uint64_t sum = profile_checksum(blob.data(), blob.size);
-  std::memcpy(reinterpret_cast<unsigned char*>(blob.storage.data()) + offsetof(ProfileHeader, checksum), &sum, sizeof sum);
+  std::memcpy(reinterpret_cast<unsigned char*>(blob.storage.data()) + offsetof(ProfileHeader, checksum), &sum,
+              sizeof sum);
 }
 
 }  // namespace acuity::testing

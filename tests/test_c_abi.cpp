@@ -81,14 +81,19 @@ TEST(CAbi, StructSizeGrowthRule) {
   acuity_config c;
   acuity_config_default(&c);
   acuity_scheduler* s = reinterpret_cast<acuity_scheduler*>(0x1);
-  for (uint32_t bad : {0u, 4u, ACUITY_CONFIG_SIZE_V2 - 8, ACUITY_CONFIG_SIZE_V2 + 4, 0xFFFFFFF8u, 0xDEADBEEFu}) {
+  for (uint32_t bad :
+       {0u, 4u, ACUITY_CONFIG_SIZE_V2 - 8, ACUITY_CONFIG_SIZE_V2 + 4, 0xFFFFFFF8u, 0xDEADBEEFu}) {
     c.struct_size = bad;
     EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT) << bad;
     EXPECT_EQ(s, reinterpret_cast<acuity_scheduler*>(0x1)) << "out unchanged on failure";
     EXPECT_NE(std::strstr(acuity_last_error(), "struct_size"), nullptr);
   }
   // A newer caller's larger struct: the tail this library does not know is ignored.
-  struct Newer { acuity_config v2; uint64_t future; uint64_t more; } n;
+  struct Newer {
+    acuity_config v2;
+    uint64_t future;
+    uint64_t more;
+  } n;
   acuity_config_default(&n.v2);
   n.v2.struct_size = sizeof n;
   n.future = 7;
@@ -126,7 +131,8 @@ TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
   std::vector<uint32_t> ids(n);
   for (uint32_t i = 0; i < n; ++i) {  // a spiral of objects 0.5 .. 150 m away, 0..40 deg off axis
     const double z = 0.5 * std::pow(300.0, double(i) / n), a = 0.05 * i;
-    positions.insert(positions.end(), {std::sin(a) * 0.7 * z * (i % 7) / 7.0, std::cos(a) * 0.5 * z * (i % 5) / 5.0, -z});
+    positions.insert(positions.end(),
+                     {std::sin(a) * 0.7 * z * (i % 7) / 7.0, std::cos(a) * 0.5 * z * (i % 5) / 5.0, -z});
     rotations.insert(rotations.end(), {0, 0, 0, 1});
     scales[i] = 0.1f + 0.4f * float(i % 11) / 11.0f;
   }
@@ -140,7 +146,9 @@ TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
     c.evaluation = evaluation;
     c.struct_size = struct_size;
     acuity_scheduler* s = create(c, f);
-    EXPECT_EQ(acuity_add_objects(s, n, profiles.data(), positions.data(), 0, rotations.data(), 0, scales.data(), ids.data()), ACUITY_OK);
+    EXPECT_EQ(acuity_add_objects(s, n, profiles.data(), positions.data(), 0, rotations.data(), 0,
+                                 scales.data(), ids.data()),
+              ACUITY_OK);
     EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
     std::vector<uint8_t> out(n);
     EXPECT_EQ(acuity_get_levels(s, n, ids.data(), out.data(), nullptr), ACUITY_OK);
@@ -149,7 +157,8 @@ TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
   };
   const auto tabulated = levels(ACUITY_EVALUATION_TABULATED, ACUITY_CONFIG_SIZE_V3);
   const auto exact = levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V3);
-  const auto v2 = levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V2);  // the field lies past a V2 caller's struct
+  const auto v2 =
+      levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V2);  // the field lies past a V2 caller's struct
   int differ = 0;
   for (uint32_t i = 0; i < n; ++i) {
     EXPECT_LE(tabulated[i], exact[i]);
@@ -197,8 +206,9 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
   ASSERT_EQ(ref.add_profile(f.profile), 0);
   Scene scene(16);
   std::vector<uint32_t> ids(16);
-  ASSERT_EQ(acuity_add_objects(s, 16, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0,
-                               scene.scales.data(), ids.data()), ACUITY_OK);
+  ASSERT_EQ(acuity_add_objects(s, 16, scene.profiles.data(), scene.positions.data(), 0,
+                               scene.rotations.data(), 0, scene.scales.data(), ids.data()),
+            ACUITY_OK);
   for (uint32_t i = 0; i < 16; ++i) {
     ObjectTransform t;
     for (int k = 0; k < 3; ++k) t.position[k] = scene.positions[3 * i + k];
@@ -209,8 +219,10 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
   const uint8_t lo[2] = {1, 0}, hi[2] = {2, 0};
   ASSERT_EQ(acuity_set_bias(s, 2, &ids[3], bias), ACUITY_OK);
   ASSERT_EQ(acuity_set_clamps(s, 2, &ids[5], lo, hi), ACUITY_OK);
-  ref.set_bias(ids[3], 2.0f); ref.set_bias(ids[4], 0.5f);
-  ref.set_clamps(ids[5], 1, 2); ref.set_clamps(ids[6], 0, 0);
+  ref.set_bias(ids[3], 2.0f);
+  ref.set_bias(ids[4], 0.5f);
+  ref.set_clamps(ids[5], 1, 2);
+  ref.set_clamps(ids[6], 0, 0);
   int changes = 0;
   for (int n = 0; n < 40; ++n) {
     acuity_eye eye;
@@ -236,7 +248,8 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
       EXPECT_EQ(fades[i], ref.transition(ids[i]));
       changes += (flags[i] & ACUITY_FLAG_CHANGED) != 0;
     }
-    EXPECT_GE(levels[5], 1); EXPECT_LE(levels[5], 2);
+    EXPECT_GE(levels[5], 1);
+    EXPECT_LE(levels[5], 2);
     EXPECT_EQ(levels[6], 0);
     if (n == 39) {
       acuity_object_explain e;
@@ -263,7 +276,9 @@ TEST(CAbi, FadeRisesByDtOverTransitionSeconds) {
   acuity_scheduler* s = create(c, f);
   Scene scene(1);
   uint32_t id = 0;
-  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, &id), ACUITY_OK);
+  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(),
+                               0, nullptr, &id),
+            ACUITY_OK);
   acuity_eye eye;
   acuity_eye_default(&eye);
   ASSERT_EQ(frame(s, eye, 0.125f), ACUITY_OK);
@@ -297,15 +312,25 @@ TEST(CAbi, BatchCallsAreAllOrNothing) {
   // A profile index never loaded, in the middle: nothing added, ids untouched.
   Scene bad(3);
   bad.profiles[1] = 5;
-  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0, nullptr, ids), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0,
+                               nullptr, ids),
+            ACUITY_INVALID_ARGUMENT);
   EXPECT_EQ(ids[0], 9u);
   bad.profiles[1] = -1;
-  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0, nullptr, ids), ACUITY_INVALID_ARGUMENT);
-  ASSERT_EQ(acuity_add_objects(s, 3, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, ids), ACUITY_OK);
+  EXPECT_EQ(acuity_add_objects(s, 3, bad.profiles.data(), bad.positions.data(), 0, bad.rotations.data(), 0,
+                               nullptr, ids),
+            ACUITY_INVALID_ARGUMENT);
+  ASSERT_EQ(acuity_add_objects(s, 3, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(),
+                               0, nullptr, ids),
+            ACUITY_OK);
   // Two more do not fit in 4: FULL, and the one that would fit was not kept.
   uint32_t more[2] = {9, 9};
-  EXPECT_EQ(acuity_add_objects(s, 2, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, more), ACUITY_FULL);
-  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(), 0, nullptr, more), ACUITY_OK);
+  EXPECT_EQ(acuity_add_objects(s, 2, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(),
+                               0, nullptr, more),
+            ACUITY_FULL);
+  ASSERT_EQ(acuity_add_objects(s, 1, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(),
+                               0, nullptr, more),
+            ACUITY_OK);
   ids[3] = more[0];
   // Bias: the third value is NaN, so the first two are not applied either (levels unchanged).
   acuity_eye eye;

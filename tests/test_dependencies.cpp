@@ -5,8 +5,8 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 #include <fftw3.h>
-#include <oneapi/tbb/parallel_reduce.h>
 #include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_reduce.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
 #include <tiny_gltf.h>
@@ -36,7 +36,8 @@ TEST(Dependencies, CgalMeasuresAUnitCube) {
   CGAL::Surface_mesh<K::Point_3> m;
   std::vector<CGAL::Surface_mesh<K::Point_3>::Vertex_index> v;
   for (int i = 0; i < 8; ++i) v.push_back(m.add_vertex(K::Point_3(i & 1, (i >> 1) & 1, (i >> 2) & 1)));
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     m.add_face(v[q[0]], v[q[1]], v[q[2]]);
     m.add_face(v[q[0]], v[q[2]], v[q[3]]);
@@ -55,11 +56,11 @@ TEST(Dependencies, OpenSubdivRefinesACube) {
   desc.numVertsPerFace = verts_per_face;
   desc.vertIndicesPerFace = indices;
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  Far::TopologyRefiner* refiner = Factory::Create(
-      desc, Factory::Options(Sdc::SCHEME_CATMARK, Sdc::Options()));
+  Far::TopologyRefiner* refiner =
+      Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, Sdc::Options()));
   ASSERT_NE(refiner, nullptr);
   refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(2));
-  EXPECT_EQ(refiner->GetLevel(1).GetNumFaces(), 24);   // each quad splits in four
+  EXPECT_EQ(refiner->GetLevel(1).GetNumFaces(), 24);  // each quad splits in four
   EXPECT_EQ(refiner->GetLevel(2).GetNumFaces(), 96);
   EXPECT_EQ(refiner->GetLevel(1).GetNumVertices(), 26);  // 8 + 12 edge + 6 face points
   delete refiner;

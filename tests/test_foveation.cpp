@@ -12,7 +12,8 @@ using namespace acuity;
 
 namespace {
 // Eq. 2-5 written out directly: total work for radii e[0..n-2] (degrees).
-double work(const double* e, int n, double W, double V, double D, double aspect, double m, double w0, double ws) {
+double work(const double* e, int n, double W, double V, double D, double aspect, double m, double w0,
+            double ws) {
   constexpr double deg = 3.14159265358979323846 / 180;
   double total = 0, s = 1;
   for (int i = 0; i < n - 1; ++i) {
@@ -29,8 +30,14 @@ double brute_force(int n, int grid, double W, double V, double D, double aspect,
   double best = std::numeric_limits<double>::infinity();
   double e[8];
   std::function<void(int, int)> rec = [&](int i, int from) {
-    if (i == n - 1) { best = std::min(best, work(e, n, W, V, D, aspect, m, w0, ws)); return; }
-    for (int j = from; j < grid; ++j) { e[i] = e_star * j / grid; rec(i + 1, j + 1); }
+    if (i == n - 1) {
+      best = std::min(best, work(e, n, W, V, D, aspect, m, w0, ws));
+      return;
+    }
+    for (int j = from; j < grid; ++j) {
+      e[i] = e_star * j / grid;
+      rec(i + 1, j + 1);
+    }
   };
   rec(0, 1);
   return best;
@@ -50,14 +57,19 @@ TEST(Guenter, PaperDisplay) {
 }
 
 TEST(Guenter, DynamicProgrammeEqualsBruteForce) {
-  struct Case { double W, V, D, aspect, m; int n, grid; };
-  for (const Case c : {Case{51, 59, 1920, 9.0 / 16, 0.022, 3, 120}, Case{51, 59, 1920, 9.0 / 16, 0.0275, 4, 40},
-                       Case{100, 40, 7000, 0.75, 0.022, 3, 150}, Case{100, 40, 7000, 0.75, 0.022, 2, 300}}) {
+  struct Case {
+    double W, V, D, aspect, m;
+    int n, grid;
+  };
+  for (const Case c :
+       {Case{51, 59, 1920, 9.0 / 16, 0.022, 3, 120}, Case{51, 59, 1920, 9.0 / 16, 0.0275, 4, 40},
+        Case{100, 40, 7000, 0.75, 0.022, 3, 150}, Case{100, 40, 7000, 0.75, 0.022, 2, 300}}) {
     const GuenterLayers g = guenter_layers(c.W, c.V, c.D, c.aspect, c.m, c.n, 1.0 / 48, c.grid);
     ASSERT_EQ(g.n_layers, c.n);
     const double expected = brute_force(c.n, c.grid, c.W, c.V, c.D, c.aspect, c.m, 1.0 / 48);
     EXPECT_NEAR(g.work / expected, 1.0, 1e-12);
-    EXPECT_NEAR(g.work, work(g.radius, c.n, c.W, c.V, c.D, c.aspect, c.m, 1.0 / 48, g.omega_star), 1e-6 * g.work);
+    EXPECT_NEAR(g.work, work(g.radius, c.n, c.W, c.V, c.D, c.aspect, c.m, 1.0 / 48, g.omega_star),
+                1e-6 * g.work);
     for (int i = 1; i < c.n; ++i) {
       EXPECT_GT(g.radius[i], g.radius[i - 1]);
       EXPECT_GE(g.sampling[i], g.sampling[i - 1]);

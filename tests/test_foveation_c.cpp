@@ -114,9 +114,12 @@ TEST(FoveationC, Contract) {
   std::vector<uint8_t> rate(2 * cols * rows, 0xee);
   std::vector<float> bias(cols * rows, -1);
   // Too small a capacity, a null buffer: nothing written.
-  EXPECT_EQ(acuity_foveation_plan(planner, &e, 32, cols * rows - 1, rate.data(), bias.data(), nullptr), ACUITY_INVALID_ARGUMENT);
-  EXPECT_EQ(acuity_foveation_plan(planner, &e, 32, cols * rows, nullptr, bias.data(), nullptr), ACUITY_INVALID_ARGUMENT);
-  EXPECT_EQ(acuity_foveation_plan(nullptr, &e, 32, cols * rows, rate.data(), bias.data(), nullptr), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_foveation_plan(planner, &e, 32, cols * rows - 1, rate.data(), bias.data(), nullptr),
+            ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_foveation_plan(planner, &e, 32, cols * rows, nullptr, bias.data(), nullptr),
+            ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_foveation_plan(nullptr, &e, 32, cols * rows, rate.data(), bias.data(), nullptr),
+            ACUITY_INVALID_ARGUMENT);
   for (uint8_t v : rate) ASSERT_EQ(v, 0xee);
   // No gaze, then a NaN eye: written, with the result saying which.
   acuity_foveation_info info;

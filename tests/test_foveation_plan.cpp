@@ -47,8 +47,12 @@ struct Plan {
   std::vector<float> bias;
   FoveationMaps maps;
   FoveationStatus status = FoveationStatus::InvalidArgument;
-  std::uint8_t rx(std::uint32_t c, std::uint32_t r) const { return rate[2 * (std::size_t(r) * maps.cols + c)]; }
-  std::uint8_t ry(std::uint32_t c, std::uint32_t r) const { return rate[2 * (std::size_t(r) * maps.cols + c) + 1]; }
+  std::uint8_t rx(std::uint32_t c, std::uint32_t r) const {
+    return rate[2 * (std::size_t(r) * maps.cols + c)];
+  }
+  std::uint8_t ry(std::uint32_t c, std::uint32_t r) const {
+    return rate[2 * (std::size_t(r) * maps.cols + c) + 1];
+  }
   float b(std::uint32_t c, std::uint32_t r) const { return bias[std::size_t(r) * maps.cols + c]; }
   double saved() const { return 1.0 - maps.shaded / maps.pixels; }
 };
@@ -92,8 +96,9 @@ double angle_deg(const double a[3], const double b[3]) {
 }
 
 void unit_gaze(const Gaze& g, double o[3]) {
-  const double n = std::sqrt(double(g.direction[0]) * g.direction[0] + double(g.direction[1]) * g.direction[1] +
-                             double(g.direction[2]) * g.direction[2]);
+  const double n =
+      std::sqrt(double(g.direction[0]) * g.direction[0] + double(g.direction[1]) * g.direction[1] +
+                double(g.direction[2]) * g.direction[2]);
   for (int k = 0; k < 3; ++k) o[k] = g.direction[k] / n;
 }
 
@@ -102,7 +107,8 @@ void unit_gaze(const Gaze& g, double o[3]) {
 struct TileTruth {
   double min_angle = 1e9, ppd_x = 1e9, ppd_y = 1e9;
 };
-TileTruth tile_truth(const Eye& eye, const double o[3], std::uint32_t c, std::uint32_t r, std::uint32_t tile) {
+TileTruth tile_truth(const Eye& eye, const double o[3], std::uint32_t c, std::uint32_t r,
+                     std::uint32_t tile) {
   TileTruth t;
   const double x0 = double(c) * tile, x1 = std::min<double>(double(c + 1) * tile, eye.viewport[0]);
   const double y0 = double(r) * tile, y1 = std::min<double>(double(r + 1) * tile, eye.viewport[1]);
@@ -121,7 +127,9 @@ TileTruth tile_truth(const Eye& eye, const double o[3], std::uint32_t c, std::ui
   return t;
 }
 
-int coarsest_rate(double ppd, double nyquist) { return ppd >= 4 * nyquist ? 4 : (ppd >= 2 * nyquist ? 2 : 1); }
+int coarsest_rate(double ppd, double nyquist) {
+  return ppd >= 4 * nyquist ? 4 : (ppd >= 2 * nyquist ? 2 : 1);
+}
 }  // namespace
 
 TEST(FoveationPlan, MapSizeIsCeilPixelsOverTile) {
@@ -175,7 +183,8 @@ TEST(FoveationPlan, FullRateAtTheGazeAndWithinFovealRadiusPlusUncertainty) {
     // The model does coarsen this display somewhere.
     EXPECT_GT(p.saved(), 0.3);
     // The tile under the gaze point.
-    const auto gc = static_cast<std::uint32_t>(p.maps.origin_px[0] / 16), gr = static_cast<std::uint32_t>(p.maps.origin_px[1] / 16);
+    const auto gc = static_cast<std::uint32_t>(p.maps.origin_px[0] / 16),
+               gr = static_cast<std::uint32_t>(p.maps.origin_px[1] / 16);
     EXPECT_EQ(p.rx(gc, gr), 1);
   }
 }
@@ -209,7 +218,11 @@ void expect_monotone_along_rays(const Plan& p, std::uint32_t tile, const char* w
 
 TEST(FoveationPlan, NeverFinerFartherOutAlongAnyRay) {
   const FoveationPlanner& planner = planner_for();
-  struct Case { Eye eye; Gaze gaze; const char* what; };
+  struct Case {
+    Eye eye;
+    Gaze gaze;
+    const char* what;
+  };
   Eye rotating = make_eye(2000, 2000, 50, 50);
   rotating.angular_velocity[1] = 150;
   Gaze none;
@@ -227,7 +240,9 @@ TEST(FoveationPlan, NeverFinerFartherOutAlongAnyRay) {
     expect_monotone_along_rays(p, 16, c.what);
   }
   // Also at the other tile sizes, and with the gaze exactly on a tile corner.
-  for (std::uint32_t tile : {8u, 32u}) expect_monotone_along_rays(plan(planner, make_eye(2000, 2000, 50, 50), gaze_at(12, 7), tile), tile, "tile");
+  for (std::uint32_t tile : {8u, 32u})
+    expect_monotone_along_rays(plan(planner, make_eye(2000, 2000, 50, 50), gaze_at(12, 7), tile), tile,
+                               "tile");
 }
 
 TEST(FoveationPlan, NoGazeMeansFullRateOverTheNoGazeDisc) {
@@ -252,7 +267,8 @@ TEST(FoveationPlan, NoGazeMeansFullRateOverTheNoGazeDisc) {
     int inside = 0;
     for (std::uint32_t r = 0; r < p.maps.rows; r += 2)
       for (std::uint32_t c = 0; c < p.maps.cols; c += 2)
-        if (tile_truth(eye, centre, c, r, 16).min_angle <= config.no_gaze_radius_deg + config.foveal_radius_deg) {
+        if (tile_truth(eye, centre, c, r, 16).min_angle <=
+            config.no_gaze_radius_deg + config.foveal_radius_deg) {
           ++inside;
           EXPECT_EQ(p.rx(c, r) * p.ry(c, r), 1);
           EXPECT_EQ(p.b(c, r), 0.0f);
@@ -269,8 +285,10 @@ TEST(FoveationPlan, TwoEyesEachGetTheirOwnMap) {
   const FoveationPlanner& planner = planner_for();
   // Canted, asymmetric frusta mirrored about the nose; widths a multiple of the tile.
   Eye left = make_eye(1920, 1920, 50, 45), right = make_eye(1920, 1920, 50, 45);
-  left.fov_deg[0] = -55; left.fov_deg[1] = 40;
-  right.fov_deg[0] = -40; right.fov_deg[1] = 55;
+  left.fov_deg[0] = -55;
+  left.fov_deg[1] = 40;
+  right.fov_deg[0] = -40;
+  right.fov_deg[1] = 55;
   const Gaze gl = gaze_at(8, 5), gr = gaze_at(-8, 5);
   const Plan pl = plan(planner, left, gl), pr = plan(planner, right, gr);
   ASSERT_EQ(pl.maps.cols, pr.maps.cols);
@@ -294,10 +312,10 @@ TEST(FoveationPlan, InvalidEyesGetFullRateAndAStatus) {
   std::vector<Eye> bad(7, make_eye(640, 480, 40, 30));
   bad[0].fov_deg[1] = nan;
   bad[1].position[2] = std::nan("");
-  bad[2].orientation[3] = 0;                       // not a unit quaternion
-  bad[3].fov_deg[0] = 40;                          // left == right
+  bad[2].orientation[3] = 0;  // not a unit quaternion
+  bad[3].fov_deg[0] = 40;     // left == right
   bad[4].angular_velocity[0] = INFINITY;
-  bad[5].fov_deg[2] = 95;                          // beyond 90 deg
+  bad[5].fov_deg[2] = 95;  // beyond 90 deg
   bad[6].velocity[1] = nan;
   for (const Eye& eye : bad) {
     const Plan p = plan(planner, eye, gaze_at(0, 0));
@@ -358,13 +376,16 @@ TEST(FoveationPlan, OneTileMatchesTheFormula) {
     const double theta = std::atan(std::sqrt(uc * uc + vc * vc)) * kDeg;
     const double rho = 16 * std::sqrt(2.0) / 2 / f * kDeg;
     const double e = theta - rho - config.gaze_uncertainty_deg;
-    const double cutoff = mp.e2 * std::log((1.0 / config.quality) / mp.ct0) / (mp.alpha * (std::max(e, 0.0) + mp.e2));
+    const double cutoff =
+        mp.e2 * std::log((1.0 / config.quality) / mp.ct0) / (mp.alpha * (std::max(e, 0.0) + mp.e2));
     // ppd along x is least at the tile's nearest u and v = 0 (on this row): f (1 + u^2) pi / 180;
     // along y, f sqrt(1 + u^2) at v = 0 ... at the nearest u.
     const double ppd_x = f * (1 + u0 * u0) / kDeg, ppd_y = f * std::sqrt(1 + u0 * u0) / kDeg;
     const double nyquist = 2 * cutoff;
     const double ratio_x = ppd_x / nyquist, ratio_y = ppd_y / nyquist;
-    const auto near_step = [](double ratio) { return std::abs(ratio / 2 - 1) < 0.1 || std::abs(ratio / 4 - 1) < 0.1; };
+    const auto near_step = [](double ratio) {
+      return std::abs(ratio / 2 - 1) < 0.1 || std::abs(ratio / 4 - 1) < 0.1;
+    };
     const double bias = std::max(0.0, std::log2(std::min(ppd_x, ppd_y) / nyquist));
     // The planner's tables err low by at most one 0.25-degree eccentricity step and one 1/256
     // mantissa step: bias within [formula - 0.1, formula].
@@ -482,7 +503,8 @@ TEST(FoveationPlan, GuenterLayersFromTheSameModel) {
   EXPECT_GT(l.layers.speedup, 1.5);
   // The same call as guenter_layers() on the eye's display, and no dearer than the line through the
   // model's foveal MAR.
-  const GuenterLayers direct = guenter_layers(2 * std::tan(45 / kDeg), 1.0, 3840, 2160.0 / 3840, l.slope, 3, l.omega0, 1000);
+  const GuenterLayers direct =
+      guenter_layers(2 * std::tan(45 / kDeg), 1.0, 3840, 2160.0 / 3840, l.slope, 3, l.omega0, 1000);
   EXPECT_DOUBLE_EQ(direct.work, l.layers.work);
   // Invalid eye: no layers.
   Eye bad = eye;

@@ -49,7 +49,9 @@ void write(const fs::path& p, const std::string& bytes) {
 }
 
 std::string error_of(const std::function<void()>& f) {
-  try { f(); } catch (const std::exception& e) { return e.what(); }
+  try {
+    f();
+  } catch (const std::exception& e) { return e.what(); }
   return "no error";
 }
 
@@ -83,11 +85,17 @@ json triangle_gltf(const std::string& uri = "") {
   const std::string bytes = triangle_bytes();
   return json{
       {"asset", {{"version", "2.0"}}},
-      {"buffers", json::array({{{"byteLength", 44}, {"uri", uri.empty() ? "data:application/octet-stream;base64," + base64(bytes) : uri}}})},
-      {"bufferViews", json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}}, {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}})},
-      {"accessors", json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
-                                 {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}})},
-      {"meshes", json::array({{{"name", "tri"}, {"primitives", json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}})}}})},
+      {"buffers",
+       json::array({{{"byteLength", 44},
+                     {"uri", uri.empty() ? "data:application/octet-stream;base64," + base64(bytes) : uri}}})},
+      {"bufferViews", json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+                                   {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 6}}})},
+      {"accessors",
+       json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+                    {{"bufferView", 1}, {"componentType", 5123}, {"count", 3}, {"type", "SCALAR"}}})},
+      {"meshes",
+       json::array({{{"name", "tri"},
+                     {"primitives", json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}})}}})},
       {"nodes", json::array({{{"name", "tri"}, {"mesh", 0}}})},
       {"scenes", json::array({{{"nodes", json::array({0})}}})},
   };
@@ -211,18 +219,24 @@ json with_nodes(json nodes, json roots) {
 TEST(Nodes, DeepChainIsRefusedByDepthNotByTheStack) {
   json nodes = json::array();
   const int n = 100000;
-  for (int i = 0; i < n; ++i) nodes.push_back(i + 1 < n ? json{{"children", json::array({i + 1})}} : json{{"mesh", 0}});
+  for (int i = 0; i < n; ++i)
+    nodes.push_back(i + 1 < n ? json{{"children", json::array({i + 1})}} : json{{"mesh", 0}});
   const std::string e = load_error(save(with_nodes(nodes, json::array({0})), "deep.gltf"));
   EXPECT_NE(e.find("max_node_depth"), std::string::npos) << e;
 }
 
 TEST(Nodes, CyclesAreRefused) {
-  const std::string two = load_error(save(with_nodes(json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}}), json::array({0})), "ab.gltf"));
-  const std::string self = load_error(save(with_nodes(json::array({{{"children", {0}}, {"mesh", 0}}}), json::array({0})), "aa.gltf"));
+  const std::string two = load_error(
+      save(with_nodes(json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}}), json::array({0})),
+           "ab.gltf"));
+  const std::string self = load_error(
+      save(with_nodes(json::array({{{"children", {0}}, {"mesh", 0}}}), json::array({0})), "aa.gltf"));
   EXPECT_NE(two.find("cycle"), std::string::npos) << two;
   EXPECT_NE(self.find("its own child"), std::string::npos) << self;
   // A cycle no scene names: still found.
-  const std::string hidden = load_error(save(with_nodes(json::array({{{"mesh", 0}}, {{"children", {2}}}, {{"children", {1}}}}), json::array({0})), "hidden.gltf"));
+  const std::string hidden = load_error(save(
+      with_nodes(json::array({{{"mesh", 0}}, {{"children", {2}}}, {{"children", {1}}}}), json::array({0})),
+      "hidden.gltf"));
   EXPECT_NE(hidden.find("cycle"), std::string::npos) << hidden;
 }
 
@@ -248,10 +262,12 @@ TEST(Nodes, TooManyChildrenAndNodesAreRefused) {
     nodes[0]["children"].push_back(i);
     nodes.push_back({{"mesh", 0}});
   }
-  EXPECT_NE(load_error(save(with_nodes(nodes, json::array({0})), "wide.gltf")).find("max_children"), std::string::npos);
+  EXPECT_NE(load_error(save(with_nodes(nodes, json::array({0})), "wide.gltf")).find("max_children"),
+            std::string::npos);
   lodgen::LoadOptions o;
   o.limits.max_nodes = 100;
-  EXPECT_NE(load_error(save(with_nodes(nodes, json::array({0})), "many.gltf"), o).find("max_nodes"), std::string::npos);
+  EXPECT_NE(load_error(save(with_nodes(nodes, json::array({0})), "many.gltf"), o).find("max_nodes"),
+            std::string::npos);
 }
 
 // The walk itself, on a scene built in memory: iterative (a 100 000-deep chain is fine), world
@@ -314,7 +330,8 @@ std::string png_header(std::uint32_t width, std::uint32_t height) {
 json textured(const std::vector<std::string>& images, int used) {
   json doc = triangle_gltf();
   doc["images"] = json::array();
-  for (const std::string& png : images) doc["images"].push_back({{"uri", "data:image/png;base64," + base64(png)}});
+  for (const std::string& png : images)
+    doc["images"].push_back({{"uri", "data:image/png;base64," + base64(png)}});
   if (used >= 0) {
     doc["textures"] = json::array({{{"source", used}}});
     doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
@@ -398,16 +415,26 @@ TEST(Broader, MalformedAccessorsViewsAndBuffersFailCleanly) {
       {"negative count", [](json& d) { d["accessors"][0]["count"] = -1; }},
       {"huge count", [](json& d) { d["accessors"][0]["count"] = 1e19; }},
       {"count past the view", [](json& d) { d["accessors"][0]["count"] = 1000000; }},
-      {"sparse", [](json& d) { d["accessors"][0]["sparse"] = {{"count", 1}, {"indices", {{"bufferView", 1}, {"componentType", 5123}}}, {"values", {{"bufferView", 0}}}}; }},
-      {"bad base64", [](json& d) { d["buffers"][0]["uri"] = "data:application/octet-stream;base64,!!!not base64!!!"; }},
+      {"sparse",
+       [](json& d) {
+         d["accessors"][0]["sparse"] = {{"count", 1},
+                                        {"indices", {{"bufferView", 1}, {"componentType", 5123}}},
+                                        {"values", {{"bufferView", 0}}}};
+       }},
+      {"bad base64",
+       [](json& d) { d["buffers"][0]["uri"] = "data:application/octet-stream;base64,!!!not base64!!!"; }},
       {"byteLength larger than the data", [](json& d) { d["buffers"][0]["byteLength"] = 4000; }},
       {"stride below the element size", [](json& d) { d["bufferViews"][0]["byteStride"] = 4; }},
       {"view past its buffer", [](json& d) { d["bufferViews"][0]["byteOffset"] = 40; }},
-      {"view offset near 2^64", [](json& d) { d["bufferViews"][0]["byteOffset"] = std::numeric_limits<std::uint64_t>::max() - 8; }},
+      {"view offset near 2^64",
+       [](json& d) { d["bufferViews"][0]["byteOffset"] = std::numeric_limits<std::uint64_t>::max() - 8; }},
       {"buffer index out of range", [](json& d) { d["bufferViews"][0]["buffer"] = 7; }},
       {"child index out of range", [](json& d) { d["nodes"][0]["children"] = {5}; }},
       {"negative child", [](json& d) { d["nodes"][0]["children"] = {-1}; }},
-      {"nodes not an array", [](json& d) { d["nodes"] = {{"a", 1}}; }},
+      {"nodes not an array",
+       [](json& d) {
+         d["nodes"] = {{"a", 1}};
+       }},
       {"uri not a string", [](json& d) { d["buffers"][0]["uri"] = 5; }},
       {"missing external buffer", [](json& d) { d["buffers"][0]["uri"] = "nope.bin"; }},
   };
@@ -445,10 +472,12 @@ TEST(Files, NonRegularFilesAreNotReadNorReplaced) {
   struct stat st {};
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));  // still the FIFO
-  EXPECT_NE(error_of([&] { lodgen::check_output("/dev/null", {}); }).find("not a regular file"), std::string::npos);
+  EXPECT_NE(error_of([&] { lodgen::check_output("/dev/null", {}); }).find("not a regular file"),
+            std::string::npos);
   // A glTF uri naming a FIFO: refused without waiting.
   write(scratch("fifo.gltf"), triangle_gltf("fifo").dump());
-  EXPECT_NE(load_error(scratch("fifo.gltf")).find("FIFO"), std::string::npos) << load_error(scratch("fifo.gltf"));
+  EXPECT_NE(load_error(scratch("fifo.gltf")).find("FIFO"), std::string::npos)
+      << load_error(scratch("fifo.gltf"));
 }
 
 // SIGTERM while the temporary exists: it is delivered only after the temporary was renamed, so
@@ -459,7 +488,8 @@ TEST(Files, SignalDuringAWriteLeavesNoTemporary) {
   const fs::path target = dir / "big.bin";
   auto temporaries = [&] {
     int n = 0;
-    for (const auto& e : fs::directory_iterator(dir)) n += e.path().filename().string().find(".tmp.") != std::string::npos;
+    for (const auto& e : fs::directory_iterator(dir))
+      n += e.path().filename().string().find(".tmp.") != std::string::npos;
     return n;
   };
   const pid_t child = ::fork();
@@ -489,11 +519,20 @@ TEST(Files, OutputMustNotBeAnInput) {
   write(in, "x");
   fs::remove(link);
   fs::create_hard_link(in, link);
-  EXPECT_NE(error_of([&] { lodgen::check_output(in.string(), {in.string()}); }).find("is the input"), std::string::npos);
-  EXPECT_NE(error_of([&] { lodgen::check_output(link.string(), {in.string()}); }).find("is the input"), std::string::npos);
-  EXPECT_NE(error_of([&] { lodgen::check_output(scratch("x.off").string(), {}, {".glb", ".gltf"}); }).find("must end in"), std::string::npos);
-  EXPECT_NE(error_of([&] { lodgen::check_output((scratch("") / "no/such/dir/x.glb").string(), {}); }).find("does not exist"), std::string::npos);
-  EXPECT_EQ(error_of([&] { lodgen::check_output(scratch("fresh.GLB").string(), {in.string()}, {".glb"}); }), "no error");
+  EXPECT_NE(error_of([&] { lodgen::check_output(in.string(), {in.string()}); }).find("is the input"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { lodgen::check_output(link.string(), {in.string()}); }).find("is the input"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              lodgen::check_output(scratch("x.off").string(), {}, {".glb", ".gltf"});
+            }).find("must end in"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              lodgen::check_output((scratch("") / "no/such/dir/x.glb").string(), {});
+            }).find("does not exist"),
+            std::string::npos);
+  EXPECT_EQ(error_of([&] { lodgen::check_output(scratch("fresh.GLB").string(), {in.string()}, {".glb"}); }),
+            "no error");
 }
 
 TEST(Files, NanReferenceHeightIsRefusedNotWrittenAsNull) {
@@ -503,7 +542,10 @@ TEST(Files, NanReferenceHeightIsRefusedNotWrittenAsNull) {
   o.chain.levels = {{tri, 1, 0.0, 0.0}, {tri, 1, 0.1, 0.0}};
   lodgen::GltfWriteOptions w;
   w.reference_height = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(error_of([&] { lodgen::write_lod_gltf(scratch("nan.glb").string(), {o}, {}, w); }).find("reference height"), std::string::npos);
+  EXPECT_NE(error_of([&] {
+              lodgen::write_lod_gltf(scratch("nan.glb").string(), {o}, {}, w);
+            }).find("reference height"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(scratch("nan.glb")));
 }
 
@@ -590,7 +632,8 @@ TEST(CAbi, UpdateRangeBeforeBeginFrameIsAnError) {
   std::uint32_t id = 0;
   ASSERT_EQ(acuity_add_objects(c.s, 1, &p, pos, 0, rot, 0, nullptr, &id), ACUITY_OK);
   EXPECT_EQ(acuity_update_range(c.s, 0, 1), ACUITY_INVALID_ARGUMENT);
-  EXPECT_NE(std::string(acuity_last_error()).find("acuity_begin_frame"), std::string::npos) << acuity_last_error();
+  EXPECT_NE(std::string(acuity_last_error()).find("acuity_begin_frame"), std::string::npos)
+      << acuity_last_error();
   EXPECT_EQ(acuity_end_frame(c.s), ACUITY_INVALID_ARGUMENT);
   acuity_eye eye;
   acuity_eye_default(&eye);

@@ -42,7 +42,8 @@ Mesh quad() {
   if (std::getenv("ACUITY_QUICK_TESTS")) GTEST_SKIP() << "long test: run in the plain build"
 
 Mesh real(const char* name) {
-  if (!fs::exists(kMeshes / name)) ADD_FAILURE() << "missing " << (kMeshes / name) << ": install libcgal-demo";
+  if (!fs::exists(kMeshes / name))
+    ADD_FAILURE() << "missing " << (kMeshes / name) << ": install libcgal-demo";
   return load_mesh((kMeshes / name).string());
 }
 }  // namespace
@@ -52,8 +53,8 @@ TEST(Validate, CountsEveryProblem) {
   EXPECT_EQ(validate(quad()).border_edges, 4u);
   Mesh m = quad();
   m.positions.insert(m.positions.end(), {0, 0, 0, NAN, 0, 0, 0.5f, 0.5f, 1});  // 4: duplicate of 0; 5: NaN; 6
-  m.indices.insert(m.indices.end(), {0, 1, 1,    // degenerate (repeated vertex)
-                                     0, 2, 9,    // index out of range
+  m.indices.insert(m.indices.end(), {0, 1, 1,                                  // degenerate (repeated vertex)
+                                     0, 2, 9,                                  // index out of range
                                      1, 2, 5,    // uses the NaN vertex: dropped, not counted twice
                                      0, 1, 6,    // 0-1 now used twice the same way: misoriented
                                      1, 0, 6});  // and 0-1 a third time: non-manifold edge
@@ -82,7 +83,9 @@ TEST(Repair, MakesACleanMeshOrSaysWhy) {
   const Mesh r = repair(m, "test mesh", &before);
   EXPECT_FALSE(before.clean());
   const MeshReport after = validate(r);
-  EXPECT_EQ(after.nonfinite_vertices + after.degenerate_triangles + after.bad_indices + after.misoriented_edges, 0u) << after.summary();
+  EXPECT_EQ(
+      after.nonfinite_vertices + after.degenerate_triangles + after.bad_indices + after.misoriented_edges, 0u)
+      << after.summary();
   EXPECT_GE(r.triangle_count(), 2u);
   EXPECT_EQ(r.normals.size(), r.positions.size());
   Mesh hopeless;
@@ -91,15 +94,14 @@ TEST(Repair, MakesACleanMeshOrSaysWhy) {
   try {
     repair(hopeless, "hopeless.off");
     FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("hopeless.off"), std::string::npos);
-  }
+  } catch (const InputError& e) { EXPECT_NE(std::string(e.what()).find("hopeless.off"), std::string::npos); }
 }
 
 TEST(Chain, RealMeshesBothBackends) {
   SKIP_IF_QUICK();
   for (const char* name : {"elephant.off", "fandisk.off"})
-    for (Backend b : {Backend::Meshopt, Backend::OpenMesh, Backend::CgalGarlandHeckbert, Backend::CgalLindstromTurk}) {
+    for (Backend b :
+         {Backend::Meshopt, Backend::OpenMesh, Backend::CgalGarlandHeckbert, Backend::CgalLindstromTurk}) {
       ChainOptions o;
       o.levels = 5;
       o.decimate.backend = b;
@@ -109,7 +111,8 @@ TEST(Chain, RealMeshesBothBackends) {
       for (std::size_t k = 0; k < c.levels.size(); ++k) {
         const Level& l = c.levels[k];
         const double target = double(l.target_triangles);
-        EXPECT_LE(std::abs(double(l.mesh.triangle_count()) - target), 0.02 * target) << name << " " << to_string(b) << " level " << k;
+        EXPECT_LE(std::abs(double(l.mesh.triangle_count()) - target), 0.02 * target)
+            << name << " " << to_string(b) << " level " << k;
         if (k) {
           EXPECT_GE(l.hausdorff, c.levels[k - 1].hausdorff);
           EXPECT_GT(l.hausdorff, 0);
@@ -139,7 +142,9 @@ TEST(Chain, ErrorBudgetAndLockedBorder) {
     using P = std::array<float, 3>;
     std::set<P> before, after;
     const Mesh& m0 = lc.levels[0].mesh;  // split at creases: edges are told apart by position
-    auto at = [&](std::uint32_t v) { return P{m0.positions[3 * v], m0.positions[3 * v + 1], m0.positions[3 * v + 2]}; };
+    auto at = [&](std::uint32_t v) {
+      return P{m0.positions[3 * v], m0.positions[3 * v + 1], m0.positions[3 * v + 2]};
+    };
     std::map<std::pair<P, P>, int> edges;
     for (std::size_t t = 0; t < m0.indices.size(); t += 3)
       for (int e = 0; e < 3; ++e) {
@@ -149,7 +154,8 @@ TEST(Chain, ErrorBudgetAndLockedBorder) {
     for (const auto& [e, n] : edges)
       if (n == 1) before.insert({e.first, e.second});
     const Mesh& last = lc.levels.back().mesh;
-    for (std::size_t v = 0; v < last.vertex_count(); ++v) after.insert({last.positions[3 * v], last.positions[3 * v + 1], last.positions[3 * v + 2]});
+    for (std::size_t v = 0; v < last.vertex_count(); ++v)
+      after.insert({last.positions[3 * v], last.positions[3 * v + 1], last.positions[3 * v + 2]});
     ASSERT_GT(before.size(), 10u);
     for (const auto& p : before) EXPECT_TRUE(after.count(p)) << to_string(b);
   }
@@ -243,8 +249,9 @@ TEST(Gltf, GeometricErrorsSurviveAnyReferenceHeight) {
 TEST(Refine, OpenSubdivCounts) {
   SKIP_IF_QUICK();
   const fs::path cube = scratch("cube.off");
-  write(cube, "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
-              "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n");
+  write(cube,
+        "OFF\n8 6 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n0 0 1\n1 0 1\n0 1 1\n1 1 1\n"
+        "4 0 2 3 1\n4 4 5 7 6\n4 0 1 5 4\n4 2 6 7 3\n4 0 4 6 2\n4 1 3 7 5\n");
   const std::vector<Mesh> cc = refine(load_polygon_mesh(cube.string()), 2);  // Catmull-Clark
   ASSERT_EQ(cc.size(), 3u);
   EXPECT_EQ(cc[0].triangle_count(), 96u * 2);
@@ -252,17 +259,26 @@ TEST(Refine, OpenSubdivCounts) {
   EXPECT_EQ(cc[2].triangle_count(), 6u * 2);
   // The limit surface shrinks into the cage: every refined vertex stays inside the unit cube.
   for (float x : cc[0].positions) EXPECT_TRUE(x > 0 && x < 1);
-  const Mesh tetra = []{ Mesh m; m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}; m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}; return m; }();
+  const Mesh tetra = [] {
+    Mesh m;
+    m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+    m.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    return m;
+  }();
   const std::vector<Mesh> loop = refine(to_polygons(tetra), 3);  // Loop
   EXPECT_EQ(loop[0].triangle_count(), 4u * 64);
   const Chain chain = measure_chain(loop);
   EXPECT_EQ(chain.levels.back().mesh.triangle_count(), 4u);
-  for (std::size_t k = 1; k < chain.levels.size(); ++k) EXPECT_GE(chain.levels[k].hausdorff, chain.levels[k - 1].hausdorff);
+  for (std::size_t k = 1; k < chain.levels.size(); ++k)
+    EXPECT_GE(chain.levels[k].hausdorff, chain.levels[k - 1].hausdorff);
 }
 
 TEST(BadInput, EveryFormatFailsCleanlyAndNamesTheFile) {
   const std::string off_ok = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
-  struct Case { const char* name; std::string text; };
+  struct Case {
+    const char* name;
+    std::string text;
+  };
   const std::vector<Case> cases = {
       {"truncated.off", off_ok.substr(0, off_ok.size() / 2)},
       {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n"},
@@ -272,7 +288,9 @@ TEST(BadInput, EveryFormatFailsCleanlyAndNamesTheFile) {
       {"garbage.obj", "this is not a mesh\n"},
       {"truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"},
       {"truncated.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"},
-      {"garbage.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 7}}]}], \"nodes\": [{\"mesh\": 0}]}"},
+      {"garbage.gltf",
+       "{\"asset\": {\"version\": \"2.0\"}, \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": "
+       "7}}]}], \"nodes\": [{\"mesh\": 0}]}"},
       {"truncated.glb", std::string("glTF\x02\x00\x00\x00\xff\x00\x00\x00", 12)},
       {"notjson.gltf", "{ nope"},
   };
@@ -320,13 +338,12 @@ TEST(BadInput, IsolatedAndInProcessReadersAgree) {
       try {
         *out = reader(path);
         return "";
-      } catch (const InputError& e) {
-        return e.what();
-      }
+      } catch (const InputError& e) { return e.what(); }
     };
     Mesh here, there;
     const std::string error_here = attempt([](const std::string& p) { return load_mesh(p); }, &here);
-    const std::string error_there = attempt([](const std::string& p) { return load_mesh_isolated(p); }, &there);
+    const std::string error_there =
+        attempt([](const std::string& p) { return load_mesh_isolated(p); }, &there);
     EXPECT_EQ(error_here, error_there) << path;
     EXPECT_EQ(here.positions, there.positions) << path;
     EXPECT_EQ(here.indices, there.indices) << path;

@@ -9,8 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <string>
 #include <numbers>
+#include <string>
 
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
@@ -22,8 +22,11 @@ namespace {
 // A closed axis-aligned cube of side `s`: 8 shared vertices, 12 triangles, outward.
 Mesh cube(float s = 1) {
   Mesh m;
-  for (int i = 0; i < 8; ++i) m.positions.insert(m.positions.end(), {s * float(i & 1), s * float((i >> 1) & 1), s * float((i >> 2) & 1)});
-  m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  for (int i = 0; i < 8; ++i)
+    m.positions.insert(m.positions.end(),
+                       {s * float(i & 1), s * float((i >> 1) & 1), s * float((i >> 2) & 1)});
+  m.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+               2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   return m;
 }
 
@@ -108,7 +111,8 @@ TEST(Deviation, BoundedWhateverTheUnitsAndTessellation) {
   const auto t0 = std::chrono::steady_clock::now();
   const Deviation cut = deviation(fine, fine, o);
   EXPECT_FALSE(cut.complete);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 30.0);  // generous: 2 x 0.2 s plus setup
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+            30.0);  // generous: 2 x 0.2 s plus setup
 }
 
 // fandisk (CAD, sharp creases): with smooth normals, a CGAL level with a Hausdorff error of a few

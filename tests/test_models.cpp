@@ -42,12 +42,15 @@ double ref_default(double f, double e, double v) {
 }
 
 // Argmax of a unimodal function on [lo, hi] by golden-section search.
-template <class Fn> double argmax(Fn fn, double lo, double hi) {
+template <class Fn>
+double argmax(Fn fn, double lo, double hi) {
   const double g = (std::sqrt(5.0) - 1) / 2;
   for (int i = 0; i < 200; ++i) {
     const double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
-    if (fn(a) < fn(b)) lo = a;
-    else hi = b;
+    if (fn(a) < fn(b))
+      lo = a;
+    else
+      hi = b;
   }
   return (lo + hi) / 2;
 }
@@ -80,16 +83,15 @@ TEST(Published, KellyPeak) {
   EXPECT_NEAR(kelly_peak_frequency(10.0), 0.609, 5e-4);
 }
 
-TEST(Published, ReddyEccentricityAt45) {
-  EXPECT_DOUBLE_EQ(reddy_eccentricity(45.0), 0.035624256837098696);
-}
+TEST(Published, ReddyEccentricityAt45) { EXPECT_DOUBLE_EQ(reddy_eccentricity(45.0), 0.035624256837098696); }
 
 // ---- Formulas, evaluated independently ---------------------------------------------------------------
 
 TEST(Formula, GeislerPerryThreshold) {
   for (double f : {0.0, 0.5, 4.0, 20.0, 60.0})
     for (double e : {0.0, 3.0, 30.0})
-      EXPECT_NEAR(geisler_perry_threshold(f, e) / ((1.0 / 64) * std::exp(0.106 * f * (e + 2.3) / 2.3)), 1, 1e-13);
+      EXPECT_NEAR(geisler_perry_threshold(f, e) / ((1.0 / 64) * std::exp(0.106 * f * (e + 2.3) / 2.3)), 1,
+                  1e-13);
 }
 
 TEST(Formula, KellyCsf) {
@@ -105,7 +107,8 @@ TEST(Formula, DalyCsfBothFits) {
   for (double f : logspace(0.05, 60, 25))
     for (double v : {0.15, 0.5, 3.0, 10.0, 50.0}) {
       EXPECT_NEAR(daly_csf(f, v), ref_daly1998(f, v), 1e-12 * ref_daly1998(f, v));
-      EXPECT_NEAR(daly_csf(f, v, laird), ref_daly(f, v, 0.6329, 0.8404, 0.7986, true), 1e-12 * daly_csf(f, v, laird));
+      EXPECT_NEAR(daly_csf(f, v, laird), ref_daly(f, v, 0.6329, 0.8404, 0.7986, true),
+                  1e-12 * daly_csf(f, v, laird));
     }
   // Laird's fit keeps its own 0.1 deg/s floor above a lower drift setting.
   laird.drift = 0.0;
@@ -189,7 +192,8 @@ TEST(Inverse, ThresholdOfMaxVisibleFrequencyIsTheContrast) {
           ASSERT_TRUE(std::isfinite(f) && f >= 0) << c << " " << e << " " << v;
           if (f > 0) {
             ++solved;
-            EXPECT_NEAR(threshold(f, e, v, model) / c, 1.0, 1e-9) << to_string(model) << " c=" << c << " e=" << e << " v=" << v;
+            EXPECT_NEAR(threshold(f, e, v, model) / c, 1.0, 1e-9)
+                << to_string(model) << " c=" << c << " e=" << e << " v=" << v;
             EXPECT_GT(threshold(f * (1 + 1e-6), e, v, model), c);  // it is the highest one
           } else {
             ++none;  // nothing above 0 cpd is visible: every frequency's threshold exceeds c
@@ -242,15 +246,16 @@ TEST(HardCases, FiniteForFiniteExtremes) {
     for (double f : fs)
       for (double e : es)
         for (double v : vs) {
-          EXPECT_TRUE(std::isfinite(threshold(f, e, v, m))) << to_string(m) << " " << f << " " << e << " " << v;
+          EXPECT_TRUE(std::isfinite(threshold(f, e, v, m)))
+              << to_string(m) << " " << f << " " << e << " " << v;
           EXPECT_TRUE(std::isfinite(log_threshold(f, e, v, m)));
           EXPECT_GT(threshold(f, e, v, m), 0.0);
           for (double c : {0.0, 1.0 / 128, 1.0 / 64, 1.0, 1e6})
             EXPECT_TRUE(std::isfinite(max_visible_frequency(c, e, v, m)));
         }
-  EXPECT_EQ(threshold(1e6, 180.0, 0.15), DBL_MAX);        // saturated, not +inf
+  EXPECT_EQ(threshold(1e6, 180.0, 0.15), DBL_MAX);  // saturated, not +inf
   EXPECT_EQ(threshold(1e6f, 180.0f, 0.15f), FLT_MAX);
-  EXPECT_EQ(geisler_perry_cutoff(0.0, 1.0 / 64), 0.0);    // contrast <= CT0: none visible
+  EXPECT_EQ(geisler_perry_cutoff(0.0, 1.0 / 64), 0.0);  // contrast <= CT0: none visible
   EXPECT_EQ(geisler_perry_cutoff(0.0, 1.0 / 128), 0.0);
   EXPECT_EQ(kelly_csf(0.0, 1.0), 0.0);
   EXPECT_EQ(daly_csf(1e6, 1.0), 0.0);
@@ -284,7 +289,7 @@ TEST(HardCases, InfinityGivesTheLimit) {
       EXPECT_EQ(max_visible_frequency(1.0, inf, 1.0, m), 0.0) << to_string(m);
       EXPECT_EQ(max_visible_frequency(inf, 1.0, 1.0, m), kInf) << to_string(m);
     }
-  EXPECT_EQ(threshold(2.0, 1.0, kInf), DBL_MAX);                               // no sensitivity
+  EXPECT_EQ(threshold(2.0, 1.0, kInf), DBL_MAX);                                        // no sensitivity
   EXPECT_DOUBLE_EQ(threshold(0.0, kInf, 1.0, ThresholdModel::GeislerPerry), 1.0 / 64);  // f = 0: no 0 * inf
   EXPECT_EQ(kelly_csf(kInf, 1.0), 0.0);
   EXPECT_EQ(kelly_csf(1.0, kInf), 0.0);
@@ -311,7 +316,8 @@ TEST(Precision, FloatMatchesDouble) {
           const float s = log_threshold(float(f), float(e), float(v), m);
           // ln CT in float carries about eps * |terms| of absolute error.
           const double terms = std::abs(d) + 0.106 * f * e / 2.3 + 4 * kPi * 0.67 * f * (1.7 * v + 2) / 45.9;
-          EXPECT_NEAR(s, d, 8 * FLT_EPSILON * std::max(1.0, terms)) << to_string(m) << " " << f << " " << e << " " << v;
+          EXPECT_NEAR(s, d, 8 * FLT_EPSILON * std::max(1.0, terms))
+              << to_string(m) << " " << f << " " << e << " " << v;
           if (m == ThresholdModel::Reddy) continue;
           const double fd = max_visible_frequency(0.2, e, v, m);
           const float fs = max_visible_frequency(0.2f, float(e), float(v), m);

@@ -70,7 +70,10 @@ TEST(Profile, LookupFindsTheNearestView) {
     for (int v = 0; v < 18; ++v) {
       const float* w = d.views[v].direction;
       const float dot = q[0] * w[0] + q[1] * w[1] + q[2] * w[2];
-      if (dot > best) { best = dot; truth = v; }
+      if (dot > best) {
+        best = dot;
+        truth = v;
+      }
     }
     const std::uint16_t* c = p.lookup + cube_cell(q, p.meta.lookup_resolution) * kLookupCandidates;
     bool among = false;
@@ -124,8 +127,7 @@ TEST(Profile, RandomBitFlipsNeverCrash) {
       ++accepted;  // a flip in a value that stays in range: the view must still be safe to read
       float sum = 0;
       for (std::uint32_t k = 1; k < p.meta.level_count; ++k)
-        for (std::uint32_t v = 0; v < p.meta.view_count; ++v)
-          sum += p.lost_contrast(k, v, 0, 0);
+        for (std::uint32_t v = 0; v < p.meta.view_count; ++v) sum += p.lost_contrast(k, v, 0, 0);
       EXPECT_TRUE(std::isfinite(sum));
     } else {
       ++rejected_by_structure;
@@ -207,7 +209,8 @@ TEST(Profile, AtomicFileWriteAndRead) {
   ASSERT_TRUE(read_file(path, &b, &error)) << error;
   EXPECT_EQ(open(b), ProfileStatus::Ok);
   // A failing write (directory missing) leaves nothing behind and says where.
-  EXPECT_THROW(spectra::write_profile((dir / "missing" / "b.acuity").string(), small_profile()), std::runtime_error);
+  EXPECT_THROW(spectra::write_profile((dir / "missing" / "b.acuity").string(), small_profile()),
+               std::runtime_error);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
   EXPECT_FALSE(read_file((dir / "nope").string(), &b, &error));
   EXPECT_NE(error.find("nope"), std::string::npos);
@@ -241,8 +244,14 @@ TEST(ProfileGolden, HeaderAndSectionTableOfVersion1) {
   // The sections in the writer's order, each right after the previous one's 8-byte-padded end;
   // sizes from the counts and the element types of acuity/profile.hpp.
   const std::uint64_t K = kV1Levels, V = kV1Views, T = kV1Orientations, B = kV1Bands, R = 1;
-  const std::uint64_t sizes[8] = {sizeof(ProfileMeta), K * sizeof(ProfileLevel), V * sizeof(ProfileView),
-                                  6 * R * R * kLookupCandidates * 2, T * 4, B * 4, (K - 1) * V * T * B * 4, K * V * T * 4};
+  const std::uint64_t sizes[8] = {sizeof(ProfileMeta),
+                                  K * sizeof(ProfileLevel),
+                                  V * sizeof(ProfileView),
+                                  6 * R * R * kLookupCandidates * 2,
+                                  T * 4,
+                                  B * 4,
+                                  (K - 1) * V * T * B * 4,
+                                  K * V * T * 4};
   std::uint64_t offset = sizeof(ProfileHeader) + 8 * sizeof(ProfileSectionEntry);
   for (std::uint32_t i = 0; i < 8; ++i) {
     ProfileSectionEntry s;
@@ -290,11 +299,14 @@ TEST(ProfileGolden, EveryValueOfVersion1) {
   const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   const std::uint16_t lookup[6][3] = {{0, 1, 2}, {1, 2, 0}, {1, 0, 2}, {0, 2, 1}, {0, 1, 2}, {2, 1, 0}};
   for (int c = 0; c < 6; ++c) {
-    auto cosine = [&](int v) { return axes[c][0] * dirs[v][0] + axes[c][1] * dirs[v][1] + axes[c][2] * dirs[v][2]; };
+    auto cosine = [&](int v) {
+      return axes[c][0] * dirs[v][0] + axes[c][1] * dirs[v][1] + axes[c][2] * dirs[v][2];
+    };
     for (int j = 0; j < 3; ++j) {
       EXPECT_EQ(p.lookup[c * 3 + j], lookup[c][j]) << "cell " << c << " candidate " << j;
       if (j) {
-        EXPECT_GE(cosine(lookup[c][j - 1]), cosine(lookup[c][j])) << "cell " << c;  // the table is nearest first
+        EXPECT_GE(cosine(lookup[c][j - 1]), cosine(lookup[c][j]))
+            << "cell " << c;  // the table is nearest first
       }
     }
     EXPECT_TRUE(lookup[c][0] != lookup[c][1] && lookup[c][1] != lookup[c][2] && lookup[c][0] != lookup[c][2]);
@@ -317,7 +329,8 @@ TEST(ProfileGolden, EveryValueOfVersion1) {
 TEST(ProfileGolden, TheWriterStillProducesTheseBytes) {
   // While the format is version 1 the writer must reproduce the committed file byte for byte. A
   // new version keeps this file (old profiles must still open) and adds a golden file of its own.
-  ASSERT_EQ(kProfileVersion, 1u) << "new format version: add tests/data/profile_v" << kProfileVersion << ".acuity";
+  ASSERT_EQ(kProfileVersion, 1u) << "new format version: add tests/data/profile_v" << kProfileVersion
+                                 << ".acuity";
   const Blob golden = golden_v1();
   const Blob now = spectra::encode_profile(acuity::testing::profile_v1_input());
   ASSERT_EQ(now.size, golden.size);

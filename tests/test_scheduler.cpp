@@ -7,9 +7,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 #include <limits>
 #include <memory>
+#include <new>
 #include <random>
 
 #include "acuity/scheduler.hpp"
@@ -29,12 +29,17 @@ struct TestProfile {
   spectra::ProfileData data;
   Blob blob;
   Profile profile;
-  explicit TestProfile(std::uint32_t K = 6, std::uint32_t T = 8, std::uint32_t B = 8, float orientation_bias = 0.5f) {
-    data.sphere[0] = 0.1f; data.sphere[1] = 0.2f; data.sphere[2] = -0.1f; data.sphere[3] = 1.0f;
-    for (std::uint32_t k = 0; k < K; ++k) data.levels.push_back({100000u >> k, 0.002f * float((1u << k) - 1)});
-    const float axes[14][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-                               {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
-                               {-1, -1, 1}, {-1, -1, -1}};
+  explicit TestProfile(std::uint32_t K = 6, std::uint32_t T = 8, std::uint32_t B = 8,
+                       float orientation_bias = 0.5f) {
+    data.sphere[0] = 0.1f;
+    data.sphere[1] = 0.2f;
+    data.sphere[2] = -0.1f;
+    data.sphere[3] = 1.0f;
+    for (std::uint32_t k = 0; k < K; ++k)
+      data.levels.push_back({100000u >> k, 0.002f * float((1u << k) - 1)});
+    const float axes[14][3] = {{1, 0, 0},  {-1, 0, 0},  {0, 1, 0},   {0, -1, 0},  {0, 0, 1},
+                               {0, 0, -1}, {1, 1, 1},   {1, 1, -1},  {1, -1, 1},  {1, -1, -1},
+                               {-1, 1, 1}, {-1, 1, -1}, {-1, -1, 1}, {-1, -1, -1}};
     for (const auto& a : axes) data.views.push_back(spectra::make_view(a[0], a[1], a[2]));
     for (std::uint32_t t = 0; t < T; ++t) data.orientations.push_back(180.0f * float(t) / float(T));
     for (std::uint32_t b = 0; b < B; ++b) data.bands.push_back(2.0f * std::pow(2.0f, float(b)));
@@ -44,12 +49,14 @@ struct TestProfile {
           for (std::uint32_t b = 0; b < B; ++b) {
             const float edge = float(B) - float(k) * 1.3f;  // the band where level k starts losing
             const float shape = 1.0f / (1.0f + std::exp(-2.0f * (float(b) - edge)));
-            const float angle = 1.0f + orientation_bias * std::cos(2.0f * float(t) * 3.14159f / float(T) + 0.3f * float(v));
+            const float angle =
+                1.0f + orientation_bias * std::cos(2.0f * float(t) * 3.14159f / float(T) + 0.3f * float(v));
             data.lost.push_back(0.25f * shape * angle + 0.0005f * float(k));
           }
     for (std::uint32_t k = 0; k < K; ++k)
       for (std::uint32_t v = 0; v < 14; ++v)
-        for (std::uint32_t t = 0; t < T; ++t) data.features.push_back(256.0f / float(1u << k) * (1.0f + 0.1f * float(t % 3)));
+        for (std::uint32_t t = 0; t < T; ++t)
+          data.features.push_back(256.0f / float(1u << k) * (1.0f + 0.1f * float(t % 3)));
     blob = spectra::encode_profile(data);
     EXPECT_EQ(open_profile(blob.data(), blob.size, &profile), ProfileStatus::Ok);
   }
@@ -57,7 +64,9 @@ struct TestProfile {
 
 Frame looking_forward(double x = 0, double y = 0, double z = 0) {
   Frame f;
-  f.eyes[0].position[0] = x; f.eyes[0].position[1] = y; f.eyes[0].position[2] = z;
+  f.eyes[0].position[0] = x;
+  f.eyes[0].position[1] = y;
+  f.eyes[0].position[2] = z;
   f.gaze[0].valid = true;
   f.dt = 1.0f / 90;
   return f;
@@ -66,7 +75,9 @@ Frame looking_forward(double x = 0, double y = 0, double z = 0) {
 // Gaze direction (eye space) pointing at world point p from an eye at the origin with identity pose.
 void gaze_at(Frame& f, double x, double y, double z) {
   const double n = std::sqrt(x * x + y * y + z * z);
-  f.gaze[0].direction[0] = float(x / n); f.gaze[0].direction[1] = float(y / n); f.gaze[0].direction[2] = float(z / n);
+  f.gaze[0].direction[0] = float(x / n);
+  f.gaze[0].direction[1] = float(y / n);
+  f.gaze[0].direction[2] = float(z / n);
   f.gaze[0].valid = true;
 }
 
@@ -77,7 +88,10 @@ struct Rng {
   void quaternion(float q[4]) {
     std::normal_distribution<float> n;
     float s = 0;
-    for (int i = 0; i < 4; ++i) { q[i] = n(g); s += q[i] * q[i]; }
+    for (int i = 0; i < 4; ++i) {
+      q[i] = n(g);
+      s += q[i] * q[i];
+    }
     s = std::sqrt(s);
     for (int i = 0; i < 4; ++i) q[i] /= s;
   }
@@ -88,10 +102,14 @@ struct Single {
   SchedulerConfig config;
   std::unique_ptr<Scheduler> s;
   int profile;
-  static SchedulerConfig small(SchedulerConfig c) { c.max_objects = 4; return c; }
+  static SchedulerConfig small(SchedulerConfig c) {
+    c.max_objects = 4;
+    return c;
+  }
   Single(const TestProfile& p, SchedulerConfig c = {})
       : config(small(c)), s(std::make_unique<Scheduler>(config)), profile(s->add_profile(p.profile)) {}
-  std::uint8_t level(const ObjectTransform& t, const float velocity[3], const Frame& frame, std::uint8_t* flags = nullptr) const {
+  std::uint8_t level(const ObjectTransform& t, const float velocity[3], const Frame& frame,
+                     std::uint8_t* flags = nullptr) const {
     const ObjectId id = s->add_object(profile, t);
     if (velocity) s->set_velocity(id, velocity);
     s->run_frame(frame);
@@ -104,8 +122,11 @@ struct Single {
 
 ObjectTransform at(double x, double y, double z, const float* q = nullptr, float scale = 1.0f) {
   ObjectTransform t;
-  t.position[0] = x; t.position[1] = y; t.position[2] = z;
-  if (q) for (int i = 0; i < 4; ++i) t.rotation[i] = q[i];
+  t.position[0] = x;
+  t.position[1] = y;
+  t.position[2] = z;
+  if (q)
+    for (int i = 0; i < 4; ++i) t.rotation[i] = q[i];
   t.scale = scale;
   return t;
 }
@@ -131,7 +152,8 @@ TEST(SchedulerProperties, FartherNeverFiner) {
     const float v1[3] = {w[0] * dist / 50, w[1] * dist / 50, w[2] * dist / 50};
     const float v2[3] = {v1[0] * factor, v1[1] * factor, v1[2] * factor};
     const auto near = one.level(at(dir[0] * dist, dir[1] * dist, dir[2] * dist, q), v1, f);
-    const auto far = one.level(at(dir[0] * dist * factor, dir[1] * dist * factor, dir[2] * dist * factor, q), v2, f);
+    const auto far =
+        one.level(at(dir[0] * dist * factor, dir[1] * dist * factor, dir[2] * dist * factor, q), v2, f);
     ASSERT_GE(far, near) << i;
     coarsened += far > near;
   }
@@ -151,8 +173,10 @@ TEST(SchedulerProperties, FartherFromGazeNeverFiner) {
     const float a1 = rng.uniform(0, 40), a2 = a1 + rng.uniform(0.5f, 30);
     Frame f1 = looking_forward(), f2 = looking_forward();
     const float az = rng.uniform(0, 6.28f);
-    gaze_at(f1, std::sin(a1 * kPi / 180) * std::cos(az), std::sin(a1 * kPi / 180) * std::sin(az), -std::cos(a1 * kPi / 180));
-    gaze_at(f2, std::sin(a2 * kPi / 180) * std::cos(az), std::sin(a2 * kPi / 180) * std::sin(az), -std::cos(a2 * kPi / 180));
+    gaze_at(f1, std::sin(a1 * kPi / 180) * std::cos(az), std::sin(a1 * kPi / 180) * std::sin(az),
+            -std::cos(a1 * kPi / 180));
+    gaze_at(f2, std::sin(a2 * kPi / 180) * std::cos(az), std::sin(a2 * kPi / 180) * std::sin(az),
+            -std::cos(a2 * kPi / 180));
     const auto l1 = one.level(at(0, 0, -dist, q), v, f1), l2 = one.level(at(0, 0, -dist, q), v, f2);
     ASSERT_GE(l2, l1) << i;
     coarsened += l2 > l1;
@@ -196,8 +220,10 @@ TEST(SchedulerProperties, NoGazeNeverLessConservativeThanGazeAtTheObject) {
     float q[4];
     rng.quaternion(q);
     // Objects within the no-gaze disc (30 deg of the view centre), where the gaze could be.
-    const float ang = rng.uniform(0, 28) * float(kPi) / 180, az = rng.uniform(0, 6.28f), dist = rng.uniform(2, 80);
-    const double x = std::sin(ang) * std::cos(az) * dist, y = std::sin(ang) * std::sin(az) * dist, z = -std::cos(ang) * dist;
+    const float ang = rng.uniform(0, 28) * float(kPi) / 180, az = rng.uniform(0, 6.28f),
+                dist = rng.uniform(2, 80);
+    const double x = std::sin(ang) * std::cos(az) * dist, y = std::sin(ang) * std::sin(az) * dist,
+                 z = -std::cos(ang) * dist;
     const float v[3] = {rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5)};
     Frame with = looking_forward(), without = looking_forward();
     gaze_at(with, x, y, z);
@@ -221,9 +247,12 @@ TEST(SchedulerProperties, BothEyesTheFinerNeedWins) {
     gaze_at(left, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f), -1);
     gaze_at(right, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f), -1);
     both.eye_count = 2;
-    both.eyes[0] = left.eyes[0]; both.gaze[0] = left.gaze[0];
-    both.eyes[1] = right.eyes[0]; both.gaze[1] = right.gaze[0];
-    EXPECT_EQ(one.level(t, nullptr, both), std::min(one.level(t, nullptr, left), one.level(t, nullptr, right)));
+    both.eyes[0] = left.eyes[0];
+    both.gaze[0] = left.gaze[0];
+    both.eyes[1] = right.eyes[0];
+    both.gaze[1] = right.gaze[0];
+    EXPECT_EQ(one.level(t, nullptr, both),
+              std::min(one.level(t, nullptr, left), one.level(t, nullptr, right)));
   }
 }
 
@@ -310,7 +339,9 @@ TEST(SchedulerHardCases, FarFromTheOriginBehavesLikeTheOrigin) {
     gaze_at(f0, 0.1, 0, -1);
     gaze_at(f1, 0.1, 0, -1);
     std::uint8_t fl0 = 0, fl1 = 0;
-    EXPECT_EQ(one.level(at(x, y, z, q), v, f0, &fl0), one.level(at(x + far, y - far, z + far, q), v, f1, &fl1)) << i;
+    EXPECT_EQ(one.level(at(x, y, z, q), v, f0, &fl0),
+              one.level(at(x + far, y - far, z + far, q), v, f1, &fl1))
+        << i;
     EXPECT_EQ(fl0, fl1);
   }
 }
@@ -411,7 +442,9 @@ TEST(SchedulerRuntime, NoAllocationInsideTheFrame) {
 // ---- Agreement with a slow reference ---------------------------------------------------------------
 
 namespace {
-struct Vd { double x, y, z; };
+struct Vd {
+  double x, y, z;
+};
 Vd operator-(Vd a, Vd b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Vd operator+(Vd a, Vd b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 Vd operator*(double s, Vd a) { return {s * a.x, s * a.y, s * a.z}; }
@@ -424,22 +457,32 @@ Vd rot(const float* q, Vd v) {  // rotation matrix form, independent of the sche
           2 * (x * y + z * w) * v.x + (1 - 2 * (x * x + z * z)) * v.y + 2 * (y * z - x * w) * v.z,
           2 * (x * z - y * w) * v.x + 2 * (y * z + x * w) * v.y + (1 - 2 * (x * x + y * y)) * v.z};
 }
-Vd rot_inv(const float* q, Vd v) { const float c[4] = {-q[0], -q[1], -q[2], q[3]}; return rot(c, v); }
+Vd rot_inv(const float* q, Vd v) {
+  const float c[4] = {-q[0], -q[1], -q[2], q[3]};
+  return rot(c, v);
+}
 double angle(Vd a, Vd b) { return std::atan2(lend(crossd(a, b)), dotd(a, b)) * 180 / kPi; }
 
 // Level and the finest level's margin: the reference's largest |ln score| near a decision.
-struct RefResult { int level; double closest; int view; };
+struct RefResult {
+  int level;
+  double closest;
+  int view;
+};
 
 RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTransform& t, const float* vel,
                     const Frame& f, const Scheduler& envelope) {
   const Eye& eye = f.eyes[0];
   const Vd centre = rot(t.rotation, t.scale * Vd{p.meta.sphere[0], p.meta.sphere[1], p.meta.sphere[2]});
-  const Vd rel = Vd{t.position[0] - eye.position[0], t.position[1] - eye.position[1], t.position[2] - eye.position[2]} + centre;
+  const Vd rel =
+      Vd{t.position[0] - eye.position[0], t.position[1] - eye.position[1], t.position[2] - eye.position[2]} +
+      centre;
   const double d = lend(rel), r = t.scale * p.meta.sphere[3];
   if (d <= r) return {0, 1e9, -1};
   const Vd u = (1 / d) * rel;
   const double radius = std::asin(r / d) * 180 / kPi, diam = 2 * radius;
-  const Vd gaze = rot(eye.orientation, Vd{f.gaze[0].direction[0], f.gaze[0].direction[1], f.gaze[0].direction[2]});
+  const Vd gaze =
+      rot(eye.orientation, Vd{f.gaze[0].direction[0], f.gaze[0].direction[1], f.gaze[0].direction[2]});
   const double e = std::max(0.0, angle(u, gaze) - radius - c.gaze_uncertainty_deg);
   const Vd v{vel[0], vel[1], vel[2]};
   const Vd image = (180 / kPi / d) * (v - dotd(v, u) * u);
@@ -450,8 +493,12 @@ RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTran
   int view = 0;
   double best = -2;
   for (std::uint32_t k = 0; k < p.meta.view_count; ++k) {
-    const double dd = dotd(to_eye, Vd{p.views[k].direction[0], p.views[k].direction[1], p.views[k].direction[2]});
-    if (dd > best) { best = dd; view = int(k); }
+    const double dd =
+        dotd(to_eye, Vd{p.views[k].direction[0], p.views[k].direction[1], p.views[k].direction[2]});
+    if (dd > best) {
+      best = dd;
+      view = int(k);
+    }
   }
   const Vd dir{p.views[view].direction[0], p.views[view].direction[1], p.views[view].direction[2]};
   const Vd up{p.views[view].up[0], p.views[view].up[1], p.views[view].up[2]};
@@ -459,7 +506,8 @@ RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTran
   const double vx = dotd(slip, rot(t.rotation, right)), vy = dotd(slip, rot(t.rotation, up));
   const Vd u_eye = rot_inv(eye.orientation, u);
   const double cphi = std::clamp(-u_eye.z, 0.05, 1.0);
-  const double focal = eye.viewport[0] / (std::tan(eye.fov_deg[1] * kPi / 180) - std::tan(eye.fov_deg[0] * kPi / 180));
+  const double focal =
+      eye.viewport[0] / (std::tan(eye.fov_deg[1] * kPi / 180) - std::tan(eye.fov_deg[0] * kPi / 180));
   const double nyquist = 0.5 * focal * kPi / 180 / (cphi * cphi);
   int level = 0;
   double closest = 1e9;
@@ -475,7 +523,8 @@ RefResult reference(const Profile& p, const SchedulerConfig& c, const ObjectTran
         const double v_eval = lend(slip) > 0 ? std::max<double>(vt, envelope.envelope_speed(float(fr))) : vt;
         const double lost = p.lost_contrast(k, std::uint32_t(view), o, b);
         if (lost <= 0) continue;
-        worst = std::max(worst, std::log(lost) - log_threshold(fr, e, v_eval, c.model, c.params) - std::log(c.quality));
+        worst = std::max(
+            worst, std::log(lost) - log_threshold(fr, e, v_eval, c.model, c.params) - std::log(c.quality));
       }
     }
     if (worst <= 0) level = int(k);
@@ -496,16 +545,23 @@ TEST(SchedulerReference, SameLevelsAsTheSlowReference) {
   for (int i = 0; i < 4000; ++i) {
     float q[4];
     rng.quaternion(q);
-    const ObjectTransform t = at(rng.uniform(-10, 10), rng.uniform(-10, 10), -rng.uniform(1.5f, 150), q, rng.uniform(0.3f, 3));
+    const ObjectTransform t =
+        at(rng.uniform(-10, 10), rng.uniform(-10, 10), -rng.uniform(1.5f, 150), q, rng.uniform(0.3f, 3));
     const float v[3] = {rng.uniform(-8, 8), rng.uniform(-8, 8), rng.uniform(-8, 8)};
     Frame f = looking_forward();
     gaze_at(f, rng.uniform(-0.5f, 0.5f), rng.uniform(-0.5f, 0.5f), -1);
     const RefResult ref = reference(tp.profile, c, t, v, f, envelope);
     const int got = one.level(t, v, f);
     ++total;
-    if (got == ref.level) { ++same; continue; }
+    if (got == ref.level) {
+      ++same;
+      continue;
+    }
     // Allowed only where float and double round differently at a score of exactly 1 ...
-    if (ref.closest < 1e-4) { ++boundary; continue; }
+    if (ref.closest < 1e-4) {
+      ++boundary;
+      continue;
+    }
     // ... or where the cube-map lookup chose another of two nearly equidistant views.
     Scheduler s(c);
     const ObjectId id = s.add_object(s.add_profile(tp.profile), t);
@@ -513,7 +569,10 @@ TEST(SchedulerReference, SameLevelsAsTheSlowReference) {
     s.run_frame(f);
     ObjectExplain ex;
     s.explain(id, &ex);
-    if (int(ex.view) != ref.view) { ++other_view; continue; }
+    if (int(ex.view) != ref.view) {
+      ++other_view;
+      continue;
+    }
     ADD_FAILURE() << "case " << i << ": scheduler " << got << ", reference " << ref.level;
   }
   EXPECT_GE(same, total * 995 / 1000) << "boundary " << boundary << ", other view " << other_view;
@@ -530,7 +589,10 @@ TEST(SchedulerEnvelope, BoundsTheArgmaxAndTheCsfFallsBeyondIt) {
     for (int j = 0; j <= 4000; ++j) {
       const double u = 0.15 * std::pow(20 / 0.15, j / 4000.0);
       const double ln_s = -log_threshold(f, 0.0, u);
-      if (ln_s > best) { best = ln_s; argmax = u; }
+      if (ln_s > best) {
+        best = ln_s;
+        argmax = u;
+      }
       if (u >= std::max(u_env, 0.15) && ln_s > previous + 1e-12) falling_beyond = false;
       if (u >= std::max(u_env, 0.15)) previous = ln_s;
     }
@@ -564,7 +626,10 @@ TEST(SchedulerPolicies, HysteresisStopsPingPong) {
     Scheduler fresh(fresh_config);
     const ObjectId j = fresh.add_object(fresh.add_profile(tp.profile), at(0, 0, -z));
     fresh.run_frame(f);
-    if (fresh.level(j) > prev && z > 5) { step = z; break; }
+    if (fresh.level(j) > prev && z > 5) {
+      step = z;
+      break;
+    }
     prev = fresh.level(j);
   }
   ASSERT_GT(step, 0);
@@ -618,7 +683,8 @@ TEST(SchedulerPolicies, ASaccadeDoesNotSpendItsOwnBlur) {
       std::uint8_t fixating = 0;
       if (after_sweep(z, 0.0f, &fixating) <= fixating) continue;  // measured eye motion: the blur counts
       ++blur_coarsens;
-      EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating) << z << " m";  // a gated saccade does not spend it
+      EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating)
+          << z << " m";  // a gated saccade does not spend it
     }
     EXPECT_GT(blur_coarsens, 0) << to_string(evaluation);  // the case exists at some distance
   }
@@ -653,7 +719,10 @@ TEST(SchedulerPolicies, RefineAtOnceCoarsenAfterFramesOrInSaccades) {
   EXPECT_EQ(s.level(id), near_level);
   s.set_transform(id, at(0, 0, -300));
   int waited = 0;
-  while (s.level(id) == near_level && waited < 50) { s.run_frame(f); ++waited; }
+  while (s.level(id) == near_level && waited < 50) {
+    s.run_frame(f);
+    ++waited;
+  }
   EXPECT_EQ(waited, 11);  // max_coarsen_wait frames, then it goes anyway
 }
 
@@ -811,7 +880,9 @@ TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
 
 namespace {
 
-struct Agreement { int coarser = 0, differ = 0, total = 0; };
+struct Agreement {
+  int coarser = 0, differ = 0, total = 0;
+};
 
 // Random objects (0.3-40 deg across, up to 300 deg/s of image motion, random poses) seen by the same
 // frames through both evaluations; hysteresis off, so every level is that frame's choice.
@@ -832,15 +903,18 @@ Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed,
       const float scale = rng.uniform(0.2f, 3.0f);
       const float diameter = std::exp(rng.uniform(std::log(0.3f), std::log(40.0f)));  // [deg]
       const double d = scale / std::sin(0.5 * diameter * kPi / 180);
-      const float yaw = rng.uniform(-50, 50) * float(kPi / 180), pitch = rng.uniform(-40, 40) * float(kPi / 180);
+      const float yaw = rng.uniform(-50, 50) * float(kPi / 180),
+                  pitch = rng.uniform(-40, 40) * float(kPi / 180);
       const ObjectTransform t = at(d * std::sin(yaw) * std::cos(pitch) - 0.1, d * std::sin(pitch) - 0.2,
                                    -d * std::cos(yaw) * std::cos(pitch) + 0.1, q, scale);
       float v[3] = {0, 0, 0};
       if (int(rng.uniform(0, 100)) < moving_percent) {
-        const float speed = std::exp(rng.uniform(std::log(0.05f), std::log(300.0f))) * float(kPi / 180) * float(d);
+        const float speed =
+            std::exp(rng.uniform(std::log(0.05f), std::log(300.0f))) * float(kPi / 180) * float(d);
         float dir[4];
         rng.quaternion(dir);
-        for (int k = 0; k < 3; ++k) v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+        for (int k = 0; k < 3; ++k)
+          v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
       }
       const ObjectId it = tab.add_object(pt, t), ie = exact.add_object(pe, t);
       tab.set_velocity(it, v);
@@ -873,7 +947,14 @@ Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed,
 
 TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
   const TestProfile tp;
-  struct Case { const char* name; ThresholdModel model; float q; ViewBlend blend; int moving; bool gaze, two_eyes; };
+  struct Case {
+    const char* name;
+    ThresholdModel model;
+    float q;
+    ViewBlend blend;
+    int moving;
+    bool gaze, two_eyes;
+  };
   const Case cases[] = {
       {"default still gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 0, true, false},
       {"default moving gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 100, true, false},
@@ -902,9 +983,17 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
 // Extreme but valid profiles: loss near 0 or enormous, a tiny object, one level. Tables stay finite
 // (decisions defined, never coarser than exact), and invalid input still falls back with a flag.
 TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
-  struct Extreme { const char* name; float lost_scale; float radius; std::uint32_t K; };
-  const Extreme cases[] = {{"loss near 0", 1e-30f, 1.0f, 6}, {"huge loss", 1e30f, 1.0f, 6},
-                           {"tiny radius", 1.0f, 1e-6f, 6}, {"huge radius", 1.0f, 1e6f, 6}, {"one level", 1.0f, 1.0f, 1}};
+  struct Extreme {
+    const char* name;
+    float lost_scale;
+    float radius;
+    std::uint32_t K;
+  };
+  const Extreme cases[] = {{"loss near 0", 1e-30f, 1.0f, 6},
+                           {"huge loss", 1e30f, 1.0f, 6},
+                           {"tiny radius", 1.0f, 1e-6f, 6},
+                           {"huge radius", 1.0f, 1e6f, 6},
+                           {"one level", 1.0f, 1.0f, 1}};
   for (const Extreme& x : cases) {
     TestProfile tp(x.K);
     for (float& l : tp.data.lost) l *= x.lost_scale;
@@ -921,11 +1010,15 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     EXPECT_EQ(tab.table_bytes(pt) == 0, x.K == 1) << x.name;
     Rng rng(77);
     for (int i = 0; i < 60; ++i) {  // object 0: near, at the gaze (about 20 deg across)
-      const double z = i == 0 ? -6.0 * x.radius : -std::exp(rng.uniform(std::log(x.radius * 1.5f), std::log(x.radius * 1e4f)));
+      const double z = i == 0 ? -6.0 * x.radius
+                              : -std::exp(rng.uniform(std::log(x.radius * 1.5f), std::log(x.radius * 1e4f)));
       const ObjectTransform t = at(i == 0 ? 0.0 : rng.uniform(-0.3f, 0.3f) * z, 0, z);
       const float v[3] = {rng.uniform(-2, 2) * float(-z), 0, 0};
       const ObjectId a = tab.add_object(pt, t), b = exact.add_object(pe, t);
-      if (i % 2) { tab.set_velocity(a, v); exact.set_velocity(b, v); }
+      if (i % 2) {
+        tab.set_velocity(a, v);
+        exact.set_velocity(b, v);
+      }
     }
     // One object with a NaN transform: the fallback level and the flag, in both paths.
     ObjectTransform bad = at(0, 0, -5);
@@ -941,12 +1034,8 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
     }
     EXPECT_TRUE(tab.flags(bad_t) & kFlagInvalidInput) << x.name;
     EXPECT_EQ(tab.level(bad_t), exact.level(bad_e)) << x.name;
-    if (x.lost_scale < 1e-20f) {
-      EXPECT_EQ(tab.level(0), x.K - 1) << "nothing lost: the coarsest level";
-    }
-    if (x.lost_scale > 1e20f) {
-      EXPECT_EQ(tab.level(0), 0) << "everything visible: the finest level";
-    }
+    if (x.lost_scale < 1e-20f) { EXPECT_EQ(tab.level(0), x.K - 1) << "nothing lost: the coarsest level"; }
+    if (x.lost_scale > 1e20f) { EXPECT_EQ(tab.level(0), 0) << "everything visible: the finest level"; }
   }
 }
 

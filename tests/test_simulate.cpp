@@ -6,16 +6,16 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
-#include <functional>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
+#include "acuity/bake/scene.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/frame_image.hpp"
-#include "acuity/bake/scene.hpp"
 #include "acuity/sim/results.hpp"
 #include "mesh_fixture.hpp"
 
@@ -29,7 +29,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("acuity_test_simulate_" + std::to_string(::getpid())) / name;
+  const fs::path p =
+      fs::temp_directory_path() / ("acuity_test_simulate_" + std::to_string(::getpid())) / name;
   fs::create_directories(p.parent_path());
   return p;
 }
@@ -50,7 +51,9 @@ std::string slurp(const fs::path& p) {
 }
 
 std::string error_of(const std::function<void()>& f) {
-  try { f(); } catch (const std::exception& e) { return e.what(); }
+  try {
+    f();
+  } catch (const std::exception& e) { return e.what(); }
   return "no error";
 }
 
@@ -75,7 +78,8 @@ const SceneAssets& small_scene() {
     for (int i = 0; i < 9; ++i) {
       lodgen::LodInstance in;
       in.name = "ball_" + std::to_string(i);
-      in.matrix = {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, (i % 3 - 1) * 4.0, 0.5, -(3.0 + (i / 3) * 4.0), 1};
+      in.matrix = {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, (i % 3 - 1) * 4.0, 0.5, -(3.0 + (i / 3) * 4.0),
+                   1};
       field.push_back(in);
     }
     const fs::path path = scratch("field.glb");
@@ -116,9 +120,11 @@ TEST(Table, ReadsCsvAndJsonByColumnName) {
 TEST(Table, BadInputNamesFileLineAndColumn) {
   const std::string p = scratch("bad.csv").string();
   write(p, "t,x\n0,1\n1,abc\n");
-  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:3: column 'x': 'abc'"), std::string::npos) << error_of([&] { read_table(p); });
+  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:3: column 'x': 'abc'"), std::string::npos)
+      << error_of([&] { read_table(p); });
   write(p, "t,x\n0,1,2\n");
-  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:2: 3 fields, the header has 2"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_table(p); }).find("bad.csv:2: 3 fields, the header has 2"),
+            std::string::npos);
   write(p, "t,x\n0,nan\n");
   EXPECT_NE(error_of([&] { read_table(p); }).find("not a finite number"), std::string::npos);
   write(p, "");
@@ -132,34 +138,39 @@ TEST(Table, BadInputNamesFileLineAndColumn) {
   EXPECT_NE(error_of([&] { read_table(j); }).find("row 0: 'x' is not a finite number"), std::string::npos);
   write(j, "[{\"t\": 0,");
   EXPECT_NE(error_of([&] { read_table(j); }).find("not valid JSON"), std::string::npos);
-  EXPECT_NE(error_of([&] { read_table(scratch("missing.csv").string()); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(error_of([&] { read_table(scratch("missing.csv").string()); }).find("cannot open"),
+            std::string::npos);
   // Tracks: missing columns, time not increasing, zero quaternion.
   write(p, "t,x,y,z\n0,0,0,-1\n");
-  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("no column 'qx'"), std::string::npos);
+  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("no column 'qx'"),
+            std::string::npos);
   write(p, "t,x,y,z\n0,0,0,-1\n0,0,0,-1\n");
-  EXPECT_NE(error_of([&] { gaze_trace_from(read_table(p), 60, 10); }).find("does not increase"), std::string::npos);
+  EXPECT_NE(error_of([&] { gaze_trace_from(read_table(p), 60, 10); }).find("does not increase"),
+            std::string::npos);
   write(p, "t,x,y,z,qx,qy,qz,qw\n0,0,0,0,0,0,0,0\n");
-  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("quaternion is zero"), std::string::npos);
+  EXPECT_NE(error_of([&] { head_path_from(read_table(p), 60, 10); }).find("quaternion is zero"),
+            std::string::npos);
 }
 
 TEST(Tracks, ResampleLinearlyAndHoldBlinks) {
   const std::string p = scratch("head.csv").string();
   const double s = std::sin(kPi / 4), c = std::cos(kPi / 4);  // 0 -> 90 deg about +y over 1 s
-  write(p, "t,x,y,z,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n1,2,1.6,0,0," + std::to_string(s) + ",0," + std::to_string(c) + "\n");
+  write(p, "t,x,y,z,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n1,2,1.6,0,0," + std::to_string(s) + ",0," +
+               std::to_string(c) + "\n");
   const std::vector<HeadPose> head = head_path_from(read_table(p), 4, 6);
   ASSERT_EQ(head.size(), 6u);
-  EXPECT_NEAR(head[2].position.x, 1.0, 1e-12);       // t = 0.5 s: halfway
+  EXPECT_NEAR(head[2].position.x, 1.0, 1e-12);  // t = 0.5 s: halfway
   const glm::dvec3 fwd = head[2].orientation * glm::dvec3(0, 0, -1);
   EXPECT_NEAR(std::atan2(-fwd.x, -fwd.z), kPi / 4, 1e-6);  // slerp: 45 deg
-  EXPECT_NEAR(head[5].position.x, 2.0, 1e-12);       // held past the end
+  EXPECT_NEAR(head[5].position.x, 2.0, 1e-12);             // held past the end
   const std::string g = scratch("gaze.csv").string();
   write(g, "t,x,y,z,confidence\n0,0,0,-1,1\n0.5,0,0,-2,0\n1,1,0,-1,1\n1.5,0,0,0,1\n");
   const std::vector<GazeSample> gaze = gaze_trace_from(read_table(g), 4, 7);
   EXPECT_FLOAT_EQ(gaze[0].confidence, 1.0f);
-  EXPECT_FLOAT_EQ(gaze[1].confidence, 0.0f);          // between a tracked and a lost sample: lost
+  EXPECT_FLOAT_EQ(gaze[1].confidence, 0.0f);  // between a tracked and a lost sample: lost
   EXPECT_FLOAT_EQ(gaze[3].confidence, 0.0f);
   EXPECT_NEAR(glm::length(gaze[3].direction), 1.0, 1e-12);
-  EXPECT_FLOAT_EQ(gaze[6].confidence, 0.0f);          // a zero direction is no gaze
+  EXPECT_FLOAT_EQ(gaze[6].confidence, 0.0f);  // a zero direction is no gaze
 }
 
 TEST(GazeGenerator, FollowsMainSequencePursuesAndBlinks) {
@@ -175,8 +186,11 @@ TEST(GazeGenerator, FollowsMainSequencePursuesAndBlinks) {
     while (e < g.phases.size() && g.phases[e] == g.phases[f]) ++e;
     const double ms = double(e - f) * 1000 / fps;
     if (g.phases[f] == GazePhase::Saccade && f > 0 && e < g.phases.size()) {
-      const double amplitude = std::acos(std::clamp(glm::dot(g.samples[f - 1].direction, g.samples[e].direction), -1.0, 1.0)) * 180 / kPi;
-      EXPECT_NEAR(ms, 21 + 2.2 * amplitude, 3.0) << "saccade of " << amplitude << " deg";  // head motion moves the ends slightly
+      const double amplitude =
+          std::acos(std::clamp(glm::dot(g.samples[f - 1].direction, g.samples[e].direction), -1.0, 1.0)) *
+          180 / kPi;
+      EXPECT_NEAR(ms, 21 + 2.2 * amplitude, 3.0)
+          << "saccade of " << amplitude << " deg";  // head motion moves the ends slightly
       ++saccades;
     }
     if (g.phases[f] == GazePhase::Blink && e < g.phases.size()) {
@@ -184,8 +198,8 @@ TEST(GazeGenerator, FollowsMainSequencePursuesAndBlinks) {
       for (std::size_t i = f; i < e; ++i) EXPECT_EQ(g.samples[i].confidence, 0.0f);
       ++blinks;
     }
-    if (g.phases[f] == GazePhase::Fixation && e < g.phases.size() && (f == 0 || g.phases[f - 1] == GazePhase::Saccade) &&
-        g.phases[e] == GazePhase::Saccade) {
+    if (g.phases[f] == GazePhase::Fixation && e < g.phases.size() &&
+        (f == 0 || g.phases[f - 1] == GazePhase::Saccade) && g.phases[e] == GazePhase::Saccade) {
       EXPECT_TRUE(ms >= 199 && ms <= 451) << ms;
     }
     f = e;
@@ -193,10 +207,13 @@ TEST(GazeGenerator, FollowsMainSequencePursuesAndBlinks) {
   for (std::size_t f = 0; f < g.phases.size(); ++f) {
     if (g.phases[f] != GazePhase::Pursuit) continue;
     ++pursuit_frames;  // the gaze stays on the moving object: within its angular radius
-    const auto it = std::find_if(movers.begin(), movers.end(), [&](const Mover& m) { return int(m.instance) == g.targets[f]; });
+    const auto it = std::find_if(movers.begin(), movers.end(),
+                                 [&](const Mover& m) { return int(m.instance) == g.targets[f]; });
     ASSERT_NE(it, movers.end());
-    const glm::dvec3 h = glm::inverse(head[f].orientation) * (it->position(double(f) / fps) - head[f].position);
-    const double angle = std::acos(std::clamp(glm::dot(glm::normalize(h), g.samples[f].direction), -1.0, 1.0));
+    const glm::dvec3 h =
+        glm::inverse(head[f].orientation) * (it->position(double(f) / fps) - head[f].position);
+    const double angle =
+        std::acos(std::clamp(glm::dot(glm::normalize(h), g.samples[f].direction), -1.0, 1.0));
     EXPECT_LE(angle, std::asin(std::min(1.0, scene.instances[it->instance].radius / glm::length(h))));
   }
   EXPECT_GT(saccades, 10);
@@ -239,7 +256,8 @@ TEST(Simulate, FixedSeedReproducesEveryOutputByte) {
   SimulationOptions other = small_options("run_c");
   other.seed = 2;
   run_simulation(scene, other);
-  for (const char* f : {"frames.csv", "levels.csv", "sweep.csv", "judged.csv", "gaze.csv", "head.csv", "summary.json", "frame_0090.png"}) {
+  for (const char* f : {"frames.csv", "levels.csv", "sweep.csv", "judged.csv", "gaze.csv", "head.csv",
+                        "summary.json", "frame_0090.png"}) {
     const std::string a = slurp(scratch("run_a") / f);
     ASSERT_FALSE(a.empty()) << f;
     EXPECT_EQ(a, slurp(scratch("run_b") / f)) << f;
@@ -264,7 +282,7 @@ TEST(Simulate, RulesAndGroundTruthAgreeWhereTheyMust) {
   ASSERT_EQ(judged.size(), 20u);
   for (const Judged& j : judged) {
     EXPECT_TRUE(sim.in_view(j.object, j.frame));
-    EXPECT_EQ(j.scores[0], 0.0f);                   // the finest level loses nothing
+    EXPECT_EQ(j.scores[0], 0.0f);                        // the finest level loses nothing
     EXPECT_LE(j.scores[1], j.scores[2] * 1.5f + 0.05f);  // coarser loses more (up to view noise)
     EXPECT_TRUE(j.pixels >= 64 && j.pixels <= 512);
   }
@@ -272,9 +290,7 @@ TEST(Simulate, RulesAndGroundTruthAgreeWhereTheyMust) {
   const RuleRun* previous = nullptr;
   for (const RuleRun& r : sim.rules()) {
     if (!r.sweep || r.name != "screen-size") continue;
-    if (previous) {
-      EXPECT_GE(previous->triangles, r.triangles);
-    }
+    if (previous) { EXPECT_GE(previous->triangles, r.triangles); }
     previous = &r;
   }
   // explain: the chosen level is invisible by its own score, and the text names it.
@@ -322,12 +338,15 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
   check(r.screen_size, "screen-size", std::size_t(r.perceptual));
   check(r.distance, "distance", std::size_t(r.perceptual));
   ASSERT_EQ(r.quality_sweep.size(), 9u);  // q = 2^(i/4), i = -6..2
-  for (const Results::QualityPoint& q : r.quality_sweep) check(q.screen_size, "screen-size", std::size_t(q.rule));
+  for (const Results::QualityPoint& q : r.quality_sweep)
+    check(q.screen_size, "screen-size", std::size_t(q.rule));
   // The summary names every main rule with its losses out of the judged decisions.
   const std::string text = summary_text(sim, r);
   for (const char* name : {"perceptual", "reddy", "distance", "screen-size"}) {
     const std::size_t i = std::size_t(&sim.rule(name) - rules.data());
-    EXPECT_NE(text.find("(" + std::to_string(r.visible_losses[i]) + "/20)"), std::string::npos) << name << "\n" << text;
+    EXPECT_NE(text.find("(" + std::to_string(r.visible_losses[i]) + "/20)"), std::string::npos)
+        << name << "\n"
+        << text;
   }
   // With nothing judged, no rate is claimed.
   const Results none = analyse(sim, {});
@@ -356,9 +375,10 @@ TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {
     return std::pair{n, white};
   };
   const std::vector<std::uint8_t> finest(9, 0), coarse(9, 2);
-  const auto blue = count(finest.data(), 2, 0), green_as_blue = count(coarse.data(), 2, 0), green = count(coarse.data(), 1, 0);
-  EXPECT_GT(blue.first, 200);        // level 0: blue objects
+  const auto blue = count(finest.data(), 2, 0), green_as_blue = count(coarse.data(), 2, 0),
+             green = count(coarse.data(), 1, 0);
+  EXPECT_GT(blue.first, 200);  // level 0: blue objects
   EXPECT_LT(green_as_blue.first, 20);
-  EXPECT_GT(green.first, 200);       // level 2: green
-  EXPECT_GT(blue.second, 20);        // the gaze ring
+  EXPECT_GT(green.first, 200);  // level 2: green
+  EXPECT_GT(blue.second, 20);   // the gaze ring
 }

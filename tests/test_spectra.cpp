@@ -30,7 +30,8 @@ Image grating(int u, int v, float contrast, float mean = 0.5f) {
   for (std::uint32_t r = 0; r < N; ++r)
     for (std::uint32_t c = 0; c < N; ++c) {
       const double x = c, y_up = -double(r);
-      im.pixels[std::size_t(r) * N + c] = float(mean * (1 + contrast * std::cos(2 * kPi * (u * x + v * y_up) / N)));
+      im.pixels[std::size_t(r) * N + c] =
+          float(mean * (1 + contrast * std::cos(2 * kPi * (u * x + v * y_up) / N)));
     }
   return im;
 }
@@ -48,8 +49,12 @@ TEST(LostContrast, GratingsAtBandCentres) {
   const auto& bands = analyzer.bands();
   ASSERT_EQ(bands.size(), 6u);  // 2 .. 64 cycles per diameter
   const Image reference = constant(0.5f);
-  struct Case { int u, v, orientation; float f; };
-  for (const Case c : {Case{8, 0, 0, 8}, Case{32, 0, 0, 32}, Case{0, 16, 4, 16}, Case{0, 4, 4, 4}, Case{0, -64, 4, 64}}) {
+  struct Case {
+    int u, v, orientation;
+    float f;
+  };
+  for (const Case c :
+       {Case{8, 0, 0, 8}, Case{32, 0, 0, 32}, Case{0, 16, 4, 16}, Case{0, 4, 4, 4}, Case{0, -64, 4, 64}}) {
     const float contrast = 0.3f;
     const std::vector<float> lost = analyzer.measure(grating(c.u, c.v, contrast), reference);
     const int b = band_of(bands, c.f);
@@ -58,7 +63,8 @@ TEST(LostContrast, GratingsAtBandCentres) {
     for (std::uint32_t t = 0; t < 8; ++t)
       for (std::size_t k = 0; k < bands.size(); ++k) {
         if (int(k) == b && int(t) == c.orientation) continue;
-        EXPECT_LT(lost[t * bands.size() + k], 0.01f * contrast) << t << " " << k;  // another band or orientation
+        EXPECT_LT(lost[t * bands.size() + k], 0.01f * contrast)
+            << t << " " << k;  // another band or orientation
       }
   }
 }
@@ -71,10 +77,10 @@ TEST(LostContrast, DiagonalGratingWithHalfOctaveBands) {
   const int b = band_of(bands, float(8 * std::sqrt(2.0)));
   ASSERT_GE(b, 0);
   const std::vector<float> lost = analyzer.measure(grating(8, 8, 0.2f), constant(0.5f));
-  EXPECT_NEAR(lost[2 * bands.size() + b], 0.2f, 0.01f);        // 45 deg: orientation 2 of 8
-  EXPECT_LT(lost[6 * bands.size() + b], 0.002f);               // 135 deg: the other diagonal
-  EXPECT_LT(lost[2 * bands.size() + b + 2], 0.002f);           // an octave up
-  EXPECT_LT(lost[2 * bands.size() + b - 2], 0.002f);           // an octave down
+  EXPECT_NEAR(lost[2 * bands.size() + b], 0.2f, 0.01f);  // 45 deg: orientation 2 of 8
+  EXPECT_LT(lost[6 * bands.size() + b], 0.002f);         // 135 deg: the other diagonal
+  EXPECT_LT(lost[2 * bands.size() + b + 2], 0.002f);     // an octave up
+  EXPECT_LT(lost[2 * bands.size() + b - 2], 0.002f);     // an octave down
 }
 
 TEST(LostContrast, ContrastIsRelativeToTheLocalMean) {
@@ -134,7 +140,8 @@ TEST(Renderer, DeterministicAndSphereSilhouette) {
   bounding_sphere(mesh, rs.sphere);
   EXPECT_NEAR(rs.sphere[3], 2.0f, 1e-5f);
   const ProfileView view = make_view(0.3f, 0.5f, 0.8f);
-  const Image a = render_snapshot(mesh, Material{}, view, rs), b = render_snapshot(mesh, Material{}, view, rs);
+  const Image a = render_snapshot(mesh, Material{}, view, rs),
+              b = render_snapshot(mesh, Material{}, view, rs);
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   EXPECT_EQ(std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)), 0);
   // The disc of radius N/2: full coverage inside R - 1, background outside R + 1.
@@ -144,8 +151,14 @@ TEST(Renderer, DeterministicAndSphereSilhouette) {
     for (std::uint32_t x = 0; x < N; ++x) {
       const double d = std::hypot(x + 0.5 - R, y + 0.5 - R);
       const float v = a.at(x, y);
-      if (d > R + 1) { EXPECT_EQ(v, rs.background); ++outside; }
-      if (d < R - 1) { EXPECT_NE(v, rs.background); ++inside; }
+      if (d > R + 1) {
+        EXPECT_EQ(v, rs.background);
+        ++outside;
+      }
+      if (d < R - 1) {
+        EXPECT_NE(v, rs.background);
+        ++inside;
+      }
     }
   EXPECT_GT(inside, 50000);
   EXPECT_GT(outside, 10000);
@@ -192,7 +205,8 @@ TEST(ProfileBuilder, ASphereNeedsFewViewsAStatueMore) {
   const ProfileData ps = build_profile(inputs(sphere), Material{}, small_settings(), {}, &rs);
   const ProfileData pt = build_profile(inputs(statue), Material{}, small_settings(), {}, &rt);
   EXPECT_LE(rs.views_kept, 3u) << "sphere measured " << rs.views_measured;
-  std::printf("sphere: %u of %u views kept; statue: %u of %u\n", rs.views_kept, rs.views_measured, rt.views_kept, rt.views_measured);
+  std::printf("sphere: %u of %u views kept; statue: %u of %u\n", rs.views_kept, rs.views_measured,
+              rt.views_kept, rt.views_measured);
   EXPECT_GT(rt.views_kept, rs.views_kept) << "statue measured " << rt.views_measured;
   EXPECT_LE(rs.prediction_error, 0.25f);
   EXPECT_LE(rt.prediction_error, 0.25f + 1e-6f);
@@ -214,10 +228,11 @@ TEST(ProfileBuilder, StoredValuesAreTheDirectMeasurementAndThreadsDoNotMatter) {
   const ProfileData one = build_profile(inputs(statue), Material{}, s);
   s.jobs = 2;
   std::size_t calls = 0;
-  const ProfileData two = build_profile(inputs(statue), Material{}, s, [&](const char*, std::size_t done, std::size_t total) {
-    ++calls;
-    EXPECT_LE(done, total);
-  });
+  const ProfileData two =
+      build_profile(inputs(statue), Material{}, s, [&](const char*, std::size_t done, std::size_t total) {
+        ++calls;
+        EXPECT_LE(done, total);
+      });
   EXPECT_EQ(calls, 6u);
   const Blob a = encode_profile(one), b = encode_profile(two);
   ASSERT_EQ(a.size, b.size);
@@ -226,7 +241,8 @@ TEST(ProfileBuilder, StoredValuesAreTheDirectMeasurementAndThreadsDoNotMatter) {
   const ViewMeasurement m = measurer.measure(one.views[3]);
   const std::size_t T = one.orientations.size(), B = one.bands.size();
   for (std::size_t k = 1; k < 4; ++k)
-    for (std::size_t i = 0; i < T * B; ++i) EXPECT_EQ(one.lost[((k - 1) * 6 + 3) * T * B + i], m.lost[(k - 1) * T * B + i]);
+    for (std::size_t i = 0; i < T * B; ++i)
+      EXPECT_EQ(one.lost[((k - 1) * 6 + 3) * T * B + i], m.lost[(k - 1) * T * B + i]);
 }
 
 TEST(ProfileBuilder, BadChains) {

@@ -121,9 +121,13 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--backend", b.backend, "meshopt | openmesh | cgal | cgal-lt")->capture_default_str();
   cmd->add_flag("--lock-border", b.lock_border, "Keep border vertices in place");
   cmd->add_option("--crease", b.crease, "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")
-      ->capture_default_str()->check(Finite)->check(CLI::Range(0.0, 180.0));
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.0, 180.0));
   cmd->add_option("--measure-seconds", b.measure_seconds, "Time budget for measuring an asset's errors [s]")
-      ->capture_default_str()->check(Finite)->check(CLI::Range(0.1, 1e5));
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.1, 1e5));
   cmd->add_option("--reference-height", b.reference_height, "Pixels, for MSFT_screencoverage")
       ->capture_default_str()
       ->check(Finite)

@@ -11,7 +11,7 @@
 #include "acuity/sim/simulation.hpp"
 
 namespace acuity::tools {
-using bake::AssetOptions;       // the scene bake the subcommands load scenes with
+using bake::AssetOptions;  // the scene bake the subcommands load scenes with
 using bake::load_scene_assets;
 using bake::SceneAssets;
 
@@ -21,20 +21,21 @@ inline const CLI::Validator Finite(
     [](std::string& text) -> std::string {
       char* end = nullptr;
       const double x = std::strtod(text.c_str(), &end);
-      if (end == text.c_str() || *end != '\0' || !std::isfinite(x)) return "'" + text + "' is not a finite number";
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(x))
+        return "'" + text + "' is not a finite number";
       return {};
     },
     "FINITE");
 
-void add_models_report(CLI::App& app);   // `acuity models`
-void print_models_report();              // the same tables with the defaults
-void add_demo_command(CLI::App& app);     // `acuity demo`: the README's main job
-void add_profile_command(CLI::App& app);  // `acuity profile`
-void add_inspect_command(CLI::App& app);  // `acuity inspect`
-void add_lodgen_command(CLI::App& app);   // `acuity lodgen`
+void add_models_report(CLI::App& app);      // `acuity models`
+void print_models_report();                 // the same tables with the defaults
+void add_demo_command(CLI::App& app);       // `acuity demo`: the README's main job
+void add_profile_command(CLI::App& app);    // `acuity profile`
+void add_inspect_command(CLI::App& app);    // `acuity inspect`
+void add_lodgen_command(CLI::App& app);     // `acuity lodgen`
 void add_simulate_commands(CLI::App& app);  // `acuity simulate` and `acuity explain`
-void add_plan_command(CLI::App& app);     // `acuity plan`: foveation maps
-void add_bake_command(CLI::App& app);     // `acuity bake`: a library of assets, cached
+void add_plan_command(CLI::App& app);       // `acuity plan`: foveation maps
+void add_bake_command(CLI::App& app);       // `acuity bake`: a library of assets, cached
 
 // What a run leaves: the files written, and a decision worth explaining.
 struct RunResult {

@@ -28,18 +28,21 @@ void run(const std::string& path, bool json) {
   j["format_version"] = kProfileVersion;
   j["sphere"] = {m.sphere[0], m.sphere[1], m.sphere[2], m.sphere[3]};
   j["snapshot_pixels"] = m.snapshot_pixels;
-  j["runtime_table_bytes"] = Scheduler::table_bytes(m, SchedulerConfig{});  // the tabulated path, default config
+  j["runtime_table_bytes"] =
+      Scheduler::table_bytes(m, SchedulerConfig{});  // the tabulated path, default config
   j["orientations_deg"] = std::vector<float>(p.orientations, p.orientations + m.orientation_count);
   j["bands_cpod"] = std::vector<float>(p.bands, p.bands + m.band_count);
   for (std::uint32_t v = 0; v < m.view_count; ++v)
     j["views"].push_back({p.views[v].direction[0], p.views[v].direction[1], p.views[v].direction[2]});
   for (std::uint32_t k = 0; k < m.level_count; ++k) {
-    nlohmann::json level = {{"triangles", p.levels[k].triangles}, {"geometric_error", p.levels[k].geometric_error}};
+    nlohmann::json level = {{"triangles", p.levels[k].triangles},
+                            {"geometric_error", p.levels[k].geometric_error}};
     if (k > 0) {
       std::vector<float> peak(m.band_count, 0.0f);  // per band, the largest loss over views and orientations
       for (std::uint32_t v = 0; v < m.view_count; ++v)
         for (std::uint32_t t = 0; t < m.orientation_count; ++t)
-          for (std::uint32_t b = 0; b < m.band_count; ++b) peak[b] = std::max(peak[b], p.lost_contrast(k, v, t, b));
+          for (std::uint32_t b = 0; b < m.band_count; ++b)
+            peak[b] = std::max(peak[b], p.lost_contrast(k, v, t, b));
       level["max_lost_contrast_per_band"] = peak;
     }
     j["levels"].push_back(level);
@@ -49,18 +52,21 @@ void run(const std::string& path, bool json) {
     return;
   }
   std::printf("%s: acuity profile v%u, %zu bytes\n", path.c_str(), kProfileVersion, blob.size);
-  std::printf("sphere    centre (%g, %g, %g), radius %g; snapshots %u px across\n", m.sphere[0], m.sphere[1], m.sphere[2],
-              m.sphere[3], m.snapshot_pixels);
-  std::printf("views     %u (lookup %u x %u per cube face)\n", m.view_count, m.lookup_resolution, m.lookup_resolution);
+  std::printf("sphere    centre (%g, %g, %g), radius %g; snapshots %u px across\n", m.sphere[0], m.sphere[1],
+              m.sphere[2], m.sphere[3], m.snapshot_pixels);
+  std::printf("views     %u (lookup %u x %u per cube face)\n", m.view_count, m.lookup_resolution,
+              m.lookup_resolution);
   const std::size_t tables = Scheduler::table_bytes(m, SchedulerConfig{});
-  std::printf("runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile\n", tables, tables + blob.size);
+  std::printf("runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile\n",
+              tables, tables + blob.size);
   std::printf("spectra   %u orientations x %u bands:", m.orientation_count, m.band_count);
   for (std::uint32_t b = 0; b < m.band_count; ++b) std::printf(" %g", p.bands[b]);
   std::printf(" cycles per diameter\n\nlevel  triangles  geom.error  largest loss per band\n");
   for (std::uint32_t k = 0; k < m.level_count; ++k) {
     std::printf("%5u  %9u  %10.5f ", k, p.levels[k].triangles, p.levels[k].geometric_error);
     if (k > 0)
-      for (float x : j["levels"][k]["max_lost_contrast_per_band"].get<std::vector<float>>()) std::printf(" %6.3f", x);
+      for (float x : j["levels"][k]["max_lost_contrast_per_band"].get<std::vector<float>>())
+        std::printf(" %6.3f", x);
     std::printf("\n");
   }
 }

@@ -20,7 +20,8 @@ namespace {
 struct LodgenOptions {
   std::string input, output, backend = "meshopt", asset_root;
   std::size_t levels = 0;
-  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45, measure_seconds = bake::kMeasureSeconds;
+  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45,
+         measure_seconds = bake::kMeasureSeconds;
   int refine = 0;
   bool lock_border = false, quiet = false;
 };
@@ -66,18 +67,22 @@ void run(const LodgenOptions& o) {
   summary["input"] = o.input;
   summary["output"] = o.output;
   summary["backend"] = o.refine > 0 ? "opensubdiv" : o.backend;
-  std::printf("%-24s %5s %10s %10s %12s %9s %8s\n", "mesh", "level", "target", "triangles", "hausdorff", "normal99", "seconds");
+  std::printf("%-24s %5s %10s %10s %12s %9s %8s\n", "mesh", "level", "target", "triangles", "hausdorff",
+              "normal99", "seconds");
   for (std::size_t m = 0; m < chains.size(); ++m) {
     nlohmann::json jm;
     jm["name"] = scene.mesh_names[m];
     jm["diameter"] = chains[m].diameter;
     for (std::size_t k = 0; k < chains[m].levels.size(); ++k) {
       const lodgen::Level& l = chains[m].levels[k];
-      std::printf("%-24.24s %5zu %10zu %10zu %12.6f %9.2f %8.3f\n", scene.mesh_names[m].c_str(), k, l.target_triangles,
-                  l.mesh.triangle_count(), l.hausdorff, l.normal_deviation, l.seconds);
-      jm["levels"].push_back({{"target", l.target_triangles}, {"triangles", l.mesh.triangle_count()},
-                              {"hausdorff_diameters", l.hausdorff}, {"normal_deviation_degrees", l.normal_deviation},
-                              {"normal_deviation_max_degrees", l.normal_deviation_max}, {"measured_fully", l.measured_fully},
+      std::printf("%-24.24s %5zu %10zu %10zu %12.6f %9.2f %8.3f\n", scene.mesh_names[m].c_str(), k,
+                  l.target_triangles, l.mesh.triangle_count(), l.hausdorff, l.normal_deviation, l.seconds);
+      jm["levels"].push_back({{"target", l.target_triangles},
+                              {"triangles", l.mesh.triangle_count()},
+                              {"hausdorff_diameters", l.hausdorff},
+                              {"normal_deviation_degrees", l.normal_deviation},
+                              {"normal_deviation_max_degrees", l.normal_deviation_max},
+                              {"measured_fully", l.measured_fully},
                               {"seconds", l.seconds}});
     }
     summary["meshes"].push_back(jm);
@@ -86,27 +91,56 @@ void run(const LodgenOptions& o) {
   summary["seconds"] = seconds;
   const std::string text = summary.dump(2) + "\n";
   std::string error;
-  if (!write_file_atomically(o.output + ".json", text.data(), text.size(), &error)) throw std::runtime_error(error);
-  std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), sc.objects.size(), o.output.c_str(), seconds);
+  if (!write_file_atomically(o.output + ".json", text.data(), text.size(), &error))
+    throw std::runtime_error(error);
+  std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), sc.objects.size(),
+              o.output.c_str(), seconds);
 }
 
 }  // namespace
 
 void add_lodgen_command(CLI::App& app) {
   auto o = std::make_shared<LodgenOptions>();
-  CLI::App* cmd = app.add_subcommand("lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
+  CLI::App* cmd = app.add_subcommand(
+      "lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
   cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
-  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%; at most 32)")->capture_default_str()->check(CLI::Range(0, 32));
-  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")->capture_default_str()->check(Finite)->check(CLI::Range(0.01, 0.99));
-  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
-  cmd->add_option("--backend", o->backend, "meshopt (keeps creases and seams) | openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")->capture_default_str();
-  cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")->capture_default_str()->check(CLI::Range(0, 6));
-  cmd->add_option("--crease", o->crease_degrees, "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")->capture_default_str()->check(Finite)->check(CLI::Range(0.0, 180.0));
-  cmd->add_option("--measure-seconds", o->measure_seconds, "Time budget for measuring the errors of all meshes; past it errors are lower bounds (a warning)")->capture_default_str()->check(Finite)->check(CLI::Range(0.1, 1e5));
+  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%; at most 32)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 32));
+  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.01, 0.99));
+  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option(
+         "--backend", o->backend,
+         "meshopt (keeps creases and seams) | openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")
+      ->capture_default_str();
+  cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 6));
+  cmd->add_option("--crease", o->crease_degrees,
+                  "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.0, 180.0));
+  cmd->add_option(
+         "--measure-seconds", o->measure_seconds,
+         "Time budget for measuring the errors of all meshes; past it errors are lower bounds (a warning)")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.1, 1e5));
   cmd->add_flag("--lock-border", o->lock_border, "Keep border vertices in place");
-  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")->capture_default_str()->check(Finite)->check(CLI::Range(1.0, 1e6));
-  cmd->add_option("--asset-root", o->asset_root, "Folder a glTF's uris may read from (default: the glTF's own folder)");
+  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--asset-root", o->asset_root,
+                  "Folder a glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress");
   cmd->callback([o] { run(*o); });
 }

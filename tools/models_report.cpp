@@ -10,8 +10,8 @@
 namespace acuity::tools {
 namespace {
 
-constexpr double kEccentricities[] = {0, 2, 5, 10, 20, 40};   // [deg]
-constexpr double kImageSpeeds[] = {0, 1, 3, 10, 30, 100};     // [deg/s]
+constexpr double kEccentricities[] = {0, 2, 5, 10, 20, 40};  // [deg]
+constexpr double kImageSpeeds[] = {0, 1, 3, 10, 30, 100};    // [deg/s]
 
 void print_row_header(const char* corner) {
   std::printf("%-22s", corner);
@@ -23,13 +23,14 @@ void report(double contrast, const std::string& model_name, const std::string& f
   ModelParams p;
   ThresholdModel model{};
   if (!parse_threshold_model(model_name.c_str(), &model))
-    throw std::runtime_error("unknown model '" + model_name + "' (default, geisler-perry, kelly-daly, reddy)");
+    throw std::runtime_error("unknown model '" + model_name +
+                             "' (default, geisler-perry, kelly-daly, reddy)");
   if (!parse_csf_fit(fit_name.c_str(), &p.fit))
     throw std::runtime_error("unknown CSF fit '" + fit_name + "' (daly1998, laird2006)");
 
   std::printf("acuity vision models (shared/reference/vision-models.md)\n\n");
-  std::printf("Highest visible frequency [cpd] at contrast %.3g, model '%s', CSF fit '%s'.\n",
-              contrast, model_name.c_str(), fit_name.c_str());
+  std::printf("Highest visible frequency [cpd] at contrast %.3g, model '%s', CSF fit '%s'.\n", contrast,
+              model_name.c_str(), fit_name.c_str());
   std::printf("Rows: image velocity [deg/s] -> Daly retinal velocity; columns: eccentricity [deg].\n");
   print_row_header("v_image (v_retinal)");
   for (double v : kImageSpeeds) {
@@ -47,7 +48,8 @@ void report(double contrast, const std::string& model_name, const std::string& f
     std::printf("\n");
   }
 
-  std::printf("\nCutoffs at full contrast [cpd]: Geisler-Perry f_c(e); Reddy H(v) M(e) [unverified] at v = 0.\n");
+  std::printf(
+      "\nCutoffs at full contrast [cpd]: Geisler-Perry f_c(e); Reddy H(v) M(e) [unverified] at v = 0.\n");
   print_row_header("model \\ e [deg]");
   std::printf("%-22s", "geisler-perry");
   for (double e : kEccentricities) std::printf(" %8.3f", geisler_perry_cutoff(e, 1.0, p));
@@ -58,7 +60,8 @@ void report(double contrast, const std::string& model_name, const std::string& f
   std::printf("\n");
 
   const GuenterLayers g = guenter_layers(51, 59, 1920, 9.0 / 16.0, 0.022, 3);
-  std::printf("\nGuenter et al. 2012 display (W 51 cm, V 59 cm, D 1920, aspect 9/16, slope 0.022, 3 layers):\n");
+  std::printf(
+      "\nGuenter et al. 2012 display (W 51 cm, V 59 cm, D 1920, aspect 9/16, slope 0.022, 3 layers):\n");
   std::printf("  e* = %.1f deg, w* = %.4f deg; radii", g.e_star, g.omega_star);
   for (int i = 0; i < g.n_layers; ++i) std::printf(" %.2f", g.radius[i]);
   std::printf(" deg; sampling");
@@ -71,10 +74,16 @@ void report(double contrast, const std::string& model_name, const std::string& f
 void print_models_report() { report(1.0, "default", "daly1998"); }
 
 void add_models_report(CLI::App& app) {
-  struct Options { double contrast = 1.0; std::string model = "default", fit = "daly1998"; };
+  struct Options {
+    double contrast = 1.0;
+    std::string model = "default", fit = "daly1998";
+  };
   auto opts = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("models", "Print thresholds and cutoff frequencies over eccentricity and velocity");
-  cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")->check(Finite)->check(CLI::PositiveNumber);
+  CLI::App* cmd =
+      app.add_subcommand("models", "Print thresholds and cutoff frequencies over eccentricity and velocity");
+  cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")
+      ->check(Finite)
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--model", opts->model, "default | geisler-perry | kelly-daly | reddy");
   cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
   cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });

@@ -11,9 +11,9 @@
 
 #include "acuity/file.hpp"
 #include "acuity/foveation_plan.hpp"
-#include "commands.hpp"
 #include "acuity/sim/foveation_report.hpp"
 #include "acuity/sim/tracks.hpp"
+#include "commands.hpp"
 
 namespace acuity::tools {
 namespace {
@@ -39,7 +39,8 @@ struct Options {
 
 void same_file_guard(const std::string& output, const std::string& input) {
   std::error_code ec;
-  if (!output.empty() && !input.empty() && std::filesystem::exists(output, ec) && std::filesystem::equivalent(output, input, ec))
+  if (!output.empty() && !input.empty() && std::filesystem::exists(output, ec) &&
+      std::filesystem::equivalent(output, input, ec))
     throw std::runtime_error(output + ": would overwrite the input");
 }
 
@@ -58,7 +59,8 @@ void run(const Options& o) {
   }
   unsigned w = 0, h = 0;
   char tail = 0;
-  if (std::sscanf(o.display.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > 16384 || h > 16384)
+  if (std::sscanf(o.display.c_str(), "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > 16384 ||
+      h > 16384)
     throw std::runtime_error("--display: WIDTHxHEIGHT in pixels, each 1 to 16384");
   Eye eye = display_eye(w, h, o.fov);
   eye.angular_velocity[1] = o.head_speed;
@@ -76,26 +78,32 @@ void run(const Options& o) {
     g.valid = !o.no_gaze;
     gazes.push_back(g);
   }
-  if (o.frame >= gazes.size()) throw std::runtime_error("--frame: the track has " + std::to_string(gazes.size()) + " frames");
+  if (o.frame >= gazes.size())
+    throw std::runtime_error("--frame: the track has " + std::to_string(gazes.size()) + " frames");
   same_file_guard(o.png, o.gaze_track);
   same_file_guard(o.csv, o.gaze_track);
 
   const TrackPlan plan = plan_track(*planner, eye, gazes, o.tile, o.fps, o.frame);
   const PlanResult& shown = plan.shown;
-  std::printf("display %ux%u px, %.1f deg horizontal, tile %u px, model %s, q %.2f: %zu frame(s), mean shading work saved %.1f%%\n",
-              w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(), 100 * plan.total_saved / double(gazes.size()));
-  std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status), 100 * shown.saved(),
-              shown.maps.cols, shown.maps.rows);
+  std::printf(
+      "display %ux%u px, %.1f deg horizontal, tile %u px, model %s, q %.2f: %zu frame(s), mean shading work "
+      "saved %.1f%%\n",
+      w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(),
+      100 * plan.total_saved / double(gazes.size()));
+  std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status),
+              100 * shown.saved(), shown.maps.cols, shown.maps.rows);
   if (!o.csv.empty()) {
     std::string error;
-    if (!write_file_atomically(o.csv, plan.csv.data(), plan.csv.size(), &error)) throw std::runtime_error(error);
+    if (!write_file_atomically(o.csv, plan.csv.data(), plan.csv.size(), &error))
+      throw std::runtime_error(error);
     std::printf("wrote %s\n", o.csv.c_str());
   }
   if (!o.png.empty()) {
     char caption[256];
-    std::snprintf(caption, sizeof caption, "%ux%u PX, %.0f DEG, GAZE %s, TILE %u PX, MODEL %s, Q %.2f: SHADING WORK SAVED %.1f%%", w,
-                  h, o.fov, shown.status == FoveationStatus::Ok ? "TRACKED" : "NONE (30 DEG DISC)", o.tile, o.model.c_str(),
-                  double(o.quality), 100 * shown.saved());
+    std::snprintf(caption, sizeof caption,
+                  "%ux%u PX, %.0f DEG, GAZE %s, TILE %u PX, MODEL %s, Q %.2f: SHADING WORK SAVED %.1f%%", w,
+                  h, o.fov, shown.status == FoveationStatus::Ok ? "TRACKED" : "NONE (30 DEG DISC)", o.tile,
+                  o.model.c_str(), double(o.quality), 100 * shown.saved());
     write_png(o.png, draw_plan(eye, gazes[o.frame], shown, o.panel, caption));
     std::printf("wrote %s\n", o.png.c_str());
   }
@@ -105,27 +113,52 @@ void run(const Options& o) {
 
 void add_plan_command(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("plan", "Foveation maps (shading rate, mip bias) for a display: pictures and savings");
+  CLI::App* cmd = app.add_subcommand(
+      "plan", "Foveation maps (shading rate, mip bias) for a display: pictures and savings");
   cmd->add_option("--display", o->display, "WIDTHxHEIGHT [px]")->capture_default_str();
   cmd->add_option("--fov", o->fov, "Horizontal field of view [deg] (vertical from the aspect, square pixels)")
-      ->capture_default_str()->check(CLI::Range(1.0, 170.0));
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 170.0));
   cmd->add_option("--gaze", o->gaze, "YAW,PITCH of the gaze from the view axis [deg], right and up positive")
-      ->delimiter(',')->expected(2)->capture_default_str();
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str();
   cmd->add_flag("--no-gaze", o->no_gaze, "Plan without a usable gaze (the no-gaze disc)");
-  cmd->add_option("--gaze-track", o->gaze_track, "Gaze track, CSV or JSON: t,x,y,z[,confidence] in head space")->check(CLI::ExistingFile);
-  cmd->add_option("--fps", o->fps, "Frame rate the track is resampled to")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--gaze-track", o->gaze_track,
+                  "Gaze track, CSV or JSON: t,x,y,z[,confidence] in head space")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--fps", o->fps, "Frame rate the track is resampled to")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
   cmd->add_option("--frame", o->frame, "The frame the picture shows")->capture_default_str();
-  cmd->add_option("--tile", o->tile, "Tile size [px]")->capture_default_str()->check(CLI::IsMember({8u, 16u, 32u}));
-  cmd->add_option("--model", o->model, "Threshold model: default, geisler-perry, kelly-daly, reddy")->capture_default_str();
-  cmd->add_option("--quality", o->quality, "q: invisible when lost contrast <= q CT")->capture_default_str()->check(CLI::Range(0.01f, 100.0f));
-  cmd->add_option("--uncertainty", o->uncertainty, "Gaze uncertainty [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
-  cmd->add_option("--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
-  cmd->add_option("--fovea", o->fovea, "Full rate within this of the gaze [deg]")->capture_default_str()->check(CLI::Range(0.0f, 90.0f));
-  cmd->add_option("--max-rate", o->max_rate, "Coarsest pixels per shade: 1, 2 or 4")->capture_default_str()->check(CLI::IsMember({1u, 2u, 4u}));
-  cmd->add_option("--head-speed", o->head_speed, "Head yaw speed [deg/s]")->capture_default_str()->check(CLI::Range(-1000.0f, 1000.0f));
+  cmd->add_option("--tile", o->tile, "Tile size [px]")
+      ->capture_default_str()
+      ->check(CLI::IsMember({8u, 16u, 32u}));
+  cmd->add_option("--model", o->model, "Threshold model: default, geisler-perry, kelly-daly, reddy")
+      ->capture_default_str();
+  cmd->add_option("--quality", o->quality, "q: invisible when lost contrast <= q CT")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01f, 100.0f));
+  cmd->add_option("--uncertainty", o->uncertainty, "Gaze uncertainty [deg]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--fovea", o->fovea, "Full rate within this of the gaze [deg]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 90.0f));
+  cmd->add_option("--max-rate", o->max_rate, "Coarsest pixels per shade: 1, 2 or 4")
+      ->capture_default_str()
+      ->check(CLI::IsMember({1u, 2u, 4u}));
+  cmd->add_option("--head-speed", o->head_speed, "Head yaw speed [deg/s]")
+      ->capture_default_str()
+      ->check(CLI::Range(-1000.0f, 1000.0f));
   cmd->add_option("--png", o->png, "Picture of the maps of --frame (PNG)");
   cmd->add_option("--csv", o->csv, "Shading work saved per frame (CSV)");
-  cmd->add_option("--panel", o->panel, "Width of each picture panel [px]")->capture_default_str()->check(CLI::Range(200, 4000));
+  cmd->add_option("--panel", o->panel, "Width of each picture panel [px]")
+      ->capture_default_str()
+      ->check(CLI::Range(200, 4000));
   cmd->add_flag("--table", o->table, "Print the savings table of docs/foveation.md (markdown) and stop");
   cmd->callback([o] { run(*o); });
 }

@@ -30,7 +30,8 @@ struct ProfileOptions {
 
 void progress_bar(const char* stage, std::size_t done, std::size_t total) {
   const int width = 30, filled = total ? int(width * done / total) : width;
-  std::fprintf(stderr, "\r%-6s [%.*s%*s] %zu/%zu", stage, filled, "##############################", width - filled, "", done, total);
+  std::fprintf(stderr, "\r%-6s [%.*s%*s] %zu/%zu", stage, filled, "##############################",
+               width - filled, "", done, total);
   if (done == total) std::fputc('\n', stderr);
 }
 
@@ -41,15 +42,17 @@ void run_snapshots(const ProfileOptions& o) {
   a.bands = o.bands;
   const spectra::ProfileData data = spectra::profile_from_snapshots(o.snapshots, a);
   spectra::write_profile(o.output, data);
-  std::printf("profile   %s from %zu views x %zu levels of user snapshots (%u px)\n", o.output.c_str(), data.views.size(),
-              data.levels.size(), data.snapshot_pixels);
+  std::printf("profile   %s from %zu views x %zu levels of user snapshots (%u px)\n", o.output.c_str(),
+              data.views.size(), data.levels.size(), data.snapshot_pixels);
 }
 
 void run(const ProfileOptions& o) {
   if (!o.snapshots.empty()) return run_snapshots(o);
-  if (o.levels.empty()) throw std::runtime_error("profile: give the levels (mesh files or a glTF), or --snapshots MANIFEST");
+  if (o.levels.empty())
+    throw std::runtime_error("profile: give the levels (mesh files or a glTF), or --snapshots MANIFEST");
   if (o.levels.size() > kMaxLevels)
-    throw std::runtime_error("profile: " + std::to_string(o.levels.size()) + " level files, more than " + std::to_string(kMaxLevels));
+    throw std::runtime_error("profile: " + std::to_string(o.levels.size()) + " level files, more than " +
+                             std::to_string(kMaxLevels));
   lodgen::check_output(o.output, o.levels);  // before any work
   const auto start = std::chrono::steady_clock::now();
   bake::ChainFile file;  // lodgen's output: the first node with MSFT_lod holds the chain
@@ -69,7 +72,9 @@ void run(const ProfileOptions& o) {
   b.bands = o.bands;
   b.tolerance = o.tolerance;
   if (o.views != "auto") {
-    try { b.views = static_cast<std::uint32_t>(std::stoul(o.views)); } catch (...) { b.views = 0; }
+    try {
+      b.views = static_cast<std::uint32_t>(std::stoul(o.views));
+    } catch (...) { b.views = 0; }
     if (b.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
   }
   const spectra::ProfileSettings s = bake::profile_settings(b, o.jobs);
@@ -81,8 +86,9 @@ void run(const ProfileOptions& o) {
   std::printf("profile   %s\n", o.output.c_str());
   std::printf("levels    %zu (triangles", levels.size());
   for (const auto& l : data.levels) std::printf(" %u", l.triangles);
-  std::printf(")\nviews     %u kept of %u measured (%s); worst switching-distance error %.1f%%\n", report.views_kept,
-              report.views_measured, s.views ? "fixed" : "adaptive", 100.0 * report.prediction_error);
+  std::printf(")\nviews     %u kept of %u measured (%s); worst switching-distance error %.1f%%\n",
+              report.views_kept, report.views_measured, s.views ? "fixed" : "adaptive",
+              100.0 * report.prediction_error);
   std::printf("spectra   %zu orientations x %zu bands (%.3g .. %.3g cycles per diameter), %u px snapshots\n",
               data.orientations.size(), data.bands.size(), data.bands.front(), data.bands.back(), o.pixels);
   std::printf("size      %zu bytes\n", blob.size);
@@ -93,19 +99,30 @@ void run(const ProfileOptions& o) {
 
 void add_profile_command(CLI::App& app) {
   auto o = std::make_shared<ProfileOptions>();
-  CLI::App* cmd = app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
-  cmd->add_option("levels", o->levels, "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (OFF, OBJ, PLY, STL)")
+  CLI::App* cmd =
+      app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
+  cmd->add_option("levels", o->levels,
+                  "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (OFF, OBJ, PLY, STL)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--snapshots", o->snapshots, "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")
+  cmd->add_option("--snapshots", o->snapshots,
+                  "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", o->output, "Output profile")->required();
-  cmd->add_option("--asset-root", o->asset_root, "Folder a glTF's uris may read from (default: the glTF's own folder)");
+  cmd->add_option("--asset-root", o->asset_root,
+                  "Folder a glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_option("--views", o->views, "'auto' (adaptive) or a number of views")->capture_default_str();
-  cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")->capture_default_str();
-  cmd->add_option("--bands", o->bands, "Number of octave bands (0: all up to res / 4)")->capture_default_str();
-  cmd->add_option("--orientations", o->orientations, "Orientations over 180 deg")->capture_default_str()->check(CLI::Range(1, 32));
+  cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")
+      ->capture_default_str();
+  cmd->add_option("--bands", o->bands, "Number of octave bands (0: all up to res / 4)")
+      ->capture_default_str();
+  cmd->add_option("--orientations", o->orientations, "Orientations over 180 deg")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 32));
   cmd->add_option("--jobs", o->jobs, "Worker threads (0: all cores)")->capture_default_str();
-  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
+  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run(*o); });
 }
 

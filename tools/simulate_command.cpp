@@ -28,7 +28,9 @@ struct SimulateOptions {
 
 // A path as a POSIX shell reads it back: as is when plain, else in single quotes.
 std::string shell_quoted(const std::string& path) {
-  if (!path.empty() && path.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./+-") == std::string::npos)
+  if (!path.empty() &&
+      path.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./+-") ==
+          std::string::npos)
     return path;
   std::string out = "'";
   for (char c : path) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
@@ -44,23 +46,50 @@ std::string plot_script() {
 
 // The options simulate and explain share.
 void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
-  cmd->add_option("scene", o->scene, "glTF/GLB scene (nodes with MSFT_lod levels, or plain meshes lodgen will chain)")
-      ->required()->check(CLI::ExistingFile);
-  cmd->add_option("--asset-root", o->assets.asset_root, "Folder the glTF's uris may read from (default: the glTF's own folder)");
-  cmd->add_option("--profiles", o->assets.profiles, "Directory of <mesh>.acuity profiles: used when they match, else built and saved there");
-  cmd->add_option("--res", o->assets.profile_pixels, "Snapshot pixels of profiles built here")->capture_default_str();
-  cmd->add_option("--head", o->sim.head_file, "Head path, CSV or JSON: t,x,y,z,qx,qy,qz,qw (default: a fly-through)")->check(CLI::ExistingFile);
-  cmd->add_option("--gaze", o->sim.gaze_file, "Gaze trace, CSV or JSON: t,x,y,z[,confidence] in head space (default: generated)")
+  cmd->add_option("scene", o->scene,
+                  "glTF/GLB scene (nodes with MSFT_lod levels, or plain meshes lodgen will chain)")
+      ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")->capture_default_str()->check(Finite)->check(CLI::Range(0.01, 3600.0));
-  cmd->add_option("--fps", o->sim.fps, "Frame rate")->capture_default_str()->check(Finite)->check(CLI::Range(1.0, 1000.0));
-  cmd->add_option("--seed", o->sim.seed, "Seed of the generators and of the judged sample")->capture_default_str();
-  cmd->add_option("--movers", o->sim.movers, "Objects moving on circles (pursuit targets)")->capture_default_str();
-  cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")->capture_default_str()->check(CLI::Range(16u, 16384u));
-  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")->capture_default_str()->check(Finite)->check(CLI::Range(10.0f, 170.0f));
-  cmd->add_option("--saccade-speed", o->sim.saccade_speed, "Gaze speed above which a frame is a saccade [deg/s]")->capture_default_str()->check(Finite)->check(CLI::NonNegativeNumber);
-  cmd->add_option("--evaluation", o->sim.evaluation, "The perceptual rule's thresholds: tabulated (conservative tables) or exact")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{{"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
+  cmd->add_option("--asset-root", o->assets.asset_root,
+                  "Folder the glTF's uris may read from (default: the glTF's own folder)");
+  cmd->add_option("--profiles", o->assets.profiles,
+                  "Directory of <mesh>.acuity profiles: used when they match, else built and saved there");
+  cmd->add_option("--res", o->assets.profile_pixels, "Snapshot pixels of profiles built here")
+      ->capture_default_str();
+  cmd->add_option("--head", o->sim.head_file,
+                  "Head path, CSV or JSON: t,x,y,z,qx,qy,qz,qw (default: a fly-through)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--gaze", o->sim.gaze_file,
+                  "Gaze trace, CSV or JSON: t,x,y,z[,confidence] in head space (default: generated)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(0.01, 3600.0));
+  cmd->add_option("--fps", o->sim.fps, "Frame rate")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(1.0, 1000.0));
+  cmd->add_option("--seed", o->sim.seed, "Seed of the generators and of the judged sample")
+      ->capture_default_str();
+  cmd->add_option("--movers", o->sim.movers, "Objects moving on circles (pursuit targets)")
+      ->capture_default_str();
+  cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")
+      ->capture_default_str()
+      ->check(CLI::Range(16u, 16384u));
+  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::Range(10.0f, 170.0f));
+  cmd->add_option("--saccade-speed", o->sim.saccade_speed,
+                  "Gaze speed above which a frame is a saccade [deg/s]")
+      ->capture_default_str()
+      ->check(Finite)
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--evaluation", o->sim.evaluation,
+                  "The perceptual rule's thresholds: tabulated (conservative tables) or exact")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{
+          {"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
       ->default_str("tabulated");
 }
 
@@ -79,7 +108,9 @@ void explain(const SimulateOptions& o) {
   std::uint32_t object = 0;
   while (object < scene->instances.size() && scene->instances[object].name != o.object) ++object;
   if (object == scene->instances.size()) {
-    try { object = std::uint32_t(std::stoul(o.object)); } catch (...) { object = std::uint32_t(scene->instances.size()); }
+    try {
+      object = std::uint32_t(std::stoul(o.object));
+    } catch (...) { object = std::uint32_t(scene->instances.size()); }
     if (object >= scene->instances.size())
       throw std::runtime_error("explain: no object '" + o.object + "' (a node name or an index below " +
                                std::to_string(scene->instances.size()) + ")");
@@ -88,7 +119,8 @@ void explain(const SimulateOptions& o) {
   so.validate = 0;
   Simulation sim(*scene, so);
   if (o.frame >= sim.frame_count())
-    throw std::runtime_error("explain: frame " + std::to_string(o.frame) + " is past the run's " + std::to_string(sim.frame_count()) + " frames");
+    throw std::runtime_error("explain: frame " + std::to_string(o.frame) + " is past the run's " +
+                             std::to_string(sim.frame_count()) + " frames");
   while (sim.frame_index() <= o.frame) sim.step();
   std::fputs(sim::explain_text(sim, object).c_str(), stdout);
 }
@@ -103,9 +135,11 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
   std::vector<sim::Judged> judged;
   if (options.validate > 0) judged = sim::judge_decisions(sim, options.validate, options.seed);
   const auto t2 = std::chrono::steady_clock::now();
-  std::printf("\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in %.1f s\n",
-              sim.frame_count(), sim.rules().size(), std::chrono::duration<double>(t1 - t0).count(), judged.size(),
-              std::chrono::duration<double>(t2 - t1).count());
+  std::printf(
+      "\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in "
+      "%.1f s\n",
+      sim.frame_count(), sim.rules().size(), std::chrono::duration<double>(t1 - t0).count(), judged.size(),
+      std::chrono::duration<double>(t2 - t1).count());
   const sim::Results results = sim::analyse(sim, judged);
   std::fputs(sim::summary_text(sim, results).c_str(), stdout);
   RunResult run;
@@ -113,11 +147,14 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
     run.written = sim::write_outputs(sim, results, judged, options.output);
     std::printf("\nwritten to %s:\n", options.output.c_str());
     for (const std::string& p : run.written) std::printf("  %s\n", p.c_str());
-    std::printf("(frames: perceptual left, %s right; level 0 blue, 1 cyan, 2 green, 3 yellow, 4 orange; ring = gaze)\n",
-                results.screen_size.rule >= 0 ? "screen-size tuned to the same visible losses" : "screen-size at 1 px");
+    std::printf(
+        "(frames: perceptual left, %s right; level 0 blue, 1 cyan, 2 green, 3 yellow, 4 orange; ring = "
+        "gaze)\n",
+        results.screen_size.rule >= 0 ? "screen-size tuned to the same visible losses"
+                                      : "screen-size at 1 px");
     if (plot_hint)
-      std::printf("plots (triangles.png, sweep.png; needs python3-matplotlib):\n  python3 %s %s\n", shell_quoted(plot_script()).c_str(),
-                  shell_quoted(options.output).c_str());
+      std::printf("plots (triangles.png, sweep.png; needs python3-matplotlib):\n  python3 %s %s\n",
+                  shell_quoted(plot_script()).c_str(), shell_quoted(options.output).c_str());
   }
   run.example = sim::example_decision(sim);
   return run;
@@ -125,10 +162,14 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
 
 void add_simulate_commands(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
-  CLI::App* cmd = app.add_subcommand("simulate", "Run a scene along a head path and gaze trace through four LOD rules");
+  CLI::App* cmd =
+      app.add_subcommand("simulate", "Run a scene along a head path and gaze trace through four LOD rules");
   add_scene_options(cmd, o.get());
-  cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, JSON and frame images")->capture_default_str();
-  cmd->add_option("--validate", o->sim.validate, "Decisions judged by rendering both levels at the exact view (0: none)")->capture_default_str();
+  cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, JSON and frame images")
+      ->capture_default_str();
+  cmd->add_option("--validate", o->sim.validate,
+                  "Decisions judged by rendering both levels at the exact view (0: none)")
+      ->capture_default_str();
   cmd->add_option("--images", o->sim.images, "Frames rendered as PNG")->capture_default_str();
   cmd->add_flag("!--no-plots", o->plot_hint, "Do not print the command that plots the run");
   cmd->callback([o] { simulate(*o); });

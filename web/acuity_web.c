@@ -21,13 +21,16 @@ size_t acuity_web_config_size(void) { return sizeof(acuity_config); }
  * value that does not fit the field (negative or fractional counts, out-of-range integers). */
 acuity_status acuity_web_config_set(acuity_config* c, const char* name, double v) {
   if (!c || !name) return ACUITY_INVALID_ARGUMENT;
-#define ACUITY_WEB_FLOAT(field) \
-  if (strcmp(name, #field) == 0) { c->field = (float)v; return ACUITY_OK; }
-#define ACUITY_WEB_UINT(field, max)                                       \
-  if (strcmp(name, #field) == 0) {                                        \
+#define ACUITY_WEB_FLOAT(field)    \
+  if (strcmp(name, #field) == 0) { \
+    c->field = (float)v;           \
+    return ACUITY_OK;              \
+  }
+#define ACUITY_WEB_UINT(field, max)                                                                  \
+  if (strcmp(name, #field) == 0) {                                                                   \
     if (!(v >= 0 && v <= (double)(max)) || v != (double)(uint64_t)v) return ACUITY_INVALID_ARGUMENT; \
-    c->field = (uint64_t)v;                                               \
-    return ACUITY_OK;                                                     \
+    c->field = (uint64_t)v;                                                                          \
+    return ACUITY_OK;                                                                                \
   }
   ACUITY_WEB_UINT(max_objects, UINT32_MAX)
   ACUITY_WEB_UINT(max_profiles, UINT32_MAX)
@@ -52,7 +55,8 @@ static void copy_floats(float* out, const double* in, int n) {
 /* acuity_begin_frame with eyes as eye_count x ACUITY_WEB_EYE_DOUBLES doubles. */
 acuity_status acuity_web_begin_frame(acuity_scheduler* s, const double* data, uint32_t eye_count, float dt) {
   acuity_eye eyes[2];
-  if (!data || eye_count < 1 || eye_count > 2) return acuity_begin_frame(s, NULL, eye_count, dt); /* its message */
+  if (!data || eye_count < 1 || eye_count > 2)
+    return acuity_begin_frame(s, NULL, eye_count, dt); /* its message */
   for (uint32_t i = 0; i < eye_count; ++i) {
     const double* d = data + i * ACUITY_WEB_EYE_DOUBLES;
     acuity_eye* e = &eyes[i];

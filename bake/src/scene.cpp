@@ -24,7 +24,8 @@ bool load_matching_profile(const std::string& path, const lodgen::Chain& chain, 
   std::string error;
   if (!fs::exists(path) || !read_file(path, &a->blob, &error)) return false;
   const Profile& p = a->profile;
-  if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok || p.meta.level_count != chain.levels.size())
+  if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok ||
+      p.meta.level_count != chain.levels.size())
     return false;
   for (std::size_t k = 0; k < chain.levels.size(); ++k)
     if (p.levels[k].triangles != chain.levels[k].mesh.triangle_count()) return false;
@@ -108,9 +109,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
   std::vector<lodgen::PlacedNode> placed;
   try {
     placed = lodgen::world_matrices(scene, [&](int id) { return is_lod[std::size_t(id)]; });
-  } catch (const lodgen::InputError& e) {
-    throw lodgen::InputError(path + ": " + e.what());
-  }
+  } catch (const lodgen::InputError& e) { throw lodgen::InputError(path + ": " + e.what()); }
   for (const lodgen::PlacedNode& p : placed) {
     const int id = p.node;
     const Matrix& world = p.world;
@@ -143,7 +142,8 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
       what = "lodgen + ";
     }
     a.material = spectra_material(scene, a.chain.levels[0].mesh.material);
-    const std::string file = o.profiles.empty() ? std::string() : (fs::path(o.profiles) / (a.name + ".acuity")).string();
+    const std::string file =
+        o.profiles.empty() ? std::string() : (fs::path(o.profiles) / (a.name + ".acuity")).string();
     if (file.empty() || !load_matching_profile(file, a.chain, &a)) {
       const std::vector<spectra::LevelInput> levels = spectra_levels(a.chain);
       spectra::ProfileSettings ps;
@@ -153,18 +153,21 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
       if (!file.empty()) spectra::write_profile(file, data);
       a.blob = spectra::encode_profile(data);
       ProfileError pe;
-      if (open_profile(a.blob.data(), a.blob.size, &a.profile, &pe) != ProfileStatus::Ok) throw std::runtime_error(a.name + ": " + pe.message);
+      if (open_profile(a.blob.data(), a.blob.size, &a.profile, &pe) != ProfileStatus::Ok)
+        throw std::runtime_error(a.name + ": " + pe.message);
       what += "profile (" + std::to_string(report.views_kept) + " views)";
     } else {
       what = "profile from " + file;
     }
     if (!o.quiet)
-      std::printf("  %-12s %zu levels, %zu -> %zu triangles: %s, %.1f s\n", a.name.c_str(), a.chain.levels.size(),
-                  a.chain.levels.front().mesh.triangle_count(), a.chain.levels.back().mesh.triangle_count(), what.c_str(),
+      std::printf("  %-12s %zu levels, %zu -> %zu triangles: %s, %.1f s\n", a.name.c_str(),
+                  a.chain.levels.size(), a.chain.levels.front().mesh.triangle_count(),
+                  a.chain.levels.back().mesh.triangle_count(), what.c_str(),
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     out->assets.push_back(std::move(a));
   }
-  for (Instance& in : out->instances) in.radius = double(out->assets[std::size_t(in.asset)].profile.meta.sphere[3]) * in.transform.scale;
+  for (Instance& in : out->instances)
+    in.radius = double(out->assets[std::size_t(in.asset)].profile.meta.sphere[3]) * in.transform.scale;
   return out;
 }
 

@@ -40,17 +40,27 @@ typedef struct acuity_scheduler acuity_scheduler;
 
 typedef enum acuity_status {
   ACUITY_OK = 0,
-  ACUITY_INVALID_ARGUMENT = 1,  /* a null pointer, a bad id or index, a count or value out of range */
-  ACUITY_BAD_PROFILE = 2,       /* the profile bytes failed validation (see acuity_last_error) */
-  ACUITY_FULL = 3,              /* max_objects or max_profiles reached */
+  ACUITY_INVALID_ARGUMENT = 1, /* a null pointer, a bad id or index, a count or value out of range */
+  ACUITY_BAD_PROFILE = 2,      /* the profile bytes failed validation (see acuity_last_error) */
+  ACUITY_FULL = 3,             /* max_objects or max_profiles reached */
   ACUITY_OUT_OF_MEMORY = 4,
   ACUITY_INTERNAL_ERROR = 5
 } acuity_status;
 
 /* acuity_config.rule (acuity::SelectionRule) */
-enum { ACUITY_RULE_PERCEPTUAL = 0, ACUITY_RULE_REDDY = 1, ACUITY_RULE_DISTANCE = 2, ACUITY_RULE_SCREEN_SIZE = 3 };
+enum {
+  ACUITY_RULE_PERCEPTUAL = 0,
+  ACUITY_RULE_REDDY = 1,
+  ACUITY_RULE_DISTANCE = 2,
+  ACUITY_RULE_SCREEN_SIZE = 3
+};
 /* acuity_config.model (acuity::ThresholdModel) */
-enum { ACUITY_MODEL_DEFAULT = 0, ACUITY_MODEL_GEISLER_PERRY = 1, ACUITY_MODEL_KELLY_DALY = 2, ACUITY_MODEL_REDDY = 3 };
+enum {
+  ACUITY_MODEL_DEFAULT = 0,
+  ACUITY_MODEL_GEISLER_PERRY = 1,
+  ACUITY_MODEL_KELLY_DALY = 2,
+  ACUITY_MODEL_REDDY = 3
+};
 /* acuity_config.view_blend (acuity::ViewBlend) */
 enum { ACUITY_VIEW_BLEND_NEAREST = 0, ACUITY_VIEW_BLEND_MAX3 = 1 };
 /* How the perceptual rule evaluates thresholds: per-profile tables (conservative, the default) or
@@ -61,8 +71,12 @@ enum { ACUITY_CSF_DALY1998 = 0, ACUITY_CSF_LAIRD2006 = 1 };
 
 /* Per-object flags returned by acuity_get_levels (acuity::ObjectFlag). */
 enum {
-  ACUITY_FLAG_INVALID_INPUT = 1, ACUITY_FLAG_EYE_INSIDE = 2, ACUITY_FLAG_NO_GAZE = 4,
-  ACUITY_FLAG_BUDGET_FORCED = 8, ACUITY_FLAG_CHANGED = 16, ACUITY_FLAG_HELD = 32
+  ACUITY_FLAG_INVALID_INPUT = 1,
+  ACUITY_FLAG_EYE_INSIDE = 2,
+  ACUITY_FLAG_NO_GAZE = 4,
+  ACUITY_FLAG_BUDGET_FORCED = 8,
+  ACUITY_FLAG_CHANGED = 16,
+  ACUITY_FLAG_HELD = 32
 };
 
 /* Levels a profile may have (acuity::kMaxLevels). */
@@ -70,16 +84,16 @@ enum {
 
 /* The vision model's constants (acuity::ModelParams); defaults are the published values. */
 typedef struct acuity_model_params {
-  double ct0;                    /* Geisler-Perry minimum threshold contrast */
-  double alpha;                  /* Geisler-Perry spatial-frequency decay */
-  double e2;                     /* half-resolution eccentricity [deg] */
-  double pursuit_gain;           /* Daly smooth pursuit g */
-  double pursuit_min;            /* [deg/s] */
-  double pursuit_max;            /* [deg/s] */
-  double drift;                  /* retinal velocity floor [deg/s] */
-  double reddy_contrast;         /* threshold contrast inside Reddy's visible region */
-  uint32_t csf_fit;              /* ACUITY_CSF_* */
-  uint32_t reserved;             /* must be 0 */
+  double ct0;            /* Geisler-Perry minimum threshold contrast */
+  double alpha;          /* Geisler-Perry spatial-frequency decay */
+  double e2;             /* half-resolution eccentricity [deg] */
+  double pursuit_gain;   /* Daly smooth pursuit g */
+  double pursuit_min;    /* [deg/s] */
+  double pursuit_max;    /* [deg/s] */
+  double drift;          /* retinal velocity floor [deg/s] */
+  double reddy_contrast; /* threshold contrast inside Reddy's visible region */
+  uint32_t csf_fit;      /* ACUITY_CSF_* */
+  uint32_t reserved;     /* must be 0 */
 } acuity_model_params;
 
 /* Scheduler settings, one field per acuity::SchedulerConfig field (see acuity/scheduler.hpp).
@@ -91,31 +105,31 @@ typedef struct acuity_model_params {
  * knows (a newer caller) are ignored. Anything else is ACUITY_INVALID_ARGUMENT. Always call
  * acuity_config_default first, then change fields. */
 typedef struct acuity_config {
-  uint32_t struct_size;          /* sizeof(acuity_config); set by acuity_config_default */
-  uint32_t max_objects;          /* capacity, >= 1 */
-  uint32_t max_profiles;         /* capacity */
-  uint32_t rule;                 /* ACUITY_RULE_* */
-  uint32_t model;                /* ACUITY_MODEL_* */
-  uint32_t view_blend;           /* ACUITY_VIEW_BLEND_* */
-  float quality;                 /* q: invisible when lost <= q CT; finite, > 0 */
-  uint32_t fallback_level;       /* level for invalid input (0 finest), < ACUITY_MAX_LEVELS */
-  float min_gaze_confidence;     /* below it there is no gaze */
-  float gaze_uncertainty_deg;    /* tracker error [deg] */
-  float no_gaze_radius_deg;      /* without gaze: where the gaze may be [deg] */
-  float hysteresis_margin;       /* coarsening needs a score <= 1 - margin */
-  uint32_t hysteresis_frames;    /* ... on this many consecutive frames */
-  float saccade_speed_deg_s;     /* > 0: coarsen only during saccades faster than this */
-  uint32_t max_coarsen_wait;     /* ... or after waiting this many frames */
-  float transition_seconds;      /* cross-fade length (acuity_get_transitions) [s], >= 0 */
-  uint64_t triangle_budget;      /* 0: none */
-  float distance_scale;          /* ACUITY_RULE_DISTANCE: switch distances times this */
-  float pixel_error;             /* ACUITY_RULE_SCREEN_SIZE: allowed projected error [px] */
-  uint32_t keep_scores;          /* 1: keep every level's score (acuity_explain needs none) */
-  uint32_t reserved;             /* must be 0 */
+  uint32_t struct_size;       /* sizeof(acuity_config); set by acuity_config_default */
+  uint32_t max_objects;       /* capacity, >= 1 */
+  uint32_t max_profiles;      /* capacity */
+  uint32_t rule;              /* ACUITY_RULE_* */
+  uint32_t model;             /* ACUITY_MODEL_* */
+  uint32_t view_blend;        /* ACUITY_VIEW_BLEND_* */
+  float quality;              /* q: invisible when lost <= q CT; finite, > 0 */
+  uint32_t fallback_level;    /* level for invalid input (0 finest), < ACUITY_MAX_LEVELS */
+  float min_gaze_confidence;  /* below it there is no gaze */
+  float gaze_uncertainty_deg; /* tracker error [deg] */
+  float no_gaze_radius_deg;   /* without gaze: where the gaze may be [deg] */
+  float hysteresis_margin;    /* coarsening needs a score <= 1 - margin */
+  uint32_t hysteresis_frames; /* ... on this many consecutive frames */
+  float saccade_speed_deg_s;  /* > 0: coarsen only during saccades faster than this */
+  uint32_t max_coarsen_wait;  /* ... or after waiting this many frames */
+  float transition_seconds;   /* cross-fade length (acuity_get_transitions) [s], >= 0 */
+  uint64_t triangle_budget;   /* 0: none */
+  float distance_scale;       /* ACUITY_RULE_DISTANCE: switch distances times this */
+  float pixel_error;          /* ACUITY_RULE_SCREEN_SIZE: allowed projected error [px] */
+  uint32_t keep_scores;       /* 1: keep every level's score (acuity_explain needs none) */
+  uint32_t reserved;          /* must be 0 */
   acuity_model_params params;
   /* version 3 (appended): */
-  uint32_t evaluation;           /* ACUITY_EVALUATION_*; a version-2 caller gets TABULATED */
-  uint32_t reserved3;            /* must be 0 */
+  uint32_t evaluation; /* ACUITY_EVALUATION_*; a version-2 caller gets TABULATED */
+  uint32_t reserved3;  /* must be 0 */
 } acuity_config;
 /* The sizes of the version-2 layout (everything up to params: the smallest struct_size
  * acuity_create accepts) and of the version-3 layout above. */
@@ -123,33 +137,33 @@ typedef struct acuity_config {
 #define ACUITY_CONFIG_SIZE_V3 168u
 
 typedef struct acuity_eye {
-  double position[3];            /* world [m] */
-  float orientation[4];          /* unit quaternion x y z w, eye to world */
-  float fov_deg[4];              /* left (<0), right, up, down (<0) */
-  uint32_t viewport[2];          /* width, height [px] */
-  float velocity[3];             /* world [m/s] */
-  float angular_velocity[3];     /* head rotation [deg/s], world axis x speed */
-  float gaze_direction[3];       /* unit, eye space */
-  float gaze_confidence;         /* 0..1 */
-  float gaze_angular_velocity[3];/* [deg/s], eye space */
+  double position[3];             /* world [m] */
+  float orientation[4];           /* unit quaternion x y z w, eye to world */
+  float fov_deg[4];               /* left (<0), right, up, down (<0) */
+  uint32_t viewport[2];           /* width, height [px] */
+  float velocity[3];              /* world [m/s] */
+  float angular_velocity[3];      /* head rotation [deg/s], world axis x speed */
+  float gaze_direction[3];        /* unit, eye space */
+  float gaze_confidence;          /* 0..1 */
+  float gaze_angular_velocity[3]; /* [deg/s], eye space */
   uint8_t gaze_valid;
   uint8_t gaze_has_velocity;
 } acuity_eye;
 
 /* One level's score and what limits it (acuity::LevelExplain). */
 typedef struct acuity_level_explain {
-  float score;                   /* max over bands and orientations of lost / (q CT); <= 1 invisible */
-  uint8_t band, orientation;     /* the limiting band and orientation */
-  float frequency_cpd;           /* that band's centre at the current distance */
-  float threshold;               /* CT there */
+  float score;               /* max over bands and orientations of lost / (q CT); <= 1 invisible */
+  uint8_t band, orientation; /* the limiting band and orientation */
+  float frequency_cpd;       /* that band's centre at the current distance */
+  float threshold;           /* CT there */
 } acuity_level_explain;
 
 /* Why an object has its level (acuity::ObjectExplain). */
 typedef struct acuity_object_explain {
   float distance_m, angular_diameter_deg, eccentricity_deg, image_velocity_deg_s, retinal_velocity_deg_s;
-  uint32_t view;                 /* the profile view used */
+  uint32_t view; /* the profile view used */
   uint8_t level, level_count;
-  acuity_level_explain levels[ACUITY_MAX_LEVELS];  /* [level_count]; level 0 has score 0 */
+  acuity_level_explain levels[ACUITY_MAX_LEVELS]; /* [level_count]; level 0 has score 0 */
 } acuity_object_explain;
 
 /* Contracts common to every function below:
@@ -162,12 +176,12 @@ typedef struct acuity_object_explain {
  *   id and value before touching the scheduler) and acuity_last_error() says why. ACUITY_OUT_OF_MEMORY
  *   and ACUITY_INTERNAL_ERROR may come from any call that returns a status. */
 
-uint32_t acuity_version(void);                    /* ACUITY_VERSION of the library; any thread */
-const char* acuity_last_error(void);              /* this thread's last message, "" if none; valid
+uint32_t acuity_version(void);       /* ACUITY_VERSION of the library; any thread */
+const char* acuity_last_error(void); /* this thread's last message, "" if none; valid
                                                      until this thread's next acuity_ call */
 /* Fills every field with the C++ defaults and struct_size = sizeof(acuity_config). Null: no-op. */
 void acuity_config_default(acuity_config* config);
-void acuity_eye_default(acuity_eye* eye);         /* origin, identity, 90 deg, 1920 px, no gaze */
+void acuity_eye_default(acuity_eye* eye); /* origin, identity, 90 deg, 1920 px, no gaze */
 
 /* Creates a scheduler; *out receives it (the caller owns it: acuity_destroy).
  * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
@@ -189,9 +203,8 @@ acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t 
  * INVALID_ARGUMENT: null s, or (count > 0) a null profiles/positions/rotations/ids_out, or a profile
  * index that was not loaded. FULL: fewer than `count` free slots. On failure no object was added. */
 acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
-                                 const double* positions, size_t position_stride,
-                                 const float* rotations, size_t rotation_stride,
-                                 const float* scales, uint32_t* ids_out);
+                                 const double* positions, size_t position_stride, const float* rotations,
+                                 size_t rotation_stride, const float* scales, uint32_t* ids_out);
 /* Removes objects; their ids may be reused by later adds.
  * INVALID_ARGUMENT: null s or ids, an id that is not alive (never added, or removed: stale), or an id
  * given twice. On failure none was removed. */
@@ -200,8 +213,8 @@ acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const u
  * ids/positions/rotations, an id not alive. On failure no transform changed. Non-finite values are
  * accepted and give those objects ACUITY_FLAG_INVALID_INPUT and the fallback level. */
 acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
-                                    const double* positions, size_t position_stride,
-                                    const float* rotations, size_t rotation_stride, const float* scales);
+                                    const double* positions, size_t position_stride, const float* rotations,
+                                    size_t rotation_stride, const float* scales);
 /* World velocities [m/s] per id (else derived from transforms and dt). INVALID_ARGUMENT: null s,
  * ids or velocities (count > 0), an id not alive. On failure no velocity changed. */
 acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
@@ -256,40 +269,40 @@ uint64_t acuity_frame_triangles(const acuity_scheduler* s);
 typedef struct acuity_foveation_planner acuity_foveation_planner;
 
 typedef struct acuity_foveation_config {
-  uint32_t struct_size;          /* sizeof(acuity_foveation_config): set by _default */
-  uint32_t threshold_model;      /* 0 default, 1 geisler-perry, 2 kelly-daly, 3 reddy */
-  float quality;                 /* q: a lost component is invisible at contrast <= q CT */
-  float min_gaze_confidence;     /* below it (or gaze_valid == 0, or a non-finite gaze) there is no gaze */
-  float gaze_uncertainty_deg;    /* subtracted from every eccentricity */
-  float no_gaze_radius_deg;      /* without gaze: eccentricity from this disc around the view centre */
-  float foveal_radius_deg;       /* full rate within this of where the gaze may be */
-  uint32_t max_rate;             /* coarsest pixels per shade: 1, 2 or 4 */
-  uint32_t head_rotation;        /* nonzero: the head's angular velocity lowers the cutoff */
+  uint32_t struct_size;       /* sizeof(acuity_foveation_config): set by _default */
+  uint32_t threshold_model;   /* 0 default, 1 geisler-perry, 2 kelly-daly, 3 reddy */
+  float quality;              /* q: a lost component is invisible at contrast <= q CT */
+  float min_gaze_confidence;  /* below it (or gaze_valid == 0, or a non-finite gaze) there is no gaze */
+  float gaze_uncertainty_deg; /* subtracted from every eccentricity */
+  float no_gaze_radius_deg;   /* without gaze: eccentricity from this disc around the view centre */
+  float foveal_radius_deg;    /* full rate within this of where the gaze may be */
+  uint32_t max_rate;          /* coarsest pixels per shade: 1, 2 or 4 */
+  uint32_t head_rotation;     /* nonzero: the head's angular velocity lowers the cutoff */
 } acuity_foveation_config;
 
 /* Statuses of acuity_foveation_plan beyond acuity_status: the maps were written in both cases. */
 enum {
-  ACUITY_FOVEATION_GAZE = 0,     /* planned around the gaze */
-  ACUITY_FOVEATION_NO_GAZE = 1,  /* no usable gaze: planned around the no-gaze disc */
-  ACUITY_FOVEATION_INVALID_EYE = 2  /* non-finite or degenerate eye: full rate, bias 0 everywhere */
+  ACUITY_FOVEATION_GAZE = 0,       /* planned around the gaze */
+  ACUITY_FOVEATION_NO_GAZE = 1,    /* no usable gaze: planned around the no-gaze disc */
+  ACUITY_FOVEATION_INVALID_EYE = 2 /* non-finite or degenerate eye: full rate, bias 0 everywhere */
 };
 
 typedef struct acuity_foveation_info {
-  uint32_t cols, rows;           /* tiles written */
-  uint32_t result;               /* ACUITY_FOVEATION_* */
-  float origin_px[2];            /* the gaze (or view centre) in pixels, x right, y down; may lie off the image */
-  float retinal_speed;           /* the speed the cutoff was taken at [deg/s] */
-  double shaded;                 /* shading work: sum over tiles of pixels / (rate_x rate_y) */
-  double pixels;                 /* full-rate work: width x height */
+  uint32_t cols, rows; /* tiles written */
+  uint32_t result;     /* ACUITY_FOVEATION_* */
+  float origin_px[2];  /* the gaze (or view centre) in pixels, x right, y down; may lie off the image */
+  float retinal_speed; /* the speed the cutoff was taken at [deg/s] */
+  double shaded;       /* shading work: sum over tiles of pixels / (rate_x rate_y) */
+  double pixels;       /* full-rate work: width x height */
 } acuity_foveation_info;
 
 typedef struct acuity_guenter_layers {
-  uint32_t n_layers;             /* 0 when the eye was invalid */
-  double omega0, slope;          /* the MAR line below the model [deg per cycle], [per deg] */
-  double radius_deg[8];          /* e_i; the outer layer's is the display's half-angle */
-  double sampling[8];            /* s_i >= 1: layer pixel size in display pixels */
-  double pixels[8];              /* P_i: each layer's pixel count */
-  double speedup;                /* display pixels / layer pixels */
+  uint32_t n_layers;    /* 0 when the eye was invalid */
+  double omega0, slope; /* the MAR line below the model [deg per cycle], [per deg] */
+  double radius_deg[8]; /* e_i; the outer layer's is the display's half-angle */
+  double sampling[8];   /* s_i >= 1: layer pixel size in display pixels */
+  double pixels[8];     /* P_i: each layer's pixel count */
+  double speedup;       /* display pixels / layer pixels */
 } acuity_guenter_layers;
 
 void acuity_foveation_config_default(acuity_foveation_config* config);
@@ -299,15 +312,16 @@ acuity_status acuity_foveation_create(const acuity_foveation_config* config, acu
 void acuity_foveation_destroy(acuity_foveation_planner* planner);
 /* Tiles per axis for the eye's viewport; INVALID_ARGUMENT (and 0) for tile_px not 8, 16 or 32, an
  * empty viewport or more than 2048 tiles per axis. */
-acuity_status acuity_foveation_map_size(const acuity_eye* eye, uint32_t tile_px, uint32_t* cols, uint32_t* rows);
+acuity_status acuity_foveation_map_size(const acuity_eye* eye, uint32_t tile_px, uint32_t* cols,
+                                        uint32_t* rows);
 /* One eye, one frame, allocation-free. shading_rate: 2 bytes per tile (x then y); mip_bias: one
  * float per tile; capacity: tiles both buffers hold, at least cols x rows. info is nullable.
  * INVALID_ARGUMENT (nothing written) for null pointers, a bad tile size or too small a capacity;
  * otherwise ACUITY_OK with info->result saying whether the gaze, the no-gaze disc or (for an invalid
  * eye) full rate everywhere was used. */
-acuity_status acuity_foveation_plan(const acuity_foveation_planner* planner, const acuity_eye* eye, uint32_t tile_px,
-                                    uint32_t capacity, uint8_t* shading_rate, float* mip_bias,
-                                    acuity_foveation_info* info);
+acuity_status acuity_foveation_plan(const acuity_foveation_planner* planner, const acuity_eye* eye,
+                                    uint32_t tile_px, uint32_t capacity, uint8_t* shading_rate,
+                                    float* mip_bias, acuity_foveation_info* info);
 /* Guenter layers for the eye's display from the same model (allocates: once per display). */
 acuity_status acuity_foveation_layers(const acuity_foveation_planner* planner, const acuity_eye* eye,
                                       uint32_t n_layers, acuity_guenter_layers* out);

@@ -5,12 +5,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <iterator>
-#include <type_traits>
-#include <unordered_set>
 #include <deque>
+#include <iterator>
 #include <new>
 #include <string>
+#include <type_traits>
+#include <unordered_set>
 #include <vector>
 
 #include "acuity/blob.hpp"
@@ -26,32 +26,47 @@ struct acuity_scheduler {
 };
 
 // The C names and layouts are the C++ ones.
-static_assert(ACUITY_RULE_PERCEPTUAL == int(acuity::SelectionRule::Perceptual) && ACUITY_RULE_REDDY == int(acuity::SelectionRule::Reddy) &&
-              ACUITY_RULE_DISTANCE == int(acuity::SelectionRule::Distance) && ACUITY_RULE_SCREEN_SIZE == int(acuity::SelectionRule::ScreenSize));
-static_assert(ACUITY_MODEL_DEFAULT == int(acuity::ThresholdModel::Default) && ACUITY_MODEL_GEISLER_PERRY == int(acuity::ThresholdModel::GeislerPerry) &&
-              ACUITY_MODEL_KELLY_DALY == int(acuity::ThresholdModel::KellyDaly) && ACUITY_MODEL_REDDY == int(acuity::ThresholdModel::Reddy));
-static_assert(ACUITY_VIEW_BLEND_NEAREST == int(acuity::ViewBlend::Nearest) && ACUITY_VIEW_BLEND_MAX3 == int(acuity::ViewBlend::Max3));
-static_assert(ACUITY_CSF_DALY1998 == int(acuity::CsfFit::Daly1998) && ACUITY_CSF_LAIRD2006 == int(acuity::CsfFit::Laird2006));
-static_assert(int(ACUITY_FLAG_INVALID_INPUT) == int(acuity::kFlagInvalidInput) && int(ACUITY_FLAG_EYE_INSIDE) == int(acuity::kFlagEyeInside) &&
-              int(ACUITY_FLAG_NO_GAZE) == int(acuity::kFlagNoGaze) && int(ACUITY_FLAG_BUDGET_FORCED) == int(acuity::kFlagBudgetForced) &&
-              int(ACUITY_FLAG_CHANGED) == int(acuity::kFlagChanged) && int(ACUITY_FLAG_HELD) == int(acuity::kFlagHeld));
+static_assert(ACUITY_RULE_PERCEPTUAL == int(acuity::SelectionRule::Perceptual) &&
+              ACUITY_RULE_REDDY == int(acuity::SelectionRule::Reddy) &&
+              ACUITY_RULE_DISTANCE == int(acuity::SelectionRule::Distance) &&
+              ACUITY_RULE_SCREEN_SIZE == int(acuity::SelectionRule::ScreenSize));
+static_assert(ACUITY_MODEL_DEFAULT == int(acuity::ThresholdModel::Default) &&
+              ACUITY_MODEL_GEISLER_PERRY == int(acuity::ThresholdModel::GeislerPerry) &&
+              ACUITY_MODEL_KELLY_DALY == int(acuity::ThresholdModel::KellyDaly) &&
+              ACUITY_MODEL_REDDY == int(acuity::ThresholdModel::Reddy));
+static_assert(ACUITY_VIEW_BLEND_NEAREST == int(acuity::ViewBlend::Nearest) &&
+              ACUITY_VIEW_BLEND_MAX3 == int(acuity::ViewBlend::Max3));
+static_assert(ACUITY_CSF_DALY1998 == int(acuity::CsfFit::Daly1998) &&
+              ACUITY_CSF_LAIRD2006 == int(acuity::CsfFit::Laird2006));
+static_assert(int(ACUITY_FLAG_INVALID_INPUT) == int(acuity::kFlagInvalidInput) &&
+              int(ACUITY_FLAG_EYE_INSIDE) == int(acuity::kFlagEyeInside) &&
+              int(ACUITY_FLAG_NO_GAZE) == int(acuity::kFlagNoGaze) &&
+              int(ACUITY_FLAG_BUDGET_FORCED) == int(acuity::kFlagBudgetForced) &&
+              int(ACUITY_FLAG_CHANGED) == int(acuity::kFlagChanged) &&
+              int(ACUITY_FLAG_HELD) == int(acuity::kFlagHeld));
 static_assert(ACUITY_MAX_LEVELS == acuity::kMaxLevels);
-static_assert(ACUITY_EVALUATION_TABULATED == int(acuity::Evaluation::Tabulated) && ACUITY_EVALUATION_EXACT == int(acuity::Evaluation::Exact));
+static_assert(ACUITY_EVALUATION_TABULATED == int(acuity::Evaluation::Tabulated) &&
+              ACUITY_EVALUATION_EXACT == int(acuity::Evaluation::Exact));
 static_assert(offsetof(acuity_config, evaluation) == ACUITY_CONFIG_SIZE_V2, "version 3 appends to version 2");
 static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V3 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
 // The eye and explain structs are copied field by field, so only their field types must agree.
-static_assert(sizeof(acuity_eye::position) == sizeof(acuity::Eye::position) && sizeof(acuity_eye::orientation) == sizeof(acuity::Eye::orientation) &&
-              sizeof(acuity_eye::fov_deg) == sizeof(acuity::Eye::fov_deg) && sizeof(acuity_eye::viewport) == sizeof(acuity::Eye::viewport) &&
-              sizeof(acuity_eye::velocity) == sizeof(acuity::Eye::velocity) && sizeof(acuity_eye::angular_velocity) == sizeof(acuity::Eye::angular_velocity) &&
+static_assert(sizeof(acuity_eye::position) == sizeof(acuity::Eye::position) &&
+              sizeof(acuity_eye::orientation) == sizeof(acuity::Eye::orientation) &&
+              sizeof(acuity_eye::fov_deg) == sizeof(acuity::Eye::fov_deg) &&
+              sizeof(acuity_eye::viewport) == sizeof(acuity::Eye::viewport) &&
+              sizeof(acuity_eye::velocity) == sizeof(acuity::Eye::velocity) &&
+              sizeof(acuity_eye::angular_velocity) == sizeof(acuity::Eye::angular_velocity) &&
               sizeof(acuity_eye::gaze_direction) == sizeof(acuity::Gaze::direction) &&
               sizeof(acuity_eye::gaze_angular_velocity) == sizeof(acuity::Gaze::angular_velocity));
-static_assert(sizeof(acuity_object_explain::levels) / sizeof(acuity_level_explain) == std::size(acuity::ObjectExplain{}.levels));
-static_assert(std::is_same_v<decltype(acuity_object_explain::view), decltype(acuity::ObjectExplain::view)> &&
-              std::is_same_v<decltype(acuity_object_explain::level), decltype(acuity::ObjectExplain::level)> &&
-              std::is_same_v<decltype(acuity_level_explain::band), decltype(acuity::LevelExplain::band)> &&
-              std::is_same_v<decltype(acuity_level_explain::score), decltype(acuity::LevelExplain::score)>);
+static_assert(sizeof(acuity_object_explain::levels) / sizeof(acuity_level_explain) ==
+              std::size(acuity::ObjectExplain{}.levels));
+static_assert(
+    std::is_same_v<decltype(acuity_object_explain::view), decltype(acuity::ObjectExplain::view)> &&
+    std::is_same_v<decltype(acuity_object_explain::level), decltype(acuity::ObjectExplain::level)> &&
+    std::is_same_v<decltype(acuity_level_explain::band), decltype(acuity::LevelExplain::band)> &&
+    std::is_same_v<decltype(acuity_level_explain::score), decltype(acuity::LevelExplain::score)>);
 
 namespace {
 thread_local std::string g_error;
@@ -61,20 +76,20 @@ acuity_status fail(acuity_status status, std::string message) {
   return status;
 }
 
-template <class Fn> acuity_status guarded(Fn fn) {
+template <class Fn>
+acuity_status guarded(Fn fn) {
   try {
     g_error.clear();
     return fn();
   } catch (const std::bad_alloc&) {
     return fail(ACUITY_OUT_OF_MEMORY, "out of memory");
-  } catch (const std::exception& e) {
-    return fail(ACUITY_INTERNAL_ERROR, e.what());
-  } catch (...) {
+  } catch (const std::exception& e) { return fail(ACUITY_INTERNAL_ERROR, e.what()); } catch (...) {
     return fail(ACUITY_INTERNAL_ERROR, "unknown error");
   }
 }
 
-template <class T> const T* element(const T* base, std::size_t stride, std::size_t i, std::size_t packed) {
+template <class T>
+const T* element(const T* base, std::size_t stride, std::size_t i, std::size_t packed) {
   return reinterpret_cast<const T*>(reinterpret_cast<const char*>(base) + i * (stride ? stride : packed));
 }
 
@@ -92,7 +107,8 @@ void eye_and_gaze(const acuity_eye& e, acuity::Eye* eye, acuity::Gaze* gaze) {
   gaze->has_velocity = e.gaze_has_velocity != 0;
 }
 
-acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* r, std::size_t rs, const float* s, std::size_t i) {
+acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* r, std::size_t rs,
+                                  const float* s, std::size_t i) {
   acuity::ObjectTransform t;
   const double* pi = element(p, ps, i, 3 * sizeof(double));
   const float* ri = element(r, rs, i, 4 * sizeof(float));
@@ -102,14 +118,17 @@ acuity::ObjectTransform transform(const double* p, std::size_t ps, const float* 
   return t;
 }
 // Every id alive (and, when `distinct`, none given twice): the check before any batch call changes anything.
-acuity_status check_ids(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, const char* where, bool distinct = false) {
+acuity_status check_ids(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, const char* where,
+                        bool distinct = false) {
   std::unordered_set<uint32_t> seen;
   for (uint32_t i = 0; i < count; ++i) {
     if (!s->scheduler.alive(ids[i]))
-      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + ": ids[" + std::to_string(i) + "] = " + std::to_string(ids[i]) +
-                                               " is not a live object (never added, or removed); nothing was changed");
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  std::string(where) + ": ids[" + std::to_string(i) + "] = " + std::to_string(ids[i]) +
+                      " is not a live object (never added, or removed); nothing was changed");
     if (distinct && !seen.insert(ids[i]).second)
-      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + ": id " + std::to_string(ids[i]) + " is given twice; nothing was changed");
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + ": id " + std::to_string(ids[i]) +
+                                               " is given twice; nothing was changed");
   }
   return ACUITY_OK;
 }
@@ -120,24 +139,31 @@ bool finite_positive(float x) { return std::isfinite(x) && x > 0; }
 acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) {
   const uint32_t size = c->struct_size;
   if (size < ACUITY_CONFIG_SIZE_V2 || size % 8 != 0 || size > 65536)
-    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: struct_size " + std::to_string(size) +
-                " is not sizeof(acuity_config) (call acuity_config_default first)");
+    return fail(ACUITY_INVALID_ARGUMENT,
+                "acuity_create: struct_size " + std::to_string(size) +
+                    " is not sizeof(acuity_config) (call acuity_config_default first)");
   acuity_config k;
   acuity_config_default(&k);
   std::memcpy(&k, c, std::min<std::size_t>(size, sizeof k));
-  const struct { const char* name; uint32_t value, largest; } enums[] = {
-      {"rule", k.rule, ACUITY_RULE_SCREEN_SIZE}, {"model", k.model, ACUITY_MODEL_REDDY},
-      {"view_blend", k.view_blend, ACUITY_VIEW_BLEND_MAX3}, {"params.csf_fit", k.params.csf_fit, ACUITY_CSF_LAIRD2006},
-      {"evaluation", k.evaluation, ACUITY_EVALUATION_EXACT}};
+  const struct {
+    const char* name;
+    uint32_t value, largest;
+  } enums[] = {{"rule", k.rule, ACUITY_RULE_SCREEN_SIZE},
+               {"model", k.model, ACUITY_MODEL_REDDY},
+               {"view_blend", k.view_blend, ACUITY_VIEW_BLEND_MAX3},
+               {"params.csf_fit", k.params.csf_fit, ACUITY_CSF_LAIRD2006},
+               {"evaluation", k.evaluation, ACUITY_EVALUATION_EXACT}};
   for (const auto& e : enums)
     if (e.value > e.largest)
-      return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: bad ") + e.name + " " + std::to_string(e.value) +
-                                               " (0.." + std::to_string(e.largest) + ")");
+      return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: bad ") + e.name + " " +
+                                               std::to_string(e.value) + " (0.." + std::to_string(e.largest) +
+                                               ")");
   if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
-  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS || !std::isfinite(k.transition_seconds) ||
-      k.transition_seconds < 0)
-    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: quality, fallback_level or transition_seconds out of range");
+  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS ||
+      !std::isfinite(k.transition_seconds) || k.transition_seconds < 0)
+    return fail(ACUITY_INVALID_ARGUMENT,
+                "acuity_create: quality, fallback_level or transition_seconds out of range");
   acuity::SchedulerConfig& sc = *out;
   sc.max_objects = k.max_objects;
   sc.max_profiles = k.max_profiles;
@@ -245,9 +271,11 @@ acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t 
     // At least the 32-byte header, at most 4 GiB (profiles are kilobytes to megabytes): refuses an
     // unchecked ftell's -1 before (size + 7) / 8 below could wrap, and 0 before a memcpy to null.
     if (size < 32 || size > std::size_t(UINT32_MAX))
-      return fail(ACUITY_BAD_PROFILE, "acuity_load_profile: size " + std::to_string(size) + " bytes is not a profile's size");
+      return fail(ACUITY_BAD_PROFILE,
+                  "acuity_load_profile: size " + std::to_string(size) + " bytes is not a profile's size");
     if (s->profiles.size() >= s->scheduler.config().max_profiles)
-      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" + std::to_string(s->scheduler.config().max_profiles) + ") reached");
+      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" +
+                                   std::to_string(s->scheduler.config().max_profiles) + ") reached");
     acuity::Blob blob;
     blob.size = size;
     blob.storage.assign((size + 7) / 8, 0);
@@ -268,20 +296,26 @@ acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t 
   });
 }
 
-acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles, const double* positions,
-                                 size_t ps, const float* rotations, size_t rs, const float* scales, uint32_t* ids) {
+acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
+                                 const double* positions, size_t ps, const float* rotations, size_t rs,
+                                 const float* scales, uint32_t* ids) {
   return guarded([&] {
-    if (!s || (count && (!profiles || !positions || !rotations || !ids))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
+    if (!s || (count && (!profiles || !positions || !rotations || !ids)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: null argument");
     for (uint32_t i = 0; i < count; ++i)
       if (profiles[i] < 0 || std::size_t(profiles[i]) >= s->profiles.size())
-        return fail(ACUITY_INVALID_ARGUMENT, "acuity_add_objects: profiles[" + std::to_string(i) + "] = " + std::to_string(profiles[i]) +
-                                                 " is not a loaded profile (" + std::to_string(s->profiles.size()) + " loaded); nothing was added");
+        return fail(ACUITY_INVALID_ARGUMENT,
+                    "acuity_add_objects: profiles[" + std::to_string(i) +
+                        "] = " + std::to_string(profiles[i]) + " is not a loaded profile (" +
+                        std::to_string(s->profiles.size()) + " loaded); nothing was added");
     std::vector<uint32_t> added;
     added.reserve(count);
     for (uint32_t i = 0; i < count; ++i) {
-      const uint32_t id = s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
+      const uint32_t id =
+          s->scheduler.add_object(profiles[i], transform(positions, ps, rotations, rs, scales, i));
       if (id == acuity::kInvalidObject) {
-        for (auto it = added.rbegin(); it != added.rend(); ++it) s->scheduler.remove_object(*it);  // all or nothing
+        for (auto it = added.rbegin(); it != added.rend(); ++it)
+          s->scheduler.remove_object(*it);  // all or nothing
         return fail(ACUITY_FULL, "acuity_add_objects: max_objects reached at object " + std::to_string(i));
       }
       added.push_back(id);
@@ -294,48 +328,64 @@ acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int3
 acuity_status acuity_remove_objects(acuity_scheduler* s, uint32_t count, const uint32_t* ids) {
   return guarded([&] {
     if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_remove_objects: null argument");
-    if (const acuity_status st = check_ids(s, count, ids, "acuity_remove_objects", true); st != ACUITY_OK) return st;
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_remove_objects", true); st != ACUITY_OK)
+      return st;
     for (uint32_t i = 0; i < count; ++i) s->scheduler.remove_object(ids[i]);
     return ACUITY_OK;
   });
 }
 
-acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const double* positions,
-                                    size_t ps, const float* rotations, size_t rs, const float* scales) {
+acuity_status acuity_set_transforms(acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                    const double* positions, size_t ps, const float* rotations, size_t rs,
+                                    const float* scales) {
   return guarded([&] {
-    if (!s || (count && (!ids || !positions || !rotations))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: null argument");
-    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_transforms"); st != ACUITY_OK) return st;
-    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
+    if (!s || (count && (!ids || !positions || !rotations)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_transforms: null argument");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_transforms"); st != ACUITY_OK)
+      return st;
+    for (uint32_t i = 0; i < count; ++i)
+      s->scheduler.set_transform(ids[i], transform(positions, ps, rotations, rs, scales, i));
     return ACUITY_OK;
   });
 }
 
-acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* v, size_t vs) {
+acuity_status acuity_set_velocities(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* v,
+                                    size_t vs) {
   return guarded([&] {
-    if (!s || (count && (!ids || !v))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: null argument");
-    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_velocities"); st != ACUITY_OK) return st;
-    for (uint32_t i = 0; i < count; ++i) s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
+    if (!s || (count && (!ids || !v)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_velocities: null argument");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_set_velocities"); st != ACUITY_OK)
+      return st;
+    for (uint32_t i = 0; i < count; ++i)
+      s->scheduler.set_velocity(ids[i], element(v, vs, i, 3 * sizeof(float)));
     return ACUITY_OK;
   });
 }
 
 acuity_status acuity_set_bias(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const float* biases) {
   return guarded([&] {
-    if (!s || (count && (!ids || !biases))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_bias: null argument");
+    if (!s || (count && (!ids || !biases)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_bias: null argument");
     if (const acuity_status st = check_ids(s, count, ids, "acuity_set_bias"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i)
-      if (!finite_positive(biases[i])) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_bias: bias " + std::to_string(i) + " is not finite and > 0");
+      if (!finite_positive(biases[i]))
+        return fail(ACUITY_INVALID_ARGUMENT,
+                    "acuity_set_bias: bias " + std::to_string(i) + " is not finite and > 0");
     for (uint32_t i = 0; i < count; ++i) s->scheduler.set_bias(ids[i], biases[i]);
     return ACUITY_OK;
   });
 }
 
-acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const uint8_t* lo, const uint8_t* hi) {
+acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint32_t* ids, const uint8_t* lo,
+                                const uint8_t* hi) {
   return guarded([&] {
-    if (!s || (count && (!ids || !lo || !hi))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_clamps: null argument");
+    if (!s || (count && (!ids || !lo || !hi)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_clamps: null argument");
     if (const acuity_status st = check_ids(s, count, ids, "acuity_set_clamps"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i)
-      if (hi[i] < lo[i]) return fail(ACUITY_INVALID_ARGUMENT, "acuity_set_clamps: clamp " + std::to_string(i) + ": max_level < min_level");
+      if (hi[i] < lo[i])
+        return fail(ACUITY_INVALID_ARGUMENT,
+                    "acuity_set_clamps: clamp " + std::to_string(i) + ": max_level < min_level");
     for (uint32_t i = 0; i < count; ++i) s->scheduler.set_clamps(ids[i], lo[i], hi[i]);
     return ACUITY_OK;
   });
@@ -343,8 +393,10 @@ acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint3
 
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt) {
   return guarded([&] {
-    if (!s || !eyes || eye_count < 1 || eye_count > 2) return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: one or two eyes");
-    if (s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: the previous frame was not ended");
+    if (!s || !eyes || eye_count < 1 || eye_count > 2)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: one or two eyes");
+    if (s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: the previous frame was not ended");
     acuity::Frame f;
     f.eye_count = eye_count;
     f.dt = dt;
@@ -371,7 +423,9 @@ acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, ui
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: null scheduler");
-    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_update_range: no frame begun (call acuity_begin_frame first); nothing was updated");
+    if (!s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_update_range: no frame begun (call acuity_begin_frame first); nothing was updated");
     const uint32_t capacity = s->scheduler.object_capacity();
     if (first >= capacity) return ACUITY_OK;
     count = std::min(count, capacity - first);
@@ -383,16 +437,20 @@ acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t 
 acuity_status acuity_end_frame(acuity_scheduler* s) {
   return guarded([&] {
     if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: null scheduler");
-    if (!s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, "acuity_end_frame: no frame begun (call acuity_begin_frame first)");
+    if (!s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_end_frame: no frame begun (call acuity_begin_frame first)");
     s->scheduler.end_frame();
     s->in_frame = false;
     return ACUITY_OK;
   });
 }
 
-acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* levels, uint8_t* flags) {
+acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                uint8_t* levels, uint8_t* flags) {
   return guarded([&] {
-    if (!s || (count && (!ids || !levels))) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
+    if (!s || (count && (!ids || !levels)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
     if (const acuity_status st = check_ids(s, count, ids, "acuity_get_levels"); st != ACUITY_OK) return st;
     for (uint32_t i = 0; i < count; ++i) {
       levels[i] = s->scheduler.level(ids[i]);
@@ -402,10 +460,12 @@ acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const
   });
 }
 
-acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, const uint32_t* ids, uint8_t* previous, float* fades) {
+acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
+                                     uint8_t* previous, float* fades) {
   return guarded([&] {
     if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_transitions: null argument");
-    if (const acuity_status st = check_ids(s, count, ids, "acuity_get_transitions"); st != ACUITY_OK) return st;
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_get_transitions"); st != ACUITY_OK)
+      return st;
     for (uint32_t i = 0; i < count; ++i) {
       if (previous) previous[i] = s->scheduler.previous_level(ids[i]);
       if (fades) fades[i] = s->scheduler.transition(ids[i]);
@@ -418,7 +478,8 @@ acuity_status acuity_explain(const acuity_scheduler* s, uint32_t id, acuity_obje
   return guarded([&] {
     if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_explain: null argument");
     acuity::ObjectExplain e;
-    if (!s->scheduler.alive(id) || !s->scheduler.explain(id, &e)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_explain: no object " + std::to_string(id));
+    if (!s->scheduler.alive(id) || !s->scheduler.explain(id, &e))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_explain: no object " + std::to_string(id));
     acuity_object_explain r;
     std::memset(&r, 0, sizeof r);
     r.distance_m = e.distance_m;
@@ -472,9 +533,12 @@ acuity_status acuity_foveation_create(const acuity_foveation_config* c, acuity_f
   return guarded([&] {
     if (!c || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: null pointer");
     *out = nullptr;
-    if (c->struct_size < sizeof *c) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: struct_size too small");
-    if (c->threshold_model > 3) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: unknown threshold_model");
-    if (c->max_rate > 4) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: max_rate must be 1, 2 or 4");
+    if (c->struct_size < sizeof *c)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: struct_size too small");
+    if (c->threshold_model > 3)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: unknown threshold_model");
+    if (c->max_rate > 4)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: max_rate must be 1, 2 or 4");
     acuity::FoveationConfig f;
     f.model = static_cast<acuity::ThresholdModel>(c->threshold_model);
     f.quality = c->quality;
@@ -487,7 +551,8 @@ acuity_status acuity_foveation_create(const acuity_foveation_config* c, acuity_f
     auto* p = new acuity_foveation_planner;
     if (acuity::init_foveation_planner(f, &p->planner) != acuity::FoveationStatus::Ok) {
       delete p;
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: quality must be > 0, radii >= 0 and finite, max_rate 1, 2 or 4");
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_foveation_create: quality must be > 0, radii >= 0 and finite, max_rate 1, 2 or 4");
     }
     *out = p;
     return ACUITY_OK;
@@ -496,7 +561,8 @@ acuity_status acuity_foveation_create(const acuity_foveation_config* c, acuity_f
 
 void acuity_foveation_destroy(acuity_foveation_planner* planner) { delete planner; }
 
-acuity_status acuity_foveation_map_size(const acuity_eye* e, uint32_t tile_px, uint32_t* cols, uint32_t* rows) {
+acuity_status acuity_foveation_map_size(const acuity_eye* e, uint32_t tile_px, uint32_t* cols,
+                                        uint32_t* rows) {
   return guarded([&] {
     if (cols) *cols = 0;
     if (rows) *rows = 0;
@@ -505,7 +571,9 @@ acuity_status acuity_foveation_map_size(const acuity_eye* e, uint32_t tile_px, u
     acuity::Gaze gaze;
     eye_and_gaze(*e, &eye, &gaze);
     if (!acuity::foveation_map_size(eye, tile_px, cols, rows))
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_map_size: tile_px must be 8, 16 or 32, the viewport non-empty and at most 2048 tiles per axis");
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_foveation_map_size: tile_px must be 8, 16 or 32, the viewport non-empty and at "
+                  "most 2048 tiles per axis");
     return ACUITY_OK;
   });
 }
@@ -514,7 +582,8 @@ acuity_status acuity_foveation_plan(const acuity_foveation_planner* p, const acu
                                     uint32_t capacity, uint8_t* shading_rate, float* mip_bias,
                                     acuity_foveation_info* info) {
   return guarded([&] {
-    if (!p || !e || !shading_rate || !mip_bias) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_plan: null pointer");
+    if (!p || !e || !shading_rate || !mip_bias)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_plan: null pointer");
     acuity::Eye eye;
     acuity::Gaze gaze;
     eye_and_gaze(*e, &eye, &gaze);
@@ -525,7 +594,9 @@ acuity_status acuity_foveation_plan(const acuity_foveation_planner* p, const acu
     maps.mip_bias = mip_bias;
     const acuity::FoveationStatus status = acuity::plan_foveation(p->planner, eye, gaze, &maps);
     if (status == acuity::FoveationStatus::InvalidArgument)
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_plan: tile_px must be 8, 16 or 32 and capacity at least cols x rows (acuity_foveation_map_size)");
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_foveation_plan: tile_px must be 8, 16 or 32 and capacity at least cols x rows "
+                  "(acuity_foveation_map_size)");
     if (info) {
       info->cols = maps.cols;
       info->rows = maps.rows;
@@ -540,11 +611,12 @@ acuity_status acuity_foveation_plan(const acuity_foveation_planner* p, const acu
   });
 }
 
-acuity_status acuity_foveation_layers(const acuity_foveation_planner* p, const acuity_eye* e, uint32_t n_layers,
-                                      acuity_guenter_layers* out) {
+acuity_status acuity_foveation_layers(const acuity_foveation_planner* p, const acuity_eye* e,
+                                      uint32_t n_layers, acuity_guenter_layers* out) {
   return guarded([&] {
     if (!p || !e || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_layers: null pointer");
-    if (n_layers < 1 || n_layers > 8) return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_layers: 1 to 8 layers");
+    if (n_layers < 1 || n_layers > 8)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_layers: 1 to 8 layers");
     acuity::Eye eye;
     acuity::Gaze gaze;
     eye_and_gaze(*e, &eye, &gaze);

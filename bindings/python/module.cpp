@@ -9,8 +9,10 @@ PYBIND11_MODULE(_acuity, m) {
   m.attr("__version__") = ACUITY_VERSION_STRING;
   acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
   acuity::python::bind_scheduler(m);
-  acuity::python::bind_spectra(m.def_submodule("spectra", "Profiles, snapshots and analysis (see acuity.spectra)"));
-  acuity::python::bind_foveation(m.def_submodule("foveation", "Shading-rate and mip-bias maps (see acuity.foveation)"));
+  acuity::python::bind_spectra(
+      m.def_submodule("spectra", "Profiles, snapshots and analysis (see acuity.spectra)"));
+  acuity::python::bind_foveation(
+      m.def_submodule("foveation", "Shading-rate and mip-bias maps (see acuity.foveation)"));
   acuity::python::bind_lodgen(m.def_submodule("lodgen", "Chains of levels of detail (see acuity.lodgen)"));
   acuity::python::bind_bake(m.def_submodule("_bake", "Baking an asset library (see acuity.bake)"));
 }

@@ -38,7 +38,9 @@ std::shared_ptr<OwnedProfile> open_owned(Blob blob, const std::string& where) {
 
 std::shared_ptr<OwnedProfile> profile_from_bytes(const py::bytes& bytes) {
   const std::string s = bytes;
-  if (s.size() < 32) throw py::value_error("profile bytes: " + std::to_string(s.size()) + " bytes, too small for a profile's 32-byte header");
+  if (s.size() < 32)
+    throw py::value_error("profile bytes: " + std::to_string(s.size()) +
+                          " bytes, too small for a profile's 32-byte header");
   Blob blob;
   blob.size = s.size();
   blob.storage.assign((s.size() + 7) / 8, 0);
@@ -53,25 +55,29 @@ std::shared_ptr<OwnedProfile> profile_from_file(const std::string& path) {
   return open_owned(std::move(blob), path);
 }
 
-template <std::size_t N, class T> void set_array(T (&dst)[N], const std::array<T, N>& src) {
+template <std::size_t N, class T>
+void set_array(T (&dst)[N], const std::array<T, N>& src) {
   for (std::size_t i = 0; i < N; ++i) dst[i] = src[i];
 }
-template <std::size_t N, class T> std::array<T, N> get_array(const T (&src)[N]) {
+template <std::size_t N, class T>
+std::array<T, N> get_array(const T (&src)[N]) {
   std::array<T, N> out;
   for (std::size_t i = 0; i < N; ++i) out[i] = src[i];
   return out;
 }
 
-#define ACUITY_ARRAY_PROPERTY(Class, field, T, N, doc)                                            \
-  def_property(#field, [](const Class& c) { return get_array<N, T>(c.field); },                   \
-               [](Class& c, const std::array<T, N>& v) { set_array<N, T>(c.field, v); }, doc)
+#define ACUITY_ARRAY_PROPERTY(Class, field, T, N, doc)                 \
+  def_property(                                                        \
+      #field, [](const Class& c) { return get_array<N, T>(c.field); }, \
+      [](Class& c, const std::array<T, N>& v) { set_array<N, T>(c.field, v); }, doc)
 
 using F64 = py::array_t<double, py::array::c_style | py::array::forcecast>;
 using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
 
 void require_rows(const py::array& a, py::ssize_t n, py::ssize_t cols, const char* name) {
-  const bool ok = cols == 0 ? (a.ndim() == 1 && a.shape(0) == n) : (a.ndim() == 2 && a.shape(0) == n && a.shape(1) == cols);
+  const bool ok = cols == 0 ? (a.ndim() == 1 && a.shape(0) == n)
+                            : (a.ndim() == 2 && a.shape(0) == n && a.shape(1) == cols);
   if (!ok)
     throw py::value_error(std::string(name) + ": expected shape (" + std::to_string(n) +
                           (cols ? ", " + std::to_string(cols) : std::string()) + ")");
@@ -105,7 +111,8 @@ struct PyScheduler {
   }
   void require_alive(std::uint32_t id, const char* function) const {
     if (!scheduler.alive(id))
-      throw py::index_error(std::string(function) + ": object " + std::to_string(id) + " does not exist (never added, or removed)");
+      throw py::index_error(std::string(function) + ": object " + std::to_string(id) +
+                            " does not exist (never added, or removed)");
   }
 
   py::array_t<std::uint32_t> add_objects(U32 profile, F64 position, F32 rotation, F32 scale) {
@@ -120,17 +127,20 @@ struct PyScheduler {
     // All or nothing: every profile index and the capacity are checked before anything is added.
     for (py::ssize_t i = 0; i < n; ++i)
       if (pr(i) >= profiles.size())
-        throw py::index_error("add_objects: row " + std::to_string(i) + ": profile " + std::to_string(pr(i)) + " was not added (" +
-                              std::to_string(profiles.size()) + " profiles); nothing was added");
+        throw py::index_error("add_objects: row " + std::to_string(i) + ": profile " + std::to_string(pr(i)) +
+                              " was not added (" + std::to_string(profiles.size()) +
+                              " profiles); nothing was added");
     if (std::uint64_t(n) > scheduler.object_capacity() - live)
-      throw py::value_error("add_objects: " + std::to_string(n) + " objects do not fit (" + std::to_string(live) + " of " +
-                            std::to_string(scheduler.object_capacity()) + " used); nothing was added");
+      throw py::value_error("add_objects: " + std::to_string(n) + " objects do not fit (" +
+                            std::to_string(live) + " of " + std::to_string(scheduler.object_capacity()) +
+                            " used); nothing was added");
     for (py::ssize_t i = 0; i < n; ++i) {
       out(i) = scheduler.add_object(static_cast<int>(pr(i)), transform_at(position, rotation, scale, i));
       if (out(i) == kInvalidObject) {  // cannot happen after the checks above; undo to keep the contract
         for (py::ssize_t j = 0; j < i; ++j) scheduler.remove_object(out(j));
         live -= std::uint32_t(i);
-        throw std::runtime_error("add_objects: the scheduler refused row " + std::to_string(i) + "; nothing was added");
+        throw std::runtime_error("add_objects: the scheduler refused row " + std::to_string(i) +
+                                 "; nothing was added");
       }
       ++live;
     }
@@ -144,7 +154,8 @@ struct PyScheduler {
     require_rows(scale, n, 0, "scale");
     require_alive(ids, "set_transforms");
     auto id = ids.unchecked<1>();
-    for (py::ssize_t i = 0; i < n; ++i) scheduler.set_transform(id(i), transform_at(position, rotation, scale, i));
+    for (py::ssize_t i = 0; i < n; ++i)
+      scheduler.set_transform(id(i), transform_at(position, rotation, scale, i));
   }
 
   void set_velocities(U32 ids, F32 velocity) {
@@ -158,12 +169,14 @@ struct PyScheduler {
     }
   }
 
-  template <class Get> py::array_t<std::uint8_t> per_object(U32 ids, Get get) const {
+  template <class Get>
+  py::array_t<std::uint8_t> per_object(U32 ids, Get get) const {
     py::array_t<std::uint8_t> out(ids.shape(0));
     auto o = out.mutable_unchecked<1>();
     auto id = ids.unchecked<1>();
     for (py::ssize_t i = 0; i < ids.shape(0); ++i) {
-      if (!scheduler.alive(id(i))) throw py::index_error("object " + std::to_string(id(i)) + " does not exist");
+      if (!scheduler.alive(id(i)))
+        throw py::index_error("object " + std::to_string(id(i)) + " does not exist");
       o(i) = get(id(i));
     }
     return out;
@@ -177,58 +190,83 @@ py::dict explain_dict(const ObjectExplain& e) {
     levels.append(py::dict("score"_a = l.score, "band"_a = l.band, "orientation"_a = l.orientation,
                            "frequency_cpd"_a = l.frequency_cpd, "threshold"_a = l.threshold));
   }
-  return py::dict("level"_a = e.level, "distance_m"_a = e.distance_m, "angular_diameter_deg"_a = e.angular_diameter_deg,
-                  "eccentricity_deg"_a = e.eccentricity_deg, "image_velocity_deg_s"_a = e.image_velocity_deg_s,
-                  "retinal_velocity_deg_s"_a = e.retinal_velocity_deg_s, "view"_a = e.view, "levels"_a = levels);
+  return py::dict(
+      "level"_a = e.level, "distance_m"_a = e.distance_m, "angular_diameter_deg"_a = e.angular_diameter_deg,
+      "eccentricity_deg"_a = e.eccentricity_deg, "image_velocity_deg_s"_a = e.image_velocity_deg_s,
+      "retinal_velocity_deg_s"_a = e.retinal_velocity_deg_s, "view"_a = e.view, "levels"_a = levels);
 }
 
 }  // namespace
 
 void bind_scheduler(py::module_ m) {
-  py::class_<OwnedProfile, std::shared_ptr<OwnedProfile>>(m, "Profile",
-      "A validated profile (.acuity blob). Build with Profile.from_bytes or Profile.load.")
-      .def_static("from_bytes", &profile_from_bytes, "data"_a, "Validate and wrap profile bytes (ValueError when bad).")
-      .def_static("load", &profile_from_file, "path"_a, "Read and validate a .acuity file (ValueError when bad).")
+  py::class_<OwnedProfile, std::shared_ptr<OwnedProfile>>(
+      m, "Profile", "A validated profile (.acuity blob). Build with Profile.from_bytes or Profile.load.")
+      .def_static("from_bytes", &profile_from_bytes, "data"_a,
+                  "Validate and wrap profile bytes (ValueError when bad).")
+      .def_static("load", &profile_from_file, "path"_a,
+                  "Read and validate a .acuity file (ValueError when bad).")
       .def_property_readonly("level_count", [](const OwnedProfile& p) { return p.view.meta.level_count; })
       .def_property_readonly("view_count", [](const OwnedProfile& p) { return p.view.meta.view_count; })
-      .def_property_readonly("orientation_count", [](const OwnedProfile& p) { return p.view.meta.orientation_count; })
+      .def_property_readonly("orientation_count",
+                             [](const OwnedProfile& p) { return p.view.meta.orientation_count; })
       .def_property_readonly("band_count", [](const OwnedProfile& p) { return p.view.meta.band_count; })
       .def_property_readonly("size_bytes", [](const OwnedProfile& p) { return p.blob.size; })
-      .def_property_readonly("sphere", [](const OwnedProfile& p) { return get_array<4, float>(p.view.meta.sphere); },
-                             "bounding sphere: centre xyz, radius [object units]")
-      .def_property_readonly("triangles", [](const OwnedProfile& p) {
-        std::vector<std::uint32_t> t;
-        for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k) t.push_back(p.view.levels[k].triangles);
-        return t;
-      })
-      .def_property_readonly("geometric_error", [](const OwnedProfile& p) {
-        std::vector<float> t;
-        for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k) t.push_back(p.view.levels[k].geometric_error);
-        return t;
-      }, "Hausdorff distance to level 0 per level [object diameters]")
-      .def_property_readonly("bands", [](const OwnedProfile& p) {
-        return std::vector<float>(p.view.bands, p.view.bands + p.view.meta.band_count);
-      }, "band centres [cycles per object diameter]")
-      .def_property_readonly("orientations", [](const OwnedProfile& p) {
-        return std::vector<float>(p.view.orientations, p.view.orientations + p.view.meta.orientation_count);
-      }, "orientations [deg]")
-      .def_property_readonly("lost", [](const OwnedProfile& p) {
-        const auto& m = p.view.meta;
-        py::array_t<float> a({py::ssize_t(m.level_count - 1), py::ssize_t(m.view_count),
-                              py::ssize_t(m.orientation_count), py::ssize_t(m.band_count)});
-        std::memcpy(a.mutable_data(), p.view.lost, a.size() * sizeof(float));
-        return a;
-      }, "lost contrast, shape (levels - 1, views, orientations, bands); index 0 is level 1")
+      .def_property_readonly(
+          "sphere", [](const OwnedProfile& p) { return get_array<4, float>(p.view.meta.sphere); },
+          "bounding sphere: centre xyz, radius [object units]")
+      .def_property_readonly("triangles",
+                             [](const OwnedProfile& p) {
+                               std::vector<std::uint32_t> t;
+                               for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k)
+                                 t.push_back(p.view.levels[k].triangles);
+                               return t;
+                             })
+      .def_property_readonly(
+          "geometric_error",
+          [](const OwnedProfile& p) {
+            std::vector<float> t;
+            for (std::uint32_t k = 0; k < p.view.meta.level_count; ++k)
+              t.push_back(p.view.levels[k].geometric_error);
+            return t;
+          },
+          "Hausdorff distance to level 0 per level [object diameters]")
+      .def_property_readonly(
+          "bands",
+          [](const OwnedProfile& p) {
+            return std::vector<float>(p.view.bands, p.view.bands + p.view.meta.band_count);
+          },
+          "band centres [cycles per object diameter]")
+      .def_property_readonly(
+          "orientations",
+          [](const OwnedProfile& p) {
+            return std::vector<float>(p.view.orientations,
+                                      p.view.orientations + p.view.meta.orientation_count);
+          },
+          "orientations [deg]")
+      .def_property_readonly(
+          "lost",
+          [](const OwnedProfile& p) {
+            const auto& m = p.view.meta;
+            py::array_t<float> a({py::ssize_t(m.level_count - 1), py::ssize_t(m.view_count),
+                                  py::ssize_t(m.orientation_count), py::ssize_t(m.band_count)});
+            std::memcpy(a.mutable_data(), p.view.lost, a.size() * sizeof(float));
+            return a;
+          },
+          "lost contrast, shape (levels - 1, views, orientations, bands); index 0 is level 1")
       .def("to_bytes", [](const OwnedProfile& p) {
         return py::bytes(static_cast<const char*>(p.blob.data()), p.blob.size);
       });
 
   py::enum_<SelectionRule>(m, "SelectionRule")
-      .value("perceptual", SelectionRule::Perceptual).value("reddy", SelectionRule::Reddy)
-      .value("distance", SelectionRule::Distance).value("screen_size", SelectionRule::ScreenSize);
+      .value("perceptual", SelectionRule::Perceptual)
+      .value("reddy", SelectionRule::Reddy)
+      .value("distance", SelectionRule::Distance)
+      .value("screen_size", SelectionRule::ScreenSize);
   py::enum_<ViewBlend>(m, "ViewBlend").value("nearest", ViewBlend::Nearest).value("max3", ViewBlend::Max3);
-  py::enum_<Evaluation>(m, "Evaluation", "How the perceptual rule evaluates thresholds (see acuity/scheduler.hpp).")
-      .value("tabulated", Evaluation::Tabulated).value("exact", Evaluation::Exact);
+  py::enum_<Evaluation>(m, "Evaluation",
+                        "How the perceptual rule evaluates thresholds (see acuity/scheduler.hpp).")
+      .value("tabulated", Evaluation::Tabulated)
+      .value("exact", Evaluation::Exact);
 
   py::class_<SchedulerConfig>(m, "SchedulerConfig", "Scheduler settings (see acuity/scheduler.hpp).")
       .def(py::init<>())
@@ -252,12 +290,17 @@ void bind_scheduler(py::module_ m) {
       .def_readwrite("distance_scale", &SchedulerConfig::distance_scale)
       .def_readwrite("pixel_error", &SchedulerConfig::pixel_error)
       .def_readwrite("keep_scores", &SchedulerConfig::keep_scores)
-      .def_property("model", [](const SchedulerConfig& c) { return std::string(to_string(c.model)); },
-                    [](SchedulerConfig& c, const std::string& name) {
-                      if (!parse_threshold_model(name.c_str(), &c.model)) throw py::value_error("unknown model '" + name + "'");
-                    }, "threshold model name: default, geisler-perry, kelly-daly, reddy");
+      .def_property(
+          "model", [](const SchedulerConfig& c) { return std::string(to_string(c.model)); },
+          [](SchedulerConfig& c, const std::string& name) {
+            if (!parse_threshold_model(name.c_str(), &c.model))
+              throw py::value_error("unknown model '" + name + "'");
+          },
+          "threshold model name: default, geisler-perry, kelly-daly, reddy");
 
-  py::class_<Eye>(m, "Eye", "One eye: world position [m], orientation quaternion xyzw (looks along -Z), FOV half-angles [deg].")
+  py::class_<Eye>(
+      m, "Eye",
+      "One eye: world position [m], orientation quaternion xyzw (looks along -Z), FOV half-angles [deg].")
       .def(py::init<>())
       .ACUITY_ARRAY_PROPERTY(Eye, position, double, 3, "world [m]")
       .ACUITY_ARRAY_PROPERTY(Eye, orientation, float, 4, "unit quaternion x y z w, eye to world")
@@ -265,7 +308,8 @@ void bind_scheduler(py::module_ m) {
       .ACUITY_ARRAY_PROPERTY(Eye, viewport, std::uint32_t, 2, "width, height [px]")
       .ACUITY_ARRAY_PROPERTY(Eye, velocity, float, 3, "world [m/s]")
       .ACUITY_ARRAY_PROPERTY(Eye, angular_velocity, float, 3, "head rotation, world axis x speed [deg/s]");
-  py::class_<Gaze>(m, "Gaze", "Gaze of one eye: direction in eye space, validity, confidence, optional velocity.")
+  py::class_<Gaze>(m, "Gaze",
+                   "Gaze of one eye: direction in eye space, validity, confidence, optional velocity.")
       .def(py::init<>())
       .ACUITY_ARRAY_PROPERTY(Gaze, direction, float, 3, "unit, eye space")
       .ACUITY_ARRAY_PROPERTY(Gaze, angular_velocity, float, 3, "eye-in-head rotation [deg/s]")
@@ -274,103 +318,163 @@ void bind_scheduler(py::module_ m) {
       .def_readwrite("has_velocity", &Gaze::has_velocity);
   py::class_<Frame>(m, "Frame", "One frame's input: one or two eyes, their gaze, and dt [s].")
       .def(py::init<>())
-      .def_property("eyes", [](const Frame& f) { return std::vector<Eye>(f.eyes, f.eyes + f.eye_count); },
-                    [](Frame& f, const std::vector<Eye>& eyes) {
-                      if (eyes.empty() || eyes.size() > 2) throw py::value_error("one or two eyes");
-                      for (std::size_t i = 0; i < eyes.size(); ++i) f.eyes[i] = eyes[i];
-                      f.eye_count = static_cast<std::uint32_t>(eyes.size());
-                    })
-      .def_property("gaze", [](const Frame& f) { return std::vector<Gaze>(f.gaze, f.gaze + f.eye_count); },
-                    [](Frame& f, const std::vector<Gaze>& gaze) {
-                      if (gaze.size() > 2) throw py::value_error("at most two gaze entries");
-                      for (std::size_t i = 0; i < gaze.size(); ++i) f.gaze[i] = gaze[i];
-                    })
+      .def_property(
+          "eyes", [](const Frame& f) { return std::vector<Eye>(f.eyes, f.eyes + f.eye_count); },
+          [](Frame& f, const std::vector<Eye>& eyes) {
+            if (eyes.empty() || eyes.size() > 2) throw py::value_error("one or two eyes");
+            for (std::size_t i = 0; i < eyes.size(); ++i) f.eyes[i] = eyes[i];
+            f.eye_count = static_cast<std::uint32_t>(eyes.size());
+          })
+      .def_property(
+          "gaze", [](const Frame& f) { return std::vector<Gaze>(f.gaze, f.gaze + f.eye_count); },
+          [](Frame& f, const std::vector<Gaze>& gaze) {
+            if (gaze.size() > 2) throw py::value_error("at most two gaze entries");
+            for (std::size_t i = 0; i < gaze.size(); ++i) f.gaze[i] = gaze[i];
+          })
       .def_readwrite("dt", &Frame::dt);
 
-  py::class_<PyScheduler>(m, "Scheduler",
+  py::class_<PyScheduler>(
+      m, "Scheduler",
       "Per-frame perceptual LOD selection. Arrays are numpy: positions (N, 3) float64 [m],\n"
       "rotations (N, 4) quaternions xyzw, scales (N,), velocities (N, 3) [m/s].")
       .def(py::init<const SchedulerConfig&>(), "config"_a = SchedulerConfig{})
-      .def("add_profile", [](PyScheduler& s, std::shared_ptr<OwnedProfile> p) {
-        const int index = s.scheduler.add_profile(p->view);
-        if (index < 0) throw py::value_error("add_profile: max_profiles reached");
-        s.profiles.push_back(std::move(p));
-        return index;
-      }, "profile"_a)
+      .def(
+          "add_profile",
+          [](PyScheduler& s, std::shared_ptr<OwnedProfile> p) {
+            const int index = s.scheduler.add_profile(p->view);
+            if (index < 0) throw py::value_error("add_profile: max_profiles reached");
+            s.profiles.push_back(std::move(p));
+            return index;
+          },
+          "profile"_a)
       .def("add_objects", &PyScheduler::add_objects, "profile"_a, "position"_a, "rotation"_a, "scale"_a,
            "Add N objects; returns their ids (uint32). All or nothing: a profile index that was not\n"
            "added raises IndexError, more objects than free capacity ValueError; then none is added.")
-      .def("remove_objects", [](PyScheduler& s, U32 ids) {
-        s.require_alive(ids, "remove_objects");
-        auto id = ids.unchecked<1>();
-        for (py::ssize_t i = 0; i < ids.shape(0); ++i)
-          for (py::ssize_t j = 0; j < i; ++j)
-            if (id(i) == id(j)) throw py::value_error("remove_objects: id " + std::to_string(id(i)) + " is given twice; nothing was removed");
-        for (py::ssize_t i = 0; i < ids.shape(0); ++i) s.scheduler.remove_object(id(i));
-        s.live -= std::uint32_t(ids.shape(0));
-      }, "ids"_a, "All or nothing: raises IndexError for an id that is not live, removing none.")
+      .def(
+          "remove_objects",
+          [](PyScheduler& s, U32 ids) {
+            s.require_alive(ids, "remove_objects");
+            auto id = ids.unchecked<1>();
+            for (py::ssize_t i = 0; i < ids.shape(0); ++i)
+              for (py::ssize_t j = 0; j < i; ++j)
+                if (id(i) == id(j))
+                  throw py::value_error("remove_objects: id " + std::to_string(id(i)) +
+                                        " is given twice; nothing was removed");
+            for (py::ssize_t i = 0; i < ids.shape(0); ++i) s.scheduler.remove_object(id(i));
+            s.live -= std::uint32_t(ids.shape(0));
+          },
+          "ids"_a, "All or nothing: raises IndexError for an id that is not live, removing none.")
       .def("set_transforms", &PyScheduler::set_transforms, "ids"_a, "position"_a, "rotation"_a, "scale"_a,
            "All or nothing: raises IndexError for an id that is not live, setting none.")
       .def("set_velocities", &PyScheduler::set_velocities, "ids"_a, "velocity"_a,
            "All or nothing: raises IndexError for an id that is not live, setting none.")
-      .def("set_clamps", [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) {
-        s.require_alive(id, "set_clamps");
-        if (hi < lo) throw py::value_error("set_clamps: max_level < min_level");
-        s.scheduler.set_clamps(id, lo, hi);
-      }, "id"_a, "min_level"_a, "max_level"_a)
-      .def("set_bias", [](PyScheduler& s, std::uint32_t id, float bias) {
-        s.require_alive(id, "set_bias");
-        if (!(bias > 0) || !std::isfinite(bias)) throw py::value_error("set_bias: bias must be finite and > 0");
-        s.scheduler.set_bias(id, bias);
-      }, "id"_a, "quality_bias"_a, "Multiply q for this object (> 1 coarser).")
-      .def("run_frame", [](PyScheduler& s, const Frame& f) {
-        if (s.in_frame) throw py::value_error("run_frame: a frame was begun and not ended");
-        s.scheduler.run_frame(f);
-      }, "frame"_a, "begin_frame, update every object, end_frame.")
-      .def("begin_frame", [](PyScheduler& s, const Frame& f) {
-        if (s.in_frame) throw py::value_error("begin_frame: the previous frame was not ended");
-        s.scheduler.begin_frame(f);
-        s.in_frame = true;
-      }, "frame"_a)
-      .def("update", [](PyScheduler& s, std::uint32_t first, std::uint32_t count) {
-        if (!s.in_frame) throw py::value_error("update: no frame begun");
-        const std::uint32_t cap = s.scheduler.object_capacity();
-        if (first < cap) s.scheduler.update(first, std::min(count, cap - first));
-      }, "first"_a, "count"_a, "Update objects [first, first + count) (clipped to the capacity); any split.")
-      .def("end_frame", [](PyScheduler& s) {
-        if (!s.in_frame) throw py::value_error("end_frame: no frame begun");
-        s.scheduler.end_frame();
-        s.in_frame = false;
-      })
-      .def_property_readonly("object_capacity", [](const PyScheduler& s) { return s.scheduler.object_capacity(); })
-      .def("previous_level", [](const PyScheduler& s, std::uint32_t id) { s.require_alive(id, "previous_level"); return s.scheduler.previous_level(id); }, "id"_a,
-           "The level this object fades from.")
-      .def("transition", [](const PyScheduler& s, std::uint32_t id) { s.require_alive(id, "transition"); return s.scheduler.transition(id); }, "id"_a,
-           "Fade to the current level, 0..1 (1 = done).")
-      .def("transitions", [](const PyScheduler& s, U32 ids) {
-        py::array_t<std::uint8_t> previous = s.per_object(ids, [&](ObjectId i) { return s.scheduler.previous_level(i); });
-        py::array_t<float> fade(ids.shape(0));
-        auto f = fade.mutable_unchecked<1>();
-        auto id = ids.unchecked<1>();
-        for (py::ssize_t i = 0; i < ids.shape(0); ++i) f(i) = s.scheduler.transition(id(i));
-        return py::make_tuple(previous, fade);
-      }, "ids"_a, "(previous levels uint8, fades float32) per id.")
-      .def("levels", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); }); }, "ids"_a)
-      .def("flags", [](const PyScheduler& s, U32 ids) { return s.per_object(ids, [&](ObjectId i) { return s.scheduler.flags(i); }); }, "ids"_a)
-      .def("scores", [](const PyScheduler& s, std::uint32_t id) -> py::object {
-        const float* sc = s.scheduler.scores(id);
-        if (!sc) return py::none();
-        return py::array_t<float>(kMaxLevels, sc);
-      }, "id"_a, "Every level's score this frame (config.keep_scores), else None.")
-      .def("explain", [](const PyScheduler& s, std::uint32_t id) -> py::object {
-        ObjectExplain e;
-        if (!s.scheduler.explain(id, &e)) return py::none();
-        return explain_dict(e);
-      }, "id"_a)
+      .def(
+          "set_clamps",
+          [](PyScheduler& s, std::uint32_t id, std::uint8_t lo, std::uint8_t hi) {
+            s.require_alive(id, "set_clamps");
+            if (hi < lo) throw py::value_error("set_clamps: max_level < min_level");
+            s.scheduler.set_clamps(id, lo, hi);
+          },
+          "id"_a, "min_level"_a, "max_level"_a)
+      .def(
+          "set_bias",
+          [](PyScheduler& s, std::uint32_t id, float bias) {
+            s.require_alive(id, "set_bias");
+            if (!(bias > 0) || !std::isfinite(bias))
+              throw py::value_error("set_bias: bias must be finite and > 0");
+            s.scheduler.set_bias(id, bias);
+          },
+          "id"_a, "quality_bias"_a, "Multiply q for this object (> 1 coarser).")
+      .def(
+          "run_frame",
+          [](PyScheduler& s, const Frame& f) {
+            if (s.in_frame) throw py::value_error("run_frame: a frame was begun and not ended");
+            s.scheduler.run_frame(f);
+          },
+          "frame"_a, "begin_frame, update every object, end_frame.")
+      .def(
+          "begin_frame",
+          [](PyScheduler& s, const Frame& f) {
+            if (s.in_frame) throw py::value_error("begin_frame: the previous frame was not ended");
+            s.scheduler.begin_frame(f);
+            s.in_frame = true;
+          },
+          "frame"_a)
+      .def(
+          "update",
+          [](PyScheduler& s, std::uint32_t first, std::uint32_t count) {
+            if (!s.in_frame) throw py::value_error("update: no frame begun");
+            const std::uint32_t cap = s.scheduler.object_capacity();
+            if (first < cap) s.scheduler.update(first, std::min(count, cap - first));
+          },
+          "first"_a, "count"_a, "Update objects [first, first + count) (clipped to the capacity); any split.")
+      .def("end_frame",
+           [](PyScheduler& s) {
+             if (!s.in_frame) throw py::value_error("end_frame: no frame begun");
+             s.scheduler.end_frame();
+             s.in_frame = false;
+           })
+      .def_property_readonly("object_capacity",
+                             [](const PyScheduler& s) { return s.scheduler.object_capacity(); })
+      .def(
+          "previous_level",
+          [](const PyScheduler& s, std::uint32_t id) {
+            s.require_alive(id, "previous_level");
+            return s.scheduler.previous_level(id);
+          },
+          "id"_a, "The level this object fades from.")
+      .def(
+          "transition",
+          [](const PyScheduler& s, std::uint32_t id) {
+            s.require_alive(id, "transition");
+            return s.scheduler.transition(id);
+          },
+          "id"_a, "Fade to the current level, 0..1 (1 = done).")
+      .def(
+          "transitions",
+          [](const PyScheduler& s, U32 ids) {
+            py::array_t<std::uint8_t> previous =
+                s.per_object(ids, [&](ObjectId i) { return s.scheduler.previous_level(i); });
+            py::array_t<float> fade(ids.shape(0));
+            auto f = fade.mutable_unchecked<1>();
+            auto id = ids.unchecked<1>();
+            for (py::ssize_t i = 0; i < ids.shape(0); ++i) f(i) = s.scheduler.transition(id(i));
+            return py::make_tuple(previous, fade);
+          },
+          "ids"_a, "(previous levels uint8, fades float32) per id.")
+      .def(
+          "levels",
+          [](const PyScheduler& s, U32 ids) {
+            return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); });
+          },
+          "ids"_a)
+      .def(
+          "flags",
+          [](const PyScheduler& s, U32 ids) {
+            return s.per_object(ids, [&](ObjectId i) { return s.scheduler.flags(i); });
+          },
+          "ids"_a)
+      .def(
+          "scores",
+          [](const PyScheduler& s, std::uint32_t id) -> py::object {
+            const float* sc = s.scheduler.scores(id);
+            if (!sc) return py::none();
+            return py::array_t<float>(kMaxLevels, sc);
+          },
+          "id"_a, "Every level's score this frame (config.keep_scores), else None.")
+      .def(
+          "explain",
+          [](const PyScheduler& s, std::uint32_t id) -> py::object {
+            ObjectExplain e;
+            if (!s.scheduler.explain(id, &e)) return py::none();
+            return explain_dict(e);
+          },
+          "id"_a)
       .def_property_readonly("stats", [](const PyScheduler& s) {
         const FrameStats& st = s.scheduler.stats();
-        return py::dict("triangles"_a = st.triangles, "changed"_a = st.changed, "budget_forced"_a = st.budget_forced,
-                        "invalid"_a = st.invalid, "gaze_used"_a = st.gaze_used);
+        return py::dict("triangles"_a = st.triangles, "changed"_a = st.changed,
+                        "budget_forced"_a = st.budget_forced, "invalid"_a = st.invalid,
+                        "gaze_used"_a = st.gaze_used);
       });
 
   m.attr("FLAG_INVALID_INPUT") = int(kFlagInvalidInput);

@@ -23,14 +23,17 @@ using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
 
 ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 view_directions,
-                                  F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
+                         F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
   spectra::ProfileData d;
   if (sphere.size() != 4) throw py::value_error("sphere: expected 4 values (centre xyz, radius)");
   std::memcpy(d.sphere, sphere.data(), 4 * sizeof(float));
   d.snapshot_pixels = snapshot_pixels;
-  if (triangles.size() != geometric_error.size()) throw py::value_error("triangles and geometric_error differ in length");
-  for (py::ssize_t k = 0; k < triangles.size(); ++k) d.levels.push_back({triangles.data()[k], geometric_error.data()[k]});
-  if (view_directions.ndim() != 2 || view_directions.shape(1) != 3) throw py::value_error("view_directions: expected shape (V, 3)");
+  if (triangles.size() != geometric_error.size())
+    throw py::value_error("triangles and geometric_error differ in length");
+  for (py::ssize_t k = 0; k < triangles.size(); ++k)
+    d.levels.push_back({triangles.data()[k], geometric_error.data()[k]});
+  if (view_directions.ndim() != 2 || view_directions.shape(1) != 3)
+    throw py::value_error("view_directions: expected shape (V, 3)");
   for (py::ssize_t v = 0; v < view_directions.shape(0); ++v) {
     const float* w = view_directions.data() + 3 * v;
     d.views.push_back(spectra::make_view(w[0], w[1], w[2]));
@@ -42,11 +45,14 @@ ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 vie
   return d;
 }
 
-MeshView mesh_view(const F32& positions, const U32& indices, const py::object& normals_obj, std::vector<float>& normals) {
-  if (positions.ndim() != 2 || positions.shape(1) != 3) throw py::value_error("positions: expected shape (N, 3)");
+MeshView mesh_view(const F32& positions, const U32& indices, const py::object& normals_obj,
+                   std::vector<float>& normals) {
+  if (positions.ndim() != 2 || positions.shape(1) != 3)
+    throw py::value_error("positions: expected shape (N, 3)");
   if (indices.size() % 3) throw py::value_error("indices: a multiple of 3 expected");
   for (py::ssize_t i = 0; i < indices.size(); ++i)
-    if (indices.data()[i] >= std::uint32_t(positions.shape(0))) throw py::value_error("indices: out of range");
+    if (indices.data()[i] >= std::uint32_t(positions.shape(0)))
+      throw py::value_error("indices: out of range");
   MeshView v;
   v.positions = positions.data();
   v.vertex_count = std::size_t(positions.shape(0));
@@ -80,94 +86,115 @@ AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float
 }  // namespace
 
 void bind_spectra(py::module_ m) {
-  m.def("render", [](F32 positions, U32 indices, std::array<float, 3> direction, py::object normals,
-                     std::uint32_t pixels, std::uint32_t supersample, float background) {
-    std::vector<float> nbuf;
-    const MeshView mesh = mesh_view(positions, indices, normals, nbuf);
-    RenderSettings rs;
-    rs.pixels = pixels;
-    rs.supersample = supersample;
-    rs.background = background;
-    bounding_sphere(mesh, rs.sphere);
-    const Image im = render_snapshot(mesh, Material{}, make_view(direction[0], direction[1], direction[2]), rs);
-    py::array_t<float> out({py::ssize_t(im.height), py::ssize_t(im.width)});
-    std::memcpy(out.mutable_data(), im.pixels.data(), im.pixels.size() * sizeof(float));
-    return out;
-  }, "positions"_a, "indices"_a, "direction"_a = std::array<float, 3>{0, 0, 1}, "normals"_a = py::none(),
-     "pixels"_a = 256, "supersample"_a = 4, "background"_a = 0.5f,
-  "Snapshot (linear luminance, row 0 at the top) of a mesh framed by its bounding sphere, seen from\n"
-  "`direction` (object to camera), headlight Lambert + ambient, grey albedo 0.8.");
+  m.def(
+      "render",
+      [](F32 positions, U32 indices, std::array<float, 3> direction, py::object normals, std::uint32_t pixels,
+         std::uint32_t supersample, float background) {
+        std::vector<float> nbuf;
+        const MeshView mesh = mesh_view(positions, indices, normals, nbuf);
+        RenderSettings rs;
+        rs.pixels = pixels;
+        rs.supersample = supersample;
+        rs.background = background;
+        bounding_sphere(mesh, rs.sphere);
+        const Image im =
+            render_snapshot(mesh, Material{}, make_view(direction[0], direction[1], direction[2]), rs);
+        py::array_t<float> out({py::ssize_t(im.height), py::ssize_t(im.width)});
+        std::memcpy(out.mutable_data(), im.pixels.data(), im.pixels.size() * sizeof(float));
+        return out;
+      },
+      "positions"_a, "indices"_a, "direction"_a = std::array<float, 3>{0, 0, 1}, "normals"_a = py::none(),
+      "pixels"_a = 256, "supersample"_a = 4, "background"_a = 0.5f,
+      "Snapshot (linear luminance, row 0 at the top) of a mesh framed by its bounding sphere, seen from\n"
+      "`direction` (object to camera), headlight Lambert + ambient, grey albedo 0.8.");
 
-  m.def("lost_contrast", [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
-    const Image a = to_image(level), b = to_image(reference);
-    const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave));
-    const std::vector<float> v = analyzer.measure(a, b);
-    py::array_t<float> out({py::ssize_t(orientations), py::ssize_t(analyzer.band_count())});
-    std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(float));
-    return py::make_tuple(out, analyzer.bands());
-  }, "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
-  "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
-  "(array [orientations, bands] of maxima over the image, band centres [cycles per image]).");
+  m.def(
+      "lost_contrast",
+      [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+        const Image a = to_image(level), b = to_image(reference);
+        const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave));
+        const std::vector<float> v = analyzer.measure(a, b);
+        py::array_t<float> out({py::ssize_t(orientations), py::ssize_t(analyzer.band_count())});
+        std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(float));
+        return py::make_tuple(out, analyzer.bands());
+      },
+      "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
+      "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
+      "(array [orientations, bands] of maxima over the image, band centres [cycles per image]).");
 
-  m.def("reddy_features", [](F32 image, std::uint32_t orientations) {
-    return reddy_features(to_image(image), analysis(orientations, 0, 1.0f));
-  }, "image"_a, "orientations"_a = 8,
-  "Reddy's smallest-feature fundamental frequency per orientation [cycles per image]; 0 where none.");
+  m.def(
+      "reddy_features",
+      [](F32 image, std::uint32_t orientations) {
+        return reddy_features(to_image(image), analysis(orientations, 0, 1.0f));
+      },
+      "image"_a, "orientations"_a = 8,
+      "Reddy's smallest-feature fundamental frequency per orientation [cycles per image]; 0 where none.");
 
-  m.def("build_profile", [](py::list levels, std::uint32_t views, std::uint32_t pixels, std::uint32_t orientations,
-                            std::uint32_t bands, float tolerance, unsigned jobs) {
-    std::vector<F32> keep_p;
-    std::vector<U32> keep_i;
-    std::vector<LevelInput> inputs;
-    for (py::handle h : levels) {
-      const py::tuple t = h.cast<py::tuple>();
-      keep_p.push_back(t[0].cast<F32>());
-      keep_i.push_back(t[1].cast<U32>());
-    }
-    std::vector<std::vector<float>> no_normals(keep_p.size());
-    for (std::size_t k = 0; k < keep_p.size(); ++k) {
-      LevelInput l;
-      l.mesh = mesh_view(keep_p[k], keep_i[k], py::none(), no_normals[k]);
-      inputs.push_back(l);
-    }
-    ProfileSettings s;
-    s.views = views;
-    s.render.pixels = pixels;
-    s.analysis = analysis(orientations, bands, 1.0f);
-    s.view_tolerance = tolerance;
-    s.jobs = jobs;
-    ProfileReport report;
-    ProfileData data;
-    {
-      py::gil_scoped_release release;
-      data = build_profile(inputs, Material{}, s, {}, &report);
-    }
-    const Blob b = encode_profile(data);
-    return py::make_tuple(py::bytes(static_cast<const char*>(b.data()), b.size),
-                          py::dict("views_measured"_a = report.views_measured, "views_kept"_a = report.views_kept,
-                                   "prediction_error"_a = report.prediction_error, "seconds"_a = report.seconds));
-  }, "levels"_a, "views"_a = 0, "pixels"_a = 256, "orientations"_a = 8, "bands"_a = 0, "view_tolerance"_a = 0.25f,
-     "jobs"_a = 0,
-  "Profile a chain: levels = [(positions (N, 3), indices), ...], finest first. Returns (bytes, report).");
+  m.def(
+      "build_profile",
+      [](py::list levels, std::uint32_t views, std::uint32_t pixels, std::uint32_t orientations,
+         std::uint32_t bands, float tolerance, unsigned jobs) {
+        std::vector<F32> keep_p;
+        std::vector<U32> keep_i;
+        std::vector<LevelInput> inputs;
+        for (py::handle h : levels) {
+          const py::tuple t = h.cast<py::tuple>();
+          keep_p.push_back(t[0].cast<F32>());
+          keep_i.push_back(t[1].cast<U32>());
+        }
+        std::vector<std::vector<float>> no_normals(keep_p.size());
+        for (std::size_t k = 0; k < keep_p.size(); ++k) {
+          LevelInput l;
+          l.mesh = mesh_view(keep_p[k], keep_i[k], py::none(), no_normals[k]);
+          inputs.push_back(l);
+        }
+        ProfileSettings s;
+        s.views = views;
+        s.render.pixels = pixels;
+        s.analysis = analysis(orientations, bands, 1.0f);
+        s.view_tolerance = tolerance;
+        s.jobs = jobs;
+        ProfileReport report;
+        ProfileData data;
+        {
+          py::gil_scoped_release release;
+          data = build_profile(inputs, Material{}, s, {}, &report);
+        }
+        const Blob b = encode_profile(data);
+        return py::make_tuple(
+            py::bytes(static_cast<const char*>(b.data()), b.size),
+            py::dict("views_measured"_a = report.views_measured, "views_kept"_a = report.views_kept,
+                     "prediction_error"_a = report.prediction_error, "seconds"_a = report.seconds));
+      },
+      "levels"_a, "views"_a = 0, "pixels"_a = 256, "orientations"_a = 8, "bands"_a = 0,
+      "view_tolerance"_a = 0.25f, "jobs"_a = 0,
+      "Profile a chain: levels = [(positions (N, 3), indices), ...], finest first. Returns (bytes, report).");
 
   py::register_exception<spectra::InvalidProfile>(m, "InvalidProfile", PyExc_ValueError);
   const char* doc =
       "Build a profile blob. sphere (4,); triangles, geometric_error (K,); view_directions (V, 3) from\n"
       "the object towards the camera (canonical up); orientations (T,) [deg]; bands (B,) [cycles per\n"
       "diameter]; lost (K-1, V, T, B); features (K, V, T) [cpod].";
-  m.def("encode_profile", [](F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations, F32 bands,
-                             F32 lost, F32 features, std::uint32_t snapshot_pixels) {
-    const Blob b = spectra::encode_profile(profile_data(sphere, triangles, geometric_error, views, orientations, bands,
-                                                        lost, features, snapshot_pixels));
-    return py::bytes(static_cast<const char*>(b.data()), b.size);
-  }, "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a, "bands"_a, "lost"_a,
-     "features"_a, "snapshot_pixels"_a = 256, doc);
-  m.def("write_profile", [](const std::string& path, F32 sphere, U32 triangles, F32 geometric_error, F32 views,
-                            F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
-    spectra::write_profile(path, profile_data(sphere, triangles, geometric_error, views, orientations, bands, lost,
-                                              features, snapshot_pixels));
-  }, "path"_a, "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a, "bands"_a,
-     "lost"_a, "features"_a, "snapshot_pixels"_a = 256, "encode_profile() written atomically to path.");
+  m.def(
+      "encode_profile",
+      [](F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations, F32 bands, F32 lost,
+         F32 features, std::uint32_t snapshot_pixels) {
+        const Blob b = spectra::encode_profile(profile_data(
+            sphere, triangles, geometric_error, views, orientations, bands, lost, features, snapshot_pixels));
+        return py::bytes(static_cast<const char*>(b.data()), b.size);
+      },
+      "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a, "bands"_a,
+      "lost"_a, "features"_a, "snapshot_pixels"_a = 256, doc);
+  m.def(
+      "write_profile",
+      [](const std::string& path, F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations,
+         F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
+        spectra::write_profile(path, profile_data(sphere, triangles, geometric_error, views, orientations,
+                                                  bands, lost, features, snapshot_pixels));
+      },
+      "path"_a, "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a,
+      "bands"_a, "lost"_a, "features"_a, "snapshot_pixels"_a = 256,
+      "encode_profile() written atomically to path.");
 }
 
 }  // namespace acuity::python

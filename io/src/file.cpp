@@ -1,13 +1,13 @@
 #include "acuity/file.hpp"
 
-#include <cerrno>
-#include <csignal>
-#include <cstdio>
-#include <cstring>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 
 namespace acuity {
 namespace {
@@ -42,7 +42,10 @@ struct SignalsHeld {
 bool read_file(const std::string& path, Blob* out, std::string* error) {
   // O_NONBLOCK: opening a FIFO without a writer must not wait; fstat then refuses it.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) { *error = path + ": " + std::strerror(errno); return false; }
+  if (fd < 0) {
+    *error = path + ": " + std::strerror(errno);
+    return false;
+  }
   struct stat st {};
   const std::string why = ::fstat(fd, &st) != 0 ? std::string(std::strerror(errno)) : not_regular(st);
   if (!why.empty()) {
@@ -58,7 +61,10 @@ bool read_file(const std::string& path, Blob* out, std::string* error) {
   while (done < out->size) {
     const ssize_t n = ::read(fd, bytes + done, out->size - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) { ok = false; break; }
+    if (n <= 0) {
+      ok = false;
+      break;
+    }
     done += static_cast<std::size_t>(n);
   }
   ::close(fd);
@@ -75,7 +81,10 @@ bool write_file_atomically(const std::string& path, const void* data, std::size_
   const SignalsHeld held;  // no temporary is left behind by SIGINT/SIGTERM/SIGHUP/SIGQUIT
   std::string tmp = path + ".tmp.XXXXXX";
   const int fd = ::mkstemp(tmp.data());
-  if (fd < 0) { *error = path + ": cannot create a temporary beside it: " + std::strerror(errno); return false; }
+  if (fd < 0) {
+    *error = path + ": cannot create a temporary beside it: " + std::strerror(errno);
+    return false;
+  }
   ::fchmod(fd, 0644);  // mkstemp makes it private; the result is an ordinary file others may read
   const auto* bytes = static_cast<const unsigned char*>(data);
   std::size_t done = 0;

@@ -55,11 +55,13 @@ Mesh from_surface_mesh(const Converted& c, const Mesh& in) {
     const Point& p = c.mesh.point(vi);
     out.positions.insert(out.positions.end(), {float(p.x()), float(p.y()), float(p.z())});
     const std::size_t o = c.origin[vi];
-    if (!in.texcoords.empty()) out.texcoords.insert(out.texcoords.end(), {in.texcoords[2 * o], in.texcoords[2 * o + 1]});
+    if (!in.texcoords.empty())
+      out.texcoords.insert(out.texcoords.end(), {in.texcoords[2 * o], in.texcoords[2 * o + 1]});
   }
   for (auto f : c.mesh.faces()) {
     if (c.mesh.is_removed(f)) continue;
-    for (VertexIndex vi : CGAL::vertices_around_face(c.mesh.halfedge(f), c.mesh)) out.indices.push_back(index.at(vi));
+    for (VertexIndex vi : CGAL::vertices_around_face(c.mesh.halfedge(f), c.mesh))
+      out.indices.push_back(index.at(vi));
   }
   compute_normals(out);
   return out;
@@ -78,8 +80,8 @@ struct FaceCountStop {
 
 namespace detail {
 
-bool repair_soup(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& triangles,
-                 std::vector<std::size_t>& origin) {
+bool repair_soup(std::vector<std::array<double, 3>>& points,
+                 std::vector<std::array<std::size_t, 3>>& triangles, std::vector<std::size_t>& origin) {
   // Tag each point with its input index through the repair, which may merge and reorder.
   std::vector<Point> pts;
   for (const auto& p : points) pts.emplace_back(p[0], p[1], p[2]);
@@ -111,17 +113,21 @@ Mesh decimate_cgal(const Mesh& mesh, std::size_t target, bool lindstrom_turk, bo
     for (auto e : c.mesh.edges()) constrained[e] = c.mesh.is_border(e);
   const FaceCountStop stop{target, &c.mesh};
   if (lindstrom_turk) {
-    SMS::Constrained_placement<SMS::LindstromTurk_placement<SurfaceMesh>, decltype(constrained)> placement(constrained);
-    SMS::edge_collapse(c.mesh, stop, CGAL::parameters::get_cost(SMS::LindstromTurk_cost<SurfaceMesh>())
-                                         .get_placement(placement)
-                                         .edge_is_constrained_map(constrained));
+    SMS::Constrained_placement<SMS::LindstromTurk_placement<SurfaceMesh>, decltype(constrained)> placement(
+        constrained);
+    SMS::edge_collapse(c.mesh, stop,
+                       CGAL::parameters::get_cost(SMS::LindstromTurk_cost<SurfaceMesh>())
+                           .get_placement(placement)
+                           .edge_is_constrained_map(constrained));
   } else {
     using GH = SMS::GarlandHeckbert_plane_policies<SurfaceMesh, K>;
     GH policies(c.mesh);
-    SMS::Constrained_placement<GH::Get_placement, decltype(constrained)> placement(constrained, policies.get_placement());
-    SMS::edge_collapse(c.mesh, stop, CGAL::parameters::get_cost(policies.get_cost())
-                                         .get_placement(placement)
-                                         .edge_is_constrained_map(constrained));
+    SMS::Constrained_placement<GH::Get_placement, decltype(constrained)> placement(constrained,
+                                                                                   policies.get_placement());
+    SMS::edge_collapse(c.mesh, stop,
+                       CGAL::parameters::get_cost(policies.get_cost())
+                           .get_placement(placement)
+                           .edge_is_constrained_map(constrained));
   }
   c.mesh.collect_garbage();
   return from_surface_mesh(c, mesh);

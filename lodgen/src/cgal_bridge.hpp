@@ -12,11 +12,12 @@ namespace acuity::lodgen::detail {
 
 // Polygon-soup repair and orientation; returns false when the soup could not be made a mesh.
 // `origin[i]` is the input vertex each output vertex came from (for attributes).
-bool repair_soup(std::vector<std::array<double, 3>>& points, std::vector<std::array<std::size_t, 3>>& triangles,
-                 std::vector<std::size_t>& origin);
+bool repair_soup(std::vector<std::array<double, 3>>& points,
+                 std::vector<std::array<std::size_t, 3>>& triangles, std::vector<std::size_t>& origin);
 
 Mesh decimate_cgal(const Mesh& mesh, std::size_t target_triangles, bool lindstrom_turk, bool lock_border);
 Mesh decimate_openmesh(const Mesh& mesh, std::size_t target_triangles, bool lock_border);
-Mesh decimate_meshopt(const Mesh& mesh, std::size_t target_triangles, bool lock_border, double crease_degrees);
+Mesh decimate_meshopt(const Mesh& mesh, std::size_t target_triangles, bool lock_border,
+                      double crease_degrees);
 
 }  // namespace acuity::lodgen::detail

@@ -37,7 +37,8 @@ void finish(Chain& c, const ChainProgress& progress, const DeviationOptions& mea
 }
 }  // namespace
 
-Chain build_chain(const Mesh& input, const std::string& where, const ChainOptions& o, const ChainProgress& progress) {
+Chain build_chain(const Mesh& input, const std::string& where, const ChainOptions& o,
+                  const ChainProgress& progress) {
   if (!(o.ratio > 0 && o.ratio < 1)) throw std::invalid_argument("lodgen: ratio must lie in (0, 1)");
   Chain c;
   const MeshReport report = validate(input);
@@ -56,7 +57,8 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
   // an error budget the chain is cut after measuring, where the Hausdorff error passes it.
   std::vector<std::size_t> targets = {n0};
   for (double t = double(n0) * o.ratio; std::size_t(std::llround(t)) >= floor_count; t *= o.ratio) {
-    if ((o.levels && targets.size() >= o.levels) || targets.size() >= kMaxLevels) break;  // what a profile holds
+    if ((o.levels && targets.size() >= o.levels) || targets.size() >= kMaxLevels)
+      break;  // what a profile holds
     targets.push_back(std::size_t(std::llround(t)));
   }
   c.levels.push_back({base, n0, 0.0, 0.0});
@@ -64,8 +66,9 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     if (progress) progress("decimate", k, targets.size() - 1);
     const auto t = std::chrono::steady_clock::now();
     Level l;
-    l.mesh = o.decimate.backend == Backend::Meshopt ? decimate(base, targets[k], o.decimate)
-                                                    : split_creases(decimate(welded, targets[k], o.decimate), o.decimate.crease_degrees);
+    l.mesh = o.decimate.backend == Backend::Meshopt
+                 ? decimate(base, targets[k], o.decimate)
+                 : split_creases(decimate(welded, targets[k], o.decimate), o.decimate.crease_degrees);
     l.target_triangles = targets[k];
     l.seconds = seconds_since(t);
     c.levels.push_back(std::move(l));
@@ -76,7 +79,8 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
   return c;
 }
 
-Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress, const DeviationOptions& measure) {
+Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress,
+                    const DeviationOptions& measure) {
   Chain c;
   for (Mesh& m : levels) {
     const std::size_t n = m.triangle_count();

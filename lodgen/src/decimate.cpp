@@ -10,19 +10,35 @@
 namespace acuity::lodgen {
 
 bool parse_backend(const std::string& name, Backend* out) {
-  if (name == "openmesh") { *out = Backend::OpenMesh; return true; }
-  if (name == "cgal" || name == "cgal-gh") { *out = Backend::CgalGarlandHeckbert; return true; }
-  if (name == "cgal-lt") { *out = Backend::CgalLindstromTurk; return true; }
-  if (name == "meshopt") { *out = Backend::Meshopt; return true; }
+  if (name == "openmesh") {
+    *out = Backend::OpenMesh;
+    return true;
+  }
+  if (name == "cgal" || name == "cgal-gh") {
+    *out = Backend::CgalGarlandHeckbert;
+    return true;
+  }
+  if (name == "cgal-lt") {
+    *out = Backend::CgalLindstromTurk;
+    return true;
+  }
+  if (name == "meshopt") {
+    *out = Backend::Meshopt;
+    return true;
+  }
   return false;
 }
 
 const char* to_string(Backend b) {
   switch (b) {
-    case Backend::OpenMesh: return "openmesh";
-    case Backend::CgalGarlandHeckbert: return "cgal";
-    case Backend::CgalLindstromTurk: return "cgal-lt";
-    case Backend::Meshopt: return "meshopt";
+    case Backend::OpenMesh:
+      return "openmesh";
+    case Backend::CgalGarlandHeckbert:
+      return "cgal";
+    case Backend::CgalLindstromTurk:
+      return "cgal-lt";
+    case Backend::Meshopt:
+      return "meshopt";
   }
   return "?";
 }
@@ -34,10 +50,13 @@ Mesh decimate(const Mesh& mesh, std::size_t target, const DecimateOptions& o) {
     return copy;
   }
   switch (o.backend) {
-    case Backend::OpenMesh: return detail::decimate_openmesh(mesh, target, o.lock_border);
-    case Backend::Meshopt: return detail::decimate_meshopt(mesh, target, o.lock_border, o.crease_degrees);
+    case Backend::OpenMesh:
+      return detail::decimate_openmesh(mesh, target, o.lock_border);
+    case Backend::Meshopt:
+      return detail::decimate_meshopt(mesh, target, o.lock_border, o.crease_degrees);
     case Backend::CgalGarlandHeckbert:
-    case Backend::CgalLindstromTurk: break;
+    case Backend::CgalLindstromTurk:
+      break;
   }
   return detail::decimate_cgal(mesh, target, o.backend == Backend::CgalLindstromTurk, o.lock_border);
 }
@@ -56,8 +75,13 @@ std::array<float, 3> face_normal(const Mesh& m, std::size_t t) {
 
 void normalize_or_up(float* n) {
   const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (len > 0) for (int k = 0; k < 3; ++k) n[k] /= len;
-  else { n[0] = 0; n[1] = 0; n[2] = 1; }
+  if (len > 0)
+    for (int k = 0; k < 3; ++k) n[k] /= len;
+  else {
+    n[0] = 0;
+    n[1] = 0;
+    n[2] = 1;
+  }
 }
 
 // Union-find over the mesh's corners (3 per triangle).
@@ -101,15 +125,19 @@ Mesh split_creases(const Mesh& m, double crease_degrees) {
     if (a >= b) continue;  // each edge once, from its lower vertex
     std::size_t twin = 0, twins = 0, same = 0;
     for (std::size_t i = first[b]; i < first[b + 1]; ++i)
-      if (m.indices[next(corners[i])] == a) { twin = corners[i]; ++twins; }
+      if (m.indices[next(corners[i])] == a) {
+        twin = corners[i];
+        ++twins;
+      }
     for (std::size_t i = first[a]; i < first[a + 1]; ++i) same += m.indices[next(corners[i])] == b;
     if (twins != 1 || same != 1) continue;  // a border, or three and more triangles: a crease
     const auto& n1 = unit[c / 3];
     const auto& n2 = unit[twin / 3];
-    const bool degenerate = (n1[0] == 0 && n1[1] == 0 && n1[2] == 0) || (n2[0] == 0 && n2[1] == 0 && n2[2] == 0);
+    const bool degenerate =
+        (n1[0] == 0 && n1[1] == 0 && n1[2] == 0) || (n2[0] == 0 && n2[1] == 0 && n2[2] == 0);
     if (!degenerate && n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2] < cos_crease) continue;
-    parent[find_root(parent, c)] = find_root(parent, next(twin));   // the corners at a
-    parent[find_root(parent, next(c))] = find_root(parent, twin);   // the corners at b
+    parent[find_root(parent, c)] = find_root(parent, next(twin));  // the corners at a
+    parent[find_root(parent, next(c))] = find_root(parent, twin);  // the corners at b
   }
   // One output vertex per (vertex, fan), numbered in vertex order; unused vertices are kept.
   Mesh out;
@@ -120,7 +148,8 @@ Mesh split_creases(const Mesh& m, double crease_degrees) {
   auto add_vertex = [&](std::size_t v) {
     out.positions.insert(out.positions.end(), m.positions.begin() + 3 * v, m.positions.begin() + 3 * v + 3);
     out.normals.insert(out.normals.end(), {0.0f, 0.0f, 0.0f});
-    if (uv) out.texcoords.insert(out.texcoords.end(), m.texcoords.begin() + 2 * v, m.texcoords.begin() + 2 * v + 2);
+    if (uv)
+      out.texcoords.insert(out.texcoords.end(), m.texcoords.begin() + 2 * v, m.texcoords.begin() + 2 * v + 2);
   };
   for (std::size_t v = 0; v < nv; ++v) {
     roots.clear();
@@ -133,7 +162,8 @@ Mesh split_creases(const Mesh& m, double crease_degrees) {
         add_vertex(v);
       }
       out.indices[c] = std::uint32_t(base + g);
-      for (int k = 0; k < 3; ++k) out.normals[3 * (base + g) + std::size_t(k)] += area_normal[c / 3][std::size_t(k)];
+      for (int k = 0; k < 3; ++k)
+        out.normals[3 * (base + g) + std::size_t(k)] += area_normal[c / 3][std::size_t(k)];
     }
     if (roots.empty()) add_vertex(v);
   }

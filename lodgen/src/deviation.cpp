@@ -22,12 +22,15 @@ using Primitive = CGAL::AABB_triangle_primitive<K, Triangles::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
 using Clock = std::chrono::steady_clock;
 
-P3 vertex(const Mesh& m, std::uint32_t v) { return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}; }
+P3 vertex(const Mesh& m, std::uint32_t v) {
+  return {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
+}
 
 // The triangles of `m` with positive area, and for each its triangle index in `m`.
 void solid_triangles(const Mesh& m, Triangles& out, std::vector<std::size_t>& index) {
   for (std::size_t t = 0; t < m.triangle_count(); ++t) {
-    K::Triangle_3 tri(vertex(m, m.indices[3 * t]), vertex(m, m.indices[3 * t + 1]), vertex(m, m.indices[3 * t + 2]));
+    K::Triangle_3 tri(vertex(m, m.indices[3 * t]), vertex(m, m.indices[3 * t + 1]),
+                      vertex(m, m.indices[3 * t + 2]));
     if (tri.is_degenerate()) continue;
     out.push_back(tri);
     index.push_back(t);
@@ -38,7 +41,8 @@ void solid_triangles(const Mesh& m, Triangles& out, std::vector<std::size_t>& in
 std::array<std::size_t, 2> grid(const K::Triangle_3& t, double spacing) {
   const double area = std::sqrt(t.squared_area());
   double longest = 0;
-  for (int i = 0; i < 3; ++i) longest = std::max(longest, std::sqrt(CGAL::squared_distance(t[i], t[(i + 1) % 3])));
+  for (int i = 0; i < 3; ++i)
+    longest = std::max(longest, std::sqrt(CGAL::squared_distance(t[i], t[(i + 1) % 3])));
   const double height = longest > 0 ? 2 * area / longest : 0;
   const auto steps = [&](double length) { return std::size_t(std::min(1e9, std::ceil(length / spacing))); };
   return {steps(longest), steps(height)};
@@ -85,12 +89,16 @@ struct Side {
 };
 
 // Samples on `from` matched against `to`'s tree.
-Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<std::size_t>& from_index, const Mesh& to,
-              const Tree& to_tree, const Triangles& to_tris, const std::vector<std::size_t>& to_index,
-              const DeviationOptions& o, double spacing, std::size_t face_stride) {
+Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<std::size_t>& from_index,
+              const Mesh& to, const Tree& to_tree, const Triangles& to_tris,
+              const std::vector<std::size_t>& to_index, const DeviationOptions& o, double spacing,
+              std::size_t face_stride) {
   Side s;
-  const bool normals = from.normals.size() == from.positions.size() && to.normals.size() == to.positions.size();
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(std::clamp(o.max_seconds, 0.0, 1e6)));
+  const bool normals =
+      from.normals.size() == from.positions.size() && to.normals.size() == to.positions.size();
+  const auto deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(std::clamp(o.max_seconds, 0.0, 1e6)));
   auto out_of_time = [&] {
     if ((s.samples & 1023) != 0 || Clock::now() < deadline) return false;
     s.complete = false;
@@ -110,7 +118,9 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
   }
   // Face grids: cell centres of a grid along the longest edge and across it, inside the triangle
   // (every face_stride-th triangle when there are more triangles than the budget).
-  const auto angle_degrees = [](double cosine) { return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi; };
+  const auto angle_degrees = [](double cosine) {
+    return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180 / std::numbers::pi;
+  };
   Tree::Point_and_primitive_id hint;
   bool have_hint = false;
   for (std::size_t i = 0; i < from_tris.size(); i += face_stride) {
@@ -128,14 +138,16 @@ Side one_side(const Mesh& from, const Triangles& from_tris, const std::vector<st
       b[std::size_t((a + 2) % 3)] = w;
       const P3 p = CGAL::barycenter(t[0], b[0], t[1], b[1], t[2], b[2]);
       // The previous answer (a nearby sample's) bounds the search: far fewer tree nodes visited.
-      const auto hit = have_hint ? to_tree.closest_point_and_primitive(p, hint) : to_tree.closest_point_and_primitive(p);
+      const auto hit =
+          have_hint ? to_tree.closest_point_and_primitive(p, hint) : to_tree.closest_point_and_primitive(p);
       hint = hit;
       have_hint = true;
       s.hausdorff = std::max(s.hausdorff, std::sqrt(CGAL::squared_distance(p, hit.first)));
       if (!normals) return;
       const std::size_t to_local = std::size_t(hit.second - to_tris.begin());
       const K::Vector_3 n0 = shading_normal(from, from_index[i], b);
-      const K::Vector_3 n1 = shading_normal(to, to_index[to_local], barycentric(to_tris[to_local], hit.first));
+      const K::Vector_3 n1 =
+          shading_normal(to, to_index[to_local], barycentric(to_tris[to_local], hit.first));
       s.angles.push_back(float(angle_degrees(n0 * n1)));
     };
     bool inside = false;

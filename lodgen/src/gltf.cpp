@@ -4,12 +4,12 @@
 #include "path.hpp"
 
 #include <fcntl.h>
-#include <nlohmann/json.hpp>
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
 #include <tiny_gltf.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cerrno>
@@ -27,7 +27,9 @@ namespace {
 using tinygltf::Accessor;
 using tinygltf::Model;
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) { throw InputError(where + ": " + what); }
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw InputError(where + ": " + what);
+}
 
 // Everything decoded or read counts against LoadLimits::max_total_bytes.
 struct Budget {
@@ -44,12 +46,14 @@ struct Budget {
 // a + b and a * b, or InputError naming `what` when the result does not fit in 64 bits.
 std::uint64_t checked_add(std::uint64_t a, std::uint64_t b, const std::string& what) {
   std::uint64_t r = 0;
-  if (__builtin_add_overflow(a, b, &r)) fail(what, "offset arithmetic overflows (" + std::to_string(a) + " + " + std::to_string(b) + ")");
+  if (__builtin_add_overflow(a, b, &r))
+    fail(what, "offset arithmetic overflows (" + std::to_string(a) + " + " + std::to_string(b) + ")");
   return r;
 }
 std::uint64_t checked_mul(std::uint64_t a, std::uint64_t b, const std::string& what) {
   std::uint64_t r = 0;
-  if (__builtin_mul_overflow(a, b, &r)) fail(what, "size arithmetic overflows (" + std::to_string(a) + " x " + std::to_string(b) + ")");
+  if (__builtin_mul_overflow(a, b, &r))
+    fail(what, "size arithmetic overflows (" + std::to_string(a) + " x " + std::to_string(b) + ")");
   return r;
 }
 
@@ -68,25 +72,31 @@ Span accessor_span(const Model& m, const Accessor& a, std::size_t element, const
   if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) fail(view, "names no valid buffer");
   const std::vector<unsigned char>& buf = m.buffers[std::size_t(v.buffer)].data;
   if (checked_add(v.byteOffset, v.byteLength, view) > buf.size())
-    fail(view, "bytes " + std::to_string(v.byteOffset) + " + " + std::to_string(v.byteLength) + " reach past its buffer's " +
-                   std::to_string(buf.size()) + " bytes");
+    fail(view, "bytes " + std::to_string(v.byteOffset) + " + " + std::to_string(v.byteLength) +
+                   " reach past its buffer's " + std::to_string(buf.size()) + " bytes");
   const std::size_t stride = v.byteStride ? v.byteStride : element;
-  if (stride < element) fail(view, "byteStride " + std::to_string(stride) + " is smaller than an element (" + std::to_string(element) + " bytes)");
+  if (stride < element)
+    fail(view, "byteStride " + std::to_string(stride) + " is smaller than an element (" +
+                   std::to_string(element) + " bytes)");
   Span s;
   s.stride = stride;
   s.count = a.count;
   if (a.count == 0) return s;
-  const std::uint64_t need = checked_add(checked_add(a.byteOffset, checked_mul(a.count - 1, stride, at), at), element, at);
+  const std::uint64_t need =
+      checked_add(checked_add(a.byteOffset, checked_mul(a.count - 1, stride, at), at), element, at);
   if (need > v.byteLength)
-    fail(at, std::to_string(a.count) + " elements from byteOffset " + std::to_string(a.byteOffset) + " need " + std::to_string(need) +
-                 " bytes; its bufferView has " + std::to_string(v.byteLength));
+    fail(at, std::to_string(a.count) + " elements from byteOffset " + std::to_string(a.byteOffset) +
+                 " need " + std::to_string(need) + " bytes; its bufferView has " +
+                 std::to_string(v.byteLength));
   s.base = buf.data() + v.byteOffset + a.byteOffset;  // both sums were checked above
   return s;
 }
 
 // Reads accessor `index` as `components` floats per element (FLOAT, or normalised integers).
-std::vector<float> read_floats(const Model& m, int index, int components, const std::string& where, Budget& budget) {
-  if (index < 0 || index >= int(m.accessors.size())) fail(where, "accessor " + std::to_string(index) + " does not exist");
+std::vector<float> read_floats(const Model& m, int index, int components, const std::string& where,
+                               Budget& budget) {
+  if (index < 0 || index >= int(m.accessors.size()))
+    fail(where, "accessor " + std::to_string(index) + " does not exist");
   const Accessor& a = m.accessors[std::size_t(index)];
   const std::string at = where + ", accessor " + std::to_string(index);
   if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(a.type)) != components)
@@ -101,10 +111,21 @@ std::vector<float> read_floats(const Model& m, int index, int components, const 
       const unsigned char* p = span.base + i * span.stride + std::size_t(c) * std::size_t(csize);
       float x;
       switch (a.componentType) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&x, p, 4); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = float(*p) / 255.0f; break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { std::uint16_t s; std::memcpy(&s, p, 2); x = float(s) / 65535.0f; break; }
-        default: fail(at, "component type " + std::to_string(a.componentType) + " is not a float or normalised type");
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+          std::memcpy(&x, p, 4);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          x = float(*p) / 255.0f;
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+          std::uint16_t s;
+          std::memcpy(&s, p, 2);
+          x = float(s) / 65535.0f;
+          break;
+        }
+        default:
+          fail(at,
+               "component type " + std::to_string(a.componentType) + " is not a float or normalised type");
       }
       if (!std::isfinite(x)) fail(at, "element " + std::to_string(i) + " is not finite");
       out[i * std::size_t(components) + std::size_t(c)] = x;
@@ -112,14 +133,16 @@ std::vector<float> read_floats(const Model& m, int index, int components, const 
   return out;
 }
 
-std::vector<std::uint32_t> read_indices(const Model& m, int index, std::size_t vertex_count, const std::string& where, Budget& budget) {
+std::vector<std::uint32_t> read_indices(const Model& m, int index, std::size_t vertex_count,
+                                        const std::string& where, Budget& budget) {
   if (index < 0) {  // non-indexed: 0, 1, 2, ...
     budget.charge(checked_mul(vertex_count, 4, where), where + ", implicit indices");
     std::vector<std::uint32_t> out(vertex_count);
     for (std::size_t i = 0; i < vertex_count; ++i) out[i] = std::uint32_t(i);
     return out;
   }
-  if (index >= int(m.accessors.size())) fail(where, "index accessor " + std::to_string(index) + " does not exist");
+  if (index >= int(m.accessors.size()))
+    fail(where, "index accessor " + std::to_string(index) + " does not exist");
   const Accessor& a = m.accessors[std::size_t(index)];
   const std::string at = where + ", index accessor " + std::to_string(index);
   if (a.type != TINYGLTF_TYPE_SCALAR) fail(at, "must be scalar");
@@ -131,7 +154,8 @@ std::vector<std::uint32_t> read_indices(const Model& m, int index, std::size_t v
   for (std::size_t i = 0; i < span.count; ++i) {
     std::uint32_t x = 0;
     std::memcpy(&x, span.base + i * span.stride, std::size_t(csize));  // little-endian
-    if (x >= vertex_count) fail(at, "index " + std::to_string(x) + " at element " + std::to_string(i) + " is out of range");
+    if (x >= vertex_count)
+      fail(at, "index " + std::to_string(x) + " at element " + std::to_string(i) + " is out of range");
     out[i] = x;
   }
   return out;
@@ -148,9 +172,10 @@ std::array<double, 16> local_matrix(const tinygltf::Node& n) {
   if (n.rotation.size() == 4) std::copy(n.rotation.begin(), n.rotation.end(), r);
   if (n.scale.size() == 3) std::copy(n.scale.begin(), n.scale.end(), s);
   const double x = r[0], y = r[1], z = r[2], w = r[3];
-  const double rot[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w),
-                         2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
-                         2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};  // columns
+  const double rot[9] = {
+      1 - 2 * (y * y + z * z), 2 * (x * y + z * w),     2 * (x * z - y * w),
+      2 * (x * y - z * w),     1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+      2 * (x * z + y * w),     2 * (y * z - x * w),     1 - 2 * (x * x + y * y)};  // columns
   for (int c = 0; c < 3; ++c)
     for (int k = 0; k < 3; ++k) m[c * 4 + k] = rot[c * 3 + k] * s[c];
   for (int k = 0; k < 3; ++k) m[12 + k] = t[k];
@@ -170,13 +195,16 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
       if (source >= 0 && source < int(model.images.size())) {
         const tinygltf::Image& img = model.images[source];
         if (img.width > 0 && img.height > 0 && img.bits == 8 && img.component >= 1 && img.component <= 4 &&
-            img.image.size() == std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.component)) {
-          budget.charge(std::uint64_t(img.width) * std::uint64_t(img.height) * 4, path + ": material '" + src.name + "' texture");
+            img.image.size() ==
+                std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.component)) {
+          budget.charge(std::uint64_t(img.width) * std::uint64_t(img.height) * 4,
+                        path + ": material '" + src.name + "' texture");
           mat.width = img.width;
           mat.height = img.height;
           mat.pixels.resize(std::size_t(img.width) * img.height * 4, 255);
           for (std::size_t i = 0; i < std::size_t(img.width) * img.height; ++i)
-            for (int c = 0; c < std::min(img.component, 4); ++c) mat.pixels[i * 4 + c] = img.image[i * img.component + c];
+            for (int c = 0; c < std::min(img.component, 4); ++c)
+              mat.pixels[i * 4 + c] = img.image[i * img.component + c];
           if (img.component < 3)  // grey (+ alpha): spread the grey into RGB
             for (std::size_t i = 0; i < std::size_t(img.width) * img.height; ++i) {
               mat.pixels[i * 4 + 1] = mat.pixels[i * 4 + 2] = mat.pixels[i * 4];
@@ -194,19 +222,24 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
     const tinygltf::Mesh& src = model.meshes[mi];
     for (std::size_t pi = 0; pi < src.primitives.size(); ++pi) {
       const tinygltf::Primitive& prim = src.primitives[pi];
-      const std::string where = path + ": mesh " + std::to_string(mi) + " ('" + src.name + "') primitive " + std::to_string(pi);
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) fail(where, "only triangle primitives are supported");
+      const std::string where =
+          path + ": mesh " + std::to_string(mi) + " ('" + src.name + "') primitive " + std::to_string(pi);
+      if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1)
+        fail(where, "only triangle primitives are supported");
       const auto pos = prim.attributes.find("POSITION");
       if (pos == prim.attributes.end()) fail(where, "has no POSITION");
       Mesh m;
       m.positions = read_floats(model, pos->second, 3, where, budget);
-      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) m.normals = read_floats(model, it->second, 3, where, budget);
-      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end()) m.texcoords = read_floats(model, it->second, 2, where, budget);
+      if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end())
+        m.normals = read_floats(model, it->second, 3, where, budget);
+      if (auto it = prim.attributes.find("TEXCOORD_0"); it != prim.attributes.end())
+        m.texcoords = read_floats(model, it->second, 2, where, budget);
       if ((!m.normals.empty() && m.normals.size() != m.positions.size()) ||
           (!m.texcoords.empty() && m.texcoords.size() / 2 != m.positions.size() / 3))
         fail(where, "attributes differ in length from POSITION");
       m.indices = read_indices(model, prim.indices, m.vertex_count(), where, budget);
-      if (m.indices.size() % 3) fail(where, "index count " + std::to_string(m.indices.size()) + " is not a multiple of 3");
+      if (m.indices.size() % 3)
+        fail(where, "index count " + std::to_string(m.indices.size()) + " is not a multiple of 3");
       m.material = prim.material >= 0 && prim.material < int(scene.materials.size()) ? prim.material : -1;
       scene.meshes.push_back(std::move(m));
       scene.mesh_names.push_back(src.name.empty() ? "mesh" + std::to_string(mi) : src.name);
@@ -221,11 +254,13 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
     for (double x : n.matrix)
       if (!std::isfinite(x)) fail(path + ": node " + std::to_string(ni), "transform is not finite");
     for (int c : src.children) {
-      if (c < 0 || c >= int(model.nodes.size())) fail(path + ": node " + std::to_string(ni), "child " + std::to_string(c) + " does not exist");
+      if (c < 0 || c >= int(model.nodes.size()))
+        fail(path + ": node " + std::to_string(ni), "child " + std::to_string(c) + " does not exist");
       n.children.push_back(c);
     }
     if (src.mesh >= 0) {
-      if (src.mesh >= int(model.meshes.size())) fail(path + ": node " + std::to_string(ni), "mesh " + std::to_string(src.mesh) + " does not exist");
+      if (src.mesh >= int(model.meshes.size()))
+        fail(path + ": node " + std::to_string(ni), "mesh " + std::to_string(src.mesh) + " does not exist");
       if (mesh_count[src.mesh] > 0) n.mesh = mesh_first[src.mesh];
     }
     if (auto it = src.extensions.find("MSFT_lod"); it != src.extensions.end() && it->second.Has("ids")) {
@@ -234,14 +269,16 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
     }
     if (src.extras.Has("MSFT_screencoverage")) {
       const tinygltf::Value& c = src.extras.Get("MSFT_screencoverage");
-      for (std::size_t i = 0; i < c.ArrayLen(); ++i) n.screen_coverage.push_back(c.Get(int(i)).GetNumberAsDouble());
+      for (std::size_t i = 0; i < c.ArrayLen(); ++i)
+        n.screen_coverage.push_back(c.Get(int(i)).GetNumberAsDouble());
     }
     if (src.extras.Has("acuity_geometric_error")) {
       const tinygltf::Value& e = src.extras.Get("acuity_geometric_error");
       for (std::size_t i = 0; i < e.ArrayLen(); ++i) {
         const double x = e.Get(int(i)).GetNumberAsDouble();
         if (!(x >= 0) || !std::isfinite(x))
-          fail(path + ": node " + std::to_string(ni), "acuity_geometric_error[" + std::to_string(i) + "] is not a finite error >= 0");
+          fail(path + ": node " + std::to_string(ni),
+               "acuity_geometric_error[" + std::to_string(i) + "] is not a finite error >= 0");
         n.geometric_error.push_back(x);
       }
     }
@@ -262,7 +299,8 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
   const int s = model.defaultScene >= 0 ? model.defaultScene : 0;
   if (s < int(model.scenes.size())) {
     for (int r : model.scenes[s].nodes) {
-      if (r < 0 || r >= int(model.nodes.size())) fail(path, "scene root " + std::to_string(r) + " does not exist");
+      if (r < 0 || r >= int(model.nodes.size()))
+        fail(path, "scene root " + std::to_string(r) + " does not exist");
       scene.roots.push_back(r);
     }
   } else {
@@ -270,7 +308,8 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
   }
   for (const Node& n : scene.nodes)
     for (int l : n.lods)
-      if (l < 0 || l >= int(scene.nodes.size())) fail(path, "MSFT_lod names node " + std::to_string(l) + ", which does not exist");
+      if (l < 0 || l >= int(scene.nodes.size()))
+        fail(path, "MSFT_lod names node " + std::to_string(l) + ", which does not exist");
   return scene;
 }
 
@@ -350,15 +389,21 @@ std::string not_regular(const struct stat& st) {
 
 // Reads a whole regular file of at most `limit` bytes, charging the budget before reading. Opened
 // non-blocking so a FIFO cannot make it wait; fstat then refuses anything but a regular file.
-bool read_regular(const std::string& path, std::uint64_t limit, Budget& budget, std::vector<unsigned char>* out, std::string* error) {
+bool read_regular(const std::string& path, std::uint64_t limit, Budget& budget,
+                  std::vector<unsigned char>* out, std::string* error) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) { *error = path + ": " + std::strerror(errno); return false; }
+  if (fd < 0) {
+    *error = path + ": " + std::strerror(errno);
+    return false;
+  }
   struct stat st {};
   std::string why = ::fstat(fd, &st) != 0 ? std::string(std::strerror(errno)) : not_regular(st);
   if (why.empty() && std::uint64_t(st.st_size) > limit)
-    why = std::to_string(st.st_size) + " bytes, more than the load limit max_file_bytes (" + std::to_string(limit) + ")";
+    why = std::to_string(st.st_size) + " bytes, more than the load limit max_file_bytes (" +
+          std::to_string(limit) + ")";
   if (why.empty() && std::uint64_t(st.st_size) > budget.left)
-    why = std::to_string(st.st_size) + " bytes, more than the load limit max_total_bytes leaves (" + std::to_string(budget.left) + ")";
+    why = std::to_string(st.st_size) + " bytes, more than the load limit max_total_bytes leaves (" +
+          std::to_string(budget.left) + ")";
   if (!why.empty()) {
     ::close(fd);
     *error = path + ": " + why;
@@ -374,7 +419,10 @@ bool read_regular(const std::string& path, std::uint64_t limit, Budget& budget, 
     done += std::size_t(n);
   }
   ::close(fd);
-  if (done != out->size()) { *error = path + ": cannot read (it changed while reading)"; return false; }
+  if (done != out->size()) {
+    *error = path + ": cannot read (it changed while reading)";
+    return false;
+  }
   return true;
 }
 
@@ -386,13 +434,16 @@ void check_json_depth(const char* text, std::size_t size, std::uint32_t limit, c
   for (std::size_t i = 0; i < size; ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
       if (++depth > limit)
-        throw InputError(path + ": JSON nested deeper than the load limit max_json_depth (" + std::to_string(limit) + ")");
+        throw InputError(path + ": JSON nested deeper than the load limit max_json_depth (" +
+                         std::to_string(limit) + ")");
     } else if ((c == ']' || c == '}') && depth > 0) {
       --depth;
     }
@@ -401,21 +452,43 @@ void check_json_depth(const char* text, std::size_t size, std::uint32_t limit, c
 
 // A uri's file, resolved against `base` and required to stay inside `root` (both canonical).
 // Returns "" and sets *why when the uri is refused. data: URIs never reach here.
-std::string resolve_uri(const std::string& uri, const fs::path& base, const fs::path& root, std::string* why) {
-  if (uri.empty()) { *why = "is empty"; return {}; }
-  if (uri.front() == '/' || uri.front() == '\\') { *why = "is an absolute path; only paths relative to the glTF are read"; return {}; }
-  if (uri.find(':') != std::string::npos) { *why = "has a scheme (file:, http:, ...) or a drive; only relative paths and data: URIs are read"; return {}; }
-  if (uri.find('%') != std::string::npos) { *why = "has %-escapes; write the path plainly"; return {}; }
-  if (uri.find('\\') != std::string::npos) { *why = "has a backslash; use '/'"; return {}; }
+std::string resolve_uri(const std::string& uri, const fs::path& base, const fs::path& root,
+                        std::string* why) {
+  if (uri.empty()) {
+    *why = "is empty";
+    return {};
+  }
+  if (uri.front() == '/' || uri.front() == '\\') {
+    *why = "is an absolute path; only paths relative to the glTF are read";
+    return {};
+  }
+  if (uri.find(':') != std::string::npos) {
+    *why = "has a scheme (file:, http:, ...) or a drive; only relative paths and data: URIs are read";
+    return {};
+  }
+  if (uri.find('%') != std::string::npos) {
+    *why = "has %-escapes; write the path plainly";
+    return {};
+  }
+  if (uri.find('\\') != std::string::npos) {
+    *why = "has a backslash; use '/'";
+    return {};
+  }
   const fs::path lexical = (base / uri).lexically_normal();
   auto inside = [&](const fs::path& p) {
     const fs::path rel = p.lexically_relative(root);
     return !rel.empty() && *rel.begin() != ".." && rel != ".";
   };
-  if (!inside(lexical)) { *why = "leaves the asset folder " + root.string() + " (see --asset-root)"; return {}; }
+  if (!inside(lexical)) {
+    *why = "leaves the asset folder " + root.string() + " (see --asset-root)";
+    return {};
+  }
   std::error_code ec;
   const fs::path real = fs::weakly_canonical(lexical, ec);  // symbolic links resolved
-  if (ec || !inside(real)) { *why = "leads outside the asset folder " + root.string() + " (a symbolic link?)"; return {}; }
+  if (ec || !inside(real)) {
+    *why = "leads outside the asset folder " + root.string() + " (a symbolic link?)";
+    return {};
+  }
   return real.string();
 }
 
@@ -424,8 +497,8 @@ struct Reader {
   fs::path base, root;  // canonical: the glTF's folder, and the folder uris may reach into
   LoadLimits limits;
   Budget budget;
-  std::vector<bool> used_images;  // decoded only when a material uses them
-  std::string error;              // the first refusal, for a clear message
+  std::vector<bool> used_images;                   // decoded only when a material uses them
+  std::string error;                               // the first refusal, for a clear message
   std::vector<std::string>* files_read = nullptr;  // LoadOptions::files_read
 };
 
@@ -434,7 +507,10 @@ std::string expand_path(const std::string& path, void*) { return path; }  // no 
 // tinygltf joins its base folder with the uri, then tries "." + uri: only the first, confined.
 std::string confined(const std::string& joined, Reader& r, std::string* why) {
   const fs::path p(joined);
-  if (!p.is_absolute()) { *why = "is not beside the glTF (the current folder is not searched)"; return {}; }
+  if (!p.is_absolute()) {
+    *why = "is not beside the glTF (the current folder is not searched)";
+    return {};
+  }
   const fs::path rel = p.lexically_relative(r.base);
   return resolve_uri(rel.string(), r.base, r.root, why);
 }
@@ -448,7 +524,8 @@ bool file_exists(const std::string& joined, void* user) {
   return true;  // read_whole_file says why a non-regular file is refused
 }
 
-bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& joined, void* user) {
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& joined,
+                     void* user) {
   Reader& r = *static_cast<Reader*>(user);
   std::string why;
   const std::string file = confined(joined, r, &why);
@@ -467,10 +544,11 @@ bool write_whole_file(std::string* err, const std::string&, const std::vector<un
 }
 
 // Decodes an image a material uses, after its header shows it within the limits; others stay empty.
-bool load_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int, const unsigned char* bytes,
-                int size, void* user) {
+bool load_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                const unsigned char* bytes, int size, void* user) {
   Reader& r = *static_cast<Reader*>(user);
-  if (index < 0 || std::size_t(index) >= r.used_images.size() || !r.used_images[std::size_t(index)]) return true;
+  if (index < 0 || std::size_t(index) >= r.used_images.size() || !r.used_images[std::size_t(index)])
+    return true;
   const std::string what = "image " + std::to_string(index);
   auto refuse = [&](const std::string& why) {
     if (err) *err += what + ": " + why;
@@ -482,9 +560,11 @@ bool load_image(tinygltf::Image* image, const int index, std::string* err, std::
     return refuse("not an image stb_image reads (PNG, JPEG, ...)");
   const std::uint64_t pixels = std::uint64_t(w) * std::uint64_t(h);
   if (pixels > r.limits.max_image_pixels)
-    return refuse(std::to_string(w) + " x " + std::to_string(h) + " pixels, more than the load limit max_image_pixels (" +
+    return refuse(std::to_string(w) + " x " + std::to_string(h) +
+                  " pixels, more than the load limit max_image_pixels (" +
                   std::to_string(r.limits.max_image_pixels) + ")");
-  if (pixels * 4 > r.budget.left) return refuse("decoding needs more bytes than the load limit max_total_bytes leaves");
+  if (pixels * 4 > r.budget.left)
+    return refuse("decoding needs more bytes than the load limit max_total_bytes leaves");
   r.budget.left -= pixels * 4;
   unsigned char* data = stbi_load_from_memory(bytes, size, &w, &h, &comp, 4);
   if (!data) return refuse(std::string("cannot decode: ") + stbi_failure_reason());
@@ -520,7 +600,8 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
     for (std::size_t i = 0; i < items.size(); ++i) {
       if (!items[i].is_object() || !items[i].contains("uri")) continue;
       const json& uri = items[i]["uri"];
-      const std::string what = path + ": " + std::string(key, std::strlen(key) - 1) + " " + std::to_string(i) + " uri";
+      const std::string what =
+          path + ": " + std::string(key, std::strlen(key) - 1) + " " + std::to_string(i) + " uri";
       if (!uri.is_string()) throw InputError(what + " is not a string");
       const std::string u = uri.get<std::string>();
       if (u.rfind("data:", 0) == 0) continue;
@@ -532,7 +613,8 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
   const json& nodes = array("nodes");
   const LoadLimits& L = r.limits;
   if (nodes.size() > L.max_nodes)
-    throw InputError(path + ": " + std::to_string(nodes.size()) + " nodes, more than the load limit max_nodes (" + std::to_string(L.max_nodes) + ")");
+    throw InputError(path + ": " + std::to_string(nodes.size()) +
+                     " nodes, more than the load limit max_nodes (" + std::to_string(L.max_nodes) + ")");
   std::vector<std::int64_t> parent(nodes.size(), -1);
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     const std::string where = path + ": node " + std::to_string(n);
@@ -540,13 +622,17 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
     if (const auto c = nodes[n].find("children"); c != nodes[n].end()) {
       if (!c->is_array()) throw InputError(where + ": children is not an array");
       if (c->size() > L.max_children)
-        throw InputError(where + ": " + std::to_string(c->size()) + " children, more than the load limit max_children (" + std::to_string(L.max_children) + ")");
+        throw InputError(where + ": " + std::to_string(c->size()) +
+                         " children, more than the load limit max_children (" +
+                         std::to_string(L.max_children) + ")");
       for (const json& v : *c) {
         const std::size_t child = index(v, nodes.size(), "node " + std::to_string(n) + " child");
-        if (parent[child] == std::int64_t(n)) throw InputError(where + " lists child " + std::to_string(child) + " twice (glTF requires a tree)");
+        if (parent[child] == std::int64_t(n))
+          throw InputError(where + " lists child " + std::to_string(child) + " twice (glTF requires a tree)");
         if (parent[child] >= 0)
-          throw InputError(path + ": node " + std::to_string(child) + " has two parents, " + std::to_string(parent[child]) + " and " +
-                           std::to_string(n) + " (glTF requires a tree)");
+          throw InputError(path + ": node " + std::to_string(child) + " has two parents, " +
+                           std::to_string(parent[child]) + " and " + std::to_string(n) +
+                           " (glTF requires a tree)");
         if (child == n) throw InputError(where + " is its own child (a cycle)");
         parent[child] = std::int64_t(n);
       }
@@ -556,8 +642,9 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
         if (const auto ids = lod->find("ids"); ids != lod->end()) {
           if (!ids->is_array()) throw InputError(where + ": MSFT_lod ids is not an array");
           if (ids->size() + 1 > L.max_levels)
-            throw InputError(where + ": MSFT_lod has " + std::to_string(ids->size() + 1) + " levels, more than the load limit max_levels (" +
-                             std::to_string(L.max_levels) + ")");
+            throw InputError(where + ": MSFT_lod has " + std::to_string(ids->size() + 1) +
+                             " levels, more than the load limit max_levels (" + std::to_string(L.max_levels) +
+                             ")");
           for (const json& v : *ids) index(v, nodes.size(), "node " + std::to_string(n) + " MSFT_lod id");
         }
   }
@@ -571,14 +658,17 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
     while (depth[at] == 0 && parent[at] >= 0) {
       chain.push_back(at);
       if (chain.size() > std::size_t(L.max_node_depth) + 1)
-        throw InputError(path + ": node " + std::to_string(n) + " is deeper than the load limit max_node_depth (" +
+        throw InputError(path + ": node " + std::to_string(n) +
+                         " is deeper than the load limit max_node_depth (" +
                          std::to_string(L.max_node_depth) + "), or the hierarchy has a cycle");
       at = std::size_t(parent[at]);
     }
     std::uint32_t d = depth[at] ? depth[at] : (depth[at] = 1);
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) depth[*it] = ++d;
     if (d - 1 > L.max_node_depth)
-      throw InputError(path + ": node " + std::to_string(n) + " is deeper than the load limit max_node_depth (" + std::to_string(L.max_node_depth) + ")");
+      throw InputError(path + ": node " + std::to_string(n) +
+                       " is deeper than the load limit max_node_depth (" + std::to_string(L.max_node_depth) +
+                       ")");
   }
   const json& scenes = array("scenes");
   for (std::size_t s = 0; s < scenes.size(); ++s) {
@@ -589,9 +679,12 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
     for (const json& v : roots) {
       const std::size_t root = index(v, nodes.size(), "scene " + std::to_string(s) + " node");
       if (parent[root] >= 0)
-        throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) + ", which has a parent (" +
-                         std::to_string(parent[root]) + "); scene nodes must be roots");
-      if (seen[root]) throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) + " twice");
+        throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) +
+                         ", which has a parent (" + std::to_string(parent[root]) +
+                         "); scene nodes must be roots");
+      if (seen[root])
+        throw InputError(path + ": scene " + std::to_string(s) + " lists node " + std::to_string(root) +
+                         " twice");
       seen[root] = true;
     }
   }
@@ -603,10 +696,15 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
     if (!m.is_object()) continue;
     const json* t = &m;
     for (const char* key : {"pbrMetallicRoughness", "baseColorTexture", "index"}) {
-      if (!t->is_object() || !t->contains(key)) { t = nullptr; break; }
+      if (!t->is_object() || !t->contains(key)) {
+        t = nullptr;
+        break;
+      }
       t = &(*t)[key];
     }
-    if (!t || !t->is_number_integer() || t->get<long long>() < 0 || std::uint64_t(t->get<long long>()) >= textures.size()) continue;
+    if (!t || !t->is_number_integer() || t->get<long long>() < 0 ||
+        std::uint64_t(t->get<long long>()) >= textures.size())
+      continue;
     const json& tex = textures[std::size_t(t->get<long long>())];
     if (!tex.is_object() || !tex.contains("source") || !tex["source"].is_number_integer()) continue;
     const long long source = tex["source"].get<long long>();
@@ -614,7 +712,10 @@ void check_document(const nlohmann::json& doc, const std::string& path, Reader& 
   }
 }
 
-std::uint32_t le32(const unsigned char* p) { return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 | std::uint32_t(p[3]) << 24; }
+std::uint32_t le32(const unsigned char* p) {
+  return std::uint32_t(p[0]) | std::uint32_t(p[1]) << 8 | std::uint32_t(p[2]) << 16 |
+         std::uint32_t(p[3]) << 24;
+}
 
 Scene load_gltf(const std::string& path, const LoadOptions& options) {
   Reader r;
@@ -628,7 +729,8 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   r.root = r.base;
   if (!options.asset_root.empty()) {
     r.root = fs::weakly_canonical(fs::absolute(options.asset_root, ec), ec);
-    if (ec || !fs::is_directory(r.root)) throw InputError(options.asset_root + ": the asset root is not a folder");
+    if (ec || !fs::is_directory(r.root))
+      throw InputError(options.asset_root + ": the asset root is not a folder");
     const fs::path rel = r.base.lexically_relative(r.root);
     if (rel.empty() || *rel.begin() == "..")
       throw InputError(path + ": is not inside the asset root " + r.root.string());
@@ -643,7 +745,8 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   if (glb) {
     if (bytes.size() < 20) throw InputError(path + ": GLB shorter than its 20-byte header");
     const std::uint32_t length = le32(&bytes[8]), chunk = le32(&bytes[12]);
-    if (le32(&bytes[4]) != 2) throw InputError(path + ": GLB version " + std::to_string(le32(&bytes[4])) + ", not 2");
+    if (le32(&bytes[4]) != 2)
+      throw InputError(path + ": GLB version " + std::to_string(le32(&bytes[4])) + ", not 2");
     if (length > bytes.size() || std::uint64_t(chunk) + 20 > length || le32(&bytes[16]) != 0x4E4F534Au)
       throw InputError(path + ": malformed GLB header (lengths past the file, or no JSON chunk first)");
     json_text += 20;
@@ -660,15 +763,18 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   doc = nlohmann::json();
 
   tinygltf::TinyGLTF loader;
-  loader.SetFsCallbacks(tinygltf::FsCallbacks{file_exists, expand_path, read_whole_file, write_whole_file, &r});
+  loader.SetFsCallbacks(
+      tinygltf::FsCallbacks{file_exists, expand_path, read_whole_file, write_whole_file, &r});
   loader.SetImageLoader(load_image, &r);
   tinygltf::Model model;
   std::string err, warn;
   const std::string base = r.base.string();
-  const bool ok = glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base)
-                      : loader.LoadASCIIFromString(&model, &err, &warn, json_text, unsigned(json_size), base);
+  const bool ok =
+      glb ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base)
+          : loader.LoadASCIIFromString(&model, &err, &warn, json_text, unsigned(json_size), base);
   if (!r.error.empty()) throw InputError(path + ": " + r.error);
-  if (!ok) throw InputError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? "unknown error" : err));
+  if (!ok)
+    throw InputError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? "unknown error" : err));
   bytes = {};  // tinygltf checked each buffer's byteLength; accessor_span checks against the bytes held
   return convert(model, path, r.budget);
 }
@@ -697,10 +803,12 @@ std::vector<PlacedNode> world_matrices(const Scene& scene, const std::function<b
   std::vector<PlacedNode> stack;  // (node, its parent's world matrix)
   const std::array<double, 16> identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   auto push = [&](int n, const std::array<double, 16>& parent) {
-    if (n < 0 || std::size_t(n) >= scene.nodes.size()) throw InputError("node " + std::to_string(n) + " does not exist");
+    if (n < 0 || std::size_t(n) >= scene.nodes.size())
+      throw InputError("node " + std::to_string(n) + " does not exist");
     if (skip && skip(n)) return;
     if (reached[std::size_t(n)])
-      throw InputError("node " + std::to_string(n) + " is reached twice: the node hierarchy has a cycle or a node with two parents");
+      throw InputError("node " + std::to_string(n) +
+                       " is reached twice: the node hierarchy has a cycle or a node with two parents");
     reached[std::size_t(n)] = true;
     stack.push_back({n, parent});
   };
@@ -712,7 +820,9 @@ std::vector<PlacedNode> world_matrices(const Scene& scene, const std::function<b
     PlacedNode placed{top.node, {}};
     for (int c = 0; c < 4; ++c)  // column-major parent * local
       for (int r = 0; r < 4; ++r)
-        for (int k = 0; k < 4; ++k) placed.world[std::size_t(c * 4 + r)] += top.world[std::size_t(k * 4 + r)] * node.matrix[std::size_t(c * 4 + k)];
+        for (int k = 0; k < 4; ++k)
+          placed.world[std::size_t(c * 4 + r)] +=
+              top.world[std::size_t(k * 4 + r)] * node.matrix[std::size_t(c * 4 + k)];
     out.push_back(placed);
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) push(*c, placed.world);
   }
@@ -744,7 +854,8 @@ Chain chain_of_node(const Scene& scene, const Node& top) {
   Chain c;
   std::vector<Mesh> meshes = {scene.meshes[std::size_t(top.mesh)]};
   for (int id : top.lods)
-    if (scene.nodes[std::size_t(id)].mesh >= 0) meshes.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
+    if (scene.nodes[std::size_t(id)].mesh >= 0)
+      meshes.push_back(scene.meshes[std::size_t(scene.nodes[std::size_t(id)].mesh)]);
   const std::vector<double> errors = lod_geometric_errors(top, meshes.size());
   for (std::size_t k = 0; k < meshes.size(); ++k) {
     const std::size_t triangles = meshes[k].triangle_count();
@@ -754,14 +865,13 @@ Chain chain_of_node(const Scene& scene, const Node& top) {
   return c;
 }
 
-void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects, const std::vector<Material>& materials,
-                    const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
+void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objects,
+                    const std::vector<Material>& materials, const GltfWriteOptions& options,
+                    const std::vector<LodInstance>& instances) {
   std::string bytes;
   try {
     bytes = encode_lod_gltf(objects, materials, options, instances);
-  } catch (const std::runtime_error& e) {
-    throw std::runtime_error(path + ": " + e.what());
-  }
+  } catch (const std::runtime_error& e) { throw std::runtime_error(path + ": " + e.what()); }
   std::string error;
   if (!write_file_atomically(path, bytes.data(), bytes.size(), &error)) throw std::runtime_error(error);
 }
@@ -769,7 +879,8 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
 std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::vector<Material>& materials,
                             const GltfWriteOptions& options, const std::vector<LodInstance>& instances) {
   if (!(options.reference_height >= 1) || !std::isfinite(options.reference_height))
-    throw std::runtime_error("reference height " + std::to_string(options.reference_height) + " is not a finite height >= 1 px");
+    throw std::runtime_error("reference height " + std::to_string(options.reference_height) +
+                             " is not a finite height >= 1 px");
   tinygltf::Model model;
   model.asset.version = "2.0";
   model.asset.generator = "acuity lodgen";
@@ -778,12 +889,14 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
   for (const Material& src : materials) {
     tinygltf::Material m;
     m.name = src.name;
-    m.pbrMetallicRoughness.baseColorFactor = {src.base_color[0], src.base_color[1], src.base_color[2], src.base_color[3]};
+    m.pbrMetallicRoughness.baseColorFactor = {src.base_color[0], src.base_color[1], src.base_color[2],
+                                              src.base_color[3]};
     m.pbrMetallicRoughness.metallicFactor = 0.0;
     m.pbrMetallicRoughness.roughnessFactor = 1.0;
     if (!src.pixels.empty()) {
       std::vector<unsigned char> png;
-      if (!stbi_write_png_to_func(append_png, &png, src.width, src.height, 4, src.pixels.data(), src.width * 4))
+      if (!stbi_write_png_to_func(append_png, &png, src.width, src.height, 4, src.pixels.data(),
+                                  src.width * 4))
         throw std::runtime_error("cannot encode the texture of material '" + src.name + "'");
       tinygltf::Image img;
       img.mimeType = "image/png";
@@ -818,11 +931,13 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
   }
   std::vector<LodInstance> placed = instances;
   if (placed.empty())
-    for (std::size_t i = 0; i < objects.size(); ++i) placed.push_back({int(i), objects[i].name, objects[i].matrix});
+    for (std::size_t i = 0; i < objects.size(); ++i)
+      placed.push_back({int(i), objects[i].name, objects[i].matrix});
   tinygltf::Scene scene;
   for (const LodInstance& in : placed) {
     if (in.object < 0 || in.object >= int(objects.size()))
-      throw std::runtime_error("instance '" + in.name + "' names object " + std::to_string(in.object) + ", which does not exist");
+      throw std::runtime_error("instance '" + in.name + "' names object " + std::to_string(in.object) +
+                               ", which does not exist");
     const LodObject& o = objects[std::size_t(in.object)];
     std::vector<double> geometric_error;
     for (const Level& l : o.chain.levels) geometric_error.push_back(l.hausdorff);

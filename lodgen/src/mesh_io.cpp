@@ -6,9 +6,9 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <algorithm>
-#include <cmath>
 #include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -63,16 +63,25 @@ std::size_t declared_faces(const std::string& path, std::uintmax_t size) {
     long long count = 0;
     auto flush = [&] {
       if (element.empty()) return;
-      check(element.c_str(), static_cast<unsigned long long>(count), static_cast<unsigned long long>(std::max(1, properties)));
+      check(element.c_str(), static_cast<unsigned long long>(count),
+            static_cast<unsigned long long>(std::max(1, properties)));
       if (element == "face") faces = static_cast<std::size_t>(count);
     };
-    auto malformed = [&](const std::string& l) { throw InputError(path + ": malformed PLY header line '" + l + "'"); };
-    static const char* const kTypes[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double",
-                                         "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
-    auto is_type = [&](const std::string& t) { return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes); };
+    auto malformed = [&](const std::string& l) {
+      throw InputError(path + ": malformed PLY header line '" + l + "'");
+    };
+    static const char* const kTypes[] = {"char",  "uchar",  "short",   "ushort", "int",   "uint",
+                                         "float", "double", "int8",    "uint8",  "int16", "uint16",
+                                         "int32", "uint32", "float32", "float64"};
+    auto is_type = [&](const std::string& t) {
+      return std::find(std::begin(kTypes), std::end(kTypes), t) != std::end(kTypes);
+    };
     while (std::getline(in, line)) {
       if (!line.empty() && line.back() == '\r') line.pop_back();
-      if (line == "end_header") { ended = true; break; }
+      if (line == "end_header") {
+        ended = true;
+        break;
+      }
       std::istringstream words(line);
       std::string key, a, b, c, extra;
       words >> key;
@@ -100,12 +109,16 @@ std::size_t declared_faces(const std::string& path, std::uintmax_t size) {
         // A line with no keyword (Blender 2.4 wrote "Created by Blender3D ..." without "comment"):
         // a comment, as assimp reads it. OpenMesh skips such words one by one, so a keyword later
         // in the line would be taken as one: reject those.
-        static const char* const kKeywords[] = {"ply", "format", "element", "property", "end_header", "comment", "obj_info"};
+        static const char* const kKeywords[] = {"ply",        "format",  "element", "property",
+                                                "end_header", "comment", "obj_info"};
         for (std::istringstream all(line); all >> a;)
-          if (std::find(std::begin(kKeywords), std::end(kKeywords), a) != std::end(kKeywords)) malformed(line);
+          if (std::find(std::begin(kKeywords), std::end(kKeywords), a) != std::end(kKeywords))
+            malformed(line);
       }
     }
-    if (!format || !ended || !vertices) throw InputError(path + ": PLY header is incomplete (format, a vertex element and end_header are needed)");
+    if (!format || !ended || !vertices)
+      throw InputError(path +
+                       ": PLY header is incomplete (format, a vertex element and end_header are needed)");
     flush();
   }
   return faces;
@@ -137,7 +150,8 @@ Mesh read_openmesh(const std::string& path, std::size_t declared) {
   for (const auto fh : om.faces())
     for (const auto vh : om.fv_range(fh)) mesh.indices.push_back(static_cast<std::uint32_t>(vh.idx()));
   if (mesh.indices.empty())
-    throw InputError(path + ": no triangles could be read (faces with missing vertices or malformed lines are dropped)");
+    throw InputError(
+        path + ": no triangles could be read (faces with missing vertices or malformed lines are dropped)");
   return mesh;
 }
 
@@ -174,12 +188,14 @@ Mesh load_mesh(const std::string& path) {
 // count + floats and u64 index count + indices, or u64 length + text.
 Mesh load_mesh_isolated(const std::string& path) {
 #ifndef ACUITY_HAVE_FORK
-  throw std::runtime_error(path + ": load_mesh_isolated needs fork(), which this system lacks; use load_mesh for trusted files");
+  throw std::runtime_error(
+      path + ": load_mesh_isolated needs fork(), which this system lacks; use load_mesh for trusted files");
 #else
   std::uintmax_t size = 0;
   const std::size_t declared = checked_declared_faces(path, &size);
   int fds[2];
-  if (::pipe(fds) != 0) throw std::runtime_error(path + ": cannot isolate the mesh reader (pipe: " + std::strerror(errno) + ")");
+  if (::pipe(fds) != 0)
+    throw std::runtime_error(path + ": cannot isolate the mesh reader (pipe: " + std::strerror(errno) + ")");
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) {
@@ -194,14 +210,16 @@ Mesh load_mesh_isolated(const std::string& path) {
     try {
       const Mesh m = read_openmesh(path, declared);
       const std::uint64_t nf = m.positions.size(), ni = m.indices.size();
-      const bool sent = write_all(fds[1], &ok, 1) && write_all(fds[1], &nf, 8) && write_all(fds[1], m.positions.data(), nf * 4) &&
-                        write_all(fds[1], &ni, 8) && write_all(fds[1], m.indices.data(), ni * 4);
+      const bool sent = write_all(fds[1], &ok, 1) && write_all(fds[1], &nf, 8) &&
+                        write_all(fds[1], m.positions.data(), nf * 4) && write_all(fds[1], &ni, 8) &&
+                        write_all(fds[1], m.indices.data(), ni * 4);
       ::_exit(sent ? 0 : 2);
     } catch (const std::exception& e) {
       ok = 0;
       const std::string text = e.what();
       const std::uint64_t n = text.size();
-      ::_exit(write_all(fds[1], &ok, 1) && write_all(fds[1], &n, 8) && write_all(fds[1], text.data(), n) ? 0 : 2);
+      ::_exit(write_all(fds[1], &ok, 1) && write_all(fds[1], &n, 8) && write_all(fds[1], text.data(), n) ? 0
+                                                                                                         : 2);
     }
   }
   ::close(fds[1]);
@@ -211,8 +229,13 @@ Mesh load_mesh_isolated(const std::string& path) {
   char chunk[65536];
   bool timed_out = false;
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
-    if (left <= 0) { timed_out = true; break; }
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now())
+            .count();
+    if (left <= 0) {
+      timed_out = true;
+      break;
+    }
     pollfd pfd{fds[0], POLLIN, 0};
     const int r = ::poll(&pfd, 1, int(std::min<long long>(left, 1000)));
     if (r < 0 && errno == EINTR) continue;
@@ -228,9 +251,12 @@ Mesh load_mesh_isolated(const std::string& path) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
   if (timed_out) throw InputError(path + ": the reader did not finish in time (a malformed file)");
-  if (WIFSIGNALED(status)) throw InputError(path + ": the reader failed on this file (malformed; signal " + std::to_string(WTERMSIG(status)) + ")");
+  if (WIFSIGNALED(status))
+    throw InputError(path + ": the reader failed on this file (malformed; signal " +
+                     std::to_string(WTERMSIG(status)) + ")");
   auto take = [&](std::size_t& at, void* out, std::size_t n) {
-    if (bytes.size() - at < n) throw InputError(path + ": the reader failed on this file (incomplete result)");
+    if (bytes.size() - at < n)
+      throw InputError(path + ": the reader failed on this file (incomplete result)");
     std::memcpy(out, bytes.data() + at, n);
     at += n;
   };
@@ -245,11 +271,13 @@ Mesh load_mesh_isolated(const std::string& path) {
     throw InputError(text);
   }
   Mesh mesh;
-  if (n > (bytes.size() - at) / 4) throw InputError(path + ": the reader failed on this file (incomplete result)");
+  if (n > (bytes.size() - at) / 4)
+    throw InputError(path + ": the reader failed on this file (incomplete result)");
   mesh.positions.resize(n);
   take(at, mesh.positions.data(), n * 4);
   take(at, &n, 8);
-  if (n > (bytes.size() - at) / 4) throw InputError(path + ": the reader failed on this file (incomplete result)");
+  if (n > (bytes.size() - at) / 4)
+    throw InputError(path + ": the reader failed on this file (incomplete result)");
   mesh.indices.resize(n);
   take(at, mesh.indices.data(), n * 4);
   return mesh;

@@ -9,13 +9,13 @@
 namespace acuity::lodgen::detail {
 
 namespace {
-std::vector<std::uint32_t> simplify(const Mesh& in, const std::vector<std::uint32_t>& indices, std::size_t target,
-                                    bool lock_border) {
+std::vector<std::uint32_t> simplify(const Mesh& in, const std::vector<std::uint32_t>& indices,
+                                    std::size_t target, bool lock_border) {
   std::vector<std::uint32_t> kept(indices.size());
   // target_error 1 = the whole extent: only the triangle count stops it.
-  kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), in.positions.data(), in.vertex_count(),
-                               3 * sizeof(float), 3 * target, 1.0f, lock_border ? unsigned(meshopt_SimplifyLockBorder) : 0u,
-                               nullptr));
+  kept.resize(meshopt_simplify(kept.data(), indices.data(), indices.size(), in.positions.data(),
+                               in.vertex_count(), 3 * sizeof(float), 3 * target, 1.0f,
+                               lock_border ? unsigned(meshopt_SimplifyLockBorder) : 0u, nullptr));
   return kept;
 }
 
@@ -31,9 +31,11 @@ Mesh weld(const Mesh& in) {
   for (std::uint32_t v : shadow) {
     if (remap[v] == std::numeric_limits<std::uint32_t>::max()) {
       remap[v] = std::uint32_t(out.vertex_count());
-      out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v, in.positions.begin() + 3 * v + 3);
+      out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v,
+                           in.positions.begin() + 3 * v + 3);
       if (in.texcoords.size() == 2 * in.vertex_count())
-        out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v, in.texcoords.begin() + 2 * v + 2);
+        out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v,
+                             in.texcoords.begin() + 2 * v + 2);
     }
     out.indices.push_back(remap[v]);
   }
@@ -52,7 +54,8 @@ std::size_t flips(const Mesh& m) {
     }
     const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
     const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-    const double f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
     flipped += f[0] * n[0] + f[1] * n[1] + f[2] * n[2] < 0;
   }
   return flipped;
@@ -65,13 +68,17 @@ Mesh compact(const Mesh& in, const std::vector<std::uint32_t>& kept) {
   for (std::uint32_t v : kept) remap[v] = 0;
   Mesh out;
   out.material = in.material;
-  const bool normals = in.normals.size() == in.positions.size(), uv = in.texcoords.size() == 2 * in.vertex_count();
+  const bool normals = in.normals.size() == in.positions.size(),
+             uv = in.texcoords.size() == 2 * in.vertex_count();
   for (std::size_t v = 0; v < remap.size(); ++v) {
     if (remap[v] == kUnused) continue;
     remap[v] = std::uint32_t(out.vertex_count());
     out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v, in.positions.begin() + 3 * v + 3);
-    if (normals) out.normals.insert(out.normals.end(), in.normals.begin() + 3 * v, in.normals.begin() + 3 * v + 3);
-    if (uv) out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v, in.texcoords.begin() + 2 * v + 2);
+    if (normals)
+      out.normals.insert(out.normals.end(), in.normals.begin() + 3 * v, in.normals.begin() + 3 * v + 3);
+    if (uv)
+      out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v,
+                           in.texcoords.begin() + 2 * v + 2);
   }
   out.indices.reserve(kept.size());
   for (std::uint32_t v : kept) out.indices.push_back(remap[v]);
@@ -93,7 +100,8 @@ Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, doub
   // coarse organic mesh split at many creases) left too few collapses: decimate the welded mesh and
   // split its creases afresh (UV seams close there).
   const Mesh welded = weld(in);
-  return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)), crease_degrees);
+  return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)),
+                       crease_degrees);
 }
 
 }  // namespace acuity::lodgen::detail

@@ -20,11 +20,13 @@ Mesh decimate_openmesh(const Mesh& in, std::size_t target, bool lock_border) {
   if (uv) om.request_vertex_texcoords2D();
   std::vector<OmMesh::VertexHandle> v(in.vertex_count());
   for (std::size_t i = 0; i < v.size(); ++i) {
-    v[i] = om.add_vertex(OmMesh::Point(in.positions[3 * i], in.positions[3 * i + 1], in.positions[3 * i + 2]));
+    v[i] =
+        om.add_vertex(OmMesh::Point(in.positions[3 * i], in.positions[3 * i + 1], in.positions[3 * i + 2]));
     if (uv) om.set_texcoord2D(v[i], OmMesh::TexCoord2D(in.texcoords[2 * i], in.texcoords[2 * i + 1]));
   }
   for (std::size_t t = 0; t < in.indices.size(); t += 3)
-    om.add_face(v[in.indices[t]], v[in.indices[t + 1]], v[in.indices[t + 2]]);  // non-manifold ones are refused
+    om.add_face(v[in.indices[t]], v[in.indices[t + 1]],
+                v[in.indices[t + 2]]);  // non-manifold ones are refused
   om.update_face_normals();
   if (lock_border)
     for (auto vh : om.vertices())

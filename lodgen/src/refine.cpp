@@ -1,11 +1,11 @@
 // OpenSubdiv uniform refinement (Loop or Catmull-Clark) of a polygon cage.
 #include "acuity/lodgen/refine.hpp"
 
-#include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <cmath>
 #include <filesystem>
@@ -18,25 +18,32 @@ namespace {
 struct Point3 {
   float p[3];
   void Clear(void* = nullptr) { p[0] = p[1] = p[2] = 0; }
-  void AddWithWeight(const Point3& s, float w) { for (int k = 0; k < 3; ++k) p[k] += w * s.p[k]; }
+  void AddWithWeight(const Point3& s, float w) {
+    for (int k = 0; k < 3; ++k) p[k] += w * s.p[k];
+  }
 };
 }  // namespace
 
 PolygonMesh load_polygon_mesh(const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
   OpenMesh::PolyMesh_ArrayKernelT<> om;
-  if (!OpenMesh::IO::read_mesh(om, path)) throw InputError(path + ": not a readable OFF, OBJ, PLY or STL mesh");
+  if (!OpenMesh::IO::read_mesh(om, path))
+    throw InputError(path + ": not a readable OFF, OBJ, PLY or STL mesh");
   PolygonMesh out;
   for (auto vh : om.vertices()) {
     const auto& p = om.point(vh);
     for (int k = 0; k < 3; ++k) {
-      if (!std::isfinite(p[k])) throw InputError(path + ": vertex " + std::to_string(vh.idx()) + " is not finite");
+      if (!std::isfinite(p[k]))
+        throw InputError(path + ": vertex " + std::to_string(vh.idx()) + " is not finite");
       out.positions.push_back(p[k]);
     }
   }
   for (auto fh : om.faces()) {
     std::uint32_t n = 0;
-    for (auto vh : om.fv_range(fh)) { out.indices.push_back(std::uint32_t(vh.idx())); ++n; }
+    for (auto vh : om.fv_range(fh)) {
+      out.indices.push_back(std::uint32_t(vh.idx()));
+      ++n;
+    }
     out.face_sizes.push_back(n);
   }
   if (out.face_sizes.empty()) throw InputError(path + ": the mesh has no faces");

@@ -17,7 +17,8 @@ namespace {
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
 
 bool finite_vertex(const Mesh& m, std::size_t v) {
-  return std::isfinite(m.positions[3 * v]) && std::isfinite(m.positions[3 * v + 1]) && std::isfinite(m.positions[3 * v + 2]);
+  return std::isfinite(m.positions[3 * v]) && std::isfinite(m.positions[3 * v + 1]) &&
+         std::isfinite(m.positions[3 * v + 2]);
 }
 
 bool degenerate(const Mesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
@@ -27,14 +28,18 @@ bool degenerate(const Mesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c
     e1[k] = double(m.positions[3 * b + k]) - m.positions[3 * a + k];
     e2[k] = double(m.positions[3 * c + k]) - m.positions[3 * a + k];
   }
-  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
   return n[0] == 0 && n[1] == 0 && n[2] == 0;
 }
 
 struct UnionFind {
   std::vector<std::size_t> parent;
   explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  std::size_t find(std::size_t x) { while (parent[x] != x) x = parent[x] = parent[parent[x]]; return x; }
+  std::size_t find(std::size_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
   void join(std::size_t a, std::size_t b) { parent[find(a)] = find(b); }
 };
 
@@ -66,16 +71,25 @@ MeshReport validate(const Mesh& m) {
   {
     std::map<std::array<float, 3>, std::size_t> seen;
     for (std::size_t v = 0; v < r.vertices; ++v)
-      if (finite[v] && !seen.emplace(std::array<float, 3>{m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]}, v).second)
+      if (finite[v] && !seen.emplace(std::array<float, 3>{m.positions[3 * v], m.positions[3 * v + 1],
+                                                          m.positions[3 * v + 2]},
+                                     v)
+                            .second)
         ++r.duplicate_vertices;
   }
   std::unordered_map<std::uint64_t, std::uint32_t> directed, undirected;
   std::vector<std::size_t> good;  // triangles whose indices and vertices are usable
   for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
     const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
-    if (a >= r.vertices || b >= r.vertices || c >= r.vertices) { ++r.bad_indices; continue; }
+    if (a >= r.vertices || b >= r.vertices || c >= r.vertices) {
+      ++r.bad_indices;
+      continue;
+    }
     if (!finite[a] || !finite[b] || !finite[c]) continue;
-    if (degenerate(m, a, b, c)) { ++r.degenerate_triangles; continue; }
+    if (degenerate(m, a, b, c)) {
+      ++r.degenerate_triangles;
+      continue;
+    }
     good.push_back(t);
     for (auto [x, y] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
       ++directed[edge_key(x, y)];
@@ -120,7 +134,8 @@ Mesh repair(const Mesh& m, const std::string& where, MeshReport* before) {
   for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
     const std::uint32_t a = m.indices[t], b = m.indices[t + 1], c = m.indices[t + 2];
     if (a >= m.vertex_count() || b >= m.vertex_count() || c >= m.vertex_count()) continue;
-    if (!finite_vertex(m, a) || !finite_vertex(m, b) || !finite_vertex(m, c) || degenerate(m, a, b, c)) continue;
+    if (!finite_vertex(m, a) || !finite_vertex(m, b) || !finite_vertex(m, c) || degenerate(m, a, b, c))
+      continue;
     triangles.push_back({a, b, c});
   }
   if (triangles.empty()) throw InputError(where + ": nothing usable is left (" + report.summary() + ")");
@@ -129,7 +144,11 @@ Mesh repair(const Mesh& m, const std::string& where, MeshReport* before) {
   std::vector<std::array<double, 3>> used;
   for (auto& t : triangles)
     for (auto& i : t) {
-      if (remap[i] == SIZE_MAX) { remap[i] = used.size(); used.push_back(points[i]); kept.push_back(i); }
+      if (remap[i] == SIZE_MAX) {
+        remap[i] = used.size();
+        used.push_back(points[i]);
+        kept.push_back(i);
+      }
       i = remap[i];
     }
   std::vector<std::size_t> origin;
@@ -140,7 +159,8 @@ Mesh repair(const Mesh& m, const std::string& where, MeshReport* before) {
   for (std::size_t i = 0; i < used.size(); ++i) {
     for (double x : used[i]) out.positions.push_back(float(x));
     const std::size_t o = kept[origin[i]];
-    if (!m.texcoords.empty()) out.texcoords.insert(out.texcoords.end(), {m.texcoords[2 * o], m.texcoords[2 * o + 1]});
+    if (!m.texcoords.empty())
+      out.texcoords.insert(out.texcoords.end(), {m.texcoords[2 * o], m.texcoords[2 * o + 1]});
   }
   for (const auto& t : triangles)
     for (std::size_t i : t) out.indices.push_back(std::uint32_t(i));

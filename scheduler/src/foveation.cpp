@@ -18,11 +18,11 @@ double guenter_display_sharpness(double width, double distance, double pixels) {
   return std::atan(2.0 * width / (distance * pixels)) / kDeg;
 }
 
-GuenterLayers guenter_layers(double width, double distance, double pixels, double aspect,
-                             double slope, int n_layers, double omega0, int grid) {
+GuenterLayers guenter_layers(double width, double distance, double pixels, double aspect, double slope,
+                             int n_layers, double omega0, int grid) {
   GuenterLayers out;
-  const bool valid = width > 0 && distance > 0 && pixels >= 1 && aspect > 0 && slope >= 0 &&
-                     omega0 > 0 && n_layers >= 1 && n_layers <= kMaxGuenterLayers && grid >= 2 &&
+  const bool valid = width > 0 && distance > 0 && pixels >= 1 && aspect > 0 && slope >= 0 && omega0 > 0 &&
+                     n_layers >= 1 && n_layers <= kMaxGuenterLayers && grid >= 2 &&
                      std::isfinite(width * distance * pixels * aspect * slope * omega0);
   if (!valid) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -70,7 +70,10 @@ GuenterLayers guenter_layers(double width, double distance, double pixels, doubl
       int arg = 0;
       for (int k = i; k < j; ++k) {
         const double c = cost[(i - 1) * m + k] + inner_pixels(radius_at(j), sampling_after(radius_at(k)));
-        if (c < best) { best = c; arg = k; }
+        if (c < best) {
+          best = c;
+          arg = k;
+        }
       }
       cost[i * m + j] = best;
       from[i * m + j] = arg;
@@ -80,7 +83,10 @@ GuenterLayers guenter_layers(double width, double distance, double pixels, doubl
   int last = 0;
   for (int j = n - 1; j < m; ++j) {
     const double c = cost[(n - 2) * m + j] + outer_pixels(sampling_after(radius_at(j)));
-    if (c < best) { best = c; last = j; }
+    if (c < best) {
+      best = c;
+      last = j;
+    }
   }
 
   // Walk back to the radii, then recompute each layer's figures.

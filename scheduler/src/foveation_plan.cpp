@@ -9,8 +9,8 @@ namespace acuity {
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kDegD = 180.0 / kPi;
-constexpr float kMaxBias = 16.0f;           // octaves; far beyond any texture's mip chain
-constexpr float kBiasMargin = 1e-5f;        // float rounding of the tables: the bias never exceeds the exact one
+constexpr float kMaxBias = 16.0f;     // octaves; far beyond any texture's mip chain
+constexpr float kBiasMargin = 1e-5f;  // float rounding of the tables: the bias never exceeds the exact one
 constexpr float kSineScale = kFoveationSineSteps;
 
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
@@ -20,7 +20,8 @@ float floor_log2(float x, const float* mantissa_table) {
   std::uint32_t bits;
   std::memcpy(&bits, &x, sizeof bits);
   const int exponent = static_cast<int>((bits >> 23) & 0xffu) - 127;
-  return static_cast<float>(exponent) + mantissa_table[(bits >> (23 - kFoveationLog2Bits)) & ((1u << kFoveationLog2Bits) - 1)];
+  return static_cast<float>(exponent) +
+         mantissa_table[(bits >> (23 - kFoveationLog2Bits)) & ((1u << kFoveationLog2Bits) - 1)];
 }
 
 // v rotated by the inverse of unit quaternion q (x y z w).
@@ -34,7 +35,9 @@ void rotate_inverse(const float q[4], const float v[3], double out[3]) {
 
 double angle_deg(const double a[3], const double b[3]) {  // both unit
   const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * kDegD;
+  return std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) *
+         kDegD;
 }
 
 void normalize(double v[3]) {
@@ -56,7 +59,8 @@ bool projection(const Eye& eye, Projection* p) {
   p->tan_r = std::tan(eye.fov_deg[1] / kDegD);
   p->tan_u = std::tan(eye.fov_deg[2] / kDegD);
   p->tan_d = std::tan(eye.fov_deg[3] / kDegD);
-  if (!(p->tan_r > p->tan_l) || !(p->tan_u > p->tan_d) || eye.viewport[0] == 0 || eye.viewport[1] == 0) return false;
+  if (!(p->tan_r > p->tan_l) || !(p->tan_u > p->tan_d) || eye.viewport[0] == 0 || eye.viewport[1] == 0)
+    return false;
   p->fx = eye.viewport[0] / (p->tan_r - p->tan_l);
   p->fy = eye.viewport[1] / (p->tan_u - p->tan_d);
   return true;
@@ -68,12 +72,13 @@ struct Axis {
   float centre[kMaxFoveationTiles];
   float near2[kMaxFoveationTiles];
   float far2[kMaxFoveationTiles];
-  float extent[kMaxFoveationTiles];  // covered pixels
+  float extent[kMaxFoveationTiles];    // covered pixels
   float inv_sqrt[kMaxFoveationTiles];  // 1 / sqrt(1 + near2)
 };
 
 // sign: +1 when the tangent grows with the pixel index (x), -1 when it falls (y, row 0 at the top).
-void fill_axis(Axis* a, std::uint32_t n, std::uint32_t tile, std::uint32_t pixels, double t0, double f, double sign) {
+void fill_axis(Axis* a, std::uint32_t n, std::uint32_t tile, std::uint32_t pixels, double t0, double f,
+               double sign) {
   for (std::uint32_t i = 0; i < n; ++i) {
     const double p0 = double(i) * tile, p1 = std::min<double>(double(i + 1) * tile, pixels);
     const double x0 = t0 + sign * p0 / f, x1 = t0 + sign * p1 / f;
@@ -108,10 +113,14 @@ void fill_full(FoveationMaps* m, std::size_t n) {
 
 const char* to_string(FoveationStatus status) {
   switch (status) {
-    case FoveationStatus::Ok: return "ok";
-    case FoveationStatus::NoGaze: return "no-gaze";
-    case FoveationStatus::InvalidEye: return "invalid-eye";
-    case FoveationStatus::InvalidArgument: return "invalid-argument";
+    case FoveationStatus::Ok:
+      return "ok";
+    case FoveationStatus::NoGaze:
+      return "no-gaze";
+    case FoveationStatus::InvalidEye:
+      return "invalid-eye";
+    case FoveationStatus::InvalidArgument:
+      return "invalid-argument";
   }
   return "unknown";
 }
@@ -131,10 +140,11 @@ FoveationStatus init_foveation_planner(const FoveationConfig& config, FoveationP
   if (!out) return FoveationStatus::InvalidArgument;
   out->ready = false;
   out->config = config;
-  const bool ok = std::isfinite(config.quality) && config.quality > 0 && !std::isnan(config.min_gaze_confidence) &&
-                  std::isfinite(config.gaze_uncertainty_deg) && config.gaze_uncertainty_deg >= 0 &&
-                  std::isfinite(config.no_gaze_radius_deg) && config.no_gaze_radius_deg >= 0 &&
-                  std::isfinite(config.foveal_radius_deg) && config.foveal_radius_deg >= 0 &&
+  const bool ok = std::isfinite(config.quality) && config.quality > 0 &&
+                  !std::isnan(config.min_gaze_confidence) && std::isfinite(config.gaze_uncertainty_deg) &&
+                  config.gaze_uncertainty_deg >= 0 && std::isfinite(config.no_gaze_radius_deg) &&
+                  config.no_gaze_radius_deg >= 0 && std::isfinite(config.foveal_radius_deg) &&
+                  config.foveal_radius_deg >= 0 &&
                   (config.max_rate == 1 || config.max_rate == 2 || config.max_rate == 4) &&
                   std::isfinite(config.params.drift) && config.params.drift >= 0;
   if (!ok) return FoveationStatus::InvalidArgument;
@@ -213,9 +223,9 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   Projection pr;
   const float* q = eye.orientation;
   const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  const bool eye_ok = projection(eye, &pr) && std::isfinite(eye.position[0]) && std::isfinite(eye.position[1]) &&
-                      std::isfinite(eye.position[2]) && std::abs(qn - 1.0f) < 1e-3f &&
-                      finite3(eye.angular_velocity) && finite3(eye.velocity);
+  const bool eye_ok = projection(eye, &pr) && std::isfinite(eye.position[0]) &&
+                      std::isfinite(eye.position[1]) && std::isfinite(eye.position[2]) &&
+                      std::abs(qn - 1.0f) < 1e-3f && finite3(eye.angular_velocity) && finite3(eye.velocity);
   if (!eye_ok) {
     fill_full(maps, n);
     return FoveationStatus::InvalidEye;
@@ -224,7 +234,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   // Where the gaze may be: a direction O (eye space) and a slack S around it.
   const float gl = std::sqrt(gaze.direction[0] * gaze.direction[0] + gaze.direction[1] * gaze.direction[1] +
                              gaze.direction[2] * gaze.direction[2]);
-  const bool has_gaze = gaze.valid && gaze.confidence >= cfg.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
+  const bool has_gaze =
+      gaze.valid && gaze.confidence >= cfg.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
   double O[3] = {0, 0, -1};
   if (has_gaze) {
     for (int k = 0; k < 3; ++k) O[k] = gaze.direction[k];
@@ -280,7 +291,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   const float rho = static_cast<float>(T * std::numbers::sqrt2 / 2.0 / std::min(pr.fx, pr.fy) * kDegD);
   const float e_offset = rho + slack;
   const float fovea = cfg.foveal_radius_deg;
-  const float kx = static_cast<float>(pr.fx / kDegD), ky = static_cast<float>(pr.fy / kDegD);  // px per deg on axis
+  const float kx = static_cast<float>(pr.fx / kDegD),
+              ky = static_cast<float>(pr.fy / kDegD);  // px per deg on axis
   const int max_rate = cfg.max_rate;
 
   Axis cx, cy;
@@ -309,7 +321,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   for (int i = 0; i < kFoveationSineSteps; ++i) {
     const float e = planner.sine_angle[i] - e_offset;
     step_of[i] = static_cast<std::int16_t>(
-        e <= fovea ? 0 : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1));
+        e <= fovea ? 0
+                   : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1));
   }
   // Columns padded to a multiple of 8 so the first loop below needs no scalar tail.
   const std::uint32_t padded = (cols + 7u) & ~7u;
@@ -328,7 +341,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     const double t = std::floor(double(p) / tile);
     return static_cast<std::uint32_t>(std::clamp(t, 0.0, double(count - 1)));
   };
-  const std::uint32_t oc = clamp_tile(maps->origin_px[0], T, cols), orow = clamp_tile(maps->origin_px[1], T, rows);
+  const std::uint32_t oc = clamp_tile(maps->origin_px[0], T, cols),
+                      orow = clamp_tile(maps->origin_px[1], T, rows);
   constexpr float inverse[17] = {0, 1, 0.5f, 0, 0.25f, 0, 0, 0, 0.125f, 0, 0, 0, 0, 0, 0, 0, 0.0625f};
   double shaded = 0;
 
@@ -354,8 +368,10 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     std::uint8_t* rate = maps->shading_rate + 2 * std::size_t(r) * cols;
     float* bias = maps->mip_bias + std::size_t(r) * cols;
     // Rows already final on the side away from the origin (the origin's row has two; none at an edge).
-    const std::uint8_t* rate_a = outer_a < rows ? maps->shading_rate + 2 * std::size_t(outer_a) * cols : nullptr;
-    const std::uint8_t* rate_b = outer_b < rows ? maps->shading_rate + 2 * std::size_t(outer_b) * cols : nullptr;
+    const std::uint8_t* rate_a =
+        outer_a < rows ? maps->shading_rate + 2 * std::size_t(outer_a) * cols : nullptr;
+    const std::uint8_t* rate_b =
+        outer_b < rows ? maps->shading_rate + 2 * std::size_t(outer_b) * cols : nullptr;
     const float* bias_a = outer_a < rows ? maps->mip_bias + std::size_t(outer_a) * cols : nullptr;
     const float* bias_b = outer_b < rows ? maps->mip_bias + std::size_t(outer_b) * cols : nullptr;
     const std::uint8_t* const outer_rate_a = rate_a;
@@ -385,7 +401,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
       // ppd_factor(), with the usual case (the clamp at the near end) from the precomputed roots.
       const float sum = 1.0f + u_near2 + v_near2;
       const float hx = u_near2 - 1.0f <= v_near2 ? sum * v_inv_sqrt : ppd_factor(u_near2, v_near2, v_far2);
-      const float hy = v_near2 - 1.0f <= u_near2 ? sum * u_inv_sqrts[c] : ppd_factor(v_near2, u_near2, u_far2s[c]);
+      const float hy =
+          v_near2 - 1.0f <= u_near2 ? sum * u_inv_sqrts[c] : ppd_factor(v_near2, u_near2, u_far2s[c]);
       const float ppd_x = kx_ * hx, ppd_y = ky_ * hy;
       const int rx = 1 + int(ppd_x >= 2.0f * need) + 2 * int(ppd_x >= 4.0f * need);
       const int ry = 1 + int(ppd_y >= 2.0f * need) + 2 * int(ppd_y >= 4.0f * need);
@@ -408,7 +425,10 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     }
     // Then along the row toward the origin's column, from each side: running minima.
     double row_work = 0;
-    struct Running { int x = 4, y = 4; float b = kMaxBias; };
+    struct Running {
+      int x = 4, y = 4;
+      float b = kMaxBias;
+    };
     // Tile c takes the running minima with its own values, and counts its shading work.
     auto take = [&](std::uint32_t c, Running& m) {
       m.x = std::min(m.x, own_x[c]);
@@ -428,8 +448,8 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   };
   const std::uint32_t none = rows;
   for (std::uint32_t r = rows; r-- > orow + 1;) plan_row(r, r + 1, none);  // below the origin, upward
-  for (std::uint32_t r = 0; r < orow; ++r) plan_row(r, r - 1, none);       // above it, downward (r - 1 wraps at 0)
-  plan_row(orow, orow + 1, orow - 1);                                       // the origin's row: both sides
+  for (std::uint32_t r = 0; r < orow; ++r) plan_row(r, r - 1, none);  // above it, downward (r - 1 wraps at 0)
+  plan_row(orow, orow + 1, orow - 1);                                 // the origin's row: both sides
   maps->shaded = shaded;
   return has_gaze ? FoveationStatus::Ok : FoveationStatus::NoGaze;
 }
@@ -455,7 +475,8 @@ FoveationLayers foveation_layers(const FoveationPlanner& planner, const Eye& eye
   const bool wide = eye.viewport[0] >= eye.viewport[1];
   const double span = wide ? pr.tan_r - pr.tan_l : pr.tan_u - pr.tan_d;
   const double pixels = wide ? eye.viewport[0] : eye.viewport[1];
-  const double aspect = wide ? double(eye.viewport[1]) / eye.viewport[0] : double(eye.viewport[0]) / eye.viewport[1];
+  const double aspect =
+      wide ? double(eye.viewport[1]) / eye.viewport[0] : double(eye.viewport[0]) / eye.viewport[1];
   // Lines through (0, w0) for a few w0 at or below the model's foveal MAR, each with the steepest
   // slope that stays at or below the model out to 90 deg (the flat top the gaze uncertainty and the
   // fovea give would otherwise force slope 0); the one whose layers cost least.

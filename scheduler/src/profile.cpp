@@ -14,8 +14,8 @@ namespace {
 
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
 constexpr std::uint32_t kSectionIds = 8;
-const char* const kSectionNames[kSectionIds + 1] = {"?", "Meta", "Levels", "Views", "Lookup",
-                                                     "Orientations", "Bands", "Lost", "Features"};
+const char* const kSectionNames[kSectionIds + 1] = {
+    "?", "Meta", "Levels", "Views", "Lookup", "Orientations", "Bands", "Lost", "Features"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -30,7 +30,10 @@ ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format
 
 bool finite_nonnegative(const float* values, std::size_t n, std::size_t* bad) {
   for (std::size_t i = 0; i < n; ++i)
-    if (!(std::isfinite(values[i]) && values[i] >= 0.0f)) { *bad = i; return false; }
+    if (!(std::isfinite(values[i]) && values[i] >= 0.0f)) {
+      *bad = i;
+      return false;
+    }
   return true;
 }
 
@@ -56,23 +59,29 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   if (reinterpret_cast<std::uintptr_t>(data) % 8 != 0)
     return fail(error, ProfileStatus::Misaligned, "data must be 8-byte aligned");
   if (size < sizeof(ProfileHeader))
-    return fail(error, ProfileStatus::TooSmall, "%zu bytes is shorter than the %zu-byte header", size, sizeof(ProfileHeader));
+    return fail(error, ProfileStatus::TooSmall, "%zu bytes is shorter than the %zu-byte header", size,
+                sizeof(ProfileHeader));
   const auto* base = static_cast<const unsigned char*>(data);
   ProfileHeader h;
   std::memcpy(&h, base, sizeof h);
-  if (h.magic != kProfileMagic) return fail(error, ProfileStatus::BadMagic, "not an acuity profile (bad magic)");
+  if (h.magic != kProfileMagic)
+    return fail(error, ProfileStatus::BadMagic, "not an acuity profile (bad magic)");
   if (h.version > kProfileVersion)
-    return fail(error, ProfileStatus::NewerVersion, "format version %u is newer than this reader's %u: re-bake the profile or upgrade acuity",
+    return fail(error, ProfileStatus::NewerVersion,
+                "format version %u is newer than this reader's %u: re-bake the profile or upgrade acuity",
                 h.version, kProfileVersion);
   if (h.version == 0) return fail(error, ProfileStatus::BadValue, "format version 0 is invalid");
   if (h.total_size > size)
     return fail(error, ProfileStatus::TooSmall, "truncated: header says %llu bytes, only %zu given",
                 static_cast<unsigned long long>(h.total_size), size);
   if (h.section_count > kMaxProfileSections)
-    return fail(error, ProfileStatus::BadSectionTable, "%u sections (at most %u)", h.section_count, kMaxProfileSections);
-  const std::uint64_t table_end = sizeof(ProfileHeader) + std::uint64_t(h.section_count) * sizeof(ProfileSectionEntry);
+    return fail(error, ProfileStatus::BadSectionTable, "%u sections (at most %u)", h.section_count,
+                kMaxProfileSections);
+  const std::uint64_t table_end =
+      sizeof(ProfileHeader) + std::uint64_t(h.section_count) * sizeof(ProfileSectionEntry);
   if (table_end > h.total_size)
-    return fail(error, ProfileStatus::BadSectionTable, "section table ends at byte %llu, past the blob's %llu",
+    return fail(error, ProfileStatus::BadSectionTable,
+                "section table ends at byte %llu, past the blob's %llu",
                 static_cast<unsigned long long>(table_end), static_cast<unsigned long long>(h.total_size));
   const std::size_t total = static_cast<std::size_t>(h.total_size);
   if (profile_checksum(base, total) != h.checksum)
@@ -85,19 +94,23 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
     ProfileSectionEntry s;
     std::memcpy(&s, base + sizeof(ProfileHeader) + i * sizeof(ProfileSectionEntry), sizeof s);
     if (s.offset % 8 != 0 || s.offset < table_end || s.offset > total || s.size > total - s.offset)
-      return fail(error, ProfileStatus::BadSectionTable, "section %u (id %u): offset %llu size %llu outside the blob or misaligned",
-                  i, s.id, static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
+      return fail(error, ProfileStatus::BadSectionTable,
+                  "section %u (id %u): offset %llu size %llu outside the blob or misaligned", i, s.id,
+                  static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
     for (std::uint32_t j = 0; j < i; ++j)
-      if (s.size && all[j].size && s.offset < all[j].offset + all[j].size && all[j].offset < s.offset + s.size)
+      if (s.size && all[j].size && s.offset < all[j].offset + all[j].size &&
+          all[j].offset < s.offset + s.size)
         return fail(error, ProfileStatus::BadSectionTable, "sections %u and %u overlap", j, i);
     all[i] = s;
     if (s.id >= 1 && s.id <= kSectionIds) {
-      if (found[s.id].id) return fail(error, ProfileStatus::BadSectionTable, "section %s appears twice", kSectionNames[s.id]);
+      if (found[s.id].id)
+        return fail(error, ProfileStatus::BadSectionTable, "section %s appears twice", kSectionNames[s.id]);
       found[s.id] = s;
     }
   }
   for (std::uint32_t id = 1; id <= kSectionIds; ++id)
-    if (!found[id].id) return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
+    if (!found[id].id)
+      return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
 
   auto check_size = [&](ProfileSection id, std::uint64_t expected) {
     const ProfileSectionEntry& s = found[static_cast<std::uint32_t>(id)];
@@ -109,20 +122,26 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   auto at = [&](ProfileSection id) { return base + found[static_cast<std::uint32_t>(id)].offset; };
 
   Profile p;
-  if (!check_size(ProfileSection::Meta, sizeof(ProfileMeta))) return error ? error->status : ProfileStatus::BadSize;
+  if (!check_size(ProfileSection::Meta, sizeof(ProfileMeta)))
+    return error ? error->status : ProfileStatus::BadSize;
   std::memcpy(&p.meta, at(ProfileSection::Meta), sizeof p.meta);
   const ProfileMeta& m = p.meta;
-  struct { std::uint32_t value, limit; const char* name; } counts[] = {
-      {m.level_count, kMaxLevels, "level_count"}, {m.view_count, kMaxViews, "view_count"},
-      {m.orientation_count, kMaxOrientations, "orientation_count"}, {m.band_count, kMaxBands, "band_count"},
-      {m.lookup_resolution, kMaxLookupResolution, "lookup_resolution"}};
+  struct {
+    std::uint32_t value, limit;
+    const char* name;
+  } counts[] = {{m.level_count, kMaxLevels, "level_count"},
+                {m.view_count, kMaxViews, "view_count"},
+                {m.orientation_count, kMaxOrientations, "orientation_count"},
+                {m.band_count, kMaxBands, "band_count"},
+                {m.lookup_resolution, kMaxLookupResolution, "lookup_resolution"}};
   for (const auto& c : counts)
     if (c.value == 0 || c.value > c.limit)
       return fail(error, ProfileStatus::BadCounts, "Meta: %s = %u (allowed 1..%u)", c.name, c.value, c.limit);
   if (m.snapshot_pixels == 0) return fail(error, ProfileStatus::BadCounts, "Meta: snapshot_pixels = 0");
   for (int i = 0; i < 4; ++i)
     if (!std::isfinite(m.sphere[i]) || m.sphere[3] < 0)
-      return fail(error, ProfileStatus::BadValue, "Meta: bounding sphere is not finite or has a negative radius");
+      return fail(error, ProfileStatus::BadValue,
+                  "Meta: bounding sphere is not finite or has a negative radius");
 
   const std::uint64_t K = m.level_count, V = m.view_count, T = m.orientation_count, B = m.band_count;
   const std::uint64_t cells = 6ull * m.lookup_resolution * m.lookup_resolution;
@@ -145,12 +164,15 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
 
   for (std::uint64_t k = 0; k < K; ++k)
     if (!std::isfinite(p.levels[k].geometric_error) || p.levels[k].geometric_error < 0)
-      return fail(error, ProfileStatus::BadValue, "Levels: level %llu has an invalid geometric error", static_cast<unsigned long long>(k));
+      return fail(error, ProfileStatus::BadValue, "Levels: level %llu has an invalid geometric error",
+                  static_cast<unsigned long long>(k));
   for (std::uint64_t v = 0; v < V; ++v) {
     const ProfileView& view = p.views[v];
-    const float d = view.direction[0] * view.up[0] + view.direction[1] * view.up[1] + view.direction[2] * view.up[2];
+    const float d =
+        view.direction[0] * view.up[0] + view.direction[1] * view.up[1] + view.direction[2] * view.up[2];
     if (!unit(view.direction) || !unit(view.up) || !(std::abs(d) < 2e-3f))
-      return fail(error, ProfileStatus::BadValue, "Views: view %llu needs a unit direction and a unit up orthogonal to it",
+      return fail(error, ProfileStatus::BadValue,
+                  "Views: view %llu needs a unit direction and a unit up orthogonal to it",
                   static_cast<unsigned long long>(v));
   }
   for (std::uint64_t i = 0; i < cells * kLookupCandidates; ++i)
@@ -158,8 +180,10 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
       return fail(error, ProfileStatus::BadValue, "Lookup: entry %llu names view %u of %llu",
                   static_cast<unsigned long long>(i), p.lookup[i], static_cast<unsigned long long>(V));
   for (std::uint64_t t = 0; t < T; ++t)
-    if (!(p.orientations[t] >= 0 && p.orientations[t] < 180) || (t && !(p.orientations[t] > p.orientations[t - 1])))
-      return fail(error, ProfileStatus::BadValue, "Orientations: entry %llu must increase within [0, 180) deg",
+    if (!(p.orientations[t] >= 0 && p.orientations[t] < 180) ||
+        (t && !(p.orientations[t] > p.orientations[t - 1])))
+      return fail(error, ProfileStatus::BadValue,
+                  "Orientations: entry %llu must increase within [0, 180) deg",
                   static_cast<unsigned long long>(t));
   for (std::uint64_t b = 0; b < B; ++b)
     if (!(std::isfinite(p.bands[b]) && p.bands[b] > 0) || (b && !(p.bands[b] > p.bands[b - 1])))
@@ -178,18 +202,30 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
 
 const char* to_string(ProfileStatus status) {
   switch (status) {
-    case ProfileStatus::Ok: return "ok";
-    case ProfileStatus::NullInput: return "null input";
-    case ProfileStatus::Misaligned: return "misaligned";
-    case ProfileStatus::TooSmall: return "too small";
-    case ProfileStatus::BadMagic: return "bad magic";
-    case ProfileStatus::NewerVersion: return "newer version";
-    case ProfileStatus::BadChecksum: return "bad checksum";
-    case ProfileStatus::BadSectionTable: return "bad section table";
-    case ProfileStatus::MissingSection: return "missing section";
-    case ProfileStatus::BadSize: return "bad size";
-    case ProfileStatus::BadCounts: return "bad counts";
-    case ProfileStatus::BadValue: return "bad value";
+    case ProfileStatus::Ok:
+      return "ok";
+    case ProfileStatus::NullInput:
+      return "null input";
+    case ProfileStatus::Misaligned:
+      return "misaligned";
+    case ProfileStatus::TooSmall:
+      return "too small";
+    case ProfileStatus::BadMagic:
+      return "bad magic";
+    case ProfileStatus::NewerVersion:
+      return "newer version";
+    case ProfileStatus::BadChecksum:
+      return "bad checksum";
+    case ProfileStatus::BadSectionTable:
+      return "bad section table";
+    case ProfileStatus::MissingSection:
+      return "missing section";
+    case ProfileStatus::BadSize:
+      return "bad size";
+    case ProfileStatus::BadCounts:
+      return "bad counts";
+    case ProfileStatus::BadValue:
+      return "bad value";
   }
   return "unknown";
 }
@@ -201,12 +237,26 @@ void cube_cell_center(std::uint32_t cell, std::uint32_t r, float d[3]) {
   const float s = (face % 2 == 0) ? 1.0f : -1.0f;
   float x, y, z;
   switch (face / 2) {
-    case 0: x = s; y = u; z = v; break;
-    case 1: y = s; z = u; x = v; break;
-    default: z = s; x = u; y = v; break;
+    case 0:
+      x = s;
+      y = u;
+      z = v;
+      break;
+    case 1:
+      y = s;
+      z = u;
+      x = v;
+      break;
+    default:
+      z = s;
+      x = u;
+      y = v;
+      break;
   }
   const float n = std::sqrt(x * x + y * y + z * z);
-  d[0] = x / n; d[1] = y / n; d[2] = z / n;
+  d[0] = x / n;
+  d[1] = y / n;
+  d[2] = z / n;
 }
 
 }  // namespace acuity

@@ -13,8 +13,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -41,12 +41,16 @@ constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
-struct Vec3 { float x, y, z; };
+struct Vec3 {
+  float x, y, z;
+};
 [[gnu::always_inline]] inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 [[gnu::always_inline]] inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 [[gnu::always_inline]] inline Vec3 operator*(float s, Vec3 a) { return {s * a.x, s * a.y, s * a.z}; }
 [[gnu::always_inline]] inline float dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-[[gnu::always_inline]] inline Vec3 cross(Vec3 a, Vec3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+[[gnu::always_inline]] inline Vec3 cross(Vec3 a, Vec3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
 [[gnu::always_inline]] inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline bool finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
@@ -57,7 +61,9 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   const Vec3 t = 2.0f * cross(u, v);
   return v + w * t + cross(u, t);
 }
-[[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) { return rotate(q[0], q[1], q[2], q[3], v); }
+[[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) {
+  return rotate(q[0], q[1], q[2], q[3], v);
+}
 // atan2(y, x) in degrees for y >= 0, in [0, 180]: exact reductions to |t| <= tan 15 deg, then the
 // odd Taylor series to t^9 (truncation below 6e-8 rad). Pure arithmetic: deterministic, ~4x libm's speed.
 [[gnu::always_inline]] inline float atan2_deg(float y, float x) {
@@ -70,7 +76,8 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   t = reduce ? (kSqrt3 * t - 1.0f) / (kSqrt3 + t) : t;
   const float base = reduce ? 30.0f : 0.0f;
   const float t2 = t * t;
-  const float a = base + kDeg * t * (1.0f + t2 * (-1.0f / 3 + t2 * (1.0f / 5 + t2 * (-1.0f / 7 + t2 * (1.0f / 9)))));
+  const float a =
+      base + kDeg * t * (1.0f + t2 * (-1.0f / 3 + t2 * (1.0f / 5 + t2 * (-1.0f / 7 + t2 * (1.0f / 9)))));
   const float first = swap ? 90.0f - a : a;
   return x < 0 ? 180.0f - first : first;
 }
@@ -87,32 +94,42 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   m = high ? 0.5f * m : m;
   k += high ? 1 : 0;
   const float f = m - 1.0f, z = f * f;
-  float y = f * z * (3.3333331174e-1f + f * (-2.4999993993e-1f + f * (2.0000714765e-1f + f * (-1.6668057665e-1f +
-            f * (1.4249322787e-1f + f * (-1.2420140846e-1f + f * (1.1676998740e-1f + f * (-1.1514610310e-1f +
-            f * 7.0376836292e-2f))))))));
+  float y =
+      f * z *
+      (3.3333331174e-1f +
+       f * (-2.4999993993e-1f +
+            f * (2.0000714765e-1f +
+                 f * (-1.6668057665e-1f +
+                      f * (1.4249322787e-1f +
+                           f * (-1.2420140846e-1f +
+                                f * (1.1676998740e-1f + f * (-1.1514610310e-1f + f * 7.0376836292e-2f))))))));
   const float kf = float(k);
   y += -2.12194440e-4f * kf - 0.5f * z;
   return f + y + 0.693359375f * kf;
 }
 
 // Angle between unit vectors [deg], accurate at small angles.
-[[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) { return atan2_deg(length(cross(a, b)), dot(a, b)); }
+[[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) {
+  return atan2_deg(length(cross(a, b)), dot(a, b));
+}
 
 // Per-orientation terms of the Default model's ln S at velocity v (already floored).
 struct VelocityTerms {
-  float a_term;      // A(v) = ln(prefactor v k(c2 v))
-  float b;           // b(v) = 4 pi c1 (c2 v + 2) / 45.9  [per cpd]
-  float peak;        // f_p = 2 / b  [cpd]
-  float ln_s_peak;   // ln S at the peak
+  float a_term;     // A(v) = ln(prefactor v k(c2 v))
+  float b;          // b(v) = 4 pi c1 (c2 v + 2) / 45.9  [per cpd]
+  float peak;       // f_p = 2 / b  [cpd]
+  float ln_s_peak;  // ln S at the peak
 };
 
-struct DalyConstants { float ln_prefactor, c1, c2, ln_2pi_c1, v_floor; };
+struct DalyConstants {
+  float ln_prefactor, c1, c2, ln_2pi_c1, v_floor;
+};
 
 // The fit's constants (from models.cpp, the one place they are written) in the fast path's form.
 DalyConstants daly_constants(const ModelParams& p) {
   const DalyFitConstants f = daly_fit_constants(p.fit);
-  return {float(std::log(f.prefactor)), float(f.c1), float(f.c2), float(std::log(2 * std::numbers::pi * f.c1)),
-          float(std::max(p.drift, f.v_floor))};
+  return {float(std::log(f.prefactor)), float(f.c1), float(f.c2),
+          float(std::log(2 * std::numbers::pi * f.c1)), float(std::max(p.drift, f.v_floor))};
 }
 
 VelocityTerms velocity_terms(float v, const DalyConstants& c) {
@@ -140,15 +157,27 @@ double argmax_speed(double f, const ModelParams& p) {
   const double g = 0.5 * (std::sqrt(5.0) - 1);
   double a = hi - g * (hi - lo), b = lo + g * (hi - lo), sa = ln_s(a), sb = ln_s(b);
   for (int i = 0; i < 40; ++i) {  // golden section, one new evaluation a step; 0.618^40 ~ 4e-9
-    if (sa < sb) { lo = a; a = b; sa = sb; b = lo + g * (hi - lo); sb = ln_s(b); }
-    else         { hi = b; b = a; sb = sa; a = hi - g * (hi - lo); sa = ln_s(a); }
+    if (sa < sb) {
+      lo = a;
+      a = b;
+      sa = sb;
+      b = lo + g * (hi - lo);
+      sb = ln_s(b);
+    } else {
+      hi = b;
+      b = a;
+      sb = sa;
+      a = hi - g * (hi - lo);
+      sa = ln_s(a);
+    }
   }
   return std::exp(0.5 * (lo + hi));
 }
 
 // max over t < T, b < B of lost[t B + b] - ct[t stride + b], with stride B (one threshold row per
 // orientation) or 0 (one row for all). Eight independent accumulators keep the adds in flight.
-inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std::uint32_t B, std::uint32_t stride) {
+inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std::uint32_t B,
+                        std::uint32_t stride) {
   float acc[8] = {-kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf, -kInf};
   for (std::uint32_t t = 0; t < T; ++t) {
     const float* l = lost + std::size_t(t) * B;
@@ -186,7 +215,10 @@ inline std::int16_t encode_size(float ln_size) {
 }
 [[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / 1024.0f); }
 
-constexpr float e_node(std::uint32_t j, std::uint32_t n) { const float t = float(j) / float(n - 1); return kTableMaxE * t * t; }
+constexpr float e_node(std::uint32_t j, std::uint32_t n) {
+  const float t = float(j) / float(n - 1);
+  return kTableMaxE * t * t;
+}
 inline float still_e_node(std::uint32_t j) { return e_node(j, kStillE); }
 inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
 
@@ -194,17 +226,23 @@ inline float moving_e_node(std::uint32_t j) { return e_node(j, kMovingE); }
 // linear in the physical quantity (eccentricity, speed), where the largest invisible ln size is
 // concave (ln of an affine function of e or v for the CSF's exponential fall-off), so the
 // interpolation stays below it; a sqrt or log weight would cut above it.
-struct Cell { std::uint32_t j; float w; };
+struct Cell {
+  std::uint32_t j;
+  float w;
+};
 // The eccentricity nodes of an n-node axis and the reciprocal widths of its cells, at compile time.
-template <std::uint32_t n> struct ENodes {
+template <std::uint32_t n>
+struct ENodes {
   float node[n] = {}, inv_width[n] = {};
   constexpr ENodes() {
     for (std::uint32_t j = 0; j < n; ++j) node[j] = e_node(j, n);
     for (std::uint32_t j = 0; j + 1 < n; ++j) inv_width[j] = 1.0f / (node[j + 1] - node[j]);
   }
 };
-template <std::uint32_t n> inline constexpr ENodes<n> kENodes{};
-template <std::uint32_t n> [[gnu::always_inline]] inline Cell e_cell(float e) {
+template <std::uint32_t n>
+inline constexpr ENodes<n> kENodes{};
+template <std::uint32_t n>
+[[gnu::always_inline]] inline Cell e_cell(float e) {
   constexpr const ENodes<n>& axis = kENodes<n>;
   const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
@@ -214,7 +252,8 @@ template <std::uint32_t n> [[gnu::always_inline]] inline Cell e_cell(float e) {
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
 // fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
 // node[j] = floor 2^j and inv_g[j] = 1 / g(r(2 node[j])) tabulated once: per orientation one division.
-[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, const float* node, const float* inv_g, std::uint32_t n) {
+[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, const float* node,
+                                              const float* inv_g, std::uint32_t n) {
   const float r = v / floor;  // >= 1
   std::uint32_t bits;
   std::memcpy(&bits, &r, sizeof bits);
@@ -234,11 +273,11 @@ inline float speed_midpoint(float lo, float v0) {
 
 struct Scheduler::ProfileCache {
   Profile profile{};
-  std::vector<float> ln_lost;     // [(K-1) V T B], -inf where nothing is lost
-  std::vector<float> ln_lost_any; // [(K-1) V B]: max over orientations (all a static object needs)
-  std::vector<float> ln_band;     // [B] ln of the band centre [cpod]
+  std::vector<float> ln_lost;       // [(K-1) V T B], -inf where nothing is lost
+  std::vector<float> ln_lost_any;   // [(K-1) V B]: max over orientations (all a static object needs)
+  std::vector<float> ln_band;       // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
-  std::vector<float> view_right;  // [V][3] snapshot right = -direction x up, object space
+  std::vector<float> view_right;    // [V][3] snapshot right = -direction x up, object space
   // Tabulated path: ln of the largest invisible angular diameter [ln deg] (see scheduler.hpp).
   // Levels are innermost, so one object's reads share cache lines.
   // still and slow [V][n][kStillE][K-1]: the n = 1..B lowest bands visible on the display, a still
@@ -290,7 +329,8 @@ struct Scheduler::Precomputed {
 
   // The velocity terms a component at ln f [cpd] is evaluated with: its own, or for a moving one
   // slower than the envelope there, the envelope's.
-  [[gnu::always_inline]] const VelocityTerms& band_terms(const VelocityTerms& own, float v, float ln_f, bool moving) const {
+  [[gnu::always_inline]] const VelocityTerms& band_terms(const VelocityTerms& own, float v, float ln_f,
+                                                         bool moving) const {
     if (moving && v < largest) {
       const int j = envelope_index(ln_f);
       if (upper[j] > v) return upper_terms[j];
@@ -300,13 +340,15 @@ struct Scheduler::Precomputed {
   // ln CT of the Default model at frequency f = exp(ln_f) [cpd], eccentricity slope a [per cpd]:
   //   ln S(f, v) = A(v) + 2 ln(2 pi c1 f) - b(v) f above the peak f_p(v) = 2 / b(v), plateau below.
   [[gnu::always_inline]] float default_ln_ct(const VelocityTerms& vt, float ln_f, float f, float a) const {
-    return f >= vt.peak ? -vt.a_term - 2.0f * (daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f : -vt.ln_s_peak + a * f;
+    return f >= vt.peak ? -vt.a_term - 2.0f * (daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f
+                        : -vt.ln_s_peak + a * f;
   }
   // One component's ln CT at ln f [cpd], eccentricity e [deg], retinal speed v [deg/s], still or moving,
   // ignoring the display: what the exact path computes per band, for the tables' curves.
   float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving) const {
     const float f = std::exp(ln_f);
-    if (c.model != ThresholdModel::Default) return log_threshold(f, e, moving ? v : floor_velocity, c.model, c.params);
+    if (c.model != ThresholdModel::Default)
+      return log_threshold(f, e, moving ? v : floor_velocity, c.model, c.params);
     const VelocityTerms own = moving ? terms_at(v) : static_terms;
     return default_ln_ct(band_terms(own, v, ln_f, moving), ln_f, f, ecc_slope * e);
   }
@@ -320,12 +362,16 @@ struct Scheduler::Curves {
   std::vector<float> centre;  // [kMovingS - 1][kMovingE - 1][kCurveSamples]: each moving cell's midpoint
   std::vector<float> still_centre, slow_centre;  // [kStillE - 1][kCurveSamples]: each cell's midpoint
   static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
-  static float centre_speed(std::uint32_t i, float floor, float v0) { return speed_midpoint(speed(i, floor), v0); }
+  static float centre_speed(std::uint32_t i, float floor, float v0) {
+    return speed_midpoint(speed(i, floor), v0);
+  }
   static float centre_e(std::uint32_t j) { return 0.5f * (moving_e_node(j) + moving_e_node(j + 1)); }
   static float still_centre_e(std::uint32_t j) { return 0.5f * (still_e_node(j) + still_e_node(j + 1)); }
   // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
-  static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving, float* out) {
-    for (int i = 0; i < kCurveSamples; ++i) out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving);
+  static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving,
+                     float* out) {
+    for (int i = 0; i < kCurveSamples; ++i)
+      out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving);
     for (int i = kCurveSamples - 2; i >= 0; --i) out[i] = std::min(out[i], out[i + 1]);
   }
   // ln of the largest angular diameter [ln deg] at which a component of band ln_band [ln cpod] with
@@ -337,7 +383,8 @@ struct Scheduler::Curves {
   // curve's ends decided, nothing to refine).
   // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
   // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
-  static float sampled_size(const float* curve, float y, float ln_band, int* bracket, int hint = kCurveSamples / 2) {
+  static float sampled_size(const float* curve, float y, float ln_band, int* bracket,
+                            int hint = kCurveSamples / 2) {
     *bracket = -1;
     if (!(y > curve[0])) return ln_band - kCurveU0;
     if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
@@ -346,13 +393,19 @@ struct Scheduler::Curves {
     if (curve[hint] >= y) {  // gallop down from the hint
       hi = hint;
       for (int step = 1; hi - step > 0; step *= 2) {
-        if (curve[hi - step] < y) { lo = hi - step; break; }
+        if (curve[hi - step] < y) {
+          lo = hi - step;
+          break;
+        }
         hi -= step;
       }
     } else {  // gallop up
       lo = hint;
       for (int step = 1; lo + step < kCurveSamples - 1; step *= 2) {
-        if (curve[lo + step] >= y) { hi = lo + step; break; }
+        if (curve[lo + step] >= y) {
+          hi = lo + step;
+          break;
+        }
         lo += step;
       }
     }
@@ -363,8 +416,8 @@ struct Scheduler::Curves {
     *bracket = hi;
     return ln_band - (kCurveU0 + kCurveStep * float(hi));
   }
-  static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band, float e,
-                      float v, bool moving) {
+  static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band,
+                      float e, float v, bool moving) {
     float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
     for (int i = 0; i < 6; ++i) {
       const float mid = 0.5f * (ulo + uhi);
@@ -381,8 +434,9 @@ struct Scheduler::Curves {
   }
   // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
   // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
-  static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, const float* y,
-                             const float* ln_band, std::uint32_t bands, float e, float v, bool moving, int* hint) {
+  static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
+                             const float* y, const float* ln_band, std::uint32_t bands, float e, float v,
+                             bool moving, int* hint) {
     float sampled[kMaxBands];
     int bracket[kMaxBands];
     float least = -kNever;
@@ -394,7 +448,8 @@ struct Scheduler::Curves {
     float m = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b)
       m = std::min(m, bracket[b] >= 0 && sampled[b] <= least + 1.01f * kCurveStep
-                          ? refine(pre, c, bracket[b], y[b], ln_band[b], e, v, moving) : sampled[b]);
+                          ? refine(pre, c, bracket[b], y[b], ln_band[b], e, v, moving)
+                          : sampled[b]);
     return m;
   }
 };
@@ -402,15 +457,15 @@ struct Scheduler::Curves {
 struct Scheduler::EyeCache {
   double position[3];
   float rotation[4];
-  Vec3 forward;          // world
-  Vec3 velocity;         // world [m/s]
-  Vec3 omega;            // head angular velocity, world [rad/s]
+  Vec3 forward;   // world
+  Vec3 velocity;  // world [m/s]
+  Vec3 omega;     // head angular velocity, world [rad/s]
   bool valid;
-  bool gaze;             // a usable gaze this frame
-  Vec3 gaze_dir;         // world, unit
-  bool gaze_moving;      // measured gaze velocity
-  Vec3 gaze_velocity;    // world tangent velocity of the gaze direction [deg/s]
-  float focal_px;        // horizontal focal length [px]
+  bool gaze;                      // a usable gaze this frame
+  Vec3 gaze_dir;                  // world, unit
+  bool gaze_moving;               // measured gaze velocity
+  Vec3 gaze_velocity;             // world tangent velocity of the gaze direction [deg/s]
+  float focal_px;                 // horizontal focal length [px]
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
@@ -450,7 +505,8 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre_ = std::make_unique<Precomputed>();
   Precomputed& pre = *pre_;
   pre.daly = daly_constants(config_.params);
-  const bool daly_model = config_.model == ThresholdModel::Default || config_.model == ThresholdModel::KellyDaly;
+  const bool daly_model =
+      config_.model == ThresholdModel::Default || config_.model == ThresholdModel::KellyDaly;
   pre.floor_velocity = daly_model ? pre.daly.v_floor : static_cast<float>(config_.params.drift);
   pre.static_terms = velocity_terms(std::max(pre.floor_velocity, 1e-3f), pre.daly);
   pre.ln_quality = std::log(config_.quality);
@@ -460,11 +516,14 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.speed_offset = 2.0f / pre.daly.c2;
   for (std::uint32_t j = 0; j < kMovingS; ++j) {
     pre.speed_node[j] = pre.floor_velocity * std::ldexp(1.0f, int(j));
-    pre.speed_inv_g[j] = (3.0f * pre.speed_node[j] + 2.0f * pre.speed_offset) / pre.speed_node[j];  // 1 / g at the cell's top, 2 node[j]
+    pre.speed_inv_g[j] = (3.0f * pre.speed_node[j] + 2.0f * pre.speed_offset) /
+                         pre.speed_node[j];  // 1 / g at the cell's top, 2 node[j]
   }
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
-    pre.terms[i] = velocity_terms(std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) *
-                                                                      float(i) / float(Precomputed::kTermsSize - 1)), pre.daly);
+    pre.terms[i] = velocity_terms(
+        std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) * float(i) /
+                                               float(Precomputed::kTermsSize - 1)),
+        pre.daly);
   const double step = (kEnvelopeLnF1 - kEnvelopeLnF0) / (kEnvelopeSize - 1);
   double previous = argmax_speed(std::exp(kEnvelopeLnF0), config_.params);
   for (int j = 0; j < kEnvelopeSize; ++j) {
@@ -484,12 +543,16 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     curves_->still_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
     curves_->slow_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
     for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
-      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false, &curves_->still_centre[j * std::size_t(kCurveSamples)]);
-      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true, &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false,
+                     &curves_->still_centre[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true,
+                     &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
     }
     for (std::uint32_t j = 0; j < kStillE; ++j) {
-      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, false, &curves_->still[j * std::size_t(kCurveSamples)]);
-      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, true, &curves_->slow[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, false,
+                     &curves_->still[j * std::size_t(kCurveSamples)]);
+      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, true,
+                     &curves_->slow[j * std::size_t(kCurveSamples)]);
     }
     curves_->moving.resize(std::size_t(kMovingS) * kMovingE * kCurveSamples);
     for (std::uint32_t i = 0; i < kMovingS; ++i)
@@ -499,7 +562,8 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
     for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
       for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
-        Curves::sample(pre, config_, Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
+        Curves::sample(pre, config_, Curves::centre_e(j),
+                       Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
                        &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)]);
   }
 }
@@ -532,16 +596,20 @@ void Scheduler::build_tables(ProfileCache& c) const {
           std::fill(mid_hint, mid_hint + kMaxBands, kCurveSamples / 2);
           for (std::uint32_t j = 0; j < kStillE; ++j) {
             const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
-            const float* centre = &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
+            const float* centre =
+                &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
             float prefix = -kNever, mid_prefix = -kNever;
             for (std::uint32_t b = 0; b < B; ++b) {
               const float y = c.ln_lost_any[kv * B + b] - ln_q[set];
-              prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j), pre.floor_velocity,
-                                                             slow, &hint[b]));
+              prefix =
+                  std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
+                                                        pre.floor_velocity, slow, &hint[b]));
               node[j][b] = prefix;
               if (j + 1 < kStillE)
-                mid_prefix = std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
-                                                                       pre.floor_velocity, slow, &mid_hint[b]));
+                mid_prefix =
+                    std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b],
+                                                              Curves::still_centre_e(j), pre.floor_velocity,
+                                                              slow, &mid_hint[b]));
               mid[j][b] = mid_prefix;
             }
           }
@@ -558,7 +626,8 @@ void Scheduler::build_tables(ProfileCache& c) const {
           std::vector<std::int16_t>& table = slow ? c.slow[set] : still;
           for (std::uint32_t j = 0; j < kStillE; ++j)
             for (std::uint32_t b = 0; b < B; ++b)
-              table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = encode_size(node[j][b] - lower[j][b]);
+              table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] =
+                  encode_size(node[j][b] - lower[j][b]);
         }
         // Moving: per orientation, every band.
         for (std::uint32_t t = 0; t < T; ++t) {
@@ -573,36 +642,42 @@ void Scheduler::build_tables(ProfileCache& c) const {
           float node[kMovingS * kMovingE];
           for (std::uint32_t i = 0; i < kMovingS; ++i)
             for (std::uint32_t j = 0; j < kMovingE; ++j)
-              node[i * kMovingE + j] = largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
-                                               moving_e_node(j), Curves::speed(i, pre.floor_velocity), hint);
+              node[i * kMovingE + j] =
+                  largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)], moving_e_node(j),
+                          Curves::speed(i, pre.floor_velocity), hint);
           // Concave along each axis keeps the cell's edges below; where the midpoint shows the
           // bilinear surface above the truth, the cell's corners come down by the excess.
           float lower[kMovingS * kMovingE] = {};
           for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
             for (std::uint32_t j = 0; j + 1 < kMovingE; ++j) {
-              float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1], &node[(i + 1) * kMovingE + j],
-                                  &node[(i + 1) * kMovingE + j + 1]};
+              float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1],
+                                  &node[(i + 1) * kMovingE + j], &node[(i + 1) * kMovingE + j + 1]};
               if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
               const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
-              const float truth = largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
-                                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), centre_hint);
+              const float truth =
+                  largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
+                          Curves::centre_e(j), Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset),
+                          centre_hint);
               const float excess = mean - truth;
               if (excess > 0)
                 for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
             }
           for (std::uint32_t i = 0; i < kMovingS * kMovingE; ++i)
-            moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] = encode_size(node[i] - lower[i] - kBilinearMargin);
+            moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] =
+                encode_size(node[i] - lower[i] - kBilinearMargin);
         }
       }
   }
 }
 
 std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
-  const bool tables = config.rule == SelectionRule::Perceptual && config.evaluation == Evaluation::Tabulated &&
-                      (config.model == ThresholdModel::Default || config.model == ThresholdModel::GeislerPerry);
+  const bool tables =
+      config.rule == SelectionRule::Perceptual && config.evaluation == Evaluation::Tabulated &&
+      (config.model == ThresholdModel::Default || config.model == ThresholdModel::GeislerPerry);
   if (!tables || m.level_count < 2) return 0;
-  const std::size_t per_set = std::size_t(m.view_count) * (m.level_count - 1) *
-                              (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
+  const std::size_t per_set =
+      std::size_t(m.view_count) * (m.level_count - 1) *
+      (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
   return per_set * (config.hysteresis_margin > 0 ? 2 : 1) * sizeof(std::int16_t);
 }
 
@@ -625,7 +700,8 @@ int Scheduler::add_profile(const Profile& p) {
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
                       B = p.meta.band_count;
   c.ln_lost.resize(std::size_t(K - 1) * V * T * B);
-  for (std::size_t i = 0; i < c.ln_lost.size(); ++i) c.ln_lost[i] = p.lost[i] > 0 ? std::log(p.lost[i]) : -kInf;
+  for (std::size_t i = 0; i < c.ln_lost.size(); ++i)
+    c.ln_lost[i] = p.lost[i] > 0 ? std::log(p.lost[i]) : -kInf;
   c.ln_lost_any.assign(std::size_t(K - 1) * V * B, -kInf);
   for (std::size_t kv = 0; kv < std::size_t(K - 1) * V; ++kv)
     for (std::uint32_t t = 0; t < T; ++t)
@@ -642,7 +718,9 @@ int Scheduler::add_profile(const Profile& p) {
   c.view_right.resize(3 * std::size_t(V));
   for (std::uint32_t v = 0; v < V; ++v) {
     const Vec3 r = cross(-1.0f * load(p.views[v].direction), load(p.views[v].up));
-    c.view_right[3 * v] = r.x; c.view_right[3 * v + 1] = r.y; c.view_right[3 * v + 2] = r.z;
+    c.view_right[3 * v] = r.x;
+    c.view_right[3 * v + 1] = r.y;
+    c.view_right[3 * v + 2] = r.z;
   }
   if (curves_) build_tables(c);
   return static_cast<int>(profile_count_++);
@@ -654,15 +732,18 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   free_list_.pop_back();
   profile_of_[id] = profile;
   set_transform(id, t);
-  for (int k = 0; k < 3; ++k) { previous_position_[k][id] = t.position[k]; velocity_[k][id] = 0; }
+  for (int k = 0; k < 3; ++k) {
+    previous_position_[k][id] = t.position[k];
+    velocity_[k][id] = 0;
+  }
   for (int k = 0; k < 4; ++k) sphere_[k][id] = profiles_[profile].profile.meta.sphere[k];
   explicit_velocity_[id] = 0;
   fresh_[id] = 1;
   min_level_[id] = 0;
   max_level_[id] = 255;
   bias_[id] = 1.0f;
-  level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(config_.fallback_level,
-      static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
+  level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
+      config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   flags_[id] = 0;
   calm_frames_[id] = wait_frames_[id] = 0;
   fade_[id] = 1.0f;
@@ -722,7 +803,8 @@ void Scheduler::begin_frame(const Frame& frame) {
               std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
               tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
               std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
-    if (c.valid) for (float& q : c.rotation) q /= qn;
+    if (c.valid)
+      for (float& q : c.rotation) q /= qn;
     c.forward = rotate(c.rotation, {0, 0, -1});
     c.velocity = load(e.velocity);
     c.omega = kRad * load(e.angular_velocity);
@@ -753,20 +835,20 @@ void Scheduler::begin_frame(const Frame& frame) {
 
 // One eye's view of one object: everything the rules read.
 struct Scheduler::Sight {
-  float d, r;              // distance to the sphere's centre, radius [m]
+  float d, r;  // distance to the sphere's centre, radius [m]
   float radius_deg, diameter_deg, ln_diam;
   float focal_px;
   // Perceptual and Reddy only:
-  Vec3 u;                  // unit direction eye -> centre, world
-  Vec3 image, slip;        // image-plane and retinal angular velocity [deg/s], world tangent vectors
-  Vec3 to_eye;             // unit direction centre -> eye, object space
-  float e;                 // eccentricity [deg]
-  float nyquist_cpd;       // the display's limit in the object's direction
+  Vec3 u;                     // unit direction eye -> centre, world
+  Vec3 image, slip;           // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  Vec3 to_eye;                // unit direction centre -> eye, object space
+  float e;                    // eccentricity [deg]
+  float nyquist_cpd;          // the display's limit in the object's direction
   const std::uint16_t* cand;  // the lookup cell's candidate views
-  std::uint32_t view;      // the nearest of them
-  float vx, vy;            // slip in the view's image axes [deg/s]
+  std::uint32_t view;         // the nearest of them
+  float vx, vy;               // slip in the view's image axes [deg/s]
   bool moving;
-  std::uint8_t flags;      // kFlagNoGaze
+  std::uint8_t flags;  // kFlagNoGaze
   // Tabulated path (probe()): the bands the display shows, the grid cells of the eccentricity
   // (still and moving grids) and of each orientation's speed.
   std::uint32_t bands_visible;
@@ -779,16 +861,19 @@ struct Scheduler::Block {
   static constexpr std::uint32_t kSize = kBlock;
   float d[kSize], r[kSize], radius_deg[kSize], ln_diam[kSize];
   // Perceptual and Reddy only:
-  float test[kSize];       // 0 where the input is valid (NaN otherwise)
+  float test[kSize];  // 0 where the input is valid (NaN otherwise)
   float e[kSize], nyquist[kSize];
   float u[3][kSize];       // unit direction eye -> centre, world
   float image[3][kSize];   // image-plane angular velocity [deg/s], world tangent vector
   float to_eye[3][kSize];  // unit direction centre -> eye, object space (the view lookup)
-  Look state(std::uint32_t j) const { return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok; }
+  Look state(std::uint32_t j) const {
+    return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok;
+  }
 };
 
 void Scheduler::update(std::uint32_t first, std::uint32_t count) {
-  const std::uint32_t end = first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
+  const std::uint32_t end =
+      first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
   Block blocks[2];
   Sight sights[2][Block::kSize];
   Look looks[2][Block::kSize];
@@ -814,7 +899,8 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
     // views, the table rows. The misses of a block's objects overlap instead of queueing.
     for (std::uint32_t j = 0; j < n; ++j)
       if (profile_of_[start + j] >= 0)
-        for (std::uint32_t i = 0; i < eye_count_; ++i) looks[i][j] = sight(start + j, eyes_[i], blocks[i], j, &sights[i][j]);
+        for (std::uint32_t i = 0; i < eye_count_; ++i)
+          looks[i][j] = sight(start + j, eyes_[i], blocks[i], j, &sights[i][j]);
     if (perceptual()) {
       for (std::uint32_t j = 0; j < n; ++j)
         if (profile_of_[start + j] >= 0)
@@ -838,16 +924,23 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
   }
 }
 
-
 // The first pass, for `count` consecutive objects from `first` and one eye: arithmetic only, no
 // branches and no calls, so the compiler vectorises it. Camera-relative geometry subtracts in double
 // first, so 1e7 m from the origin is exact. Free slots have radius 0 and come out Invalid.
 void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const {
-  const double* px = &position_[0][first]; const double* py = &position_[1][first]; const double* pz = &position_[2][first];
-  const float* qx = &rotation_[0][first]; const float* qy = &rotation_[1][first];
-  const float* qz = &rotation_[2][first]; const float* qw = &rotation_[3][first];
-  const float* vx = &velocity_[0][first]; const float* vy = &velocity_[1][first]; const float* vz = &velocity_[2][first];
-  const float* sx = &sphere_[0][first]; const float* sy = &sphere_[1][first]; const float* sz = &sphere_[2][first];
+  const double* px = &position_[0][first];
+  const double* py = &position_[1][first];
+  const double* pz = &position_[2][first];
+  const float* qx = &rotation_[0][first];
+  const float* qy = &rotation_[1][first];
+  const float* qz = &rotation_[2][first];
+  const float* qw = &rotation_[3][first];
+  const float* vx = &velocity_[0][first];
+  const float* vy = &velocity_[1][first];
+  const float* vz = &velocity_[2][first];
+  const float* sx = &sphere_[0][first];
+  const float* sy = &sphere_[1][first];
+  const float* sz = &sphere_[2][first];
   const float* sr = &sphere_[3][first];
   const float* scale = &scale_[first];
   const float* bias = &bias_[first];
@@ -855,7 +948,11 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
   const float eye_test = eye.valid ? 0.0f : kNaN;  // NaN fails every object
   const float quality = config_.quality;
   Block& b = *out;
-  float* out_d = b.d; float* out_r = b.r; float* out_radius = b.radius_deg; float* out_ln = b.ln_diam; float* out_test = b.test;
+  float* out_d = b.d;
+  float* out_r = b.r;
+  float* out_radius = b.radius_deg;
+  float* out_ln = b.ln_diam;
+  float* out_test = b.test;
   float rx[Block::kSize], ry[Block::kSize], rz[Block::kSize];
   for (std::uint32_t j = 0; j < count; ++j) {
     rx[j] = static_cast<float>(px[j] - ex);
@@ -871,8 +968,8 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
     const float qn = qx[j] * qx[j] + qy[j] * qy[j] + qz[j] * qz[j] + qw[j] * qw[j];
     const float q_object = quality * bias[j];
     // x - x is 0 for a finite x, NaN otherwise; one sum tests them all.
-    const float nan_test = (rel.x - rel.x) + (rel.y - rel.y) + (rel.z - rel.z) + (vx[j] - vx[j]) + (vy[j] - vy[j]) +
-                           (vz[j] - vz[j]) + (r - r) + (q_object - q_object) + eye_test;
+    const float nan_test = (rel.x - rel.x) + (rel.y - rel.y) + (rel.z - rel.z) + (vx[j] - vx[j]) +
+                           (vy[j] - vy[j]) + (vz[j] - vz[j]) + (r - r) + (q_object - q_object) + eye_test;
     // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1, q > 0.
     const float margin = std::min(std::min(r, 1e-3f - std::abs(qn - 1.0f)), q_object);
     const float test = nan_test + (margin > 0.0f ? 0.0f : kNaN);  // 0: valid
@@ -884,7 +981,9 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
     out_radius[j] = radius_deg;
     out_ln[j] = ln_positive(2.0f * radius_deg);
     out_test[j] = test;
-    rx[j] = rel.x; ry[j] = rel.y; rz[j] = rel.z;
+    rx[j] = rel.x;
+    ry[j] = rel.y;
+    rz[j] = rel.z;
   }
   if (!perceptual()) return;
   const Vec3 eye_velocity = eye.velocity, omega = eye.omega, forward = eye.forward;
@@ -899,16 +998,23 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
     const Vec3 image = kDeg * (inv_d * (v_rel - dot(v_rel, u) * u) - cross(omega, u));
     const float cos_phi = std::clamp(dot(u, forward), 0.05f, 1.0f);
     const Vec3 to_eye = rotate(-qx[j], -qy[j], -qz[j], qw[j], -1.0f * u);  // the inverse rotation
-    b.u[0][j] = u.x; b.u[1][j] = u.y; b.u[2][j] = u.z;
-    b.image[0][j] = image.x; b.image[1][j] = image.y; b.image[2][j] = image.z;
-    b.to_eye[0][j] = to_eye.x; b.to_eye[1][j] = to_eye.y; b.to_eye[2][j] = to_eye.z;
+    b.u[0][j] = u.x;
+    b.u[1][j] = u.y;
+    b.u[2][j] = u.z;
+    b.image[0][j] = image.x;
+    b.image[1][j] = image.y;
+    b.image[2][j] = image.z;
+    b.to_eye[0][j] = to_eye.x;
+    b.to_eye[1][j] = to_eye.y;
+    b.to_eye[2][j] = to_eye.z;
     b.nyquist[j] = half_focal / (cos_phi * cos_phi);
     b.e[j] = std::max(0.0f, angle_deg(u, gaze) - b.radius_deg[j] - offset);
   }
 }
 
 // The second pass for one object: the view lookup and retinal slip, what branches.
-Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& b, std::uint32_t j, Sight* s) const {
+Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& b, std::uint32_t j,
+                                 Sight* s) const {
   if (const Look state = b.state(j); state != Look::Ok) return state;
   s->d = b.d[j];
   s->r = b.r[j];
@@ -955,7 +1061,10 @@ void Scheduler::aim(ObjectId id, Sight* s) const {
   float best = -2.0f;
   for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
     const float dd = dot(s->to_eye, load(p.views[s->cand[k]].direction));
-    if (dd > best) { best = dd; s->view = s->cand[k]; }
+    if (dd > best) {
+      best = dd;
+      s->view = s->cand[k];
+    }
   }
   s->vx = s->vy = 0;
   const Vec3 slip = s->slip;
@@ -969,7 +1078,8 @@ void Scheduler::aim(ObjectId id, Sight* s) const {
 
 // One eye's view of one object (sight() and, tabulated, probe() done) through the configured rule.
 // scores_out (K floats) and ex are optional.
-Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out, ObjectExplain* ex) const {
+Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out,
+                                      ObjectExplain* ex) const {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
   if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
@@ -978,13 +1088,17 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
       const auto fallback = static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, K - 1));
       return {fallback, fallback, kFlagInvalidInput};
     }
-    case Look::Inside: return {0, 0, kFlagEyeInside};
-    case Look::Ok: break;
+    case Look::Inside:
+      return {0, 0, kFlagEyeInside};
+    case Look::Ok:
+      break;
   }
   switch (config_.rule) {
     case SelectionRule::Distance:
-    case SelectionRule::ScreenSize: return choose_by_error(s, p);
-    case SelectionRule::Reddy: return choose_exact(id, s, scores_out, ex);
+    case SelectionRule::ScreenSize:
+      return choose_by_error(s, p);
+    case SelectionRule::Reddy:
+      return choose_exact(id, s, scores_out, ex);
     case SelectionRule::Perceptual:
       if (curves_ && !ex && bias_[id] == 1.0f) return choose_tabulated(id, s, scores_out);
       return choose_exact(id, s, scores_out, ex);
@@ -1000,7 +1114,8 @@ Scheduler::Choice Scheduler::choose_by_error(const Sight& s, const Profile& p) c
   const bool by_distance = config_.rule == SelectionRule::Distance;
   for (std::uint32_t k = 1; k < p.meta.level_count; ++k) {
     const float error = p.levels[k].geometric_error * diameter;  // world units
-    const bool ok = by_distance ? s.d >= pre_->distance_per_error * error : error / s.d * s.focal_px <= config_.pixel_error;
+    const bool ok = by_distance ? s.d >= pre_->distance_per_error * error
+                                : error / s.d * s.focal_px <= config_.pixel_error;
     if (ok) level = static_cast<std::uint8_t>(k);
   }
   return {level, level, 0};
@@ -1030,8 +1145,8 @@ void Scheduler::probe(ObjectId id, Sight* s) const {
   if (!s->moving) return;
   const float floor = pre_->floor_velocity;
   for (std::uint32_t t = 0; t < T; ++t)
-    s->sc[t] = speed_cell(std::max(std::abs(s->vx * pc.cos_t[t] + s->vy * pc.sin_t[t]), floor), floor, pre_->speed_offset,
-                          pre_->speed_node, pre_->speed_inv_g, kMovingS);
+    s->sc[t] = speed_cell(std::max(std::abs(s->vx * pc.cos_t[t] + s->vy * pc.sin_t[t]), floor), floor,
+                          pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
 }
 
 // A moving object's rows of the moving tables prefetched, where the slow bound (read a pass after
@@ -1045,7 +1160,8 @@ void Scheduler::prefetch_moving(ObjectId id, const Sight& s) const {
   const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
   for (std::uint32_t c = 0; c < blended; ++c) {
     const std::uint32_t w = blended == 1 ? s.view : s.cand[c];
-    const std::int16_t* slow = &pc.slow[0][((std::size_t(w) * B + (s.bands_visible - 1)) * kStillE + s.ec.j) * L + (L - 1)];
+    const std::int16_t* slow =
+        &pc.slow[0][((std::size_t(w) * B + (s.bands_visible - 1)) * kStillE + s.ec.j) * L + (L - 1)];
     if (s.ln_diam <= decode_size(slow[0]) + s.ec.w * (decode_size(slow[L]) - decode_size(slow[0]))) continue;
     const std::int16_t* base = &pc.moving[0][std::size_t(w) * T * kMovingS * kMovingE * L];
     for (std::uint32_t t = 0; t < T; ++t) {
@@ -1062,7 +1178,7 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
-  const std::uint32_t L = K - 1;  // coarser levels per view
+  const std::uint32_t L = K - 1;                           // coarser levels per view
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
   const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
   const float x = s.ln_diam;
@@ -1091,7 +1207,8 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
     for (std::uint32_t t = 0; t < T; ++t) {
       const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
       const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
-      const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]), b1 = decode_size(r1[L]);
+      const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]),
+                  b1 = decode_size(r1[L]);
       const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
       m = std::min(m, lo + sc[t].w * (hi - lo));
       if (decide_only && m < x) break;  // this orientation alone makes the level visible
@@ -1107,10 +1224,15 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
       if (sets == 2) coarse = std::min(coarse, largest(1, w, k));
     }
     if (sets == 1) coarse = fine;
-    if (!fine_found && x <= fine) { out.fine = static_cast<std::uint8_t>(k); fine_found = true; }
+    if (!fine_found && x <= fine) {
+      out.fine = static_cast<std::uint8_t>(k);
+      fine_found = true;
+    }
     if (out.coarse == 0 && x <= coarse) out.coarse = static_cast<std::uint8_t>(k);
-    if (scores_out) scores_out[k] = std::exp(std::min(x - fine, 80.0f));
-    else if (out.coarse != 0) break;
+    if (scores_out)
+      scores_out[k] = std::exp(std::min(x - fine, 80.0f));
+    else if (out.coarse != 0)
+      break;
   }
   return out;
 }
@@ -1118,7 +1240,8 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
 // The perceptual rule evaluated in full (and Reddy's rule):
 //   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
 //   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
-Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out, ObjectExplain* ex) const {
+Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out,
+                                          ObjectExplain* ex) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
@@ -1142,7 +1265,8 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   float v_t[kMaxOrientations];
   const std::uint32_t rows = moving || config_.model != ThresholdModel::Default ? T : 1;
   for (std::uint32_t t = 0; t < rows; ++t) {
-    v_t[t] = moving ? std::max(std::abs(vx * pc.cos_t[t] + vy * pc.sin_t[t]), pre.floor_velocity) : pre.floor_velocity;
+    v_t[t] = moving ? std::max(std::abs(vx * pc.cos_t[t] + vy * pc.sin_t[t]), pre.floor_velocity)
+                    : pre.floor_velocity;
     float* row = ln_ct + t * B;
     if (config_.rule == SelectionRule::Reddy) {  // the visible limit per orientation, in cpod
       row[0] = std::min(reddy_cutoff(v_t[t], e), nyquist_cpd) * diameter_deg;
@@ -1153,7 +1277,8 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
       for (std::uint32_t b = 0; b < B; ++b) {
         const float f = p.bands[b] * inv_diam;
         const float ln_f = pc.ln_band[b] - ln_diam;
-        row[b] = f > nyquist_cpd ? kInf : pre.default_ln_ct(pre.band_terms(own, v_t[t], ln_f, moving), ln_f, f, a);
+        row[b] =
+            f > nyquist_cpd ? kInf : pre.default_ln_ct(pre.band_terms(own, v_t[t], ln_f, moving), ln_f, f, a);
       }
     } else {
       for (std::uint32_t b = 0; b < B; ++b) {
@@ -1192,10 +1317,14 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
       const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
       for (std::uint32_t j = 0; j < blended; ++j) {
         const std::uint32_t w = blended == 1 ? view : cand[j];
-        m = std::max(m, max_excess(&lost[((k - 1) * std::size_t(V) + w) * per_view], ln_ct, t_count, B, stride));
+        m = std::max(m,
+                     max_excess(&lost[((k - 1) * std::size_t(V) + w) * per_view], ln_ct, t_count, B, stride));
       }
     }
-    if (!fine_found && m <= ln_q) { out.fine = static_cast<std::uint8_t>(k); fine_found = true; }
+    if (!fine_found && m <= ln_q) {
+      out.fine = static_cast<std::uint8_t>(k);
+      fine_found = true;
+    }
     if (out.coarse == 0 && m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
     if (scores_out) scores_out[k] = std::exp(m - ln_q);
     if (ex) {
@@ -1207,20 +1336,28 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
         for (std::uint32_t j = 0; j < k; ++j)
           for (std::uint32_t t = 0; t < T; ++t) {
             const float F = p.feature_frequency(j, view, t);
-            if (F > 0 && ln_ct[t * stride] / F > best_ratio) { best_ratio = ln_ct[t * stride] / F; arg = t * B; }
+            if (F > 0 && ln_ct[t * stride] / F > best_ratio) {
+              best_ratio = ln_ct[t * stride] / F;
+              arg = t * B;
+            }
           }
       } else {
         const float* lost = &pc.ln_lost[((k - 1) * std::size_t(V) + view) * TB];
         float best_x = -kInf;
         for (std::uint32_t i = 0; i < T * B; ++i) {
           const float x = lost[i] - ln_ct[(i / B) * stride + i % B];
-          if (x > best_x) { best_x = x; arg = i; }
+          if (x > best_x) {
+            best_x = x;
+            arg = i;
+          }
         }
       }
       le.orientation = static_cast<std::uint8_t>(arg / B);
       le.band = static_cast<std::uint8_t>(arg % B);
       le.frequency_cpd = p.bands[le.band] * inv_diam;
-      le.threshold = config_.rule == SelectionRule::Reddy ? 0.0f : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
+      le.threshold = config_.rule == SelectionRule::Reddy
+                         ? 0.0f
+                         : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
     }
     if (out.coarse != 0 && !all_levels) break;
   }
@@ -1237,7 +1374,8 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   return out;
 }
 
-void Scheduler::select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j) {
+void Scheduler::select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock],
+                       std::uint32_t j) {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
 
@@ -1250,7 +1388,8 @@ void Scheduler::select(ObjectId id, const Look (*looks)[kBlock], const Sight (*s
     coarse = std::min(coarse, c.coarse);
     flags |= c.flags;
     if (kept)
-      for (std::uint32_t k = 0; k < K; ++k) kept[k] = i == 0 ? eye_scores[k] : std::max(kept[k], eye_scores[k]);
+      for (std::uint32_t k = 0; k < K; ++k)
+        kept[k] = i == 0 ? eye_scores[k] : std::max(kept[k], eye_scores[k]);
   }
   const std::uint8_t hi = static_cast<std::uint8_t>(std::min<std::uint32_t>(max_level_[id], K - 1));
   const std::uint8_t lo = std::min(min_level_[id], hi);
@@ -1296,7 +1435,9 @@ void Scheduler::end_frame() {
       flags_[id] |= kFlagChanged;
       level_[id] = next_[id];
     } else if (fade_[id] < 1.0f) {
-      fade_[id] = config_.transition_seconds > 0 ? std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds) : 1.0f;
+      fade_[id] = config_.transition_seconds > 0
+                      ? std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds)
+                      : 1.0f;
     }
     st.triangles += profiles_[profile_of_[id]].profile.levels[level_[id]].triangles;
     st.changed += (flags_[id] & kFlagChanged) != 0;
@@ -1322,7 +1463,8 @@ void Scheduler::apply_budget() {
   auto harm = [&](std::uint32_t id) {
     const Profile& p = profiles_[profile_of_[id]].profile;
     const std::uint32_t l = next_[id];
-    const float saved = static_cast<float>(p.levels[l].triangles) - static_cast<float>(p.levels[l + 1].triangles);
+    const float saved =
+        static_cast<float>(p.levels[l].triangles) - static_cast<float>(p.levels[l + 1].triangles);
     return scores_[std::size_t(id) * kMaxLevels + l + 1] / std::max(saved, 1.0f);
   };
   // Min-heap on (harm, id).
@@ -1363,7 +1505,10 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
     const Look look = sight(id, eyes_[i], block, 0, &s);
     if (look == Look::Ok && perceptual()) aim(id, &s);
     const Choice c = evaluate(id, look, s, nullptr, &tmp);
-    if (c.fine < best) { best = c.fine; *out = tmp; }
+    if (c.fine < best) {
+      best = c.fine;
+      *out = tmp;
+    }
   }
   out->level = level_[id];
   out->level_count = static_cast<std::uint8_t>(profiles_[profile_of_[id]].profile.meta.level_count);
@@ -1371,13 +1516,17 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
 }
 
 namespace {
-constexpr const char* kRuleNames[] = {"perceptual", "reddy", "distance", "screen-size"};  // SelectionRule order
-constexpr const char* kEvaluationNames[] = {"tabulated", "exact"};                          // Evaluation order
+constexpr const char* kRuleNames[] = {"perceptual", "reddy", "distance",
+                                      "screen-size"};               // SelectionRule order
+constexpr const char* kEvaluationNames[] = {"tabulated", "exact"};  // Evaluation order
 template <class E, std::size_t N>
 bool parse_name(const char* name, const char* const (&names)[N], E* out) {
   if (!name) return false;
   for (std::size_t i = 0; i < N; ++i)
-    if (std::strcmp(name, names[i]) == 0) { *out = static_cast<E>(i); return true; }
+    if (std::strcmp(name, names[i]) == 0) {
+      *out = static_cast<E>(i);
+      return true;
+    }
   return false;
 }
 }  // namespace

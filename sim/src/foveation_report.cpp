@@ -13,16 +13,23 @@ namespace acuity::sim {
 namespace {
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
-struct Colour { std::uint8_t r, g, b; };
+struct Colour {
+  std::uint8_t r, g, b;
+};
 
 // Pixels per shade (x * y) -> colour: 1 none, 2 blue, 4 green, 8 yellow, 16 red.
 Colour rate_colour(int rx, int ry) {
   switch (rx * ry) {
-    case 2: return {70, 130, 255};
-    case 4: return {40, 190, 70};
-    case 8: return {240, 200, 30};
-    case 16: return {230, 50, 40};
-    default: return {0, 0, 0};
+    case 2:
+      return {70, 130, 255};
+    case 4:
+      return {40, 190, 70};
+    case 8:
+      return {240, 200, 30};
+    case 16:
+      return {230, 50, 40};
+    default:
+      return {0, 0, 0};
   }
 }
 
@@ -57,7 +64,8 @@ void text(RgbImage* im, int x0, int y0, const std::string& s, int scale, Colour 
   std::vector<char> buf(s.begin(), s.end());
   buf.push_back('\0');
   std::vector<float> quads(s.size() * 400 + 64);
-  const int n = stb_easy_font_print(0, 0, buf.data(), nullptr, quads.data(), static_cast<int>(quads.size() * sizeof(float)));
+  const int n = stb_easy_font_print(0, 0, buf.data(), nullptr, quads.data(),
+                                    static_cast<int>(quads.size() * sizeof(float)));
   for (int q = 0; q < n; ++q) {
     const float* v = &quads[static_cast<std::size_t>(q) * 16];  // 4 vertices x (x, y, z, rgba)
     const int ax = static_cast<int>(v[0]), ay = static_cast<int>(v[1]);
@@ -84,7 +92,8 @@ void direction_at(const Eye& eye, double x, double y, double d[3]) {
 
 Eye display_eye(std::uint32_t width, std::uint32_t height, double hfov_deg) {
   if (width == 0 || height == 0 || !(hfov_deg > 0 && hfov_deg < 179))
-    throw std::runtime_error("display: width and height must be positive and the field of view in (0, 179) deg");
+    throw std::runtime_error(
+        "display: width and height must be positive and the field of view in (0, 179) deg");
   Eye eye;
   const double half = std::tan(hfov_deg / 2 / kDeg);
   const double vhalf = std::atan(half * height / width) * kDeg;
@@ -107,11 +116,13 @@ Gaze gaze_toward(double yaw_deg, double pitch_deg) {
   return g;
 }
 
-PlanResult plan_eye(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze, std::uint32_t tile_px) {
+PlanResult plan_eye(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze,
+                    std::uint32_t tile_px) {
   PlanResult r;
   std::uint32_t cols = 0, rows = 0;
   if (!foveation_map_size(eye, tile_px, &cols, &rows))
-    throw std::runtime_error("plan: the tile must be 8, 16 or 32 px and the display at most 2048 tiles across");
+    throw std::runtime_error(
+        "plan: the tile must be 8, 16 or 32 px and the display at most 2048 tiles across");
   r.rate.assign(2 * std::size_t(cols) * rows, 1);
   r.bias.assign(std::size_t(cols) * rows, 0.0f);
   r.maps.tile_px = tile_px;
@@ -138,15 +149,16 @@ std::vector<Gaze> gazes_from_track(const Table& track, double fps) {
   return gazes;
 }
 
-TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes, std::uint32_t tile_px,
-                     double fps, std::size_t shown) {
+TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes,
+                     std::uint32_t tile_px, double fps, std::size_t shown) {
   TrackPlan out;
   out.csv = "frame,time_s,status,origin_x_px,origin_y_px,shaded_px,full_px,saved\n";
   char line[256];
   for (std::size_t f = 0; f < gazes.size(); ++f) {
     PlanResult r = plan_eye(planner, eye, gazes[f], tile_px);
-    std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.2f,%.2f,%.0f,%.0f,%.6f\n", f, double(f) / fps, to_string(r.status),
-                  r.maps.origin_px[0], r.maps.origin_px[1], r.maps.shaded, r.maps.pixels, r.saved());
+    std::snprintf(line, sizeof line, "%zu,%.6f,%s,%.2f,%.2f,%.0f,%.0f,%.6f\n", f, double(f) / fps,
+                  to_string(r.status), r.maps.origin_px[0], r.maps.origin_px[1], r.maps.shaded, r.maps.pixels,
+                  r.saved());
     out.csv += line;
     out.total_saved += r.saved();
     if (f == shown) out.shown = std::move(r);
@@ -156,7 +168,8 @@ TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std:
   return out;
 }
 
-RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width, const std::string& caption) {
+RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width,
+                   const std::string& caption) {
   const int pw = std::max(200, panel_width);
   const int ph = static_cast<int>(std::lround(double(pw) * eye.viewport[1] / eye.viewport[0]));
   const int gap = 16, legend = 150;
@@ -169,14 +182,16 @@ RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int
   double o[3] = {0, 0, -1};
   const bool has_gaze = plan.status == FoveationStatus::Ok;
   if (has_gaze) {
-    const double n = std::sqrt(double(gaze.direction[0]) * gaze.direction[0] + double(gaze.direction[1]) * gaze.direction[1] +
+    const double n = std::sqrt(double(gaze.direction[0]) * gaze.direction[0] +
+                               double(gaze.direction[1]) * gaze.direction[1] +
                                double(gaze.direction[2]) * gaze.direction[2]);
     for (int k = 0; k < 3; ++k) o[k] = gaze.direction[k] / n;
   }
   const int top = gap + 30;
   for (int panel = 0; panel < 2; ++panel) {
     const int x0 = gap + panel * (pw + gap);
-    text(&im, x0, gap, panel == 0 ? "SHADING RATE (PIXELS PER SHADE, X x Y)" : "TEXTURE MIP BIAS (OCTAVES)", 2, {20, 20, 20});
+    text(&im, x0, gap, panel == 0 ? "SHADING RATE (PIXELS PER SHADE, X x Y)" : "TEXTURE MIP BIAS (OCTAVES)",
+         2, {20, 20, 20});
     for (int y = 0; y < ph; ++y)
       for (int x = 0; x < pw; ++x) {
         const double px = (x + 0.5) * sx, py = (y + 0.5) * sy;
@@ -203,37 +218,48 @@ RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int
         if (a > 5 && m < step) put(&im, x0 + x, top + y, {255, 255, 255}, 0.9f);
       }
     // The gaze (or the view centre): a cross.
-    const int gx = x0 + static_cast<int>(plan.maps.origin_px[0] / sx), gy = top + static_cast<int>(plan.maps.origin_px[1] / sy);
+    const int gx = x0 + static_cast<int>(plan.maps.origin_px[0] / sx),
+              gy = top + static_cast<int>(plan.maps.origin_px[1] / sy);
     fill_rect(&im, gx - 12, gy - 1, 25, 3, {0, 0, 0});
     fill_rect(&im, gx - 1, gy - 12, 3, 25, {0, 0, 0});
   }
   // Legends.
   const int ly = top + ph + gap;
-  const struct { int rx, ry; const char* label; } rates[] = {
-      {1, 1, "1X1"}, {2, 1, "2X1,1X2"}, {2, 2, "2X2"}, {4, 2, "4X2,2X4"}, {4, 4, "4X4"}};
+  const struct {
+    int rx, ry;
+    const char* label;
+  } rates[] = {{1, 1, "1X1"}, {2, 1, "2X1,1X2"}, {2, 2, "2X2"}, {4, 2, "4X2,2X4"}, {4, 4, "4X4"}};
   for (int i = 0; i < 5; ++i) {
     const int x = gap + i * (pw / 5);
-    const Colour c = rates[i].rx * rates[i].ry == 1 ? Colour{168, 168, 168} : rate_colour(rates[i].rx, rates[i].ry);
+    const Colour c =
+        rates[i].rx * rates[i].ry == 1 ? Colour{168, 168, 168} : rate_colour(rates[i].rx, rates[i].ry);
     fill_rect(&im, x, ly, 28, 28, {20, 20, 20});
     fill_rect(&im, x + 2, ly + 2, 24, 24, c);
     text(&im, x + 34, ly + 7, rates[i].label, 2, {20, 20, 20});
   }
   const int bx = 2 * gap + pw, bw = pw - 60;
-  for (int x = 0; x < bw; ++x) fill_rect(&im, bx + x, ly, 1, 28, bias_colour(4.0f * static_cast<float>(x) / static_cast<float>(bw)));
+  for (int x = 0; x < bw; ++x)
+    fill_rect(&im, bx + x, ly, 1, 28, bias_colour(4.0f * static_cast<float>(x) / static_cast<float>(bw)));
   for (int k = 0; k <= 4; ++k) {
     const int x = bx + k * (bw - 1) / 4;
     fill_rect(&im, x, ly + 28, 2, 8, {20, 20, 20});
     text(&im, x - 4, ly + 40, k == 4 ? "4+" : std::to_string(k), 2, {20, 20, 20});
   }
-  text(&im, gap, ly + 60, "WHITE RINGS: EVERY 10 DEG FROM THE GAZE (CROSS). GREY SQUARES: 5 DEG OF THE VIEW.", 2, {20, 20, 20});
+  text(&im, gap, ly + 60, "WHITE RINGS: EVERY 10 DEG FROM THE GAZE (CROSS). GREY SQUARES: 5 DEG OF THE VIEW.",
+       2, {20, 20, 20});
   text(&im, gap, ly + 90, caption, 2, {20, 20, 20});
   return im;
 }
 
 std::string savings_table(const FoveationConfig& config, std::uint32_t tile_px) {
   auto planner = std::make_unique<FoveationPlanner>();
-  if (init_foveation_planner(config, planner.get()) != FoveationStatus::Ok) throw std::runtime_error("plan: invalid configuration");
-  struct Display { std::uint32_t w, h; double hfov; const char* name; };
+  if (init_foveation_planner(config, planner.get()) != FoveationStatus::Ok)
+    throw std::runtime_error("plan: invalid configuration");
+  struct Display {
+    std::uint32_t w, h;
+    double hfov;
+    const char* name;
+  };
   const Display displays[] = {{1920, 1920, 90, "1920x1920, 90 deg"},
                               {2000, 2000, 100, "2000x2000, 100 deg"},
                               {3840, 2160, 90, "3840x2160 (4K), 90 deg horizontal"}};
@@ -243,8 +269,12 @@ std::string savings_table(const FoveationConfig& config, std::uint32_t tile_px) 
   for (const Display& d : displays) {
     const Eye eye = display_eye(d.w, d.h, d.hfov);
     Gaze none;
-    const struct { Gaze g; const char* name; } gazes[] = {
-        {gaze_toward(0, 0), "centred"}, {gaze_toward(20, 10), "20 deg right, 10 deg up"}, {none, "none (no-gaze disc)"}};
+    const struct {
+      Gaze g;
+      const char* name;
+    } gazes[] = {{gaze_toward(0, 0), "centred"},
+                 {gaze_toward(20, 10), "20 deg right, 10 deg up"},
+                 {none, "none (no-gaze disc)"}};
     for (const auto& g : gazes) {
       const PlanResult r = plan_eye(*planner, eye, g.g, tile_px);
       std::size_t full = 0, coarse = 0, finest4 = 0;
@@ -255,18 +285,21 @@ std::string savings_table(const FoveationConfig& config, std::uint32_t tile_px) 
         finest4 += p == 16;
       }
       const double n = double(r.bias.size());
-      std::snprintf(line, sizeof line, "| %s | %s | %.1f%% | %.0f%% / %.0f%% / %.0f%% |\n", d.name, g.name, 100 * r.saved(),
-                    100 * double(full) / n, 100 * double(coarse) / n, 100 * double(finest4) / n);
+      std::snprintf(line, sizeof line, "| %s | %s | %.1f%% | %.0f%% / %.0f%% / %.0f%% |\n", d.name, g.name,
+                    100 * r.saved(), 100 * double(full) / n, 100 * double(coarse) / n,
+                    100 * double(finest4) / n);
       out += line;
     }
   }
-  out += "\nGuenter layers for the same displays from the same model (gaze tracked, 3 layers):\n\n"
-         "| display | MAR line w0 + m e [deg/cycle] | layer radii [deg] | sampling factors | pixels saved |\n"
-         "|---|---|---|---|---|\n";
+  out +=
+      "\nGuenter layers for the same displays from the same model (gaze tracked, 3 layers):\n\n"
+      "| display | MAR line w0 + m e [deg/cycle] | layer radii [deg] | sampling factors | pixels saved |\n"
+      "|---|---|---|---|---|\n";
   for (const Display& d : displays) {
     const FoveationLayers l = foveation_layers(*planner, display_eye(d.w, d.h, d.hfov), 3);
     const GuenterLayers& g = l.layers;
-    std::snprintf(line, sizeof line, "| %s | %.4f + %.4f e | %.1f, %.1f, %.1f | %.2f, %.2f, %.2f | %.1f%% |\n", d.name, l.omega0,
+    std::snprintf(line, sizeof line,
+                  "| %s | %.4f + %.4f e | %.1f, %.1f, %.1f | %.2f, %.2f, %.2f | %.1f%% |\n", d.name, l.omega0,
                   l.slope, g.radius[0], g.radius[1], g.radius[2], g.sampling[0], g.sampling[1], g.sampling[2],
                   100 * (1 - 1 / g.speedup));
     out += line;

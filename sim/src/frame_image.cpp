@@ -12,8 +12,8 @@
 namespace acuity::sim {
 namespace {
 
-constexpr std::uint8_t kPalette[8][3] = {{40, 110, 230}, {40, 190, 210}, {70, 190, 70}, {235, 205, 50},
-                                         {245, 135, 40}, {220, 50, 50}, {170, 70, 190}, {130, 130, 130}};
+constexpr std::uint8_t kPalette[8][3] = {{40, 110, 230}, {40, 190, 210}, {70, 190, 70},  {235, 205, 50},
+                                         {245, 135, 40}, {220, 50, 50},  {170, 70, 190}, {130, 130, 130}};
 
 void put(RgbImage* im, int x, int y, const std::uint8_t c[3]) {
   if (x < 0 || y < 0 || x >= im->width || y >= im->height) return;
@@ -27,9 +27,11 @@ void append(void* context, void* data, int size) {
 
 }  // namespace
 
-void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* levels, RgbImage* image, int x0) {
+void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* levels, RgbImage* image,
+                 int x0) {
   const int n = image->height;
-  const double half = 0.5 * n, focal = half / std::tan(0.5 * double(sim.options().fov_deg) * 3.14159265358979 / 180);
+  const double half = 0.5 * n,
+               focal = half / std::tan(0.5 * double(sim.options().fov_deg) * 3.14159265358979 / 180);
   const HeadPose& head = sim.head()[frame];
   const glm::dquat to_head = glm::inverse(head.orientation);
   std::vector<float> depth(std::size_t(n) * std::size_t(n), std::numeric_limits<float>::infinity());
@@ -50,7 +52,10 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
     const glm::dvec3 p(t.position[0], t.position[1], t.position[2]);
     std::vector<glm::dvec3> h(m.vertex_count());
     for (std::size_t v = 0; v < h.size(); ++v)
-      h[v] = to_head * (p + q * (double(t.scale) * glm::dvec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2])) - head.position);
+      h[v] = to_head * (p +
+                        q * (double(t.scale) *
+                             glm::dvec3(m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2])) -
+                        head.position);
     const std::uint8_t* colour = kPalette[std::min<int>(level, 7)];
     for (std::size_t f = 0; f + 2 < m.indices.size(); f += 3) {
       const glm::dvec3 a3 = h[m.indices[f]], b3 = h[m.indices[f + 1]], c3 = h[m.indices[f + 2]];
@@ -66,9 +71,12 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
       const glm::dvec3 normal = glm::normalize(glm::cross(b3 - a3, c3 - a3));
       const double light = std::abs(glm::dot(normal, glm::normalize(a3 + b3 + c3)));
       const double shade = 0.25 + 0.75 * light;
-      const std::uint8_t c[3] = {std::uint8_t(colour[0] * shade), std::uint8_t(colour[1] * shade), std::uint8_t(colour[2] * shade)};
-      const int lx = std::max(0, int(std::floor(std::min({sx[0], sx[1], sx[2]})))), hx = std::min(n - 1, int(std::ceil(std::max({sx[0], sx[1], sx[2]}))));
-      const int ly = std::max(0, int(std::floor(std::min({sy[0], sy[1], sy[2]})))), hy = std::min(n - 1, int(std::ceil(std::max({sy[0], sy[1], sy[2]}))));
+      const std::uint8_t c[3] = {std::uint8_t(colour[0] * shade), std::uint8_t(colour[1] * shade),
+                                 std::uint8_t(colour[2] * shade)};
+      const int lx = std::max(0, int(std::floor(std::min({sx[0], sx[1], sx[2]})))),
+                hx = std::min(n - 1, int(std::ceil(std::max({sx[0], sx[1], sx[2]}))));
+      const int ly = std::max(0, int(std::floor(std::min({sy[0], sy[1], sy[2]})))),
+                hy = std::min(n - 1, int(std::ceil(std::max({sy[0], sy[1], sy[2]}))));
       for (int y = ly; y <= hy; ++y)
         for (int x = lx; x <= hx; ++x) {
           const double px = x + 0.5, py = y + 0.5;
@@ -87,15 +95,18 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
   // The gaze: a ring of 2 deg radius (white, black rim); nothing during a blink.
   const GazeSample& g = sim.gaze()[frame];
   if (g.confidence > 0 && g.direction.z < -1e-3) {
-    const double gx = half + g.direction.x / -g.direction.z * focal, gy = half - g.direction.y / -g.direction.z * focal;
+    const double gx = half + g.direction.x / -g.direction.z * focal,
+                 gy = half - g.direction.y / -g.direction.z * focal;
     const double r = focal * std::tan(2.0 * 3.14159265358979 / 180);
     const std::uint8_t white[3] = {255, 255, 255}, black[3] = {0, 0, 0};
     for (int y = int(gy - r - 3); y <= int(gy + r + 3); ++y)
       for (int x = int(gx - r - 3); x <= int(gx + r + 3); ++x) {
         if (x < 0 || x >= n) continue;
         const double d = std::hypot(x + 0.5 - gx, y + 0.5 - gy);
-        if (std::abs(d - r) < 1.2) put(image, x0 + x, y, white);
-        else if (std::abs(d - r) < 2.4 || d < 1.5) put(image, x0 + x, y, black);
+        if (std::abs(d - r) < 1.2)
+          put(image, x0 + x, y, white);
+        else if (std::abs(d - r) < 2.4 || d < 1.5)
+          put(image, x0 + x, y, black);
       }
   }
   for (int l = 0; l < 8; ++l)  // the level swatches, finest first
@@ -105,7 +116,8 @@ void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* l
 
 void write_png(const std::string& path, const RgbImage& image) {
   std::vector<std::uint8_t> png;
-  if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.pixels.data(), image.width * 3))
+  if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.pixels.data(),
+                              image.width * 3))
     throw std::runtime_error(path + ": cannot encode PNG");
   std::string error;
   if (!write_file_atomically(path, png.data(), png.size(), &error)) throw std::runtime_error(error);

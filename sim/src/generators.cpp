@@ -36,8 +36,12 @@ std::vector<HeadPose> flythrough(const SceneAssets& scene, double seconds, doubl
   const double length = (along_z ? hi.z - lo.z : hi.x - lo.x) + 2.0;
   const double speed = std::min(1.4, length / std::max(seconds, 1e-3));
   glm::dvec3 start(centre.x, lo.y + 1.6, centre.z), heading(0, 0, -1);
-  if (along_z) start.z = hi.z + 2.0;
-  else { start.x = hi.x + 2.0; heading = {-1, 0, 0}; }
+  if (along_z)
+    start.z = hi.z + 2.0;
+  else {
+    start.x = hi.x + 2.0;
+    heading = {-1, 0, 0};
+  }
   const double base_yaw = std::atan2(-heading.x, -heading.z);
   std::vector<HeadPose> out(std::size_t(std::llround(seconds * fps)));
   for (std::size_t f = 0; f < out.size(); ++f) {
@@ -64,15 +68,16 @@ std::vector<Mover> choose_movers(const SceneAssets& scene, std::uint32_t count, 
     m.speed = 1.0;
     m.phase = unit(rng) * 2 * kPi;
     const glm::dvec3 p(in.transform.position[0], in.transform.position[1], in.transform.position[2]);
-    m.centre = p - m.radius * glm::dvec3(std::cos(m.phase), 0, std::sin(m.phase));  // on its own place at t = 0
+    m.centre =
+        p - m.radius * glm::dvec3(std::cos(m.phase), 0, std::sin(m.phase));  // on its own place at t = 0
     out.push_back(m);
   }
   std::sort(out.begin(), out.end(), [](const Mover& a, const Mover& b) { return a.instance < b.instance; });
   return out;
 }
 
-GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head, const std::vector<Mover>& movers,
-                            double fps, unsigned seed) {
+GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
+                            const std::vector<Mover>& movers, double fps, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0, 1);
   auto uniform = [&](double a, double b) { return a + (b - a) * unit(rng); };
@@ -80,7 +85,11 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
   for (std::size_t i = 0; i < movers.size(); ++i) mover_of[movers[i].instance] = int(i);
 
   // A target: an object (maybe moving) and an offset from its centre, or a point straight ahead.
-  struct Target { int object = -1; glm::dvec3 offset{0.0}; glm::dvec3 fixed{0.0}; };
+  struct Target {
+    int object = -1;
+    glm::dvec3 offset{0.0};
+    glm::dvec3 fixed{0.0};
+  };
   auto world_point = [&](const Target& g, std::size_t f) {
     if (g.object < 0) return g.fixed;
     const Instance& in = scene.instances[std::size_t(g.object)];
@@ -91,7 +100,9 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
     }
     return world_centre(scene.assets[std::size_t(in.asset)], t) + g.offset;
   };
-  auto direction = [&](const Target& g, std::size_t f) { return glm::normalize(to_head(head[f], world_point(g, f))); };
+  auto direction = [&](const Target& g, std::size_t f) {
+    return glm::normalize(to_head(head[f], world_point(g, f)));
+  };
   auto choose = [&](std::size_t f, bool* pursuit) {
     std::vector<int> seen, moving;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
@@ -105,9 +116,12 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
     }
     Target g;
     *pursuit = !moving.empty() && unit(rng) < 0.35;
-    if (*pursuit) g.object = moving[std::size_t(unit(rng) * double(moving.size())) % moving.size()];
-    else if (!seen.empty()) g.object = seen[std::size_t(unit(rng) * double(seen.size())) % seen.size()];
-    else g.fixed = head[f].position + head[f].orientation * glm::dvec3(0, 0, -10);
+    if (*pursuit)
+      g.object = moving[std::size_t(unit(rng) * double(moving.size())) % moving.size()];
+    else if (!seen.empty())
+      g.object = seen[std::size_t(unit(rng) * double(seen.size())) % seen.size()];
+    else
+      g.fixed = head[f].position + head[f].orientation * glm::dvec3(0, 0, -10);
     if (g.object >= 0) {
       const double r = 0.3 * scene.instances[std::size_t(g.object)].radius;
       g.offset = r * glm::dvec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
@@ -146,7 +160,8 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
     GazeSample& s = out.samples[f];
     if (phase == GazePhase::Saccade) {
       const double u = std::clamp((t - saccade_start) / saccade_length, 0.0, 1.0);
-      s.direction = slerp_direction(direction(previous, f), direction(current, f), 0.5 - 0.5 * std::cos(kPi * u));
+      s.direction =
+          slerp_direction(direction(previous, f), direction(current, f), 0.5 - 0.5 * std::cos(kPi * u));
     } else {
       s.direction = direction(current, f);
     }

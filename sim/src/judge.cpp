@@ -27,10 +27,15 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
   std::sort(candidates.begin(), candidates.end());
 
   // The exact view from the eyes' midpoint, and the display's pixels across the object there.
-  struct Task { Judged j; ProfileView view; int asset; };
+  struct Task {
+    Judged j;
+    ProfileView view;
+    int asset;
+  };
   std::vector<Task> tasks;
   const SimulationOptions& o = sim.options();
-  const double ppd = double(o.viewport) / (2 * std::tan(0.5 * double(o.fov_deg) / kDeg)) / kDeg;  // at the centre
+  const double ppd =
+      double(o.viewport) / (2 * std::tan(0.5 * double(o.fov_deg) / kDeg)) / kDeg;  // at the centre
   for (std::uint64_t c : candidates) {
     Task t{};
     t.j.frame = std::uint32_t(c / objects);
@@ -38,13 +43,15 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     const Instance& in = scene.instances[t.j.object];
     t.asset = in.asset;
     const Frame& fr = sim.frame(t.j.frame);
-    const glm::dvec3 eye = 0.5 * (glm::dvec3(fr.eyes[0].position[0], fr.eyes[0].position[1], fr.eyes[0].position[2]) +
-                                  glm::dvec3(fr.eyes[1].position[0], fr.eyes[1].position[1], fr.eyes[1].position[2]));
+    const glm::dvec3 eye =
+        0.5 * (glm::dvec3(fr.eyes[0].position[0], fr.eyes[0].position[1], fr.eyes[0].position[2]) +
+               glm::dvec3(fr.eyes[1].position[0], fr.eyes[1].position[1], fr.eyes[1].position[2]));
     const ObjectTransform tr = sim.transform(t.j.object, t.j.frame);
     const glm::dquat q(tr.rotation[3], tr.rotation[0], tr.rotation[1], tr.rotation[2]);
     const glm::dvec3 centre = world_centre(scene.assets[std::size_t(in.asset)], tr);
     const glm::dvec3 d = glm::inverse(q) * (eye - centre);
-    const glm::dquat head(fr.eyes[0].orientation[3], fr.eyes[0].orientation[0], fr.eyes[0].orientation[1], fr.eyes[0].orientation[2]);
+    const glm::dquat head(fr.eyes[0].orientation[3], fr.eyes[0].orientation[0], fr.eyes[0].orientation[1],
+                          fr.eyes[0].orientation[2]);
     glm::dvec3 up = glm::inverse(q) * (head * glm::dvec3(0, 1, 0));
     const glm::dvec3 dir = glm::normalize(d);
     up -= dir * glm::dot(up, dir);
@@ -60,7 +67,8 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     const double distance = glm::length(eye - centre);
     const double theta = distance > in.radius ? 2 * std::asin(in.radius / distance) * kDeg : 180.0;
     std::uint32_t px = 64;
-    while (px < 512 && double(px) < 2 * theta * ppd) px *= 2;  // bands up to px / 4 reach the display's Nyquist
+    while (px < 512 && double(px) < 2 * theta * ppd)
+      px *= 2;  // bands up to px / 4 reach the display's Nyquist
     t.j.pixels = px;
     tasks.push_back(t);
   }
@@ -75,7 +83,8 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     if (!m) {
       spectra::ProfileSettings ps;
       ps.render.pixels = t.j.pixels;
-      m = std::make_unique<spectra::ProfileMeasurer>(inputs[std::size_t(t.asset)], scene.assets[std::size_t(t.asset)].material, ps);
+      m = std::make_unique<spectra::ProfileMeasurer>(inputs[std::size_t(t.asset)],
+                                                     scene.assets[std::size_t(t.asset)].material, ps);
     }
   }
   std::vector<spectra::ViewMeasurement> measured(tasks.size());
@@ -100,7 +109,8 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     d.features = measured[i].features;
     const Blob blob = spectra::encode_profile(d);
     Profile p;
-    if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok) throw std::logic_error("ground-truth profile does not open");
+    if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok)
+      throw std::logic_error("ground-truth profile does not open");
     SchedulerConfig c = sim.rule("perceptual").scheduler->config();
     c.max_objects = 1;
     c.max_profiles = 1;
@@ -129,7 +139,8 @@ std::string explain_text(const Simulation& sim, std::uint32_t object) {
   const Asset& a = sim.scene().assets[std::size_t(in.asset)];
   const Scheduler& s = *sim.rule("perceptual").scheduler;
   ObjectExplain e{};
-  if (!s.explain(object, &e)) throw std::runtime_error("explain: object " + std::to_string(object) + " is not scheduled");
+  if (!s.explain(object, &e))
+    throw std::runtime_error("explain: object " + std::to_string(object) + " is not scheduled");
   const Profile& p = a.profile;
   char line[256];
   std::string out;
@@ -137,26 +148,31 @@ std::string explain_text(const Simulation& sim, std::uint32_t object) {
     std::snprintf(line, sizeof line, fmt, args...);
     out += line;
   };
-  add("object %u '%s' (%s, %u levels) in frame %zu at %.3f s%s\n", object, in.name.c_str(), a.name.c_str(), p.meta.level_count, f,
-      double(f) / sim.options().fps, sim.saccade(f) ? " (during a saccade)" : "");
-  add("  distance %.2f m, angular diameter %.2f deg, eccentricity %.2f deg from the gaze%s\n", double(e.distance_m),
-      double(e.angular_diameter_deg), double(e.eccentricity_deg), sim.gaze()[f].confidence > 0 ? "" : " (no gaze: blink)");
-  add("  image velocity %.2f deg/s, retinal velocity %.2f deg/s; profile view %u\n", double(e.image_velocity_deg_s),
-      double(e.retinal_velocity_deg_s), e.view);
-  add("  %-6s %10s %9s %12s %14s %12s %12s\n", "level", "triangles", "score", "limit band", "at", "orientation", "threshold");
+  add("object %u '%s' (%s, %u levels) in frame %zu at %.3f s%s\n", object, in.name.c_str(), a.name.c_str(),
+      p.meta.level_count, f, double(f) / sim.options().fps, sim.saccade(f) ? " (during a saccade)" : "");
+  add("  distance %.2f m, angular diameter %.2f deg, eccentricity %.2f deg from the gaze%s\n",
+      double(e.distance_m), double(e.angular_diameter_deg), double(e.eccentricity_deg),
+      sim.gaze()[f].confidence > 0 ? "" : " (no gaze: blink)");
+  add("  image velocity %.2f deg/s, retinal velocity %.2f deg/s; profile view %u\n",
+      double(e.image_velocity_deg_s), double(e.retinal_velocity_deg_s), e.view);
+  add("  %-6s %10s %9s %12s %14s %12s %12s\n", "level", "triangles", "score", "limit band", "at",
+      "orientation", "threshold");
   for (std::uint32_t k = 0; k < e.level_count; ++k) {
     const LevelExplain& l = e.levels[k];
     if (k == 0) {
       add("  %-6u %10u %9s %12s %14s %12s %12s\n", k, p.levels[k].triangles, "0", "-", "-", "-", "-");
       continue;
     }
-    add("  %-6u %10u %9.3f %7.1f cpod %9.2f cpd %8.1f deg %12.4g%s\n", k, p.levels[k].triangles, double(l.score),
-        double(p.bands[l.band]), double(l.frequency_cpd), double(p.orientations[l.orientation]), double(l.threshold),
+    add("  %-6u %10u %9.3f %7.1f cpod %9.2f cpd %8.1f deg %12.4g%s\n", k, p.levels[k].triangles,
+        double(l.score), double(p.bands[l.band]), double(l.frequency_cpd),
+        double(p.orientations[l.orientation]), double(l.threshold),
         l.score <= 1 ? "  invisible" : "  visible");
   }
-  add("  chosen: level %u (perceptual: the coarsest with score <= 1, after hysteresis and saccade gating)\n", s.level(object));
+  add("  chosen: level %u (perceptual: the coarsest with score <= 1, after hysteresis and saccade gating)\n",
+      s.level(object));
   add("  other rules this frame:");
-  for (const char* name : {"reddy", "distance", "screen-size"}) add(" %s %u", name, sim.rule(name).scheduler->level(object));
+  for (const char* name : {"reddy", "distance", "screen-size"})
+    add(" %s %u", name, sim.rule(name).scheduler->level(object));
   add("\n");
   return out;
 }

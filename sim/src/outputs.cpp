@@ -30,9 +30,9 @@ std::string frames_csv(const Simulation& sim, const Results& r) {
   f << "\n";
   const GeneratedGaze& gen = sim.generated();
   for (std::size_t i = 0; i < r.frames; ++i) {
-    f << i << "," << double(i) / sim.options().fps << "," << sim.saccade(i) << "," << sim.gaze()[i].confidence << ","
-      << (gen.phases.empty() ? "recorded" : to_string(gen.phases[i])) << "," << (gen.targets.empty() ? -1 : gen.targets[i]) << ","
-      << sim.finest(i);
+    f << i << "," << double(i) / sim.options().fps << "," << sim.saccade(i) << "," << sim.gaze()[i].confidence
+      << "," << (gen.phases.empty() ? "recorded" : to_string(gen.phases[i])) << ","
+      << (gen.targets.empty() ? -1 : gen.targets[i]) << "," << sim.finest(i);
     for (const RuleRun& run : sim.rules())
       if (!run.sweep) f << "," << run.drawn[i];
     f << "\n";
@@ -63,8 +63,9 @@ std::string sweep_csv(const Simulation& sim, const Results& r) {
   s << "rule,parameter,sweep,triangles_per_frame,visible_losses,judged\n";
   const std::vector<RuleRun>& rules = sim.rules();
   for (std::size_t i = 0; i < rules.size(); ++i)
-    s << rules[i].name << "," << rules[i].parameter << "," << rules[i].sweep << "," << rules[i].triangles * (1.0 / double(r.frames))
-      << "," << r.visible_losses[i] << "," << r.judged << "\n";
+    s << rules[i].name << "," << rules[i].parameter << "," << rules[i].sweep << ","
+      << rules[i].triangles * (1.0 / double(r.frames)) << "," << r.visible_losses[i] << "," << r.judged
+      << "\n";
   return s.str();
 }
 
@@ -98,7 +99,8 @@ std::string summary_json(const Simulation& sim, const Results& r) {
   summary["judged_decisions"] = r.judged;
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (!rules[i].sweep)
-      summary["rules"][rules[i].name] = {{"triangles_per_frame", rules[i].triangles * per_frame}, {"switches", rules[i].switches},
+      summary["rules"][rules[i].name] = {{"triangles_per_frame", rules[i].triangles * per_frame},
+                                         {"switches", rules[i].switches},
                                          {"switches_outside_saccades", rules[i].switches_outside_saccades},
                                          {"visible_losses", r.visible_losses[i]}};
   if (r.judged == 0) return summary.dump(2) + "\n";
@@ -106,22 +108,26 @@ std::string summary_json(const Simulation& sim, const Results& r) {
     const Match& m = std::string(name) == "screen-size" ? r.screen_size : r.distance;
     if (m.rule < 0) continue;
     const RuleRun& run = rules[std::size_t(m.rule)];
-    summary["tuned"][name] = {{"parameter", run.parameter}, {"triangles_per_frame", run.triangles * per_frame},
-                              {"visible_losses", r.visible_losses[std::size_t(m.rule)]}, {"ratio_to_perceptual", m.ratio}};
+    summary["tuned"][name] = {{"parameter", run.parameter},
+                              {"triangles_per_frame", run.triangles * per_frame},
+                              {"visible_losses", r.visible_losses[std::size_t(m.rule)]},
+                              {"ratio_to_perceptual", m.ratio}};
   }
   for (const Results::QualityPoint& q : r.quality_sweep) {
     const RuleRun& run = rules[std::size_t(q.rule)];
-    summary["quality_sweep"].push_back({{"quality", run.parameter}, {"triangles_per_frame", run.triangles * per_frame},
-                                        {"visible_losses", r.visible_losses[std::size_t(q.rule)]},
-                                        {"screen_size_ratio", q.screen_size.rule >= 0 ? q.screen_size.ratio : 0.0}});
+    summary["quality_sweep"].push_back(
+        {{"quality", run.parameter},
+         {"triangles_per_frame", run.triangles * per_frame},
+         {"visible_losses", r.visible_losses[std::size_t(q.rule)]},
+         {"screen_size_ratio", q.screen_size.rule >= 0 ? q.screen_size.ratio : 0.0}});
   }
   return summary.dump(2) + "\n";
 }
 
 }  // namespace
 
-std::vector<std::string> write_outputs(const Simulation& sim, const Results& r, const std::vector<Judged>& judged,
-                                       const std::string& dir) {
+std::vector<std::string> write_outputs(const Simulation& sim, const Results& r,
+                                       const std::vector<Judged>& judged, const std::string& dir) {
   fs::create_directories(dir);
   std::vector<std::string> written;
   const fs::path out(dir);
@@ -135,7 +141,8 @@ std::vector<std::string> write_outputs(const Simulation& sim, const Results& r, 
 
   // Frames: the perceptual rule beside the screen-size rule tuned to the same visible losses (or at 1 px).
   const RuleRun& left = sim.rules()[std::size_t(r.perceptual)];
-  const RuleRun& right = r.screen_size.rule >= 0 ? sim.rules()[std::size_t(r.screen_size.rule)] : sim.rule("screen-size");
+  const RuleRun& right =
+      r.screen_size.rule >= 0 ? sim.rules()[std::size_t(r.screen_size.rule)] : sim.rule("screen-size");
   const std::uint32_t images = sim.options().images;
   for (std::uint32_t k = 0; k < images && r.frames > 0; ++k) {
     const std::size_t i = r.frames * (2 * k + 1) / (2 * images);

@@ -13,7 +13,8 @@ std::uint32_t visible_losses(const RuleRun& r, const std::vector<Judged>& judged
 }
 
 // The cheapest sweep entry of baseline `name` whose visible losses are at most those of rule `to`.
-Match tuned(const Simulation& sim, const std::vector<std::uint32_t>& losses, const std::string& name, std::size_t to) {
+Match tuned(const Simulation& sim, const std::vector<std::uint32_t>& losses, const std::string& name,
+            std::size_t to) {
   const std::vector<RuleRun>& rules = sim.rules();
   Match m;
   for (std::size_t i = 0; i < rules.size(); ++i)
@@ -50,41 +51,52 @@ std::string summary_text(const Simulation& sim, const Results& r) {
   const RuleRun& perceptual = rules[std::size_t(r.perceptual)];
   const double per_frame = 1.0 / double(r.frames);
   std::string out;
-  appendf(&out, "\n%zu frames at %.0f Hz (%.1f s), two eyes, %zu objects; all in-view objects at their finest: %.0f triangles per frame\n\n",
+  appendf(&out,
+          "\n%zu frames at %.0f Hz (%.1f s), two eyes, %zu objects; all in-view objects at their finest: "
+          "%.0f triangles per frame\n\n",
           r.frames, o.fps, double(r.frames) / o.fps, r.objects, r.all_finest);
-  appendf(&out, "%-12s %16s %14s %14s %10s %14s %18s\n", "rule", "triangles/frame", "of all-finest", "of perceptual", "switches",
-          "outside sacc.", r.judged == 0 ? "" : "visible losses");
+  appendf(&out, "%-12s %16s %14s %14s %10s %14s %18s\n", "rule", "triangles/frame", "of all-finest",
+          "of perceptual", "switches", "outside sacc.", r.judged == 0 ? "" : "visible losses");
   for (std::size_t i = 0; i < rules.size(); ++i) {
     const RuleRun& run = rules[i];
     if (run.sweep) continue;
     appendf(&out, "%-12s %16.0f %13.1f%% %13.2fx %10llu %14llu", run.name.c_str(), run.triangles * per_frame,
             100.0 * run.triangles / sim.all_finest(), run.triangles / perceptual.triangles,
-            static_cast<unsigned long long>(run.switches), static_cast<unsigned long long>(run.switches_outside_saccades));
-    if (r.judged > 0) appendf(&out, " %10.1f%% (%u/%zu)", 100.0 * r.fraction(i), r.visible_losses[i], r.judged);
+            static_cast<unsigned long long>(run.switches),
+            static_cast<unsigned long long>(run.switches_outside_saccades));
+    if (r.judged > 0)
+      appendf(&out, " %10.1f%% (%u/%zu)", 100.0 * r.fraction(i), r.visible_losses[i], r.judged);
     appendf(&out, "\n");
   }
   if (r.judged == 0) return out;
-  appendf(&out, "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering both levels at the exact view):\n",
+  appendf(&out,
+          "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering "
+          "both levels at the exact view):\n",
           100.0 * r.fraction(std::size_t(r.perceptual)), r.judged);
   for (const char* name : {"screen-size", "distance"}) {
     const bool screen_size = std::string(name) == "screen-size";
     const Match& m = screen_size ? r.screen_size : r.distance;
     if (m.rule >= 0) {
       const RuleRun& run = rules[std::size_t(m.rule)];
-      appendf(&out, "  %-12s tuned to %s %.3g: %.0f triangles/frame (%.1f%% visible) = %.2fx the perceptual rule's\n", name,
-              screen_size ? "pixel error" : "distance scale", run.parameter, run.triangles * per_frame,
-              100.0 * r.fraction(std::size_t(m.rule)), m.ratio);
+      appendf(
+          &out,
+          "  %-12s tuned to %s %.3g: %.0f triangles/frame (%.1f%% visible) = %.2fx the perceptual rule's\n",
+          name, screen_size ? "pixel error" : "distance scale", run.parameter, run.triangles * per_frame,
+          100.0 * r.fraction(std::size_t(m.rule)), m.ratio);
     } else {
       appendf(&out, "  %-12s no tuning in the sweep is that safe\n", name);
     }
   }
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
-  appendf(&out, "  %6s %16s %15s %30s\n", "q", "triangles/frame", "visible losses", "screen-size at that rate: ratio");
+  appendf(&out, "  %6s %16s %15s %30s\n", "q", "triangles/frame", "visible losses",
+          "screen-size at that rate: ratio");
   for (const Results::QualityPoint& q : r.quality_sweep) {
     const RuleRun& run = rules[std::size_t(q.rule)];
-    appendf(&out, "  %6.3g %16.0f %14.1f%%", run.parameter, run.triangles * per_frame, 100.0 * r.fraction(std::size_t(q.rule)));
+    appendf(&out, "  %6.3g %16.0f %14.1f%%", run.parameter, run.triangles * per_frame,
+            100.0 * r.fraction(std::size_t(q.rule)));
     if (q.screen_size.rule >= 0)
-      appendf(&out, " %14.3g px: %.2fx\n", rules[std::size_t(q.screen_size.rule)].parameter, q.screen_size.ratio);
+      appendf(&out, " %14.3g px: %.2fx\n", rules[std::size_t(q.screen_size.rule)].parameter,
+              q.screen_size.ratio);
     else
       appendf(&out, " %30s\n", "none as safe in the sweep");
   }

@@ -9,10 +9,12 @@
 namespace acuity::sim {
 
 Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : scene_(scene), options_(o) {
-  if (!(o.fps > 0) || !(o.seconds > 0)) throw std::runtime_error("simulate: seconds and fps must be positive");
+  if (!(o.fps > 0) || !(o.seconds > 0))
+    throw std::runtime_error("simulate: seconds and fps must be positive");
   objects_ = scene.instances.size();
   const std::size_t frames = std::size_t(std::llround(o.seconds * o.fps));
-  head_ = o.head_file.empty() ? flythrough(scene, o.seconds, o.fps) : head_path_from(read_table(o.head_file), o.fps, frames);
+  head_ = o.head_file.empty() ? flythrough(scene, o.seconds, o.fps)
+                              : head_path_from(read_table(o.head_file), o.fps, frames);
   movers_ = choose_movers(scene, o.movers, o.seed);
   mover_of_.assign(objects_, -1);
   for (std::size_t i = 0; i < movers_.size(); ++i) mover_of_[movers_[i].instance] = int(i);
@@ -32,11 +34,14 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     const HeadPose& p = head_[f ? f - 1 : std::min<std::size_t>(1, frames - 1)];
     const double sign = f ? 1.0 : -1.0;  // frame 0 differences forwards
     const glm::dvec3 v = sign * (h.position - p.position) * o.fps;
-    const glm::dquat turn = sign > 0 ? h.orientation * glm::inverse(p.orientation) : p.orientation * glm::inverse(h.orientation);
-    const double turn_angle = 2 * std::atan2(glm::length(glm::dvec3(turn.x, turn.y, turn.z)), std::abs(turn.w));
-    const glm::dvec3 turn_axis = glm::length(glm::dvec3(turn.x, turn.y, turn.z)) > 0
-                                     ? glm::normalize(glm::dvec3(turn.x, turn.y, turn.z)) * (turn.w < 0 ? -1.0 : 1.0)
-                                     : glm::dvec3(0.0);
+    const glm::dquat turn =
+        sign > 0 ? h.orientation * glm::inverse(p.orientation) : p.orientation * glm::inverse(h.orientation);
+    const double turn_angle =
+        2 * std::atan2(glm::length(glm::dvec3(turn.x, turn.y, turn.z)), std::abs(turn.w));
+    const glm::dvec3 turn_axis =
+        glm::length(glm::dvec3(turn.x, turn.y, turn.z)) > 0
+            ? glm::normalize(glm::dvec3(turn.x, turn.y, turn.z)) * (turn.w < 0 ? -1.0 : 1.0)
+            : glm::dvec3(0.0);
     const glm::dvec3 omega = turn_axis * (turn_angle * kDeg * o.fps);
     Frame& fr = frames_[f];
     fr.eye_count = 2;
@@ -49,7 +54,8 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     saccade_[f] = tracked && gaze_speed > double(o.saccade_speed);
     for (int e = 0; e < 2; ++e) {
       Eye& eye = fr.eyes[e];
-      const glm::dvec3 at = h.position + h.orientation * glm::dvec3((e ? 0.5 : -0.5) * o.eye_separation, 0, 0);
+      const glm::dvec3 at =
+          h.position + h.orientation * glm::dvec3((e ? 0.5 : -0.5) * o.eye_separation, 0, 0);
       for (int k = 0; k < 3; ++k) {
         eye.position[k] = at[k];
         eye.velocity[k] = float(v[k]);
@@ -69,7 +75,8 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
       gz.confidence = g.confidence;
       for (int k = 0; k < 3; ++k) gz.direction[k] = float(g.direction[k]);
       gz.has_velocity = tracked;
-      const glm::dvec3 w = glm::length(gaze_axis) > 0 ? glm::normalize(gaze_axis) * gaze_speed : glm::dvec3(0.0);
+      const glm::dvec3 w =
+          glm::length(gaze_axis) > 0 ? glm::normalize(gaze_axis) * gaze_speed : glm::dvec3(0.0);
       for (int k = 0; k < 3; ++k) gz.angular_velocity[k] = float(w[k]);
     }
   }
@@ -81,10 +88,13 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
   for (std::size_t f = 0; f < frames; ++f)
     for (std::uint32_t i = 0; i < objects_; ++i) {
       const Instance& in = scene.instances[i];
-      const glm::dvec3 h = to_head(head_[f], world_centre(scene.assets[std::size_t(in.asset)], transform(i, f)));
+      const glm::dvec3 h =
+          to_head(head_[f], world_centre(scene.assets[std::size_t(in.asset)], transform(i, f)));
       const double r = in.radius;
-      in_view_[f * objects_ + i] = c * h.x + s * h.z < r && -c * h.x + s * h.z < r && c * h.y + s * h.z < r && -c * h.y + s * h.z < r;
-      if (in_view_[f * objects_ + i]) finest_[f] += scene.assets[std::size_t(in.asset)].profile.levels[0].triangles;
+      in_view_[f * objects_ + i] =
+          c * h.x + s * h.z < r && -c * h.x + s * h.z < r && c * h.y + s * h.z < r && -c * h.y + s * h.z < r;
+      if (in_view_[f * objects_ + i])
+        finest_[f] += scene.assets[std::size_t(in.asset)].profile.levels[0].triangles;
     }
 
   // Rules: the four, then sweeps in quarter octaves: the perceptual rule's quality q 0.35..1.4, the
@@ -147,7 +157,10 @@ glm::dvec3 Simulation::velocity(std::uint32_t object, std::size_t frame) const {
 bool Simulation::step() {
   if (next_ >= frames_.size()) return false;
   const std::size_t f = next_++;
-  struct Moved { ObjectTransform transform; float velocity[3]; };
+  struct Moved {
+    ObjectTransform transform;
+    float velocity[3];
+  };
   std::vector<Moved> moved(movers_.size());
   for (std::size_t k = 0; k < movers_.size(); ++k) {
     const glm::dvec3 v = velocity(movers_[k].instance, f);
@@ -163,7 +176,8 @@ bool Simulation::step() {
     for (std::uint32_t i = 0; i < objects_; ++i) {
       const std::uint8_t level = r.scheduler->level(i);
       r.levels[f * objects_ + i] = level;
-      if (in_view(i, f)) drawn += scene_.assets[std::size_t(scene_.instances[i].asset)].profile.levels[level].triangles;
+      if (in_view(i, f))
+        drawn += scene_.assets[std::size_t(scene_.instances[i].asset)].profile.levels[level].triangles;
     }
     r.drawn.push_back(drawn);
     r.triangles += drawn;

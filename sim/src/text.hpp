@@ -9,7 +9,8 @@ namespace acuity::sim {
 #if defined(__GNUC__)
 __attribute__((format(printf, 2, 3)))
 #endif
-inline void appendf(std::string* out, const char* format, ...) {
+inline void
+appendf(std::string* out, const char* format, ...) {
   va_list args, copy;
   va_start(args, format);
   va_copy(copy, args);

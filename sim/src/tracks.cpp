@@ -15,7 +15,9 @@
 namespace acuity::sim {
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw std::runtime_error(where + ": " + what);
+}
 
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
@@ -49,7 +51,8 @@ Table read_csv(const std::string& path, std::istream& in) {
       continue;
     }
     if (fields.size() != t.columns.size())
-      fail(where, std::to_string(fields.size()) + " fields, the header has " + std::to_string(t.columns.size()));
+      fail(where,
+           std::to_string(fields.size()) + " fields, the header has " + std::to_string(t.columns.size()));
     std::vector<double> row;
     for (std::size_t c = 0; c < fields.size(); ++c) {
       double v = 0;
@@ -69,19 +72,24 @@ Table read_json(const std::string& path, std::istream& in) {
   Table t;
   t.source = path;
   nlohmann::json j;
-  try { j = nlohmann::json::parse(in); } catch (const nlohmann::json::exception& e) { fail(path, std::string("not valid JSON: ") + e.what()); }
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) { fail(path, std::string("not valid JSON: ") + e.what()); }
   if (!j.is_array()) fail(path, "expected an array of objects with numeric fields");
   for (std::size_t i = 0; i < j.size(); ++i) {
     const std::string where = path + ": row " + std::to_string(i);
     if (!j[i].is_object()) fail(where, "is not an object");
     if (t.columns.empty())
       for (auto it = j[i].begin(); it != j[i].end(); ++it) t.columns.push_back(it.key());
-    if (j[i].size() != t.columns.size()) fail(where, "has " + std::to_string(j[i].size()) + " fields, row 0 has " + std::to_string(t.columns.size()));
+    if (j[i].size() != t.columns.size())
+      fail(where,
+           "has " + std::to_string(j[i].size()) + " fields, row 0 has " + std::to_string(t.columns.size()));
     std::vector<double> row;
     for (const std::string& c : t.columns) {
       if (!j[i].contains(c)) fail(where, "has no '" + c + "'");
       const auto& v = j[i][c];
-      if (!v.is_number() || !std::isfinite(v.get<double>())) fail(where, "'" + c + "' is not a finite number");
+      if (!v.is_number() || !std::isfinite(v.get<double>()))
+        fail(where, "'" + c + "' is not a finite number");
       row.push_back(v.get<double>());
     }
     t.rows.push_back(std::move(row));
@@ -98,7 +106,8 @@ struct Resampler {
     if (t.rows.empty()) fail(t.source, "has no rows");
     for (std::size_t i = 1; i < t.rows.size(); ++i)
       if (!(t.rows[i][std::size_t(t_column)] > t.rows[i - 1][std::size_t(t_column)]))
-        fail(t.source, "row " + std::to_string(i) + ": t = " + std::to_string(t.rows[i][std::size_t(t_column)]) + " does not increase");
+        fail(t.source, "row " + std::to_string(i) + ": t = " +
+                           std::to_string(t.rows[i][std::size_t(t_column)]) + " does not increase");
   }
   double at(double time) {  // advances monotonically
     const auto T = [&](std::size_t i) { return table.rows[i][std::size_t(t_column)]; };
@@ -117,11 +126,16 @@ struct Resampler {
 
 const char* to_string(GazePhase p) {
   switch (p) {
-    case GazePhase::Fixation: return "fixation";
-    case GazePhase::Saccade: return "saccade";
-    case GazePhase::Pursuit: return "pursuit";
-    case GazePhase::Blink: return "blink";
-    case GazePhase::Recorded: return "recorded";
+    case GazePhase::Fixation:
+      return "fixation";
+    case GazePhase::Saccade:
+      return "saccade";
+    case GazePhase::Pursuit:
+      return "pursuit";
+    case GazePhase::Blink:
+      return "blink";
+    case GazePhase::Recorded:
+      return "recorded";
   }
   return "?";
 }
@@ -154,9 +168,10 @@ std::vector<HeadPose> head_path_from(const Table& table, double fps, std::size_t
   const char* names[7] = {"x", "y", "z", "qx", "qy", "qz", "qw"};
   for (int i = 0; i < 7; ++i) c[i] = table.column(names[i], true);
   auto pose = [&](std::size_t row) {
-    glm::dquat q(table.rows[row][std::size_t(c[6])], table.rows[row][std::size_t(c[3])], table.rows[row][std::size_t(c[4])],
-                 table.rows[row][std::size_t(c[5])]);
-    if (!(glm::length(q) > 1e-6)) fail(table.source, "row " + std::to_string(row) + ": the orientation quaternion is zero");
+    glm::dquat q(table.rows[row][std::size_t(c[6])], table.rows[row][std::size_t(c[3])],
+                 table.rows[row][std::size_t(c[4])], table.rows[row][std::size_t(c[5])]);
+    if (!(glm::length(q) > 1e-6))
+      fail(table.source, "row " + std::to_string(row) + ": the orientation quaternion is zero");
     return glm::normalize(q);
   };
   for (std::size_t i = 0; i < table.rows.size(); ++i) pose(i);
@@ -179,9 +194,12 @@ std::vector<GazeSample> gaze_trace_from(const Table& table, double fps, std::siz
     const double w = r.at(double(f) / fps);
     const glm::dvec3 d(r.value(x, w), r.value(y, w), r.value(z, w));
     double c = conf < 0 ? 1.0 : table.rows[r.row][std::size_t(conf)];
-    if (conf >= 0 && w > 0) c = std::min(c, table.rows[r.row + 1][std::size_t(conf)]);  // a blink is not interpolated away
-    if (glm::length(d) > 1e-9) out[f].direction = glm::normalize(d);
-    else c = 0;  // no direction: no gaze
+    if (conf >= 0 && w > 0)
+      c = std::min(c, table.rows[r.row + 1][std::size_t(conf)]);  // a blink is not interpolated away
+    if (glm::length(d) > 1e-9)
+      out[f].direction = glm::normalize(d);
+    else
+      c = 0;  // no direction: no gaze
     out[f].confidence = float(std::clamp(c, 0.0, 1.0));
   }
   return out;
@@ -193,8 +211,9 @@ std::string head_path_csv(const std::vector<HeadPose>& head, double fps, std::si
   h << "t,x,y,z,qx,qy,qz,qw\n";
   for (std::size_t i = 0; i < frames; ++i) {
     const HeadPose& p = head[i];
-    h << double(i) / fps << "," << p.position.x << "," << p.position.y << "," << p.position.z << "," << p.orientation.x << ","
-      << p.orientation.y << "," << p.orientation.z << "," << p.orientation.w << "\n";
+    h << double(i) / fps << "," << p.position.x << "," << p.position.y << "," << p.position.z << ","
+      << p.orientation.x << "," << p.orientation.y << "," << p.orientation.z << "," << p.orientation.w
+      << "\n";
   }
   return h.str();
 }
@@ -205,7 +224,8 @@ std::string gaze_trace_csv(const std::vector<GazeSample>& gaze, double fps, std:
   g << "t,x,y,z,confidence\n";
   for (std::size_t i = 0; i < frames; ++i) {
     const GazeSample& z = gaze[i];
-    g << double(i) / fps << "," << z.direction.x << "," << z.direction.y << "," << z.direction.z << "," << z.confidence << "\n";
+    g << double(i) / fps << "," << z.direction.x << "," << z.direction.y << "," << z.direction.z << ","
+      << z.confidence << "\n";
   }
   return g.str();
 }

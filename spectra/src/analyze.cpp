@@ -25,7 +25,8 @@ std::mutex& planner_mutex() {  // FFTW's planner is not thread-safe; execution i
 struct Buffer {
   fftwf_complex* p = nullptr;
   std::size_t n = 0;
-  explicit Buffer(std::size_t count) : p(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * count))), n(count) {
+  explicit Buffer(std::size_t count)
+      : p(static_cast<fftwf_complex*>(fftwf_malloc(sizeof(fftwf_complex) * count))), n(count) {
     if (!p) throw std::bad_alloc();
   }
   ~Buffer() { fftwf_free(p); }
@@ -39,10 +40,10 @@ int signed_frequency(std::uint32_t k, std::uint32_t m) { return k < m / 2 ? int(
 }  // namespace
 
 struct LostContrast::Plans {
-  fftwf_plan forward = nullptr;                    // n x n
-  std::map<std::uint32_t, fftwf_plan> backward;    // m x m per crop size
-  std::vector<std::vector<float>> band_filter;     // [b * T + t] on the crop grid: radial x angular x 2
-  std::vector<std::vector<float>> lowpass;         // [b] on the crop grid
+  fftwf_plan forward = nullptr;                  // n x n
+  std::map<std::uint32_t, fftwf_plan> backward;  // m x m per crop size
+  std::vector<std::vector<float>> band_filter;   // [b * T + t] on the crop grid: radial x angular x 2
+  std::vector<std::vector<float>> lowpass;       // [b] on the crop grid
   ~Plans() {
     std::lock_guard<std::mutex> lock(planner_mutex());
     if (forward) fftwf_destroy_plan(forward);
@@ -51,8 +52,8 @@ struct LostContrast::Plans {
 };
 
 struct LostContrast::Reference {
-  std::unique_ptr<Buffer> spectrum;         // n x n
-  std::vector<std::vector<float>> mean;     // [b] local mean below band b, on the crop grid (floored)
+  std::unique_ptr<Buffer> spectrum;      // n x n
+  std::vector<std::vector<float>> mean;  // [b] local mean below band b, on the crop grid (floored)
 };
 
 std::vector<float> band_centres(std::uint32_t pixels, const AnalysisSettings& s) {
@@ -72,9 +73,14 @@ std::vector<float> orientation_angles(const AnalysisSettings& s) {
 }
 
 LostContrast::LostContrast(std::uint32_t pixels, const AnalysisSettings& settings)
-    : n_(pixels), settings_(settings), bands_(band_centres(pixels, settings)), plans_(std::make_unique<Plans>()) {
-  if (n_ < 8 || (n_ & (n_ - 1)) != 0) throw std::invalid_argument("analysis needs a power-of-two image size >= 8");
-  if (settings_.orientations == 0 || bands_.empty()) throw std::invalid_argument("analysis needs >= 1 orientation and band");
+    : n_(pixels),
+      settings_(settings),
+      bands_(band_centres(pixels, settings)),
+      plans_(std::make_unique<Plans>()) {
+  if (n_ < 8 || (n_ & (n_ - 1)) != 0)
+    throw std::invalid_argument("analysis needs a power-of-two image size >= 8");
+  if (settings_.orientations == 0 || bands_.empty())
+    throw std::invalid_argument("analysis needs >= 1 orientation and band");
   const std::uint32_t T = settings_.orientations;
   const float width = 1.0f / settings_.bands_per_octave;  // band spacing [octaves]
   const float spacing = 180.0f / float(T);
@@ -125,14 +131,19 @@ LostContrast::~LostContrast() = default;
 
 namespace {
 void forward(fftwf_plan plan, const Image& image, std::uint32_t n, Buffer& out) {
-  if (image.width != n || image.height != n) throw std::invalid_argument("image size differs from the analyzer's");
+  if (image.width != n || image.height != n)
+    throw std::invalid_argument("image size differs from the analyzer's");
   Buffer in(std::size_t(n) * n);
-  for (std::size_t i = 0; i < in.n; ++i) { in.p[i][0] = image.pixels[i]; in.p[i][1] = 0.0f; }
+  for (std::size_t i = 0; i < in.n; ++i) {
+    in.p[i][0] = image.pixels[i];
+    in.p[i][1] = 0.0f;
+  }
   fftwf_execute_dft(plan, in.p, out.p);
 }
 
 // Copies the m x m low-frequency block of an n x n spectrum, multiplied by a filter.
-void crop(const Buffer& spectrum, std::uint32_t n, std::uint32_t m, const std::vector<float>& filter, Buffer& out) {
+void crop(const Buffer& spectrum, std::uint32_t n, std::uint32_t m, const std::vector<float>& filter,
+          Buffer& out) {
   for (std::uint32_t ky = 0; ky < m; ++ky) {
     const int v = signed_frequency(ky, m);
     const std::uint32_t sy = std::uint32_t(v >= 0 ? v : v + int(n));
@@ -159,7 +170,8 @@ std::shared_ptr<const LostContrast::Reference> LostContrast::prepare(const Image
     crop(*ref->spectrum, n_, m, plans_->lowpass[b], in);
     fftwf_execute_dft(plans_->backward.at(m), in.p, out.p);
     std::vector<float> mean(std::size_t(m) * m);
-    for (std::size_t i = 0; i < mean.size(); ++i) mean[i] = std::max(out.p[i][0] * norm, settings_.mean_floor);
+    for (std::size_t i = 0; i < mean.size(); ++i)
+      mean[i] = std::max(out.p[i][0] * norm, settings_.mean_floor);
     ref->mean.push_back(std::move(mean));
   }
   return ref;
@@ -201,34 +213,43 @@ std::vector<float> reddy_features(const Image& image, const AnalysisSettings& se
   const float n = float(image.width);
   std::vector<float> out;
   auto sample = [&](float x, float y) {  // bilinear at pixel-centre coordinates
-    const float fx = std::clamp(x - 0.5f, 0.0f, n - 1.0f), fy = std::clamp(y - 0.5f, 0.0f, float(image.height) - 1.0f);
+    const float fx = std::clamp(x - 0.5f, 0.0f, n - 1.0f),
+                fy = std::clamp(y - 0.5f, 0.0f, float(image.height) - 1.0f);
     const std::uint32_t x0 = std::uint32_t(fx), y0 = std::uint32_t(fy);
     const std::uint32_t x1 = std::min(x0 + 1, image.width - 1), y1 = std::min(y0 + 1, image.height - 1);
     const float ax = fx - float(x0), ay = fy - float(y0);
-    return (1 - ay) * ((1 - ax) * image.at(x0, y0) + ax * image.at(x1, y0)) + ay * ((1 - ax) * image.at(x0, y1) + ax * image.at(x1, y1));
+    return (1 - ay) * ((1 - ax) * image.at(x0, y0) + ax * image.at(x1, y0)) +
+           ay * ((1 - ax) * image.at(x0, y1) + ax * image.at(x1, y1));
   };
   const float reach = 0.5f * n * std::sqrt(2.0f);
   std::vector<float> line;
   for (float angle : orientation_angles(settings)) {
     const float a = angle * kPi / 180.0f;
     const float dx = std::cos(a), dy = -std::sin(a);  // along the frequency vector, array coordinates
-    const float px = -dy, py = dx;                      // across it
+    const float px = -dy, py = dx;                    // across it
     float smallest = 0;
     for (float o = -reach; o <= reach; o += 1.0f) {
       line.clear();
       for (float s = -reach; s <= reach; s += 1.0f) {
         const float x = 0.5f * n + o * px + s * dx, y = 0.5f * float(image.height) + o * py + s * dy;
-        if (x >= 0 && x <= n && y >= 0 && y <= float(image.height)) line.push_back(sample(x, y));
-        else if (!line.empty()) break;
+        if (x >= 0 && x <= n && y >= 0 && y <= float(image.height))
+          line.push_back(sample(x, y));
+        else if (!line.empty())
+          break;
       }
       // Edges: maximal ramps of same-signed steps above edge_step, placed where the luminance
       // crosses the midpoint between the ramp's two ends.
       float previous_edge = -1;
       for (std::size_t i = 0; i + 1 < line.size();) {
         const float step = line[i + 1] - line[i];
-        if (std::abs(step) <= edge_step) { ++i; continue; }
+        if (std::abs(step) <= edge_step) {
+          ++i;
+          continue;
+        }
         std::size_t j = i + 1;
-        while (j + 1 < line.size() && std::abs(line[j + 1] - line[j]) > edge_step && (line[j + 1] - line[j]) * step > 0) ++j;
+        while (j + 1 < line.size() && std::abs(line[j + 1] - line[j]) > edge_step &&
+               (line[j + 1] - line[j]) * step > 0)
+          ++j;
         const float mid = 0.5f * (line[i] + line[j]);
         float edge = float(i);
         for (std::size_t k = i; k < j; ++k)

@@ -18,14 +18,15 @@ namespace acuity::spectra {
 SphereMesh icosphere(int subdivisions) {
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
   SphereMesh m;
-  m.positions = {-1, t, 0, 1, t, 0, -1, -t, 0, 1, -t, 0, 0, -1, t, 0, 1, t,
-                 0, -1, -t, 0, 1, -t, t, 0, -1, t, 0, 1, -t, 0, -1, -t, 0, 1};
-  m.indices = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4,
-               11, 10, 2, 10, 7, 6, 7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8,
-               3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+  m.positions = {-1, t,  0,  1, t, 0,  -1, -t, 0,  1, -t, 0, 0,  -1, t,  0,  1, t,
+                 0,  -1, -t, 0, 1, -t, t,  0,  -1, t, 0,  1, -t, 0,  -1, -t, 0, 1};
+  m.indices = {0, 11, 5,  0, 5,  1, 0, 1, 7, 0, 7,  10, 0, 10, 11, 1, 5, 9, 5, 11,
+               4, 11, 10, 2, 10, 7, 6, 7, 1, 8, 3,  9,  4, 3,  4,  2, 3, 2, 6, 3,
+               6, 8,  3,  8, 9,  4, 9, 5, 2, 4, 11, 6,  2, 10, 8,  6, 7, 9, 8, 1};
   auto& p = m.positions;
   auto normalize = [&](std::size_t i) {
-    const float n = std::sqrt(p[3 * i] * p[3 * i] + p[3 * i + 1] * p[3 * i + 1] + p[3 * i + 2] * p[3 * i + 2]);
+    const float n =
+        std::sqrt(p[3 * i] * p[3 * i] + p[3 * i + 1] * p[3 * i + 1] + p[3 * i + 2] * p[3 * i + 2]);
     for (int k = 0; k < 3; ++k) p[3 * i + k] /= n;
   };
   for (std::size_t i = 0; i < 12; ++i) normalize(i);
@@ -63,7 +64,10 @@ std::vector<ProfileView> fibonacci_views(std::uint32_t count) {
 
 ProfileMeasurer::ProfileMeasurer(const std::vector<LevelInput>& levels, const Material& material,
                                  const ProfileSettings& settings)
-    : levels_(levels), material_(material), render_(settings.render), analysis_(settings.analysis),
+    : levels_(levels),
+      material_(material),
+      render_(settings.render),
+      analysis_(settings.analysis),
       analyzer_(settings.render.pixels, settings.analysis) {
   if (levels_.empty()) throw std::invalid_argument("profile: no levels");
   bounding_sphere(levels_[0].mesh, render_.sphere);  // every level is framed by level 0's sphere
@@ -95,7 +99,8 @@ float switching_angle(const float* lost, std::size_t orientations, const std::ve
     for (std::size_t b = 0; b < B; ++b) peak[b] = std::max(peak[b], double(lost[t * B + b]));
   auto score = [&](double theta) {  // falls as theta shrinks: thresholds rise with frequency
     double s = 0;
-    for (std::size_t b = 0; b < B; ++b) s = std::max(s, peak[b] / threshold(double(bands[b]) / theta, 0.0, 0.0));
+    for (std::size_t b = 0; b < B; ++b)
+      s = std::max(s, peak[b] / threshold(double(bands[b]) / theta, 0.0, 0.0));
     return s;
   };
   constexpr double kSmallest = 1e-4, kLargest = 180.0;
@@ -120,14 +125,17 @@ namespace {
 float dot3(const float* a, const float* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // Index (into `kept`) of the kept view nearest to direction d, skipping `skip`.
-std::size_t nearest(const std::vector<ProfileView>& views, const std::vector<std::size_t>& kept, const float* d,
-                    std::size_t skip) {
+std::size_t nearest(const std::vector<ProfileView>& views, const std::vector<std::size_t>& kept,
+                    const float* d, std::size_t skip) {
   std::size_t best = kept.size();
   float best_dot = -2;
   for (std::size_t j = 0; j < kept.size(); ++j) {
     if (kept[j] == skip) continue;
     const float x = dot3(views[kept[j]].direction, d);
-    if (x > best_dot) { best_dot = x; best = j; }
+    if (x > best_dot) {
+      best_dot = x;
+      best = j;
+    }
   }
   return best;
 }
@@ -147,7 +155,8 @@ float prediction_error(const std::vector<ProfileView>& views, const std::vector<
 }  // namespace
 
 ProfileData build_profile(const std::vector<LevelInput>& levels, const Material& material,
-                          const ProfileSettings& settings, const ProgressFn& progress, ProfileReport* report) {
+                          const ProfileSettings& settings, const ProgressFn& progress,
+                          ProfileReport* report) {
   const auto start = std::chrono::steady_clock::now();
   const ProfileMeasurer measurer(levels, material, settings);
   const unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
@@ -206,7 +215,8 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
   std::copy(measurer.sphere(), measurer.sphere() + 4, out.sphere);
   out.snapshot_pixels = settings.render.pixels;
   for (const LevelInput& l : levels)
-    out.levels.push_back({l.triangles ? l.triangles : static_cast<std::uint32_t>(l.mesh.index_count / 3), l.geometric_error});
+    out.levels.push_back(
+        {l.triangles ? l.triangles : static_cast<std::uint32_t>(l.mesh.index_count / 3), l.geometric_error});
   out.orientations = orientation_angles(settings.analysis);
   out.bands = measurer.analyzer().bands();
   const std::size_t K = levels.size(), T = out.orientations.size(), B = out.bands.size();

@@ -7,7 +7,8 @@
 namespace acuity::spectra {
 namespace {
 
-template <class T> void append(std::vector<unsigned char>& out, const T* values, std::size_t count) {
+template <class T>
+void append(std::vector<unsigned char>& out, const T* values, std::size_t count) {
   const auto* bytes = reinterpret_cast<const unsigned char*>(values);
   out.insert(out.end(), bytes, bytes + count * sizeof(T));
   out.resize((out.size() + 7) / 8 * 8, 0);  // every section starts 8-byte aligned
@@ -33,7 +34,10 @@ std::vector<std::uint16_t> build_lookup(const std::vector<ProfileView>& views, s
       float dot = d[0] * w[0] + d[1] * w[1] + d[2] * w[2];
       auto idx = static_cast<std::uint16_t>(v);
       for (std::uint32_t i = 0; i < kLookupCandidates; ++i)  // insertion into the sorted short list
-        if (dot > best_dot[i]) { std::swap(dot, best_dot[i]); std::swap(idx, best[i]); }
+        if (dot > best_dot[i]) {
+          std::swap(dot, best_dot[i]);
+          std::swap(idx, best[i]);
+        }
     }
     for (std::uint32_t i = 0; i < kLookupCandidates; ++i)  // fewer views than candidates: repeat
       lookup[c * kLookupCandidates + i] = best_dot[i] > -2.0f ? best[i] : best[0];
@@ -47,10 +51,16 @@ ProfileView make_view(float x, float y, float z) {
   const float n = std::sqrt(x * x + y * y + z * z);
   require(n > 0 && std::isfinite(n), "view direction must be finite and non-zero");
   ProfileView v{{x / n, y / n, z / n}, {0, 1, 0}};
-  if (std::abs(v.direction[1]) > 0.999f) { v.up[1] = 0; v.up[2] = 1; }
+  if (std::abs(v.direction[1]) > 0.999f) {
+    v.up[1] = 0;
+    v.up[2] = 1;
+  }
   const float d = v.up[0] * v.direction[0] + v.up[1] * v.direction[1] + v.up[2] * v.direction[2];
   float len = 0;
-  for (int i = 0; i < 3; ++i) { v.up[i] -= d * v.direction[i]; len += v.up[i] * v.up[i]; }
+  for (int i = 0; i < 3; ++i) {
+    v.up[i] -= d * v.direction[i];
+    len += v.up[i] * v.up[i];
+  }
   len = std::sqrt(len);
   for (float& u : v.up) u /= len;
   return v;
@@ -59,16 +69,20 @@ ProfileView make_view(float x, float y, float z) {
 Blob encode_profile(const ProfileData& data) {
   const std::size_t K = data.levels.size(), V = data.views.size(), T = data.orientations.size(),
                     B = data.bands.size();
-  require(K >= 1 && K <= kMaxLevels, "needs 1.." + std::to_string(kMaxLevels) + " levels, has " + std::to_string(K));
-  require(V >= 1 && V <= kMaxViews, "needs 1.." + std::to_string(kMaxViews) + " views, has " + std::to_string(V));
+  require(K >= 1 && K <= kMaxLevels,
+          "needs 1.." + std::to_string(kMaxLevels) + " levels, has " + std::to_string(K));
+  require(V >= 1 && V <= kMaxViews,
+          "needs 1.." + std::to_string(kMaxViews) + " views, has " + std::to_string(V));
   require(T >= 1 && T <= kMaxOrientations, "needs 1.." + std::to_string(kMaxOrientations) + " orientations");
   require(B >= 1 && B <= kMaxBands, "needs 1.." + std::to_string(kMaxBands) + " bands");
-  require(data.lost.size() == (K - 1) * V * T * B, "lost has " + std::to_string(data.lost.size()) +
-          " values, expected (K-1) V T B = " + std::to_string((K - 1) * V * T * B));
+  require(data.lost.size() == (K - 1) * V * T * B,
+          "lost has " + std::to_string(data.lost.size()) +
+              " values, expected (K-1) V T B = " + std::to_string((K - 1) * V * T * B));
   require(data.features.size() == K * V * T, "features has " + std::to_string(data.features.size()) +
-          " values, expected K V T = " + std::to_string(K * V * T));
+                                                 " values, expected K V T = " + std::to_string(K * V * T));
   std::uint32_t r = data.lookup_resolution;
-  if (r == 0) r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
+  if (r == 0)
+    r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
   require(r <= kMaxLookupResolution, "lookup_resolution above " + std::to_string(kMaxLookupResolution));
 
   ProfileMeta meta{};
@@ -101,7 +115,8 @@ Blob encode_profile(const ProfileData& data) {
   section(ProfileSection::Lost, data.lost.data(), data.lost.size());
   section(ProfileSection::Features, data.features.data(), data.features.size());
 
-  ProfileHeader header{kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(kSections), 0, 0};
+  ProfileHeader header{
+      kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(kSections), 0, 0};
   std::memcpy(&body[0], &header, sizeof header);
   std::memcpy(&body[sizeof header], table, sizeof table);
   header.checksum = profile_checksum(body.data(), body.size());

@@ -11,7 +11,9 @@
 namespace acuity::spectra {
 namespace {
 
-struct V3 { float x, y, z; };
+struct V3 {
+  float x, y, z;
+};
 V3 sub(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 float dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
@@ -40,12 +42,16 @@ bool top_left(float ex, float ey) { return (ey > 0) || (ey == 0 && ex < 0); }
 }  // namespace
 
 void bounding_sphere(const MeshView& mesh, float sphere[4]) {
-  float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(), std::numeric_limits<float>::max()};
+  float lo[3] = {std::numeric_limits<float>::max(), std::numeric_limits<float>::max(),
+                 std::numeric_limits<float>::max()};
   float hi[3] = {-lo[0], -lo[1], -lo[2]};
   for (std::size_t i = 0; i < mesh.vertex_count; ++i)
     for (int k = 0; k < 3; ++k) {
       const float x = mesh.positions[3 * i + k];
-      if (std::isfinite(x)) { lo[k] = std::min(lo[k], x); hi[k] = std::max(hi[k], x); }
+      if (std::isfinite(x)) {
+        lo[k] = std::min(lo[k], x);
+        hi[k] = std::max(hi[k], x);
+      }
     }
   for (int k = 0; k < 3; ++k) sphere[k] = lo[k] <= hi[k] ? 0.5f * (lo[k] + hi[k]) : 0.0f;
   float r2 = 0;
@@ -71,7 +77,8 @@ Image render_snapshot(const MeshView& mesh, const Material& material, const Prof
   float lut[256];
   for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(static_cast<float>(i) / 255.0f);
   const float base = luminance(material.base_color[0], material.base_color[1], material.base_color[2]);
-  const bool textured = material.texture && mesh.texcoords && material.texture_width > 0 && material.texture_height > 0;
+  const bool textured =
+      material.texture && mesh.texcoords && material.texture_width > 0 && material.texture_height > 0;
 
   std::vector<float> depth(std::size_t(size) * size, -std::numeric_limits<float>::infinity());
   std::vector<float> colour(std::size_t(size) * size, s.background);
@@ -88,7 +95,8 @@ Image render_snapshot(const MeshView& mesh, const Material& material, const Prof
   for (std::size_t t = 0; t + 2 < mesh.index_count; t += 3) {
     std::uint32_t idx[3] = {mesh.indices[t], mesh.indices[t + 1], mesh.indices[t + 2]};
     if (idx[0] >= mesh.vertex_count || idx[1] >= mesh.vertex_count || idx[2] >= mesh.vertex_count) continue;
-    float x0 = sx[idx[0]], y0 = sy[idx[0]], x1 = sx[idx[1]], y1 = sy[idx[1]], x2 = sx[idx[2]], y2 = sy[idx[2]];
+    float x0 = sx[idx[0]], y0 = sy[idx[0]], x1 = sx[idx[1]], y1 = sy[idx[1]], x2 = sx[idx[2]],
+          y2 = sy[idx[2]];
     float area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0);
     if (!std::isfinite(area) || area == 0) continue;
     if (area < 0) {  // both windings are drawn (two-sided): order them one way
@@ -98,14 +106,17 @@ Image render_snapshot(const MeshView& mesh, const Material& material, const Prof
       area = -area;
     }
     // Flat normal, facing the camera (two-sided lighting).
-    const V3 a = at3(mesh.positions, idx[0]), b = at3(mesh.positions, idx[1]), c = at3(mesh.positions, idx[2]);
+    const V3 a = at3(mesh.positions, idx[0]), b = at3(mesh.positions, idx[1]),
+             c = at3(mesh.positions, idx[2]);
     V3 face = normalize(cross(sub(b, a), sub(c, a)));
     const float face_light = std::abs(dot(face, dir));
 
     const int min_x = std::max(0, static_cast<int>(std::floor(std::min({x0, x1, x2}))));
-    const int max_x = std::min(static_cast<int>(size) - 1, static_cast<int>(std::ceil(std::max({x0, x1, x2}))));
+    const int max_x =
+        std::min(static_cast<int>(size) - 1, static_cast<int>(std::ceil(std::max({x0, x1, x2}))));
     const int min_y = std::max(0, static_cast<int>(std::floor(std::min({y0, y1, y2}))));
-    const int max_y = std::min(static_cast<int>(size) - 1, static_cast<int>(std::ceil(std::max({y0, y1, y2}))));
+    const int max_y =
+        std::min(static_cast<int>(size) - 1, static_cast<int>(std::ceil(std::max({y0, y1, y2}))));
     if (min_x > max_x || min_y > max_y) continue;
     const float inv_area = 1.0f / area;
     // Edge i is opposite vertex i; w_i = edge function, positive inside (y-down, clockwise in image).
@@ -131,15 +142,20 @@ Image render_snapshot(const MeshView& mesh, const Material& material, const Prof
         depth[at] = z;
         float light = face_light;
         if (mesh.normals) {
-          const V3 nn = normalize({l0 * mesh.normals[3 * idx[0]] + l1 * mesh.normals[3 * idx[1]] + l2 * mesh.normals[3 * idx[2]],
-                                   l0 * mesh.normals[3 * idx[0] + 1] + l1 * mesh.normals[3 * idx[1] + 1] + l2 * mesh.normals[3 * idx[2] + 1],
-                                   l0 * mesh.normals[3 * idx[0] + 2] + l1 * mesh.normals[3 * idx[1] + 2] + l2 * mesh.normals[3 * idx[2] + 2]});
+          const V3 nn = normalize(
+              {l0 * mesh.normals[3 * idx[0]] + l1 * mesh.normals[3 * idx[1]] + l2 * mesh.normals[3 * idx[2]],
+               l0 * mesh.normals[3 * idx[0] + 1] + l1 * mesh.normals[3 * idx[1] + 1] +
+                   l2 * mesh.normals[3 * idx[2] + 1],
+               l0 * mesh.normals[3 * idx[0] + 2] + l1 * mesh.normals[3 * idx[1] + 2] +
+                   l2 * mesh.normals[3 * idx[2] + 2]});
           light = std::abs(dot(nn, dir));
         }
         float albedo = base;
         if (textured) {
-          const float u = l0 * mesh.texcoords[2 * idx[0]] + l1 * mesh.texcoords[2 * idx[1]] + l2 * mesh.texcoords[2 * idx[2]];
-          const float v = l0 * mesh.texcoords[2 * idx[0] + 1] + l1 * mesh.texcoords[2 * idx[1] + 1] + l2 * mesh.texcoords[2 * idx[2] + 1];
+          const float u = l0 * mesh.texcoords[2 * idx[0]] + l1 * mesh.texcoords[2 * idx[1]] +
+                          l2 * mesh.texcoords[2 * idx[2]];
+          const float v = l0 * mesh.texcoords[2 * idx[0] + 1] + l1 * mesh.texcoords[2 * idx[1] + 1] +
+                          l2 * mesh.texcoords[2 * idx[2] + 1];
           albedo *= texture_luminance(material, u, v, lut);
         }
         colour[at] = albedo * (s.ambient + (1.0f - s.ambient) * light);

@@ -16,7 +16,9 @@
 
 namespace acuity::spectra {
 namespace {
-[[noreturn]] void fail(const std::string& where, const std::string& what) { throw std::runtime_error(where + ": " + what); }
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw std::runtime_error(where + ": " + what);
+}
 
 using detail::luminance;
 using detail::srgb_to_linear;
@@ -38,11 +40,15 @@ Image load_png_luminance(const std::string& path) {
   if (blob.size > std::size_t(INT32_MAX)) fail(path, "too large for an image");
   int w = 0, h = 0, c = 0;
   // The header first: dimensions past kMaxSnapshotPixels across are refused before decoding.
-  if (!stbi_info_from_memory(bytes, int(blob.size), &w, &h, &c)) fail(path, std::string("not a readable image: ") + stbi_failure_reason());
+  if (!stbi_info_from_memory(bytes, int(blob.size), &w, &h, &c))
+    fail(path, std::string("not a readable image: ") + stbi_failure_reason());
   if (w <= 0 || h <= 0 || w > int(kMaxSnapshotPixels) || h > int(kMaxSnapshotPixels))
-    fail(path, std::to_string(w) + "x" + std::to_string(h) + " pixels; snapshots are at most " + std::to_string(kMaxSnapshotPixels) + " across");
+    fail(path, std::to_string(w) + "x" + std::to_string(h) + " pixels; snapshots are at most " +
+                   std::to_string(kMaxSnapshotPixels) + " across");
   unsigned char* data = stbi_load_from_memory(bytes, int(blob.size), &w, &h, &c, 0);
-  if (!data) fail(path, std::string("not a readable image: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown"));
+  if (!data)
+    fail(path,
+         std::string("not a readable image: ") + (stbi_failure_reason() ? stbi_failure_reason() : "unknown"));
   Image im;
   im.width = std::uint32_t(w);
   im.height = std::uint32_t(h);
@@ -64,20 +70,23 @@ ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSe
   try {
     const char* begin = static_cast<const char*>(text.data());
     j = nlohmann::json::parse(begin, begin + text.size);
-  } catch (const std::exception& e) {
-    fail(manifest, std::string("not valid JSON: ") + e.what());
-  }
+  } catch (const std::exception& e) { fail(manifest, std::string("not valid JSON: ") + e.what()); }
   const std::filesystem::path base = std::filesystem::path(manifest).parent_path();
-  if (!j.contains("pixels_per_diameter") || !j["pixels_per_diameter"].is_number_unsigned()) fail(manifest, "needs pixels_per_diameter");
+  if (!j.contains("pixels_per_diameter") || !j["pixels_per_diameter"].is_number_unsigned())
+    fail(manifest, "needs pixels_per_diameter");
   const std::uint32_t n = j["pixels_per_diameter"].get<std::uint32_t>();
-  if (n < 8 || n > kMaxSnapshotPixels) fail(manifest, "pixels_per_diameter must be 8 .. " + std::to_string(kMaxSnapshotPixels));
-  if (!j.contains("levels") || !j["levels"].is_array() || j["levels"].size() < 2) fail(manifest, "needs two or more levels");
+  if (n < 8 || n > kMaxSnapshotPixels)
+    fail(manifest, "pixels_per_diameter must be 8 .. " + std::to_string(kMaxSnapshotPixels));
+  if (!j.contains("levels") || !j["levels"].is_array() || j["levels"].size() < 2)
+    fail(manifest, "needs two or more levels");
   if (j["levels"].size() > kMaxLevels) fail(manifest, "more than " + std::to_string(kMaxLevels) + " levels");
-  if (!j.contains("views") || !j["views"].is_array() || j["views"].empty()) fail(manifest, "needs one or more views");
+  if (!j.contains("views") || !j["views"].is_array() || j["views"].empty())
+    fail(manifest, "needs one or more views");
   ProfileData out;
   out.snapshot_pixels = n;
   if (j.contains("sphere")) {
-    if (!j["sphere"].is_array() || j["sphere"].size() != 4) fail(manifest, "sphere: expected [cx, cy, cz, r]");
+    if (!j["sphere"].is_array() || j["sphere"].size() != 4)
+      fail(manifest, "sphere: expected [cx, cy, cz, r]");
     for (int k = 0; k < 4; ++k) out.sphere[k] = j["sphere"][std::size_t(k)].get<float>();
   }
   for (const auto& l : j["levels"])
@@ -98,7 +107,10 @@ ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSe
     // The user's up, made orthogonal to the direction.
     const float dot = u[0] * pv.direction[0] + u[1] * pv.direction[1] + u[2] * pv.direction[2];
     float len = 0;
-    for (int k = 0; k < 3; ++k) { u[std::size_t(k)] -= dot * pv.direction[k]; len += u[std::size_t(k)] * u[std::size_t(k)]; }
+    for (int k = 0; k < 3; ++k) {
+      u[std::size_t(k)] -= dot * pv.direction[k];
+      len += u[std::size_t(k)] * u[std::size_t(k)];
+    }
     if (!(len > 1e-8f)) fail(where, "up is parallel to direction");
     for (int k = 0; k < 3; ++k) pv.up[k] = u[std::size_t(k)] / std::sqrt(len);
     out.views.push_back(pv);

@@ -23,8 +23,10 @@ void write_fixture(const std::string& dir) {
   std::ofstream b(dir + "/asset/buffer.bin", std::ios::binary);
   b.write(reinterpret_cast<const char*>(p), sizeof p);
   b.write(reinterpret_cast<const char*>(i), sizeof i);
-  const float secret[11] = {1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 0, 0};
-  std::ofstream(dir + "/secret.bin", std::ios::binary).write(reinterpret_cast<const char*>(secret), sizeof secret);
+  const float secret[11] = {1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f, 1234.5f,
+                            1234.5f, 1234.5f, 1234.5f, 0,       0};
+  std::ofstream(dir + "/secret.bin", std::ios::binary)
+      .write(reinterpret_cast<const char*>(secret), sizeof secret);
 }
 
 const std::string& folder() {
@@ -43,7 +45,8 @@ const std::string& folder() {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const bool glb = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
   const std::string path = folder() + "/asset/input" + (glb ? ".glb" : ".gltf");
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), std::streamsize(size));
   try {
     const acuity::lodgen::Scene s = acuity::lodgen::load_scene(path);
     for (const auto& m : s.meshes) {
@@ -54,8 +57,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     for (const auto& n : s.nodes)
       if (n.lods.size() + 1 > 32) __builtin_trap();  // max_levels
-    (void)acuity::lodgen::world_matrices(s);  // a tree: never reached twice
-  } catch (const acuity::lodgen::InputError&) {
-  }
+    (void)acuity::lodgen::world_matrices(s);         // a tree: never reached twice
+  } catch (const acuity::lodgen::InputError&) {}
   return 0;
 }

@@ -20,11 +20,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
       for (const auto& g : acuity::sim::gaze_trace_from(t, 60, 16))
         if (!(std::abs(glm::length(g.direction) - 1.0) < 1e-6)) std::abort();  // unit directions only
-    } catch (const std::runtime_error&) {
-    }
+    } catch (const std::runtime_error&) {}
     for (const auto& h : acuity::sim::head_path_from(t, 60, 16))
       if (!(std::abs(glm::length(h.orientation) - 1.0) < 1e-6)) std::abort();
-  } catch (const std::runtime_error&) {
-  }
+  } catch (const std::runtime_error&) {}
   return 0;
 }

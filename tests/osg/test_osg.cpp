@@ -34,7 +34,9 @@ using acuity::osg::LodNode;
 // Reads the colour buffer after the draw, before the swap.
 struct Capture : ::osg::Camera::DrawCallback {
   ::osg::ref_ptr<::osg::Image> image = new ::osg::Image;
-  void operator()(::osg::RenderInfo&) const override { image->readPixels(0, 0, kWidth, kHeight, GL_RGB, GL_UNSIGNED_BYTE); }
+  void operator()(::osg::RenderInfo&) const override {
+    image->readPixels(0, 0, kWidth, kHeight, GL_RGB, GL_UNSIGNED_BYTE);
+  }
 };
 
 // A quad of side 2 facing +Z (so it faces a camera looking down -Z), as a lodgen mesh.
@@ -121,7 +123,9 @@ struct World {
     return {(i % 2 ? 1.5 : -1.5) + (i == 0 ? 0.5 * std::sin(t) : 0.0), 0.0, -4.0 - 2.0 * (i / 2)};
   }
   static constexpr double kScale = 0.25;  // the profile's 1.5 m sphere becomes 0.375 m
-  static ::osg::Matrixd matrix(std::uint32_t i, double t) { return ::osg::Matrixd::scale(kScale, kScale, kScale) * ::osg::Matrixd::translate(position(i, t)); }
+  static ::osg::Matrixd matrix(std::uint32_t i, double t) {
+    return ::osg::Matrixd::scale(kScale, kScale, kScale) * ::osg::Matrixd::translate(position(i, t));
+  }
   acuity::ObjectTransform transform(std::uint32_t i, double t) const {
     acuity::ObjectTransform o;
     o.scale = float(kScale);
@@ -140,10 +144,12 @@ struct Head {
   ::osg::Quat orientation;
 };
 Head head_at(double t) {
-  return {::osg::Vec3d(0.2 * std::sin(t), 1.0, 2.0 + 10.0 * t), ::osg::Quat(0.15 * std::sin(1.3 * t), ::osg::Vec3d(0, 1, 0))};
+  return {::osg::Vec3d(0.2 * std::sin(t), 1.0, 2.0 + 10.0 * t),
+          ::osg::Quat(0.15 * std::sin(1.3 * t), ::osg::Vec3d(0, 1, 0))};
 }
 ::osg::Matrixd view_of(const Head& h) {
-  return ::osg::Matrixd::inverse(::osg::Matrixd::rotate(h.orientation) * ::osg::Matrixd::translate(h.position));
+  return ::osg::Matrixd::inverse(::osg::Matrixd::rotate(h.orientation) *
+                                 ::osg::Matrixd::translate(h.position));
 }
 
 TEST(Osg, DitherIsAnOrderedEightByEightMatrix) {
@@ -170,8 +176,9 @@ std::string head_csv() {
     const double t = i / 30.0;
     const Head h = head_at(t);
     char line[256];
-    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", t, h.position.x(), h.position.y(),
-                  h.position.z(), h.orientation.x(), h.orientation.y(), h.orientation.z(), h.orientation.w());
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", t, h.position.x(),
+                  h.position.y(), h.position.z(), h.orientation.x(), h.orientation.y(), h.orientation.z(),
+                  h.orientation.w());
     s += line;
   }
   return s;
@@ -181,7 +188,8 @@ std::string gaze_csv() {  // a sideways sweep with a blink (confidence 0) from 0
   for (int i = 0; i <= 45; ++i) {
     const double t = i / 30.0;
     char line[160];
-    std::snprintf(line, sizeof line, "%.17g,%.17g,0,-1,%d\n", t, 0.3 * std::sin(2 * t), t >= 0.5 && t <= 0.6 ? 0 : 1);
+    std::snprintf(line, sizeof line, "%.17g,%.17g,0,-1,%d\n", t, 0.3 * std::sin(2 * t),
+                  t >= 0.5 && t <= 0.6 ? 0 : 1);
     s += line;
   }
   return s;
@@ -190,8 +198,10 @@ std::string gaze_csv() {  // a sideways sweep with a blink (confidence 0) from 0
 TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   World w(12, 0.0f, false);
   const int frames = 90;
-  const auto head = acuity::sim::head_path_from(acuity::sim::parse_table(head_csv(), "head.csv", false), kFps, frames);
-  const auto samples = acuity::sim::gaze_trace_from(acuity::sim::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
+  const auto head =
+      acuity::sim::head_path_from(acuity::sim::parse_table(head_csv(), "head.csv", false), kFps, frames);
+  const auto samples =
+      acuity::sim::gaze_trace_from(acuity::sim::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
   ASSERT_EQ(head.size(), std::size_t(frames));
   w.kit->set_gaze_source(new acuity::osg::TrackGaze(samples));  // sample 0 at the first frame
   acuity::Scheduler ref(w.config);
@@ -202,7 +212,8 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   for (int f = 0; f < frames; ++f) {
     const double t = f / kFps;
     const Head h{::osg::Vec3d(head[f].position.x, head[f].position.y, head[f].position.z),
-                 ::osg::Quat(head[f].orientation.x, head[f].orientation.y, head[f].orientation.z, head[f].orientation.w)};
+                 ::osg::Quat(head[f].orientation.x, head[f].orientation.y, head[f].orientation.z,
+                             head[f].orientation.w)};
     w.viewer.getCamera()->setViewMatrix(view_of(h));
     w.place(t);
     w.viewer.frame(t);
@@ -226,9 +237,7 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
     EXPECT_NEAR(e.fov_deg[3], -top, 1e-4);
     EXPECT_EQ(e.viewport[0], std::uint32_t(kWidth));
     EXPECT_EQ(e.viewport[1], std::uint32_t(kHeight));
-    if (f > 0) {
-      EXPECT_NEAR(e.velocity[2], 10.0, 1e-3);
-    }
+    if (f > 0) { EXPECT_NEAR(e.velocity[2], 10.0, 1e-3); }
     EXPECT_FLOAT_EQ(fr.dt, f ? float(1 / kFps) : 0.0f);
     // An independent scheduler given the same eye and the analytic transforms.
     for (std::uint32_t i = 0; i < 12; ++i) ref.set_transform(w.nodes[i]->id(), w.transform(i, t));
@@ -236,7 +245,8 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
     for (std::uint32_t i = 0; i < 12; ++i) {
       const LodNode::Drawn d = w.nodes[i]->drawn();
       const acuity::ObjectId id = w.nodes[i]->id();
-      ASSERT_EQ(d.frame, w.viewer.getFrameStamp()->getFrameNumber()) << "object " << i << " was not culled in frame " << f;
+      ASSERT_EQ(d.frame, w.viewer.getFrameStamp()->getFrameNumber())
+          << "object " << i << " was not culled in frame " << f;
       EXPECT_EQ(d.level, ref.level(id)) << "frame " << f << " object " << i;
       EXPECT_FALSE(d.both);
       levels_seen.insert(d.level);
@@ -286,7 +296,9 @@ int count_color(const ::osg::Image& im, const ::osg::Vec4& c) {
   for (int y = 0; y < im.t(); ++y)
     for (int x = 0; x < im.s(); ++x) {
       const unsigned char* p = im.data(x, y);
-      if (std::abs(p[0] - 255 * c.r()) < 6 && std::abs(p[1] - 255 * c.g()) < 6 && std::abs(p[2] - 255 * c.b()) < 6) ++n;
+      if (std::abs(p[0] - 255 * c.r()) < 6 && std::abs(p[1] - 255 * c.g()) < 6 &&
+          std::abs(p[2] - 255 * c.b()) < 6)
+        ++n;
     }
   return n;
 }
@@ -353,7 +365,8 @@ TEST(Osg, CrossFadeRisesOverTransitionSecondsAndSplitsThePixels) {
 TEST(Osg, ANodeWithoutAKitDrawsItsFinestLevel) {
   World w(1, 0.0f, false, 3.0f);
   ::osg::ref_ptr<LodNode> loose = new LodNode;
-  ::osg::ref_ptr<::osg::Geometry> a = acuity::osg::make_geometry(quad(1)), b = acuity::osg::make_geometry(quad(2));
+  ::osg::ref_ptr<::osg::Geometry> a = acuity::osg::make_geometry(quad(1)),
+                                  b = acuity::osg::make_geometry(quad(2));
   loose->addChild(a.get());
   loose->addChild(b.get());
   EXPECT_EQ(loose->id(), acuity::kInvalidObject);
@@ -423,7 +436,8 @@ TEST(Osg, APngOfAFrameIsWrittenAndIsNotBlank) {
   EXPECT_GT(lit, kWidth * kHeight / 50) << "objects were drawn";
   EXPECT_LT(lit, kWidth * kHeight) << "the background shows";
   EXPECT_GE(colors.size(), 3u);
-  std::printf("wrote %s: %d of %d pixels lit, %zu colours\n", path.c_str(), lit, kWidth * kHeight, colors.size());
+  std::printf("wrote %s: %d of %d pixels lit, %zu colours\n", path.c_str(), lit, kWidth * kHeight,
+              colors.size());
 }
 
 }  // namespace

@@ -65,22 +65,35 @@ static unsigned long count(unsigned long max) {
 }
 
 static void set_config(acuity_config* c, const char* name, double v) {
-  if (!strcmp(name, "max_objects")) c->max_objects = (uint32_t)v;
-  else if (!strcmp(name, "max_profiles")) c->max_profiles = (uint32_t)v;
-  else if (!strcmp(name, "rule")) c->rule = (uint32_t)v;
-  else if (!strcmp(name, "evaluation")) c->evaluation = (uint32_t)v;
-  else if (!strcmp(name, "quality")) c->quality = (float)v;
-  else if (!strcmp(name, "gaze_uncertainty_deg")) c->gaze_uncertainty_deg = (float)v;
-  else if (!strcmp(name, "no_gaze_radius_deg")) c->no_gaze_radius_deg = (float)v;
-  else if (!strcmp(name, "hysteresis_margin")) c->hysteresis_margin = (float)v;
-  else if (!strcmp(name, "hysteresis_frames")) c->hysteresis_frames = (uint32_t)v;
-  else if (!strcmp(name, "saccade_speed_deg_s")) c->saccade_speed_deg_s = (float)v;
-  else if (!strcmp(name, "triangle_budget")) c->triangle_budget = (uint64_t)v;
-  else die("unknown config field");
+  if (!strcmp(name, "max_objects"))
+    c->max_objects = (uint32_t)v;
+  else if (!strcmp(name, "max_profiles"))
+    c->max_profiles = (uint32_t)v;
+  else if (!strcmp(name, "rule"))
+    c->rule = (uint32_t)v;
+  else if (!strcmp(name, "evaluation"))
+    c->evaluation = (uint32_t)v;
+  else if (!strcmp(name, "quality"))
+    c->quality = (float)v;
+  else if (!strcmp(name, "gaze_uncertainty_deg"))
+    c->gaze_uncertainty_deg = (float)v;
+  else if (!strcmp(name, "no_gaze_radius_deg"))
+    c->no_gaze_radius_deg = (float)v;
+  else if (!strcmp(name, "hysteresis_margin"))
+    c->hysteresis_margin = (float)v;
+  else if (!strcmp(name, "hysteresis_frames"))
+    c->hysteresis_frames = (uint32_t)v;
+  else if (!strcmp(name, "saccade_speed_deg_s"))
+    c->saccade_speed_deg_s = (float)v;
+  else if (!strcmp(name, "triangle_budget"))
+    c->triangle_budget = (uint64_t)v;
+  else
+    die("unknown config field");
 }
 
 static unsigned char* read_profile(const char* name, size_t* size) {
-  if (strchr(name, '/') || !strcmp(name, "..") || !strcmp(name, ".")) die("a profile must be a file name in the scene's folder");
+  if (strchr(name, '/') || !strcmp(name, "..") || !strcmp(name, "."))
+    die("a profile must be a file name in the scene's folder");
   const char* slash = strrchr(scene_path, '/');
   const size_t dir = slash ? (size_t)(slash - scene_path + 1) : 0;
   char* path = malloc(dir + strlen(name) + 1);
@@ -145,7 +158,8 @@ static void read_transform(double* p, float* q, float* s) {
 
 int main(int argc, char** argv) {
   long repeat = 0;
-  if (argc == 4 && !strcmp(argv[2], "--repeat")) repeat = atol(argv[3]);
+  if (argc == 4 && !strcmp(argv[2], "--repeat"))
+    repeat = atol(argv[3]);
   else if (argc != 2) {
     fprintf(stderr, "usage: native_reference SCENE.txt [--repeat R]\n");
     return 2;
@@ -226,7 +240,8 @@ int main(int argc, char** argv) {
     for (uint32_t f = 0; f < m; ++f) {
       const Frame* fr = &frames[f];
       if (fr->move_count)
-        check(acuity_set_transforms(s, fr->move_count, fr->move_index, fr->move_position, 0, fr->move_rotation, 0, fr->move_scale),
+        check(acuity_set_transforms(s, fr->move_count, fr->move_index, fr->move_position, 0,
+                                    fr->move_rotation, 0, fr->move_scale),
               "acuity_set_transforms");
       check(acuity_begin_frame(s, fr->eyes, fr->eye_count, fr->dt), "acuity_begin_frame");
       check(acuity_update_range(s, 0, n), "acuity_update_range");
@@ -242,7 +257,8 @@ int main(int argc, char** argv) {
   clock_gettime(CLOCK_MONOTONIC, &t1);
   if (repeat > 0)
     printf("{\"frames\": %ld, \"objects\": %u, \"seconds_per_frame\": %.9g}\n", rounds * (long)m, n,
-           ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec)) / (double)(rounds * (long)m));
+           ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec)) /
+               (double)(rounds * (long)m));
   acuity_destroy(s);
   return 0;
 }

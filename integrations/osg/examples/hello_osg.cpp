@@ -23,21 +23,26 @@ int main(int argc, char** argv) {
   if (!acuity::read_file(argv[1], &profile, &error)) return std::fprintf(stderr, "%s\n", error.c_str()), 1;
   const int p = kit->add_profile(profile.data(), profile.size);  // validated and copied; throws if bad
 
-  std::vector<osg::ref_ptr<osg::Geometry>> levels;  // your engine's meshes; here lodgen's chain, shared by every copy
-  const acuity::lodgen::Scene chain = acuity::lodgen::load_scene(argv[2]);  // level 0's node lists the others (MSFT_lod)
+  std::vector<osg::ref_ptr<osg::Geometry>>
+      levels;  // your engine's meshes; here lodgen's chain, shared by every copy
+  const acuity::lodgen::Scene chain =
+      acuity::lodgen::load_scene(argv[2]);  // level 0's node lists the others (MSFT_lod)
   for (const acuity::lodgen::Node& n : chain.nodes)
     if (!n.lods.empty() && levels.empty()) {
       levels.push_back(acuity::osg::make_geometry(chain.meshes.at(std::size_t(n.mesh))));
-      for (int l : n.lods) levels.push_back(acuity::osg::make_geometry(chain.meshes.at(std::size_t(chain.nodes.at(std::size_t(l)).mesh))));
+      for (int l : n.lods)
+        levels.push_back(
+            acuity::osg::make_geometry(chain.meshes.at(std::size_t(chain.nodes.at(std::size_t(l)).mesh))));
     }
   osg::ref_ptr<osg::Group> root = new osg::Group;
   root->setStateSet(acuity::osg::make_shader_state());  // headlight + screen-door cross-fade
   for (int i = 0; i < 100; ++i) {
     osg::ref_ptr<acuity::osg::LodNode> node = new acuity::osg::LodNode;
     for (auto& level : levels) node->addChild(level.get());
-    kit->add(node.get(), p);                          // now an acuity object
+    kit->add(node.get(), p);                             // now an acuity object
     if (i % 10 == 0) kit->set_clamps(node.get(), 0, 1);  // e.g. hero objects: never coarser than level 1
-    osg::ref_ptr<osg::MatrixTransform> xf = new osg::MatrixTransform(osg::Matrix::translate(3.0 * (i % 10 - 4.5), 0, -3.0 * (i / 10)));
+    osg::ref_ptr<osg::MatrixTransform> xf =
+        new osg::MatrixTransform(osg::Matrix::translate(3.0 * (i % 10 - 4.5), 0, -3.0 * (i / 10)));
     xf->addChild(node.get());
     root->addChild(xf.get());
   }

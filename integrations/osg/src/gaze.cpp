@@ -10,7 +10,8 @@ class PointerHandler : public osgGA::GUIEventHandler {
  public:
   explicit PointerHandler(MouseGaze* gaze) : gaze_(gaze) {}
   bool handle(const osgGA::GUIEventAdapter& ea, osgGA::GUIActionAdapter&) override {
-    if (ea.getEventType() == osgGA::GUIEventAdapter::MOVE || ea.getEventType() == osgGA::GUIEventAdapter::DRAG) {
+    if (ea.getEventType() == osgGA::GUIEventAdapter::MOVE ||
+        ea.getEventType() == osgGA::GUIEventAdapter::DRAG) {
       float y = ea.getYnormalized();
       if (ea.getMouseYOrientation() == osgGA::GUIEventAdapter::Y_INCREASING_DOWNWARDS) y = -y;
       gaze_->set_pointer(ea.getXnormalized(), y);

@@ -46,7 +46,8 @@ bool eye_from_camera(const ::osg::Camera& camera, Eye* eye) {
   const double n = q.length();
   for (int k = 0; k < 4; ++k) eye->orientation[k] = float(n > 0 ? q[k] / n : (k == 3));
   double left = 0, right = 0, bottom = 0, top = 0, znear = 0, zfar = 0;
-  if (!camera.getProjectionMatrix().getFrustum(left, right, bottom, top, znear, zfar) || !(znear > 0)) return false;
+  if (!camera.getProjectionMatrix().getFrustum(left, right, bottom, top, znear, zfar) || !(znear > 0))
+    return false;
   eye->fov_deg[0] = float(std::atan(left / znear) * kDeg);
   eye->fov_deg[1] = float(std::atan(right / znear) * kDeg);
   eye->fov_deg[2] = float(std::atan(top / znear) * kDeg);
@@ -94,7 +95,8 @@ int Kit::add_profile(const void* data, std::size_t size) {
   Profile p;
   ProfileError e;
   if (open_profile(blob.data(), blob.size, &p, &e) != ProfileStatus::Ok)
-    throw std::runtime_error(std::string("acuity::osg::Kit::add_profile: ") + to_string(e.status) + ": " + e.message);
+    throw std::runtime_error(std::string("acuity::osg::Kit::add_profile: ") + to_string(e.status) + ": " +
+                             e.message);
   std::lock_guard<std::mutex> lock(mutex_);
   profiles_.push_back(std::move(blob));
   open_profile(profiles_.back().data(), profiles_.back().size, &p);  // point into the kept copy
@@ -108,9 +110,12 @@ int Kit::add_profile(const void* data, std::size_t size) {
 
 void Kit::add(LodNode* node, int profile) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!node || node->id_ != kInvalidObject) throw std::runtime_error("acuity::osg::Kit::add: null node, or one already added");
+  if (!node || node->id_ != kInvalidObject)
+    throw std::runtime_error("acuity::osg::Kit::add: null node, or one already added");
   const ObjectId id = scheduler_->add_object(profile, ObjectTransform{});
-  if (id == kInvalidObject) throw std::runtime_error("acuity::osg::Kit::add: max_objects reached or bad profile " + std::to_string(profile));
+  if (id == kInvalidObject)
+    throw std::runtime_error("acuity::osg::Kit::add: max_objects reached or bad profile " +
+                             std::to_string(profile));
   node->kit_ = this;
   node->id_ = id;
   node->placed_ = false;
@@ -192,13 +197,15 @@ void Kit::read_eyes(const ::osg::Camera* fallback, double dt) {
     }
     // Velocities by differences with the previous frame (0 on the first frame).
     const Eye& p = previous_eyes_[e];
-    for (int k = 0; k < 3; ++k) eye.velocity[k] = ran_ && dt > 0 ? float((eye.position[k] - p.position[k]) / dt) : 0.0f;
+    for (int k = 0; k < 3; ++k)
+      eye.velocity[k] = ran_ && dt > 0 ? float((eye.position[k] - p.position[k]) / dt) : 0.0f;
     const glm::dquat turn = quat_of(eye.orientation) * glm::inverse(quat_of(p.orientation));
     const glm::dvec3 axis(turn.x, turn.y, turn.z);
     const double len = glm::length(axis);
     const double angle = 2 * std::atan2(len, std::abs(turn.w)) * kDeg;
     for (int k = 0; k < 3; ++k)
-      eye.angular_velocity[k] = ran_ && dt > 0 && len > 0 ? float(axis[k] / len * (turn.w < 0 ? -1.0 : 1.0) * angle / dt) : 0.0f;
+      eye.angular_velocity[k] =
+          ran_ && dt > 0 && len > 0 ? float(axis[k] / len * (turn.w < 0 ? -1.0 : 1.0) * angle / dt) : 0.0f;
     previous_eyes_[e] = eye;
     frame_.gaze[e] = gaze_.valid() ? gaze_->gaze(frame_number_, time_, *cams[e], e) : Gaze{};
   }

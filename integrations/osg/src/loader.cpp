@@ -19,7 +19,8 @@ namespace acuity::osg {
   return g;
 }
 
-SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances, Kit& kit) {
+SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances,
+                      Kit& kit) {
   SceneNodes out;
   out.root = new ::osg::Group;
   out.root->setName("acuity_scene");
@@ -36,7 +37,8 @@ SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::I
     }
   }
   for (const bake::Instance& in : instances) {
-    if (in.asset < 0 || std::size_t(in.asset) >= assets.assets.size()) throw std::runtime_error("acuity::osg: bad asset index in an instance");
+    if (in.asset < 0 || std::size_t(in.asset) >= assets.assets.size())
+      throw std::runtime_error("acuity::osg: bad asset index in an instance");
     const ObjectTransform& t = in.transform;
     ::osg::ref_ptr<::osg::MatrixTransform> xf = new ::osg::MatrixTransform(
         ::osg::Matrixd::scale(t.scale, t.scale, t.scale) *

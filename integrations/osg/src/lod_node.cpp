@@ -4,7 +4,8 @@
 
 namespace acuity::osg {
 
-LodNode::LodNode(const LodNode& other, const ::osg::CopyOp& op) : ::osg::Group(other, op) {}  // a copy is not an object until added
+LodNode::LodNode(const LodNode& other, const ::osg::CopyOp& op)
+    : ::osg::Group(other, op) {}  // a copy is not an object until added
 
 LodNode::~LodNode() {
   ::osg::ref_ptr<Kit> kit;
@@ -51,7 +52,8 @@ void LodNode::traverse(::osg::NodeVisitor& nv) {
     return;
   }
   // Not an acuity object (no kit, or its kit is gone): the finest level is the active one.
-  if (nv.getVisitorType() == ::osg::NodeVisitor::CULL_VISITOR || nv.getTraversalMode() == ::osg::NodeVisitor::TRAVERSE_ACTIVE_CHILDREN) {
+  if (nv.getVisitorType() == ::osg::NodeVisitor::CULL_VISITOR ||
+      nv.getTraversalMode() == ::osg::NodeVisitor::TRAVERSE_ACTIVE_CHILDREN) {
     const std::uint8_t level = live ? kit->scheduler().level(id_) : 0;
     if (level < getNumChildren()) getChild(level)->accept(nv);
     return;

@@ -65,9 +65,9 @@ float dither_threshold(int x, int y) {  // the shader's acuity_dither, on the CP
 }
 
 ::osg::Vec4 level_color(std::uint32_t level) {
-  static const ::osg::Vec4 palette[] = {{0.15f, 0.35f, 1.0f, 1}, {0.0f, 0.85f, 0.9f, 1}, {0.2f, 0.85f, 0.2f, 1},
-                                        {0.95f, 0.9f, 0.1f, 1}, {1.0f, 0.55f, 0.1f, 1}, {0.9f, 0.15f, 0.1f, 1},
-                                        {0.6f, 0.2f, 0.8f, 1}};
+  static const ::osg::Vec4 palette[] = {
+      {0.15f, 0.35f, 1.0f, 1}, {0.0f, 0.85f, 0.9f, 1}, {0.2f, 0.85f, 0.2f, 1}, {0.95f, 0.9f, 0.1f, 1},
+      {1.0f, 0.55f, 0.1f, 1},  {0.9f, 0.15f, 0.1f, 1}, {0.6f, 0.2f, 0.8f, 1}};
   return level < 7 ? palette[level] : ::osg::Vec4(0.6f, 0.6f, 0.6f, 1);
 }
 

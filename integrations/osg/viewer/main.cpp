@@ -44,7 +44,8 @@ constexpr double kDeg = 57.295779513082320876;
 
 struct Options {
   std::string scene, profiles, head, gaze_file, gaze_mode = "auto", out, threading = "single";
-  std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540, seed = 1;
+  std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540,
+                seed = 1;
   double seconds = 20, fps = 60, fov = 90, ipd = 0.064;
   float transition = 0.25f, quality = 1.0f;
   bool headless = false, stereo = false, debug = false, quiet = false, static_scene = false;
@@ -94,7 +95,8 @@ std::vector<bake::Instance> grid(const bake::SceneAssets& s, std::uint32_t n) {
 
 ::osg::Matrixd view_of(const sim::HeadPose& h) {
   const ::osg::Quat q(h.orientation.x, h.orientation.y, h.orientation.z, h.orientation.w);
-  return ::osg::Matrixd::inverse(::osg::Matrixd::rotate(q) * ::osg::Matrixd::translate(h.position.x, h.position.y, h.position.z));
+  return ::osg::Matrixd::inverse(::osg::Matrixd::rotate(q) *
+                                 ::osg::Matrixd::translate(h.position.x, h.position.y, h.position.z));
 }
 
 // A HUD camera with a ring (2 deg radius) that is moved to the gaze every frame.
@@ -110,7 +112,8 @@ struct GazeRing {
     hud->setAllowEventFocus(false);
     ::osg::ref_ptr<::osg::Geometry> g = new ::osg::Geometry;
     ::osg::ref_ptr<::osg::Vec3Array> v = new ::osg::Vec3Array;
-    for (int i = 0; i < 64; ++i) v->push_back({float(std::cos(i * 2 * M_PI / 64)), float(std::sin(i * 2 * M_PI / 64)), 0});
+    for (int i = 0; i < 64; ++i)
+      v->push_back({float(std::cos(i * 2 * M_PI / 64)), float(std::sin(i * 2 * M_PI / 64)), 0});
     g->setVertexArray(v.get());
     ::osg::ref_ptr<::osg::Vec4Array> c = new ::osg::Vec4Array;
     c->push_back({1, 1, 1, 1});
@@ -132,10 +135,12 @@ struct GazeRing {
     const ::osg::Vec3d d(gaze.direction[0], gaze.direction[1], gaze.direction[2]);
     const ::osg::Vec3d ndc = d * p;
     double l, r, b, t, n, f;
-    const double radius = p.getFrustum(l, r, b, t, n, f) ? std::tan(2.0 / kDeg) * n / (t - b) * vp->height() : 10.0;
+    const double radius =
+        p.getFrustum(l, r, b, t, n, f) ? std::tan(2.0 / kDeg) * n / (t - b) * vp->height() : 10.0;
     ring->setNodeMask(~0u);
     ring->setMatrix(::osg::Matrixd::scale(radius, radius, 1) *
-                    ::osg::Matrixd::translate(vp->x() + 0.5 * (ndc.x() + 1) * vp->width(), vp->y() + 0.5 * (ndc.y() + 1) * vp->height(), 0));
+                    ::osg::Matrixd::translate(vp->x() + 0.5 * (ndc.x() + 1) * vp->width(),
+                                              vp->y() + 0.5 * (ndc.y() + 1) * vp->height(), 0));
   }
 };
 
@@ -165,13 +170,15 @@ int run(const Options& o) {
   if (o.static_scene)
     for (const auto& n : nodes.nodes) kit->set_static(n.get(), true);
   ::osg::ref_ptr<::osg::StateSet> shader = aosg::make_shader_state();
-  shader->addUniform(new ::osg::Uniform("acuity_debug", o.debug ? 1.0f : 0.0f), ::osg::StateAttribute::OVERRIDE);
+  shader->addUniform(new ::osg::Uniform("acuity_debug", o.debug ? 1.0f : 0.0f),
+                     ::osg::StateAttribute::OVERRIDE);
   nodes.root->setStateSet(shader.get());
 
   // Head path and gaze.
   const std::size_t frames = o.frames ? o.frames : std::size_t(std::llround(o.seconds * o.fps));
-  const std::vector<sim::HeadPose> head =
-      o.head.empty() ? sim::flythrough(*assets, o.seconds, o.fps) : sim::head_path_from(sim::read_table(o.head), o.fps, frames);
+  const std::vector<sim::HeadPose> head = o.head.empty()
+                                              ? sim::flythrough(*assets, o.seconds, o.fps)
+                                              : sim::head_path_from(sim::read_table(o.head), o.fps, frames);
   if (head.empty()) throw std::runtime_error("the head path is empty (--seconds too short?)");
   std::string mode = o.gaze_mode;
   if (mode == "auto") mode = !o.gaze_file.empty() ? "track" : o.headless ? "generated" : "mouse";
@@ -196,13 +203,19 @@ int run(const Options& o) {
 
   // The viewer: a window or a pbuffer; one camera, or two slaves side by side for --stereo.
   osgViewer::Viewer viewer;
-  if (o.threading == "single") viewer.setThreadingModel(osgViewer::ViewerBase::SingleThreaded);
-  else if (o.threading == "cull-draw") viewer.setThreadingModel(osgViewer::ViewerBase::CullDrawThreadPerContext);
-  else if (o.threading == "draw") viewer.setThreadingModel(osgViewer::ViewerBase::DrawThreadPerContext);
-  else if (o.threading == "cull-per-camera") viewer.setThreadingModel(osgViewer::ViewerBase::CullThreadPerCameraDrawThreadPerContext);
-  else throw std::runtime_error("unknown --threading " + o.threading);
+  if (o.threading == "single")
+    viewer.setThreadingModel(osgViewer::ViewerBase::SingleThreaded);
+  else if (o.threading == "cull-draw")
+    viewer.setThreadingModel(osgViewer::ViewerBase::CullDrawThreadPerContext);
+  else if (o.threading == "draw")
+    viewer.setThreadingModel(osgViewer::ViewerBase::DrawThreadPerContext);
+  else if (o.threading == "cull-per-camera")
+    viewer.setThreadingModel(osgViewer::ViewerBase::CullThreadPerCameraDrawThreadPerContext);
+  else
+    throw std::runtime_error("unknown --threading " + o.threading);
   if (o.threading != "single" && o.png_every && !o.out.empty())
-    throw std::runtime_error("PNG frames need --threading single (a draw thread may still be reading back); use --png-every 0");
+    throw std::runtime_error(
+        "PNG frames need --threading single (a draw thread may still be reading back); use --png-every 0");
   viewer.setCameraManipulator(nullptr);
   if (mouse) viewer.addEventHandler(mouse->handler());
   ::osg::ref_ptr<::osg::GraphicsContext::Traits> traits = new ::osg::GraphicsContext::Traits;
@@ -219,13 +232,16 @@ int run(const Options& o) {
   traits->depth = 24;
   traits->windowName = "acuity-osg";
   ::osg::ref_ptr<::osg::GraphicsContext> gc = ::osg::GraphicsContext::createGraphicsContext(traits.get());
-  if (!gc) throw std::runtime_error(std::string("cannot open ") + (o.headless ? "a pbuffer" : "a window") + " on DISPLAY (try xvfb-run -a)");
+  if (!gc)
+    throw std::runtime_error(std::string("cannot open ") + (o.headless ? "a pbuffer" : "a window") +
+                             " on DISPLAY (try xvfb-run -a)");
   ::osg::ref_ptr<::osg::Group> top = new ::osg::Group;
   top->addChild(nodes.root.get());
   viewer.setSceneData(top.get());
   ::osg::Camera* master = viewer.getCamera();
   const double aspect = o.stereo ? 0.5 * o.width / o.height : double(o.width) / o.height;
-  const double fovy = 2 * std::atan(std::tan(0.5 * o.fov / kDeg) / std::max(1.0, aspect)) * kDeg;  // o.fov across the wider side
+  const double fovy = 2 * std::atan(std::tan(0.5 * o.fov / kDeg) / std::max(1.0, aspect)) *
+                      kDeg;  // o.fov across the wider side
   master->setProjectionMatrixAsPerspective(fovy, aspect, 0.05, 5000);
   master->setClearColor({0.08f, 0.09f, 0.11f, 1});
   ::osg::ref_ptr<Capture> capture = new Capture;
@@ -280,20 +296,23 @@ int run(const Options& o) {
     frames_csv << "frame,time_s,frame_ms,cull_ms,acuity_ms,transforms_ms,draw_ms,triangles,changed\n";
   }
   if (!o.quiet)
-    std::printf("acuity-osg: %zu objects, %zu assets, %s, %s gaze, %zu frames%s\n", nodes.nodes.size(), assets->assets.size(),
-                o.headless ? "headless" : "windowed", mode.c_str(), frames, o.stereo ? ", stereo" : "");
+    std::printf("acuity-osg: %zu objects, %zu assets, %s, %s gaze, %zu frames%s\n", nodes.nodes.size(),
+                assets->assets.size(), o.headless ? "headless" : "windowed", mode.c_str(), frames,
+                o.stereo ? ", stereo" : "");
   double sum_frame = 0, sum_cull = 0, sum_acuity = 0, sum_transforms = 0, sum_draw = 0;
   std::size_t measured = 0, pngs = 0;
   for (std::size_t f = 0; (o.frames == 0 || f < frames) && !viewer.done(); ++f) {
     const double t = double(f) / o.fps;
     master->setViewMatrix(view_of(head[f % head.size()]));
     // The gaze the kit will ask for in this frame (viewer.frame() advances the frame number first).
-    if (ring && gaze) ring->place(*master, gaze->gaze(viewer.getFrameStamp()->getFrameNumber() + 1, t, *master, 0));
+    if (ring && gaze)
+      ring->place(*master, gaze->gaze(viewer.getFrameStamp()->getFrameNumber() + 1, t, *master, 0));
     const bool png = !o.out.empty() && o.png_every && f % o.png_every == 0;
     capture->enabled = png;
     const auto t0 = std::chrono::steady_clock::now();
     viewer.frame(t);
-    const double frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double frame_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const unsigned number = viewer.getFrameStamp()->getFrameNumber();
     double cull = 0, draw = 0;
     for (std::uint32_t i = 0; i < (o.stereo ? 2u : 1u); ++i) {
@@ -315,8 +334,9 @@ int run(const Options& o) {
       levels_csv << f;
       for (const auto& n : nodes.nodes) levels_csv << ',' << int(kit->scheduler().level(n->id()));
       levels_csv << '\n';
-      frames_csv << f << ',' << t << ',' << frame_ms << ',' << cull << ',' << acuity_ms << ',' << kit->last_transforms_ms() << ',' << draw << ','
-                 << kit->scheduler().stats().triangles << ',' << kit->scheduler().stats().changed << '\n';
+      frames_csv << f << ',' << t << ',' << frame_ms << ',' << cull << ',' << acuity_ms << ','
+                 << kit->last_transforms_ms() << ',' << draw << ',' << kit->scheduler().stats().triangles
+                 << ',' << kit->scheduler().stats().changed << '\n';
       if (png) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%05zu.png", f);
@@ -334,12 +354,15 @@ int run(const Options& o) {
   }
   if (measured) {
     const double n = double(measured);
-    std::printf("frame time [ms, mean of %zu frames after the first %u]: frame %.3f, cull %.3f (acuity %.3f inside it, of which "
-                "eyes and transforms %.3f), draw %.3f; acuity %.2f%% of the frame, %zu objects\n",
-                measured, o.skip, sum_frame / n, sum_cull / n, sum_acuity / n, sum_transforms / n, sum_draw / n, 100 * sum_acuity / sum_frame,
-                nodes.nodes.size());
+    std::printf(
+        "frame time [ms, mean of %zu frames after the first %u]: frame %.3f, cull %.3f (acuity %.3f inside "
+        "it, of which "
+        "eyes and transforms %.3f), draw %.3f; acuity %.2f%% of the frame, %zu objects\n",
+        measured, o.skip, sum_frame / n, sum_cull / n, sum_acuity / n, sum_transforms / n, sum_draw / n,
+        100 * sum_acuity / sum_frame, nodes.nodes.size());
   }
-  if (!o.out.empty() && !o.quiet) std::printf("wrote %zu PNG frames, levels.csv and frames.csv into %s\n", pngs, o.out.c_str());
+  if (!o.out.empty() && !o.quiet)
+    std::printf("wrote %zu PNG frames, levels.csv and frames.csv into %s\n", pngs, o.out.c_str());
   return 0;
 }
 
@@ -348,29 +371,53 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{"acuity-osg: a glTF scene in OpenSceneGraph with acuity choosing the levels"};
-  app.add_option("scene", o.scene, "glTF/GLB (MSFT_lod chains from acuity lodgen, or plain meshes)")->required()->check(CLI::ExistingFile);
-  app.add_option("--profiles", o.profiles, "Directory of <asset>.acuity profiles (built and saved there when missing)");
+  app.add_option("scene", o.scene, "glTF/GLB (MSFT_lod chains from acuity lodgen, or plain meshes)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--profiles", o.profiles,
+                 "Directory of <asset>.acuity profiles (built and saved there when missing)");
   app.add_option("--res", o.res, "Snapshot pixels for profiles built here")->capture_default_str();
-  app.add_option("--head", o.head, "Head path to replay (CSV/JSON: t,x,y,z,qx,qy,qz,qw); default: fly over the scene")->check(CLI::ExistingFile);
-  app.add_option("--gaze", o.gaze_file, "Gaze trace to replay (CSV/JSON: t,x,y,z[,confidence], head space)")->check(CLI::ExistingFile);
-  app.add_option("--gaze-source", o.gaze_mode, "auto | track | generated | mouse | fixed | none")->capture_default_str();
-  app.add_option("--seconds", o.seconds, "Length of the built-in path [s]")->capture_default_str()->check(CLI::Range(0.1, 3600.0));
-  app.add_option("--fps", o.fps, "Frames per second of the simulated clock")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
-  app.add_option("--frames", o.frames, "Stop after N frames (default: the path's length, looping when windowed)");
-  app.add_option("--skip", o.skip, "Frames left out of the frame-time means (warm-up)")->capture_default_str();
+  app.add_option("--head", o.head,
+                 "Head path to replay (CSV/JSON: t,x,y,z,qx,qy,qz,qw); default: fly over the scene")
+      ->check(CLI::ExistingFile);
+  app.add_option("--gaze", o.gaze_file, "Gaze trace to replay (CSV/JSON: t,x,y,z[,confidence], head space)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--gaze-source", o.gaze_mode, "auto | track | generated | mouse | fixed | none")
+      ->capture_default_str();
+  app.add_option("--seconds", o.seconds, "Length of the built-in path [s]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--fps", o.fps, "Frames per second of the simulated clock")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
+  app.add_option("--frames", o.frames,
+                 "Stop after N frames (default: the path's length, looping when windowed)");
+  app.add_option("--skip", o.skip, "Frames left out of the frame-time means (warm-up)")
+      ->capture_default_str();
   app.add_option("--out", o.out, "Directory for frame_NNNNN.png, levels.csv, frames.csv");
-  app.add_option("--png-every", o.png_every, "Write every K-th frame as PNG (0: none)")->capture_default_str();
-  app.add_option("--objects", o.objects, "Replace the instances by a grid of N objects cycling the assets")->check(CLI::Range(1u, 1000000u));
+  app.add_option("--png-every", o.png_every, "Write every K-th frame as PNG (0: none)")
+      ->capture_default_str();
+  app.add_option("--objects", o.objects, "Replace the instances by a grid of N objects cycling the assets")
+      ->check(CLI::Range(1u, 1000000u));
   app.add_option("--width", o.width, "Pixels")->capture_default_str()->check(CLI::Range(16u, 8192u));
   app.add_option("--height", o.height, "Pixels")->capture_default_str()->check(CLI::Range(16u, 8192u));
-  app.add_option("--fov", o.fov, "Field of view across the wider side [deg]")->capture_default_str()->check(CLI::Range(1.0, 170.0));
-  app.add_option("--transition", o.transition, "Cross-fade seconds")->capture_default_str()->check(CLI::Range(0.0f, 10.0f));
-  app.add_option("--quality", o.quality, "q: invisible when lost <= q CT")->capture_default_str()->check(CLI::Range(0.01f, 100.0f));
+  app.add_option("--fov", o.fov, "Field of view across the wider side [deg]")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 170.0));
+  app.add_option("--transition", o.transition, "Cross-fade seconds")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 10.0f));
+  app.add_option("--quality", o.quality, "q: invisible when lost <= q CT")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01f, 100.0f));
   app.add_option("--seed", o.seed, "Seed of the generated gaze")->capture_default_str();
-  app.add_option("--threading", o.threading, "OSG threading model: single | cull-draw | draw | cull-per-camera")->capture_default_str();
+  app.add_option("--threading", o.threading,
+                 "OSG threading model: single | cull-draw | draw | cull-per-camera")
+      ->capture_default_str();
   app.add_flag("--headless", o.headless, "Render into a pbuffer (under xvfb-run -a without a display)");
   app.add_flag("--stereo", o.stereo, "Two slave cameras side by side, one per eye");
-  app.add_flag("--static", o.static_scene, "Objects never move: read each world transform once, not every frame");
+  app.add_flag("--static", o.static_scene,
+               "Objects never move: read each world transform once, not every frame");
   app.add_flag("--debug", o.debug, "Colour objects by level and ring the gaze");
   app.add_flag("-q,--quiet", o.quiet, "Only the frame-time line");
   CLI11_PARSE(app, argc, argv);

@@ -52,21 +52,21 @@ FoveationConfig foveation_config(const SchedulerConfig& config);
 
 // Tables of the visible-frequency limit, built once per configuration (about 12k model
 // evaluations, a few milliseconds); plan_foveation() then needs no model evaluation.
-inline constexpr int kFoveationSpeeds = 16;       // retinal speeds, log-spaced from the drift floor to 80 deg/s
-inline constexpr int kFoveationEccSteps = 721;    // eccentricity 0 .. 180 deg in steps of 0.25 deg
+inline constexpr int kFoveationSpeeds = 16;     // retinal speeds, log-spaced from the drift floor to 80 deg/s
+inline constexpr int kFoveationEccSteps = 721;  // eccentricity 0 .. 180 deg in steps of 0.25 deg
 inline constexpr float kFoveationEccStep = 0.25f;
-inline constexpr int kFoveationSineSteps = 4096;  // squared sine of the angle, 0 .. 1
-inline constexpr int kFoveationLog2Bits = 8;      // mantissa bits of the log2 table
+inline constexpr int kFoveationSineSteps = 4096;           // squared sine of the angle, 0 .. 1
+inline constexpr int kFoveationLog2Bits = 8;               // mantissa bits of the log2 table
 inline constexpr std::uint32_t kMaxFoveationTiles = 2048;  // per axis (16384 px at tile 8)
 
 struct FoveationPlanner {
   FoveationConfig config;
-  bool ready = false;                                      // init_foveation_planner succeeded
-  float speed[kFoveationSpeeds] = {};                      // retinal speed of each row [deg/s]
+  bool ready = false;                                             // init_foveation_planner succeeded
+  float speed[kFoveationSpeeds] = {};                             // retinal speed of each row [deg/s]
   float nyquist[kFoveationSpeeds][kFoveationEccSteps] = {};       // 2 f(e, v) [cycles/deg]
   float log2_nyquist[kFoveationSpeeds][kFoveationEccSteps] = {};  // log2 of it
-  float sine_angle[kFoveationSineSteps] = {};              // angle [deg] at the start of each bin
-  float log2_mantissa[1 << kFoveationLog2Bits] = {};       // log2(1 + i / 256)
+  float sine_angle[kFoveationSineSteps] = {};                     // angle [deg] at the start of each bin
+  float log2_mantissa[1 << kFoveationLog2Bits] = {};              // log2(1 + i / 256)
 };
 
 enum class FoveationStatus : std::uint8_t {
@@ -93,11 +93,11 @@ struct FoveationMaps {
   // Out: row-major, row 0 at the top of the image, ceil(pixels / tile_px) tiles per axis (the last
   // row and column may be partial).
   std::uint32_t cols = 0, rows = 0;
-  float origin_px[2] = {0, 0};   // where the maps are centred: the gaze (or view centre) in pixels,
-                                 // x right, y down from the top-left corner; may lie off the image
-  float retinal_speed = 0;       // the retinal speed the cutoff was taken at [deg/s]
-  double shaded = 0;             // shading work: sum over tiles of covered pixels / (rate_x rate_y)
-  double pixels = 0;             // full-rate work: width x height
+  float origin_px[2] = {0, 0};  // where the maps are centred: the gaze (or view centre) in pixels,
+                                // x right, y down from the top-left corner; may lie off the image
+  float retinal_speed = 0;      // the retinal speed the cutoff was taken at [deg/s]
+  double shaded = 0;            // shading work: sum over tiles of covered pixels / (rate_x rate_y)
+  double pixels = 0;            // full-rate work: width x height
 };
 
 // Tiles per axis for this eye's viewport: ceil(pixels / tile_px). False (and 0) when the tile size

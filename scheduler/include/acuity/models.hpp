@@ -42,10 +42,10 @@ struct ModelParams {
   double alpha = 0.106;     // spatial-frequency decay constant
   double e2 = 2.3;          // half-resolution eccentricity [deg]
   // Daly 1998 smooth-pursuit model [checked]
-  double pursuit_gain = 0.82;   // g
-  double pursuit_min = 0.15;    // v_min [deg/s]
-  double pursuit_max = 80.0;    // v_max [deg/s]
-  double drift = 0.15;          // retinal velocity floor [deg/s]
+  double pursuit_gain = 0.82;     // g
+  double pursuit_min = 0.15;      // v_min [deg/s]
+  double pursuit_max = 80.0;      // v_max [deg/s]
+  double drift = 0.15;            // retinal velocity floor [deg/s]
   CsfFit fit = CsfFit::Daly1998;  // the CSF used by daly_csf() and the Default/KellyDaly models
   // Reddy: the threshold contrast inside the visible region of the step model
   double reddy_contrast = 1.0 / 64.0;
@@ -53,29 +53,37 @@ struct ModelParams {
 
 // ---- Geisler & Perry 1998 -----------------------------------------------------------------------
 // Threshold contrast at frequency f [cpd] and eccentricity e [deg]: CT0 exp(alpha f (e + e2) / e2).
-template <class T> T geisler_perry_threshold(T f, T e, const ModelParams& p = {});
+template <class T>
+T geisler_perry_threshold(T f, T e, const ModelParams& p = {});
 // Highest visible frequency [cpd] at contrast c: e2 ln(c / CT0) / (alpha (e + e2)).
 // Returns 0 when nothing is visible (c <= CT0). f_c(0, 1) = 39.2347 cpd.
-template <class T> T geisler_perry_cutoff(T e, T contrast = T(1), const ModelParams& p = {});
+template <class T>
+T geisler_perry_cutoff(T e, T contrast = T(1), const ModelParams& p = {});
 
 // ---- Kelly 1979 ---------------------------------------------------------------------------------
 // Spatio-velocity sensitivity G(alpha, v) = k(v) v alpha^2 exp(-2 alpha / alpha_max(v)), alpha = 2 pi f,
 // k(v) = 6.1 + 7.3 |log10(v / 3)|^3, alpha_max = 45.9 / (v + 2). Kelly 1979 Eq. 8 (travelling waves).
-template <class T> T kelly_csf(T f, T v, const ModelParams& p = {});
+template <class T>
+T kelly_csf(T f, T v, const ModelParams& p = {});
 // Frequency of Kelly's peak sensitivity [cpd]: 45.9 / (2 pi (v + 2)).
-template <class T> T kelly_peak_frequency(T v, const ModelParams& p = {});
+template <class T>
+T kelly_peak_frequency(T v, const ModelParams& p = {});
 
 // ---- Daly 1998 ----------------------------------------------------------------------------------
 // Smooth-pursuit eye velocity for an image velocity v_image [deg/s]: min(g v_image + v_min, v_max).
-template <class T> T daly_eye_velocity(T v_image, const ModelParams& p = {});
+template <class T>
+T daly_eye_velocity(T v_image, const ModelParams& p = {});
 // Retinal velocity |v_image - v_eye| [deg/s], floored at p.drift (it is exactly 0 at 0.8333 deg/s).
-template <class T> T daly_retinal_velocity(T v_image, const ModelParams& p = {});
+template <class T>
+T daly_retinal_velocity(T v_image, const ModelParams& p = {});
 // Daly's spatio-velocity CSF at frequency f [cpd] and retinal velocity v [deg/s], fit p.fit:
 // c0 c2 v (2 pi c1 f)^2 exp(-4 pi c1 f / rho_max) k(c2 v), rho_max = 45.9 / (c2 v + 2)
 // (Laird2006: prefactor c0 c1 c2). v is floored at max(p.drift, 0.1 for Laird2006).
-template <class T> T daly_csf(T f, T v, const ModelParams& p = {});
+template <class T>
+T daly_csf(T f, T v, const ModelParams& p = {});
 // Frequency of the peak of daly_csf [cpd]: 45.9 / (2 pi c1 (c2 v + 2)).
-template <class T> T daly_peak_frequency(T v, const ModelParams& p = {});
+template <class T>
+T daly_peak_frequency(T v, const ModelParams& p = {});
 // The constants of one fit, the one place they are written (the scheduler's fast path uses them too).
 struct DalyFitConstants {
   double c0, c1, c2;
@@ -86,16 +94,20 @@ DalyFitConstants daly_fit_constants(CsfFit fit);
 
 // ---- Reddy 1997 / 2001 --------------------------------------------------------------------------
 // Eccentricity factor M(e): 1 for e <= 5.79 deg, else 7.49 / (0.3 e + 1)^2. [checked]
-template <class T> T reddy_eccentricity(T e);
+template <class T>
+T reddy_eccentricity(T e);
 // Highest visible frequency for velocity v [cpd]: 60 for v <= 0.825; 57.69 - 27.78 log10(v) up to
 // 118.3 deg/s; 0.1 above. [unverified: constants from recollection of Reddy's thesis]
-template <class T> T reddy_velocity(T v);
+template <class T>
+T reddy_velocity(T v);
 // Highest visible frequency H(v) M(e) [cpd]. [unverified combination]
-template <class T> T reddy_cutoff(T v, T e);
+template <class T>
+T reddy_cutoff(T v, T e);
 
 // ---- Minimum angle of resolution (Guenter et al. 2012, Eq. 1) ------------------------------------
 // MAR [deg per cycle] = slope e + omega0. Acuity frequency is 1 / MAR [cpd].
-template <class T> T mar(T e, T slope = T(0.022), T omega0 = T(1.0 / 48.0));
+template <class T>
+T mar(T e, T slope = T(0.022), T omega0 = T(1.0 / 48.0));
 
 // ---- Combined threshold models ------------------------------------------------------------------
 // Natural log of the threshold contrast at frequency f [cpd], eccentricity e [deg] and retinal
@@ -105,8 +117,7 @@ T log_threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::De
                 const ModelParams& p = {});
 // Threshold contrast: exp(log_threshold), saturated at the largest finite T.
 template <class T>
-T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
-            const ModelParams& p = {});
+T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default, const ModelParams& p = {});
 // The inverse: the highest frequency [cpd] whose threshold is at most `contrast`.
 // Returns 0 when no frequency above 0 is visible at that contrast, +inf when contrast is +inf.
 // Closed form for GeislerPerry, Reddy and the Default model's plateau; elsewhere a monotone Newton

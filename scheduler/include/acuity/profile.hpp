@@ -57,12 +57,19 @@ static_assert(sizeof(ProfileHeader) == 32 && offsetof(ProfileHeader, magic) == 0
                   offsetof(ProfileHeader, checksum) == 24,
               "ProfileHeader is part of the file format");
 static_assert(sizeof(ProfileSectionEntry) == 24 && offsetof(ProfileSectionEntry, id) == 0 &&
-                  offsetof(ProfileSectionEntry, reserved) == 4 && offsetof(ProfileSectionEntry, offset) == 8 &&
-                  offsetof(ProfileSectionEntry, size) == 16,
+                  offsetof(ProfileSectionEntry, reserved) == 4 &&
+                  offsetof(ProfileSectionEntry, offset) == 8 && offsetof(ProfileSectionEntry, size) == 16,
               "ProfileSectionEntry is part of the file format");
 
 enum class ProfileSection : std::uint32_t {
-  Meta = 1, Levels = 2, Views = 3, Lookup = 4, Orientations = 5, Bands = 6, Lost = 7, Features = 8,
+  Meta = 1,
+  Levels = 2,
+  Views = 3,
+  Lookup = 4,
+  Orientations = 5,
+  Bands = 6,
+  Lost = 7,
+  Features = 8,
 };
 
 enum class ProfileStatus : std::uint8_t {
@@ -121,13 +128,13 @@ static_assert(sizeof(ProfileLevel) == 8 && offsetof(ProfileLevel, geometric_erro
 // which must outlive it.
 struct Profile {
   ProfileMeta meta;
-  const ProfileLevel* levels;       // [K]
-  const ProfileView* views;         // [V]
-  const std::uint16_t* lookup;      // [6 R R][kLookupCandidates] view indices, nearest first
-  const float* orientations;        // [T] image-plane angle of the frequency vector [deg], [0, 180)
-  const float* bands;               // [B] band centre frequencies [cycles per object diameter], increasing
-  const float* lost;                // [(K-1) V T B] lost contrast of level k >= 1 against level 0
-  const float* features;            // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
+  const ProfileLevel* levels;   // [K]
+  const ProfileView* views;     // [V]
+  const std::uint16_t* lookup;  // [6 R R][kLookupCandidates] view indices, nearest first
+  const float* orientations;    // [T] image-plane angle of the frequency vector [deg], [0, 180)
+  const float* bands;           // [B] band centre frequencies [cycles per object diameter], increasing
+  const float* lost;            // [(K-1) V T B] lost contrast of level k >= 1 against level 0
+  const float* features;  // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
 
   // Lost contrast of level k (1 <= k < K) seen from view v, orientation t, band b.
   float lost_contrast(std::uint32_t k, std::uint32_t v, std::uint32_t t, std::uint32_t b) const {
@@ -156,10 +163,23 @@ inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
   const float ax = d[0] < 0 ? -d[0] : d[0], ay = d[1] < 0 ? -d[1] : d[1], az = d[2] < 0 ? -d[2] : d[2];
   std::uint32_t face;
   float u, v, major;
-  if (ax >= ay && ax >= az) { face = d[0] >= 0 ? 0 : 1; major = ax; u = d[1]; v = d[2]; }
-  else if (ay >= az)        { face = d[1] >= 0 ? 2 : 3; major = ay; u = d[2]; v = d[0]; }
-  else                      { face = d[2] >= 0 ? 4 : 5; major = az; u = d[0]; v = d[1]; }
-  if (!(major > 0)) return 0;  // zero or NaN direction
+  if (ax >= ay && ax >= az) {
+    face = d[0] >= 0 ? 0 : 1;
+    major = ax;
+    u = d[1];
+    v = d[2];
+  } else if (ay >= az) {
+    face = d[1] >= 0 ? 2 : 3;
+    major = ay;
+    u = d[2];
+    v = d[0];
+  } else {
+    face = d[2] >= 0 ? 4 : 5;
+    major = az;
+    u = d[0];
+    v = d[1];
+  }
+  if (!(major > 0)) return 0;                                // zero or NaN direction
   const float scale = 0.5f * static_cast<float>(r) / major;  // [-major, major] -> [0, r]
   const float half = 0.5f * static_cast<float>(r);
   const float fr = static_cast<float>(r);

@@ -47,48 +47,48 @@ enum class ViewBlend : std::uint8_t {
 
 // Per-object status bits, set each frame.
 enum ObjectFlag : std::uint8_t {
-  kFlagInvalidInput = 1 << 0,   // non-finite transform or velocity, or a radius <= 0: fallback level
-  kFlagEyeInside = 1 << 1,      // an eye is inside the bounding sphere: finest level
-  kFlagNoGaze = 1 << 2,         // no usable gaze: fixed foveation was assumed
-  kFlagBudgetForced = 1 << 3,   // the triangle budget pushed the object to a visible loss
-  kFlagChanged = 1 << 4,        // the level changed this frame (a change event)
-  kFlagHeld = 1 << 5,           // a coarser level was allowed but hysteresis or saccade gating held it
+  kFlagInvalidInput = 1 << 0,  // non-finite transform or velocity, or a radius <= 0: fallback level
+  kFlagEyeInside = 1 << 1,     // an eye is inside the bounding sphere: finest level
+  kFlagNoGaze = 1 << 2,        // no usable gaze: fixed foveation was assumed
+  kFlagBudgetForced = 1 << 3,  // the triangle budget pushed the object to a visible loss
+  kFlagChanged = 1 << 4,       // the level changed this frame (a change event)
+  kFlagHeld = 1 << 5,          // a coarser level was allowed but hysteresis or saccade gating held it
 };
 
 struct SchedulerConfig {
-  std::uint32_t max_objects = 4096;      // capacity, fixed at creation
-  std::uint32_t max_profiles = 256;      // capacity, fixed at creation
+  std::uint32_t max_objects = 4096;  // capacity, fixed at creation
+  std::uint32_t max_profiles = 256;  // capacity, fixed at creation
   SelectionRule rule = SelectionRule::Perceptual;
   Evaluation evaluation = Evaluation::Tabulated;  // Perceptual rule only; explain() is always Exact
   ThresholdModel model = ThresholdModel::Default;
   ModelParams params;
   ViewBlend view_blend = ViewBlend::Nearest;  // lowest measured error (docs/spectra.md); Max3 errs safe
-  float quality = 1.0f;                  // q: invisible when lost <= q CT (q < 1 is more conservative)
-  std::uint8_t fallback_level = 0;       // level for invalid input (finest by default)
+  float quality = 1.0f;                       // q: invisible when lost <= q CT (q < 1 is more conservative)
+  std::uint8_t fallback_level = 0;            // level for invalid input (finest by default)
 
   // Gaze
-  float min_gaze_confidence = 0.5f;      // below it (or when invalid or non-finite) there is no gaze
-  float gaze_uncertainty_deg = 1.0f;     // tracker error: subtracted from every eccentricity [deg]
-  float no_gaze_radius_deg = 30.0f;      // without gaze the gaze may be anywhere this close to the
-                                         // view centre: eccentricity is measured from that disc [deg]
+  float min_gaze_confidence = 0.5f;   // below it (or when invalid or non-finite) there is no gaze
+  float gaze_uncertainty_deg = 1.0f;  // tracker error: subtracted from every eccentricity [deg]
+  float no_gaze_radius_deg = 30.0f;   // without gaze the gaze may be anywhere this close to the
+                                      // view centre: eccentricity is measured from that disc [deg]
   // Hysteresis and timing
-  float hysteresis_margin = 0.0f;        // coarsening needs a score <= 1 - margin
-  std::uint32_t hysteresis_frames = 0;   // ... on this many consecutive frames
-  float saccade_speed = 0.0f;            // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
-                                         // such a saccade the eye counts as fixating (the level is seen
-                                         // after it, so the saccade's retinal blur is not spent) ...
-  std::uint32_t max_coarsen_wait = 30;   // ... or after waiting this many frames for a saccade
-  float transition_seconds = 0.0f;       // cross-fade length reported by transition() [s]
+  float hysteresis_margin = 0.0f;       // coarsening needs a score <= 1 - margin
+  std::uint32_t hysteresis_frames = 0;  // ... on this many consecutive frames
+  float saccade_speed = 0.0f;           // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
+                                        // such a saccade the eye counts as fixating (the level is seen
+                                        // after it, so the saccade's retinal blur is not spent) ...
+  std::uint32_t max_coarsen_wait = 30;  // ... or after waiting this many frames for a saccade
+  float transition_seconds = 0.0f;      // cross-fade length reported by transition() [s]
 
   // Budget (Funkhouser & Sequin): 0 = none; else coarsen greedily by least harm per triangle saved
   // (a budget turns keep_scores on: harm is the next level's score)
   std::uint64_t triangle_budget = 0;
 
   // Baselines
-  float distance_scale = 1.0f;           // Distance: d_k = geometric error k / tan(1 arcmin), times this
-  float pixel_error = 1.0f;              // ScreenSize: allowed projected geometric error [px]
+  float distance_scale = 1.0f;  // Distance: d_k = geometric error k / tan(1 arcmin), times this
+  float pixel_error = 1.0f;     // ScreenSize: allowed projected geometric error [px]
 
-  bool keep_scores = false;              // keep every level's score for scores()
+  bool keep_scores = false;  // keep every level's score for scores()
 };
 
 // Names used by the command line, Python and the C ABI's documentation: "perceptual", "reddy",
@@ -99,33 +99,33 @@ bool parse_selection_rule(const char* name, SelectionRule* out);
 bool parse_evaluation(const char* name, Evaluation* out);
 
 struct Eye {
-  double position[3] = {0, 0, 0};          // world [m]
-  float orientation[4] = {0, 0, 0, 1};     // unit quaternion x y z w, eye to world
-  float fov_deg[4] = {-45, 45, 45, -45};   // half-angles left (<0), right, up, down (<0) [deg]
+  double position[3] = {0, 0, 0};            // world [m]
+  float orientation[4] = {0, 0, 0, 1};       // unit quaternion x y z w, eye to world
+  float fov_deg[4] = {-45, 45, 45, -45};     // half-angles left (<0), right, up, down (<0) [deg]
   std::uint32_t viewport[2] = {1920, 1920};  // width, height [px]
-  float velocity[3] = {0, 0, 0};           // world [m/s]
-  float angular_velocity[3] = {0, 0, 0};   // head rotation, world axis times speed [deg/s]
+  float velocity[3] = {0, 0, 0};             // world [m/s]
+  float angular_velocity[3] = {0, 0, 0};     // head rotation, world axis times speed [deg/s]
 };
 
 struct Gaze {
-  float direction[3] = {0, 0, -1};         // unit, eye space
-  float confidence = 1.0f;                 // 0..1
-  float angular_velocity[3] = {0, 0, 0};   // eye-in-head rotation, eye-space axis times speed [deg/s]
+  float direction[3] = {0, 0, -1};        // unit, eye space
+  float confidence = 1.0f;                // 0..1
+  float angular_velocity[3] = {0, 0, 0};  // eye-in-head rotation, eye-space axis times speed [deg/s]
   bool valid = false;
-  bool has_velocity = false;               // else retinal velocity follows Daly's pursuit model
+  bool has_velocity = false;  // else retinal velocity follows Daly's pursuit model
 };
 
 struct Frame {
   Eye eyes[2];
   Gaze gaze[2];
-  std::uint32_t eye_count = 1;             // 1 or 2
-  float dt = 0;                            // since the previous frame [s]; 0 derives no velocity
+  std::uint32_t eye_count = 1;  // 1 or 2
+  float dt = 0;                 // since the previous frame [s]; 0 derives no velocity
 };
 
 struct ObjectTransform {
-  double position[3] = {0, 0, 0};          // world [m]
-  float rotation[4] = {0, 0, 0, 1};        // unit quaternion x y z w, object to world
-  float scale = 1.0f;                      // uniform
+  double position[3] = {0, 0, 0};    // world [m]
+  float rotation[4] = {0, 0, 0, 1};  // unit quaternion x y z w, object to world
+  float scale = 1.0f;                // uniform
 };
 
 using ObjectId = std::uint32_t;
@@ -133,8 +133,8 @@ inline constexpr ObjectId kInvalidObject = 0xffffffffu;
 
 // Why a level was chosen: the score of one level and what limits it.
 struct LevelExplain {
-  float score;          // max over bands and orientations of lost / (q CT); <= 1 is invisible
-  std::uint8_t band;    // the limiting band and orientation
+  float score;        // max over bands and orientations of lost / (q CT); <= 1 is invisible
+  std::uint8_t band;  // the limiting band and orientation
   std::uint8_t orientation;
   float frequency_cpd;  // that band's centre at the current distance
   float threshold;      // CT there
@@ -142,16 +142,16 @@ struct LevelExplain {
 
 struct ObjectExplain {
   float distance_m, angular_diameter_deg, eccentricity_deg, image_velocity_deg_s, retinal_velocity_deg_s;
-  std::uint32_t view;                      // the profile view used
+  std::uint32_t view;  // the profile view used
   std::uint8_t level, level_count;
-  LevelExplain levels[kMaxLevels];         // [level_count]; level 0 has score 0
+  LevelExplain levels[kMaxLevels];  // [level_count]; level 0 has score 0
 };
 
 struct FrameStats {
-  std::uint64_t triangles = 0;             // drawn at the chosen levels
-  std::uint32_t changed = 0;               // objects whose level changed
-  std::uint32_t budget_forced = 0;         // objects the budget pushed past visibility
-  std::uint32_t invalid = 0;               // objects with kFlagInvalidInput
+  std::uint64_t triangles = 0;      // drawn at the chosen levels
+  std::uint32_t changed = 0;        // objects whose level changed
+  std::uint32_t budget_forced = 0;  // objects the budget pushed past visibility
+  std::uint32_t invalid = 0;        // objects with kFlagInvalidInput
   bool gaze_used = false;
 };
 
@@ -185,7 +185,8 @@ class Scheduler {
   ObjectId add_object(int profile, const ObjectTransform& transform);
   void remove_object(ObjectId id);
   void set_transform(ObjectId id, const ObjectTransform& transform);
-  void set_velocity(ObjectId id, const float velocity[3]);  // world [m/s]; else derived from transforms and dt
+  void set_velocity(ObjectId id,
+                    const float velocity[3]);  // world [m/s]; else derived from transforms and dt
   void set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level);
   void set_bias(ObjectId id, float quality_bias);
 
@@ -193,7 +194,11 @@ class Scheduler {
   void begin_frame(const Frame& frame);
   void update(std::uint32_t first, std::uint32_t count);
   void end_frame();
-  void run_frame(const Frame& frame) { begin_frame(frame); update(0, object_capacity()); end_frame(); }
+  void run_frame(const Frame& frame) {
+    begin_frame(frame);
+    update(0, object_capacity());
+    end_frame();
+  }
 
   std::uint32_t object_capacity() const { return config_.max_objects; }
   bool alive(ObjectId id) const { return id < config_.max_objects && profile_of_[id] >= 0; }
@@ -226,18 +231,24 @@ class Scheduler {
   struct Curves;
   struct Sight;
   struct Block;
-  struct Choice { std::uint8_t fine, coarse, flags; };  // coarsest level at score <= 1 and <= 1 - margin
+  struct Choice {
+    std::uint8_t fine, coarse, flags;
+  };  // coarsest level at score <= 1 and <= 1 - margin
   enum class Look : std::uint8_t { Ok, Invalid, Inside };
-  bool perceptual() const { return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy; }
+  bool perceptual() const {
+    return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
+  }
   void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
   void prefetch_views(ObjectId id, const Sight& s) const;
-  void aim(ObjectId id, Sight* s) const;     // perceptual rules: the nearest view, the slip in its axes
+  void aim(ObjectId id, Sight* s) const;  // perceptual rules: the nearest view, the slip in its axes
   void probe(ObjectId id, Sight* s) const;
-  void prefetch_moving(ObjectId id, const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
+  void prefetch_moving(ObjectId id,
+                       const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
-  Choice choose_by_error(const Sight& s, const Profile& p) const;        // Distance, ScreenSize
-  Choice choose_exact(ObjectId id, const Sight& s, float* scores, ObjectExplain* explain) const;  // Perceptual, Reddy
+  Choice choose_by_error(const Sight& s, const Profile& p) const;  // Distance, ScreenSize
+  Choice choose_exact(ObjectId id, const Sight& s, float* scores,
+                      ObjectExplain* explain) const;                          // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
@@ -252,20 +263,21 @@ class Scheduler {
   std::vector<ProfileCache> profiles_;
   std::uint32_t profile_count_ = 0;
   // Objects, structure of arrays: one array per component, so the frame loop vectorises.
-  std::vector<int> profile_of_;            // -1: free slot
+  std::vector<int> profile_of_;  // -1: free slot
   std::vector<double> position_[3], previous_position_[3];
-  std::vector<float> rotation_[4], velocity_[3], sphere_[4], scale_, bias_;  // sphere_: the profile's, object units
+  std::vector<float> rotation_[4], velocity_[3], sphere_[4], scale_,
+      bias_;  // sphere_: the profile's, object units
   std::vector<std::uint8_t> explicit_velocity_, fresh_, min_level_, max_level_, flags_;
-  std::vector<std::uint8_t> chosen_;        // perceptual choice after hysteresis (before the budget)
-  std::vector<std::uint8_t> next_;          // this frame's level after the budget
+  std::vector<std::uint8_t> chosen_;              // perceptual choice after hysteresis (before the budget)
+  std::vector<std::uint8_t> next_;                // this frame's level after the budget
   std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
   std::vector<std::uint32_t> calm_frames_, wait_frames_;
   std::vector<float> fade_, scores_;
   std::vector<std::uint32_t> free_list_;
-  std::vector<std::uint32_t> heap_;        // budget pass
+  std::vector<std::uint32_t> heap_;  // budget pass
   // Frame state.
-  std::unique_ptr<Precomputed> pre_;      // model constants and the velocity envelope
-  std::unique_ptr<Curves> curves_;        // tabulated path: threshold curves on the table grid
+  std::unique_ptr<Precomputed> pre_;  // model constants and the velocity envelope
+  std::unique_ptr<Curves> curves_;    // tabulated path: threshold curves on the table grid
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;

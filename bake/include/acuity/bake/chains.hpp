@@ -17,10 +17,10 @@ namespace acuity::bake {
 inline constexpr double kMeasureSeconds = 40;
 
 struct ChainRequest {
-  std::string input;           // OFF, OBJ, PLY, STL, glTF or GLB
-  std::string asset_root;      // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
-  lodgen::ChainOptions chain;  // decimation (ignored when refine > 0)
-  int refine = 0;              // > 0: the input is a cage refined this many times (OpenSubdiv)
+  std::string input;                         // OFF, OBJ, PLY, STL, glTF or GLB
+  std::string asset_root;                    // lodgen::LoadOptions::asset_root ("" : the glTF's folder)
+  lodgen::ChainOptions chain;                // decimation (ignored when refine > 0)
+  int refine = 0;                            // > 0: the input is a cage refined this many times (OpenSubdiv)
   double measure_seconds = kMeasureSeconds;  // error-measurement budget for all the scene's meshes [s]
 };
 
@@ -36,7 +36,8 @@ struct SceneChains {
 SceneChains build_scene_chains(const ChainRequest& request, const lodgen::ChainProgress& progress = {});
 // The same from a scene already loaded from `where` (decimation only).
 SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodgen::ChainOptions options,
-                            const lodgen::ChainProgress& progress = {}, double measure_seconds = kMeasureSeconds);
+                            const lodgen::ChainProgress& progress = {},
+                            double measure_seconds = kMeasureSeconds);
 
 // A chain file (glTF from write_lod_gltf or any MSFT_lod writer): its first node with MSFT_lod
 // levels, read back as a chain. `material` points into `scene` (keep them together).

@@ -27,20 +27,20 @@ namespace acuity::bake {
 // One asset's options; every field enters the cache key. Units and ranges as in `acuity lodgen`
 // and `acuity profile`.
 struct BakeOptions {
-  std::uint32_t levels = 0;      // 0: halve down to ~1%; at most 32
-  double ratio = 0.5;            // triangles of each level over the previous, in [0.01, 0.99]
-  double max_error = 0;          // >= 0 [bounding-sphere diameters]
+  std::uint32_t levels = 0;         // 0: halve down to ~1%; at most 32
+  double ratio = 0.5;               // triangles of each level over the previous, in [0.01, 0.99]
+  double max_error = 0;             // >= 0 [bounding-sphere diameters]
   std::string backend = "meshopt";  // meshopt | openmesh | cgal | cgal-lt
   bool lock_border = false;
-  double crease = 45;              // edges sharper than this are drawn sharp [degrees], in [0, 180]
+  double crease = 45;                        // edges sharper than this are drawn sharp [degrees], in [0, 180]
   double measure_seconds = kMeasureSeconds;  // error-measurement budget for the asset [s], in [0.1, 1e5]
-  double reference_height = 1080;  // pixels, for MSFT_screencoverage, in [1, 1e6]
-  std::uint32_t pixels = 256;      // profile snapshot pixels (power of two, 16 .. 4096)
-  std::uint32_t orientations = 8;  // 1 .. 32
-  std::uint32_t bands = 0;         // 0: all up to pixels / 4
-  std::uint32_t views = 0;         // 0: adaptive
-  float tolerance = 0.25f;         // adaptive views' switching-distance error, >= 0
-  std::string asset_root;          // folder a glTF's uris may read ("": the glTF's own folder)
+  double reference_height = 1080;            // pixels, for MSFT_screencoverage, in [1, 1e6]
+  std::uint32_t pixels = 256;                // profile snapshot pixels (power of two, 16 .. 4096)
+  std::uint32_t orientations = 8;            // 1 .. 32
+  std::uint32_t bands = 0;                   // 0: all up to pixels / 4
+  std::uint32_t views = 0;                   // 0: adaptive
+  float tolerance = 0.25f;                   // adaptive views' switching-distance error, >= 0
+  std::string asset_root;                    // folder a glTF's uris may read ("": the glTF's own folder)
 };
 
 // The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)

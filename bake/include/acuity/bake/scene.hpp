@@ -24,7 +24,7 @@ spectra::Material spectra_material(const lodgen::Scene& scene, int index);
 std::vector<spectra::LevelInput> spectra_levels(const lodgen::Chain& chain);
 
 struct Asset {
-  std::string name;            // file-safe, unique in the scene
+  std::string name;  // file-safe, unique in the scene
   lodgen::Chain chain;
   spectra::Material material;  // points into SceneAssets::scene
   Blob blob;                   // the profile's bytes
@@ -34,8 +34,8 @@ struct Asset {
 struct Instance {
   std::string name;
   int asset = 0;
-  ObjectTransform transform;   // position, rotation, the largest axis scale of the world matrix
-  double radius = 0;           // world bounding-sphere radius [m]
+  ObjectTransform transform;  // position, rotation, the largest axis scale of the world matrix
+  double radius = 0;          // world bounding-sphere radius [m]
 };
 
 struct SceneAssets {
@@ -45,10 +45,10 @@ struct SceneAssets {
 };
 
 struct AssetOptions {
-  std::string asset_root;           // lodgen::LoadOptions::asset_root: where the glTF's uris may reach
-  std::string profiles;             // directory of <asset>.acuity: used when they match, else built and saved
+  std::string asset_root;  // lodgen::LoadOptions::asset_root: where the glTF's uris may reach
+  std::string profiles;    // directory of <asset>.acuity: used when they match, else built and saved
   std::uint32_t profile_pixels = 256;
-  std::uint32_t lod_levels = 5;     // for meshes without MSFT_lod levels (built by lodgen)
+  std::uint32_t lod_levels = 5;  // for meshes without MSFT_lod levels (built by lodgen)
   bool quiet = false;
 };
 

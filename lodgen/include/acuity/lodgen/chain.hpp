@@ -10,30 +10,31 @@
 namespace acuity::lodgen {
 
 struct ChainOptions {
-  std::size_t levels = 0;         // 0: halve (ratio) until about 1% or min_triangles; never more than kMaxLevels (32)
-  double ratio = 0.5;             // triangles of level k+1 over level k
-  double max_error = 0;           // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
-                                  // Hausdorff distance [object diameters]
+  std::size_t levels =
+      0;                 // 0: halve (ratio) until about 1% or min_triangles; never more than kMaxLevels (32)
+  double ratio = 0.5;    // triangles of level k+1 over level k
+  double max_error = 0;  // > 0: instead, levels at errors max_error / 2^(L-k) ... up to this
+                         // Hausdorff distance [object diameters]
   std::size_t min_triangles = 64;
-  DecimateOptions decimate;       // decimate.crease_degrees: edges sharper than this are drawn sharp
-                                  // in every level (split_creases); >= 180: all smooth
-  bool repair = true;             // repair bad input (with a warning) instead of rejecting it
-  DeviationOptions measure;       // bounds on the error measurement (sample count, seconds per level)
+  DecimateOptions decimate;  // decimate.crease_degrees: edges sharper than this are drawn sharp
+                             // in every level (split_creases); >= 180: all smooth
+  bool repair = true;        // repair bad input (with a warning) instead of rejecting it
+  DeviationOptions measure;  // bounds on the error measurement (sample count, seconds per level)
 };
 
 struct Level {
   Mesh mesh;
   std::size_t target_triangles = 0;
-  double hausdorff = 0;           // to level 0 [object diameters]
-  double normal_deviation = 0;    // 99th-percentile angle between its shading normals and level 0's [degrees]
+  double hausdorff = 0;         // to level 0 [object diameters]
+  double normal_deviation = 0;  // 99th-percentile angle between its shading normals and level 0's [degrees]
   double normal_deviation_max = 0;  // the largest such angle [degrees]
-  bool measured_fully = true;     // false: the measurement's time cap cut sampling short (a looser lower bound)
-  double seconds = 0;             // to build this level
+  bool measured_fully = true;  // false: the measurement's time cap cut sampling short (a looser lower bound)
+  double seconds = 0;          // to build this level
 };
 
 struct Chain {
-  std::vector<Level> levels;      // finest first
-  double diameter = 0;            // level 0's bounding-sphere diameter [object units]
+  std::vector<Level> levels;  // finest first
+  double diameter = 0;        // level 0's bounding-sphere diameter [object units]
   std::vector<std::string> warnings;
 };
 

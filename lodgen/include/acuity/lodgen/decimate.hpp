@@ -22,7 +22,7 @@ const char* to_string(Backend backend);
 
 struct DecimateOptions {
   Backend backend = Backend::Meshopt;
-  bool lock_border = false;  // border vertices and edges stay where they are
+  bool lock_border = false;    // border vertices and edges stay where they are
   double crease_degrees = 45;  // meshopt: for the welded fallback's normals (split_creases)
 };
 
@@ -52,18 +52,18 @@ Mesh split_creases(const Mesh& mesh, double crease_degrees);
 // the model's units or how finely it is tessellated), and sampling stops at `max_seconds` per
 // side with `complete` false. Deterministic unless the time cap is hit.
 struct DeviationOptions {
-  double spacing = 0;                  // [mesh units]; <= 0: diameter(reference) / 250
-  std::size_t max_samples = 60000;     // per side: up to half vertices (strided past it), half face points
-  double max_seconds = 20;             // per side
+  double spacing = 0;               // [mesh units]; <= 0: diameter(reference) / 250
+  std::size_t max_samples = 60000;  // per side: up to half vertices (strided past it), half face points
+  double max_seconds = 20;          // per side
 };
 struct Deviation {
-  double hausdorff = 0;         // symmetric Hausdorff distance estimate [mesh units]; a lower bound
-  double normal_degrees = 0;    // largest angle between the shading normal (vertex normals
-                                // interpolated barycentrically) at a sample and at its closest
-                                // point on the other mesh [degrees]; 0 when either has no normals
+  double hausdorff = 0;           // symmetric Hausdorff distance estimate [mesh units]; a lower bound
+  double normal_degrees = 0;      // largest angle between the shading normal (vertex normals
+                                  // interpolated barycentrically) at a sample and at its closest
+                                  // point on the other mesh [degrees]; 0 when either has no normals
   double normal_p99_degrees = 0;  // 99th percentile of that angle over the samples [degrees]
-  std::size_t samples = 0;      // both sides
-  bool complete = true;         // false: the time cap cut sampling short
+  std::size_t samples = 0;        // both sides
+  bool complete = true;           // false: the time cap cut sampling short
 };
 Deviation deviation(const Mesh& reference, const Mesh& approx, const DeviationOptions& options = {});
 

@@ -53,7 +53,8 @@ Chain chain_of_node(const Scene& scene, const Node& top);
 
 // The file write_lod_gltf writes, as bytes (.glb when options.binary, else .gltf text).
 std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::vector<Material>& materials,
-                            const GltfWriteOptions& options = {}, const std::vector<LodInstance>& instances = {});
+                            const GltfWriteOptions& options = {},
+                            const std::vector<LodInstance>& instances = {});
 
 // Writes the objects as one scene, atomically (a temporary renamed into place): each object once at
 // its own matrix, or, when instances are given, each instance. Throws std::runtime_error naming the

@@ -11,11 +11,11 @@ namespace acuity::lodgen {
 
 // Indexed triangle mesh in object space. Units are the asset's own (metres in glTF).
 struct Mesh {
-  std::vector<float> positions;       // xyz per vertex [Size: 3 * vertex_count]
-  std::vector<float> normals;         // xyz per vertex, unit length, or empty
-  std::vector<float> texcoords;       // uv per vertex, or empty
-  std::vector<std::uint32_t> indices; // three per triangle, each < vertex_count
-  int material = -1;                  // index into Scene::materials, or -1
+  std::vector<float> positions;        // xyz per vertex [Size: 3 * vertex_count]
+  std::vector<float> normals;          // xyz per vertex, unit length, or empty
+  std::vector<float> texcoords;        // uv per vertex, or empty
+  std::vector<std::uint32_t> indices;  // three per triangle, each < vertex_count
+  int material = -1;                   // index into Scene::materials, or -1
 
   std::size_t vertex_count() const { return positions.size() / 3; }
   std::size_t triangle_count() const { return indices.size() / 3; }
@@ -30,12 +30,13 @@ struct Material {
 
 struct Node {
   std::string name;
-  int mesh = -1;                       // index into Scene::meshes, or -1
+  int mesh = -1;  // index into Scene::meshes, or -1
   std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};  // local, column-major
   std::vector<int> children;
-  std::vector<int> lods;               // MSFT_lod: coarser levels' node indices (read back from glTF)
-  std::vector<double> screen_coverage; // MSFT_screencoverage, when present
-  std::vector<double> geometric_error; // extras.acuity_geometric_error (per level, object diameters), when present
+  std::vector<int> lods;                // MSFT_lod: coarser levels' node indices (read back from glTF)
+  std::vector<double> screen_coverage;  // MSFT_screencoverage, when present
+  std::vector<double>
+      geometric_error;  // extras.acuity_geometric_error (per level, object diameters), when present
 };
 
 // A scene: meshes are shared by the nodes that instance them.
@@ -75,9 +76,9 @@ struct LoadLimits {
   std::uint64_t max_total_bytes = 2ull << 30;  // files read + pixels decoded + vertex/index data decoded
   std::uint32_t max_json_depth = 64;           // nesting of JSON arrays and objects (scanned before parsing)
   std::uint32_t max_nodes = 100000;
-  std::uint32_t max_node_depth = 256;          // root to deepest node
-  std::uint32_t max_children = 10000;          // per node
-  std::uint32_t max_levels = 32;               // per MSFT_lod node: itself + its ids (kMaxLevels)
+  std::uint32_t max_node_depth = 256;               // root to deepest node
+  std::uint32_t max_children = 10000;               // per node
+  std::uint32_t max_levels = 32;                    // per MSFT_lod node: itself + its ids (kMaxLevels)
   std::uint64_t max_image_pixels = 8192ull * 8192;  // per image, read from its header before decoding
 };
 

@@ -10,9 +10,9 @@ namespace acuity::lodgen {
 
 // A polygon mesh (faces of any size), as a cage for subdivision.
 struct PolygonMesh {
-  std::vector<float> positions;             // xyz per vertex
-  std::vector<std::uint32_t> face_sizes;    // vertices per face
-  std::vector<std::uint32_t> indices;       // concatenated face vertex lists
+  std::vector<float> positions;           // xyz per vertex
+  std::vector<std::uint32_t> face_sizes;  // vertices per face
+  std::vector<std::uint32_t> indices;     // concatenated face vertex lists
 };
 
 // Reads OFF, OBJ, PLY or STL keeping polygons (OpenMesh). Throws InputError.

@@ -20,7 +20,9 @@ struct MeshReport {
   std::size_t misoriented_edges = 0;      // used twice in the same direction
   bool clean() const {
     return nonfinite_vertices + bad_indices + degenerate_triangles + duplicate_vertices + non_manifold_edges +
-               non_manifold_vertices + misoriented_edges == 0 && triangles > 0;
+                   non_manifold_vertices + misoriented_edges ==
+               0 &&
+           triangles > 0;
   }
   std::string summary() const;  // "3 degenerate triangles, 12 duplicate vertices" or "clean"
 };

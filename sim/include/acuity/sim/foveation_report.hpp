@@ -38,12 +38,13 @@ struct TrackPlan {
   double total_saved = 0;
   PlanResult shown;
 };
-TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes, std::uint32_t tile_px,
-                     double fps, std::size_t shown);
+TrackPlan plan_track(const FoveationPlanner& planner, const Eye& eye, const std::vector<Gaze>& gazes,
+                     std::uint32_t tile_px, double fps, std::size_t shown);
 
 // Two panels side by side, each `panel_width` wide: the shading rate and the mip bias over a grey
 // test frame, with rings every 10 deg around the gaze, the gaze cross, colour legends and a caption.
-RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width, const std::string& caption);
+RgbImage draw_plan(const Eye& eye, const Gaze& gaze, const PlanResult& plan, int panel_width,
+                   const std::string& caption);
 
 // Markdown: shading work saved at 1920x1920 over 90 deg, 2000x2000 over 100 deg and 3840x2160 over
 // 90 deg horizontal, gaze centred, 20 deg right and 10 deg up, and none; with the Guenter layers'

@@ -18,7 +18,8 @@ struct RgbImage {
 
 // Draws frame `frame` of the simulation with each object at levels[object] into the panel of `image`
 // whose left edge is x0 (panels are image.height square).
-void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* levels, RgbImage* image, int x0);
+void draw_levels(const Simulation& sim, std::size_t frame, const std::uint8_t* levels, RgbImage* image,
+                 int x0);
 
 // PNG, written atomically. Throws std::runtime_error naming the path.
 void write_png(const std::string& path, const RgbImage& image);

@@ -16,7 +16,7 @@ namespace acuity::sim {
 struct Mover {
   std::uint32_t instance = 0;
   glm::dvec3 centre{0.0};
-  double radius = 1, speed = 1, phase = 0;   // [m], [m/s], [rad]
+  double radius = 1, speed = 1, phase = 0;  // [m], [m/s], [rad]
   glm::dvec3 position(double t) const;
 };
 
@@ -29,7 +29,7 @@ std::vector<Mover> choose_movers(const SceneAssets& scene, std::uint32_t count, 
 struct GeneratedGaze {
   std::vector<GazeSample> samples;
   std::vector<GazePhase> phases;
-  std::vector<std::int32_t> targets;         // instance looked at, -1 none
+  std::vector<std::int32_t> targets;  // instance looked at, -1 none
 };
 GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
                             const std::vector<Mover>& movers, double fps, unsigned seed);

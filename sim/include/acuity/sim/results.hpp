@@ -13,26 +13,24 @@ namespace acuity::sim {
 
 // A baseline tuned to a rule's rate of visible losses: its cheapest sweep entry at or below it.
 struct Match {
-  int rule = -1;                             // index into Simulation::rules(); -1: none is that safe
-  double ratio = 0;                          // its triangles over the rule's
+  int rule = -1;     // index into Simulation::rules(); -1: none is that safe
+  double ratio = 0;  // its triangles over the rule's
 };
 
 struct Results {
   std::size_t frames = 0, objects = 0, judged = 0;
-  double all_finest = 0;                     // triangles per frame, every object in view at level 0
-                                             // (the sum over frames times 1 / frames)
-  std::vector<std::uint32_t> visible_losses; // [rule index] among the judged decisions
-  int perceptual = 0;                        // index of the main perceptual rule
-  Match screen_size, distance;               // the baselines tuned to the perceptual rule's rate
+  double all_finest = 0;                      // triangles per frame, every object in view at level 0
+                                              // (the sum over frames times 1 / frames)
+  std::vector<std::uint32_t> visible_losses;  // [rule index] among the judged decisions
+  int perceptual = 0;                         // index of the main perceptual rule
+  Match screen_size, distance;                // the baselines tuned to the perceptual rule's rate
   struct QualityPoint {
-    int rule = 0;                            // a perceptual sweep entry (quality q)
-    Match screen_size;                       // the screen-size baseline tuned to its rate
+    int rule = 0;       // a perceptual sweep entry (quality q)
+    Match screen_size;  // the screen-size baseline tuned to its rate
   };
-  std::vector<QualityPoint> quality_sweep;   // in the order of the sweep
+  std::vector<QualityPoint> quality_sweep;  // in the order of the sweep
   // visible_losses[rule] over judged; 0 when nothing was judged.
-  double fraction(std::size_t rule) const {
-    return judged > 0 ? visible_losses[rule] / double(judged) : 0.0;
-  }
+  double fraction(std::size_t rule) const { return judged > 0 ? visible_losses[rule] / double(judged) : 0.0; }
 };
 
 // The results of the frames run so far (sim.frame_index()) and the decisions judged on them.
@@ -47,7 +45,7 @@ std::string summary_text(const Simulation& sim, const Results& results);
 // summary.json and sim.options().images frame pictures frame_NNNN.png (the perceptual rule beside
 // the screen-size rule tuned to its visible losses, or at 1 px). Every file is written atomically.
 // Returns the paths written, in that order. Throws std::runtime_error naming the file at fault.
-std::vector<std::string> write_outputs(const Simulation& sim, const Results& results, const std::vector<Judged>& judged,
-                                       const std::string& dir);
+std::vector<std::string> write_outputs(const Simulation& sim, const Results& results,
+                                       const std::vector<Judged>& judged, const std::string& dir);
 
 }  // namespace acuity::sim

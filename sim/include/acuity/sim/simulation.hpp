@@ -23,27 +23,27 @@ namespace acuity::sim {
 struct SimulationOptions {
   double seconds = 20, fps = 60;
   unsigned seed = 1;
-  std::string head_file, gaze_file;          // empty: the built-in fly-through and gaze generator
-  std::uint32_t movers = 3;                  // objects moving on circles (pursuit targets)
-  double eye_separation = 0.064;             // [m]
-  std::uint32_t viewport = 1920;             // per eye, square [px]
-  float fov_deg = 90;                        // per eye, full angle
-  float saccade_speed = 100;                 // gaze faster than this is a saccade [deg/s]
+  std::string head_file, gaze_file;               // empty: the built-in fly-through and gaze generator
+  std::uint32_t movers = 3;                       // objects moving on circles (pursuit targets)
+  double eye_separation = 0.064;                  // [m]
+  std::uint32_t viewport = 1920;                  // per eye, square [px]
+  float fov_deg = 90;                             // per eye, full angle
+  float saccade_speed = 100;                      // gaze faster than this is a saccade [deg/s]
   Evaluation evaluation = Evaluation::Tabulated;  // the perceptual rule's thresholds
-  std::uint32_t validate = 200;              // decisions judged by render-and-analyze (0: none)
-  std::uint32_t images = 3;                  // frames rendered as PNG
-  std::string output;                        // directory for CSV, JSON, images (write_outputs); empty: none
+  std::uint32_t validate = 200;                   // decisions judged by render-and-analyze (0: none)
+  std::uint32_t images = 3;                       // frames rendered as PNG
+  std::string output;  // directory for CSV, JSON, images (write_outputs); empty: none
 };
 
 // One rule at one tuning, run on every frame.
 struct RuleRun {
-  std::string name;                          // "perceptual", "screen-size", ...
-  double parameter = 0;                      // quality q (perceptual), pixel_error, distance_scale; else 0
-  bool sweep = false;                        // part of the tuning sweep, not a main rule
+  std::string name;      // "perceptual", "screen-size", ...
+  double parameter = 0;  // quality q (perceptual), pixel_error, distance_scale; else 0
+  bool sweep = false;    // part of the tuning sweep, not a main rule
   std::unique_ptr<Scheduler> scheduler;
-  std::vector<std::uint8_t> levels;          // [frame * objects + object]
-  std::vector<double> drawn;                 // [frame] triangles of the objects in view
-  double triangles = 0;                      // sum of drawn
+  std::vector<std::uint8_t> levels;  // [frame * objects + object]
+  std::vector<double> drawn;         // [frame] triangles of the objects in view
+  double triangles = 0;              // sum of drawn
   std::uint64_t switches = 0, switches_outside_saccades = 0;
 };
 
@@ -53,8 +53,8 @@ class Simulation {
   ~Simulation();
   std::size_t frame_count() const { return head_.size(); }
   std::size_t frame_index() const { return next_; }
-  bool step();                               // runs the next frame; false when done
-  void run();                                // every remaining frame
+  bool step();  // runs the next frame; false when done
+  void run();   // every remaining frame
 
   const SceneAssets& scene() const { return scene_; }
   const SimulationOptions& options() const { return options_; }
@@ -63,13 +63,15 @@ class Simulation {
   const Frame& frame(std::size_t f) const { return frames_[f]; }
   ObjectTransform transform(std::uint32_t object, std::size_t frame) const;
   glm::dvec3 velocity(std::uint32_t object, std::size_t frame) const;  // world [m/s]
-  bool in_view(std::uint32_t object, std::size_t frame) const { return in_view_[frame * objects_ + object] != 0; }
+  bool in_view(std::uint32_t object, std::size_t frame) const {
+    return in_view_[frame * objects_ + object] != 0;
+  }
   bool saccade(std::size_t f) const { return saccade_[f] != 0; }
   const std::vector<HeadPose>& head() const { return head_; }
   const std::vector<GazeSample>& gaze() const { return gaze_; }
   const GeneratedGaze& generated() const { return generated_; }  // empty for a recorded gaze
   double finest(std::size_t f) const { return finest_[f]; }  // triangles of the objects in view at level 0
-  double all_finest() const;                 // the same summed over the frames run
+  double all_finest() const;                                 // the same summed over the frames run
 
  private:
   const SceneAssets& scene_;
@@ -79,11 +81,11 @@ class Simulation {
   std::vector<GazeSample> gaze_;
   GeneratedGaze generated_;
   std::vector<Mover> movers_;
-  std::vector<int> mover_of_;                // per object: index into movers_, or -1
+  std::vector<int> mover_of_;  // per object: index into movers_, or -1
   std::vector<Frame> frames_;
   std::vector<std::uint8_t> in_view_, saccade_;
   std::vector<RuleRun> rules_;
-  std::vector<double> finest_;               // [frame]
+  std::vector<double> finest_;  // [frame]
 };
 
 // Ground truth: for sampled (frame, object) decisions in view, the exact view (from the eyes'
@@ -92,7 +94,7 @@ class Simulation {
 // rule's thresholds. A rule's decision is a visible loss when its level scores above 1.
 struct Judged {
   std::uint32_t frame, object, pixels;
-  std::array<float, kMaxLevels> scores;      // [level]; level 0 is 0
+  std::array<float, kMaxLevels> scores;  // [level]; level 0 is 0
 };
 std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, unsigned seed);
 

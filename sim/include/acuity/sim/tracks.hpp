@@ -24,12 +24,12 @@ Table read_table(const std::string& path);
 Table parse_table(const std::string& text, const std::string& source, bool json);
 
 struct HeadPose {
-  glm::dvec3 position{0.0};                  // world [m]
-  glm::dquat orientation{1, 0, 0, 0};        // head to world (w, x, y, z as GLM stores it)
+  glm::dvec3 position{0.0};            // world [m]
+  glm::dquat orientation{1, 0, 0, 0};  // head to world (w, x, y, z as GLM stores it)
 };
 struct GazeSample {
-  glm::dvec3 direction{0, 0, -1};            // unit, head space
-  float confidence = 1;                      // 0: no gaze (blink, tracking lost)
+  glm::dvec3 direction{0, 0, -1};  // unit, head space
+  float confidence = 1;            // 0: no gaze (blink, tracking lost)
 };
 enum class GazePhase : std::uint8_t { Fixation, Saccade, Pursuit, Blink, Recorded };
 const char* to_string(GazePhase phase);

@@ -67,6 +67,7 @@ class LostContrast {
 // is a run between two luminance edges (steps above edge_step, located at sub-pixel precision at
 // the midpoint of the ramp) along lines at angle t; runs touching the image border and runs under
 // 1.5 px (edge ramps) are not features. 0 when an orientation has none.
-std::vector<float> reddy_features(const Image& image, const AnalysisSettings& settings, float edge_step = 0.04f);
+std::vector<float> reddy_features(const Image& image, const AnalysisSettings& settings,
+                                  float edge_step = 0.04f);
 
 }  // namespace acuity::spectra

@@ -21,26 +21,26 @@ namespace acuity::spectra {
 
 struct LevelInput {
   MeshView mesh;
-  std::uint32_t triangles = 0;     // cost; 0 takes index_count / 3
-  float geometric_error = 0;       // Hausdorff distance to level 0 [object diameters]
+  std::uint32_t triangles = 0;  // cost; 0 takes index_count / 3
+  float geometric_error = 0;    // Hausdorff distance to level 0 [object diameters]
 };
 
 struct ProfileSettings {
-  RenderSettings render;           // pixels, supersample, background, ambient; the sphere is level 0's
+  RenderSettings render;  // pixels, supersample, background, ambient; the sphere is level 0's
   AnalysisSettings analysis;
-  std::uint32_t views = 0;         // 0: adaptive; else exactly this many (Fibonacci sphere)
-  float view_tolerance = 0.25f;    // adaptive: largest relative error of a switching distance
-  std::uint32_t max_views = 42;    // adaptive: stop refining here (12, 42 or 162); past 42 the
-                                   // per-view spread of the image maximum dominates (docs/spectra.md)
-  bool prune = true;               // adaptive: drop views their neighbours predict
-  unsigned jobs = 0;               // worker threads; 0: all cores
+  std::uint32_t views = 0;       // 0: adaptive; else exactly this many (Fibonacci sphere)
+  float view_tolerance = 0.25f;  // adaptive: largest relative error of a switching distance
+  std::uint32_t max_views = 42;  // adaptive: stop refining here (12, 42 or 162); past 42 the
+                                 // per-view spread of the image maximum dominates (docs/spectra.md)
+  bool prune = true;             // adaptive: drop views their neighbours predict
+  unsigned jobs = 0;             // worker threads; 0: all cores
 };
 
 struct ProfileReport {
   std::uint32_t views_measured = 0, views_kept = 0;
-  float prediction_error = 0;      // largest relative switching-distance error of a measured view
-                                   // predicted by its nearest kept view
-  double seconds = 0;              // wall time
+  float prediction_error = 0;  // largest relative switching-distance error of a measured view
+                               // predicted by its nearest kept view
+  double seconds = 0;          // wall time
 };
 
 // stage ("views"), done, total. Called from worker threads, one call at a time.
@@ -48,16 +48,17 @@ using ProgressFn = std::function<void(const char* stage, std::size_t done, std::
 
 // One view's measurement.
 struct ViewMeasurement {
-  std::vector<float> lost;      // [(K-1) T B]
-  std::vector<float> features;  // [K T]
-  std::vector<float> switching; // [K-1] angular diameter [deg] at which level k's loss becomes
-                                // visible (still object, fovea, default model; 180 = never, 1e-4 = always)
+  std::vector<float> lost;       // [(K-1) T B]
+  std::vector<float> features;   // [K T]
+  std::vector<float> switching;  // [K-1] angular diameter [deg] at which level k's loss becomes
+                                 // visible (still object, fovea, default model; 180 = never, 1e-4 = always)
 };
 
 // Renders and analyses a chain at any view; shared by the builder and by direct ground truth.
 class ProfileMeasurer {
  public:
-  ProfileMeasurer(const std::vector<LevelInput>& levels, const Material& material, const ProfileSettings& settings);
+  ProfileMeasurer(const std::vector<LevelInput>& levels, const Material& material,
+                  const ProfileSettings& settings);
   ViewMeasurement measure(const ProfileView& view) const;  // thread-safe
   const LostContrast& analyzer() const { return analyzer_; }
   const float* sphere() const { return render_.sphere; }
@@ -83,7 +84,7 @@ float switching_angle(const float* lost, std::size_t orientations, const std::ve
 
 // Unit sphere meshes and direction sets.
 struct SphereMesh {
-  std::vector<float> positions;          // unit vectors; the first 12 / 42 / 162 are nested across levels
+  std::vector<float> positions;  // unit vectors; the first 12 / 42 / 162 are nested across levels
   std::vector<std::uint32_t> indices;
 };
 SphereMesh icosphere(int subdivisions);

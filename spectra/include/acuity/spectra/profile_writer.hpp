@@ -12,15 +12,15 @@ namespace acuity::spectra {
 
 // Everything a profile holds, as plain arrays (layouts as in acuity::Profile).
 struct ProfileData {
-  float sphere[4] = {0, 0, 0, 1};          // centre xyz, radius [object units]
-  std::uint32_t snapshot_pixels = 256;     // pixels across the diameter in the snapshots
-  std::vector<ProfileLevel> levels;        // [K], level 0 finest
-  std::vector<ProfileView> views;          // [V]
-  std::vector<float> orientations;         // [T] degrees in [0, 180), increasing
-  std::vector<float> bands;                // [B] cycles per object diameter, increasing
-  std::vector<float> lost;                 // [(K-1) V T B]
-  std::vector<float> features;             // [K V T]
-  std::uint32_t lookup_resolution = 0;     // cube-map cells per face edge; 0 picks one from V
+  float sphere[4] = {0, 0, 0, 1};       // centre xyz, radius [object units]
+  std::uint32_t snapshot_pixels = 256;  // pixels across the diameter in the snapshots
+  std::vector<ProfileLevel> levels;     // [K], level 0 finest
+  std::vector<ProfileView> views;       // [V]
+  std::vector<float> orientations;      // [T] degrees in [0, 180), increasing
+  std::vector<float> bands;             // [B] cycles per object diameter, increasing
+  std::vector<float> lost;              // [(K-1) V T B]
+  std::vector<float> features;          // [K V T]
+  std::uint32_t lookup_resolution = 0;  // cube-map cells per face edge; 0 picks one from V
 };
 
 struct InvalidProfile : std::invalid_argument {

@@ -13,12 +13,12 @@ namespace acuity::spectra {
 
 // A triangle mesh by reference (the caller owns the arrays).
 struct MeshView {
-  const float* positions = nullptr;        // xyz per vertex [object units]
+  const float* positions = nullptr;  // xyz per vertex [object units]
   std::size_t vertex_count = 0;
   const std::uint32_t* indices = nullptr;  // three per triangle
   std::size_t index_count = 0;
-  const float* normals = nullptr;          // xyz per vertex, or null: flat shading
-  const float* texcoords = nullptr;        // uv per vertex, or null
+  const float* normals = nullptr;    // xyz per vertex, or null: flat shading
+  const float* texcoords = nullptr;  // uv per vertex, or null
 };
 
 struct Material {
@@ -28,10 +28,10 @@ struct Material {
 };
 
 struct RenderSettings {
-  std::uint32_t pixels = 256;      // across the bounding sphere's diameter (the image is square)
-  std::uint32_t supersample = 4;   // samples per pixel along each axis
-  float background = 0.5f;         // luminance behind the object (mid grey: local contrast defined everywhere)
-  float ambient = 0.2f;            // fraction of the albedo lit without the headlight
+  std::uint32_t pixels = 256;     // across the bounding sphere's diameter (the image is square)
+  std::uint32_t supersample = 4;  // samples per pixel along each axis
+  float background = 0.5f;        // luminance behind the object (mid grey: local contrast defined everywhere)
+  float ambient = 0.2f;           // fraction of the albedo lit without the headlight
   float sphere[4] = {0, 0, 0, 1};  // framing sphere: centre xyz, radius (the finest level's, for every level)
 };
 

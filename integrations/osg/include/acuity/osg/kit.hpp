@@ -58,7 +58,9 @@ class LodNode : public ::osg::Group {
   // META_Node(acuity, LodNode), spelled out: the macro's unqualified osg:: would name this namespace.
   ::osg::Object* cloneType() const override { return new LodNode(); }
   ::osg::Object* clone(const ::osg::CopyOp& op) const override { return new LodNode(*this, op); }
-  bool isSameKindAs(const ::osg::Object* obj) const override { return dynamic_cast<const LodNode*>(obj) != nullptr; }
+  bool isSameKindAs(const ::osg::Object* obj) const override {
+    return dynamic_cast<const LodNode*>(obj) != nullptr;
+  }
   const char* className() const override { return "LodNode"; }
   const char* libraryName() const override { return "acuity"; }
   void accept(::osg::NodeVisitor& nv) override {
@@ -69,16 +71,16 @@ class LodNode : public ::osg::Group {
     }
   }
 
-  ObjectId id() const { return id_; }             // kInvalidObject until Kit::add
+  ObjectId id() const { return id_; }  // kInvalidObject until Kit::add
   Kit* kit() const { return kit_.get(); }
 
   // What the last cull traversal drew (for debug views and tests).
   struct Drawn {
-    std::uint32_t frame = 0xffffffffu;            // frame number of that cull
-    std::uint8_t level = 0, previous = 0;         // drawn level, and the level faded out
-    float fade = 1;                               // acuity_fade uniform given to `level` (1: alone)
-    bool both = false;                            // previous was drawn too (a cross-fade)
-    std::uint32_t culls = 0;                      // culls of that frame that drew the node (cameras)
+    std::uint32_t frame = 0xffffffffu;     // frame number of that cull
+    std::uint8_t level = 0, previous = 0;  // drawn level, and the level faded out
+    float fade = 1;                        // acuity_fade uniform given to `level` (1: alone)
+    bool both = false;                     // previous was drawn too (a cross-fade)
+    std::uint32_t culls = 0;               // culls of that frame that drew the node (cameras)
   };
   Drawn drawn() const;
 
@@ -109,7 +111,7 @@ class Kit : public ::osg::Referenced {
   // each frame. Throws std::runtime_error when full, for a bad profile, or when the node is taken.
   void add(LodNode* node, int profile);
   void remove(LodNode* node);
-  void set_bias(LodNode* node, float quality_bias);                  // multiplies q (> 1 coarser)
+  void set_bias(LodNode* node, float quality_bias);  // multiplies q (> 1 coarser)
   void set_clamps(LodNode* node, std::uint8_t min_level, std::uint8_t max_level);
   // A static node's world transform is read from its parent path once (on the next frame) instead
   // of every frame; mark_moved() reads it again on the next frame.
@@ -131,11 +133,11 @@ class Kit : public ::osg::Referenced {
   void run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallback);
 
   const Scheduler& scheduler() const { return *scheduler_; }
-  const Frame& frame() const { return frame_; }                      // the last frame's input
+  const Frame& frame() const { return frame_; }  // the last frame's input
   const std::vector<LodNode*>& nodes() const { return nodes_; }
   std::uint32_t frame_number() const { return frame_number_; }
-  double last_acuity_ms() const { return acuity_ms_; }               // eyes + transforms + scheduler, last frame
-  double last_transforms_ms() const { return transforms_ms_; }       // of which eyes and node-path transforms
+  double last_acuity_ms() const { return acuity_ms_; }          // eyes + transforms + scheduler, last frame
+  double last_transforms_ms() const { return transforms_ms_; }  // of which eyes and node-path transforms
 
   // Shared, immutable state sets pushed around a level in the cull: acuity_fade quantised to 1/64
   // (the dither's resolution) with acuity_outgoing false (incoming) or true (faded out); and one
@@ -157,7 +159,7 @@ class Kit : public ::osg::Referenced {
   std::deque<Blob> profiles_;
   std::vector<LodNode*> nodes_;
   std::vector<::osg::observer_ptr<::osg::Camera>> cameras_;
-  ::osg::ref_ptr<::osg::Callback> callback_;            // the cull callback added to each eye camera
+  ::osg::ref_ptr<::osg::Callback> callback_;  // the cull callback added to each eye camera
   ::osg::ref_ptr<GazeSource> gaze_;
   std::mutex mutex_;
   std::uint32_t frame_number_ = 0xffffffffu;
@@ -166,7 +168,7 @@ class Kit : public ::osg::Referenced {
   Frame frame_;
   Eye previous_eyes_[2];
   double acuity_ms_ = 0, transforms_ms_ = 0;
-  ::osg::NodePath path_;                                 // reused by the transform walk
+  ::osg::NodePath path_;  // reused by the transform walk
   std::vector<::osg::ref_ptr<::osg::StateSet>> fade_states_[2];
   std::vector<::osg::ref_ptr<::osg::StateSet>> level_states_;
 };

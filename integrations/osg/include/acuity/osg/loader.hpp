@@ -11,15 +11,15 @@
 #include <osg/Geometry>
 #include <osg/Group>
 
-#include "acuity/osg/kit.hpp"
 #include "acuity/bake/scene.hpp"
+#include "acuity/osg/kit.hpp"
 
 namespace acuity::osg {
 
 struct SceneNodes {
-  ::osg::ref_ptr<::osg::Group> root;                 // one MatrixTransform -> LodNode per instance
-  std::vector<::osg::ref_ptr<LodNode>> nodes;        // [instance]
-  std::vector<int> profile_of_asset;                 // kit profile index per asset
+  ::osg::ref_ptr<::osg::Group> root;           // one MatrixTransform -> LodNode per instance
+  std::vector<::osg::ref_ptr<LodNode>> nodes;  // [instance]
+  std::vector<int> profile_of_asset;           // kit profile index per asset
 };
 
 // A triangle mesh as an osg::Geometry (vertex buffer objects, one DrawElementsUInt).
@@ -27,7 +27,8 @@ struct SceneNodes {
 
 // Nodes for `instances` of the assets (each asset's levels shared by its instances), registered
 // with the kit. Throws std::runtime_error when the kit is full.
-SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances, Kit& kit);
+SceneNodes make_nodes(const bake::SceneAssets& assets, const std::vector<bake::Instance>& instances,
+                      Kit& kit);
 
 struct LoadedScene {
   std::unique_ptr<bake::SceneAssets> assets;
