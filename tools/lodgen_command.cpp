@@ -10,6 +10,7 @@
 #include <string>
 
 #include "acuity/bake/chains.hpp"
+#include "acuity/bake/library.hpp"
 #include "acuity/file.hpp"
 #include "acuity/lodgen/output.hpp"
 #include "commands.hpp"
@@ -35,20 +36,21 @@ void run(const LodgenOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   lodgen::check_output(o.output, {o.input}, {".glb", ".gltf"});  // before any work
   lodgen::check_output(o.output + ".json", {o.input});
-  lodgen::ChainOptions co;
-  co.levels = o.levels;
-  co.ratio = o.ratio;
-  co.max_error = o.max_error;
-  co.decimate.lock_border = o.lock_border;
-  co.decimate.crease_degrees = o.crease_degrees;
-  if (!lodgen::parse_backend(o.backend, &co.decimate.backend))
-    throw std::runtime_error("--backend: meshopt, openmesh, cgal or cgal-lt, not '" + o.backend + "'");
+  bake::BakeOptions b;  // the chain options acuity bake takes too
+  b.levels = static_cast<std::uint32_t>(o.levels);
+  b.ratio = o.ratio;
+  b.max_error = o.max_error;
+  b.backend = o.backend;
+  b.lock_border = o.lock_border;
+  b.crease = o.crease_degrees;
   const lodgen::ChainProgress report = o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress);
 
   bake::ChainRequest request;
   request.input = o.input;
   request.asset_root = o.asset_root;
-  request.chain = co;
+  try {
+    request.chain = bake::chain_options(b);
+  } catch (const lodgen::InputError& e) { throw std::runtime_error(std::string("--") + e.what()); }
   request.refine = o.refine;
   request.measure_seconds = o.measure_seconds;
   const bake::SceneChains sc = bake::build_scene_chains(request, report);

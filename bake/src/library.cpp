@@ -265,14 +265,8 @@ std::string cache_key(const AssetJob& job, const std::string& input_sha256,
 void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_jobs, AssetResult& r,
                   std::string* chain, std::string* profile) {
   const BakeOptions& o = job.options;
-  lodgen::ChainOptions co;
-  co.levels = o.levels;
-  co.ratio = o.ratio;
-  co.max_error = o.max_error;
-  co.decimate.lock_border = o.lock_border;
-  co.decimate.crease_degrees = o.crease;
-  lodgen::parse_backend(o.backend, &co.decimate.backend);  // checked by parse_options
-  const SceneChains sc = chains_of_scene(std::move(scene), job.input, co, {}, o.measure_seconds);
+  const SceneChains sc =
+      chains_of_scene(std::move(scene), job.input, chain_options(o), {}, o.measure_seconds);
   lodgen::GltfWriteOptions wo;
   wo.reference_height = o.reference_height;
   *chain = lodgen::encode_lod_gltf(sc.objects, sc.scene.materials, wo);
@@ -309,6 +303,18 @@ std::string tool_version() {
 }
 
 std::string options_json(const BakeOptions& options) { return to_json(options).dump(); }
+
+lodgen::ChainOptions chain_options(const BakeOptions& o) {
+  lodgen::ChainOptions co;
+  co.levels = o.levels;
+  co.ratio = o.ratio;
+  co.max_error = o.max_error;
+  co.decimate.lock_border = o.lock_border;
+  co.decimate.crease_degrees = o.crease;
+  if (!lodgen::parse_backend(o.backend, &co.decimate.backend))
+    throw lodgen::InputError("backend: meshopt, openmesh, cgal or cgal-lt, not '" + o.backend + "'");
+  return co;
+}
 
 spectra::ProfileSettings profile_settings(const BakeOptions& o, unsigned jobs) {
   spectra::ProfileSettings s;

@@ -43,6 +43,9 @@ struct BakeOptions {
   std::string asset_root;                    // folder a glTF's uris may read ("": the glTF's own folder)
 };
 
+// lodgen's chain options for these options (levels, ratio, max_error, backend, lock_border,
+// crease). Throws lodgen::InputError for an unknown backend.
+lodgen::ChainOptions chain_options(const BakeOptions& options);
 // The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)
 // with `jobs` threads (0: all cores).
 spectra::ProfileSettings profile_settings(const BakeOptions& options, unsigned jobs);
