@@ -107,49 +107,9 @@ void add_bake_command(CLI::App& app) {
   cmd->add_option("--dask", o->dask,
                   "Run each asset as a task on this dask.distributed scheduler (tcp://host:8786) through "
                   "python3 -m acuity.bake");
-  cmd->add_option("--levels", b.levels, "Levels (0: halve down to ~1%; at most 32)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 32));
-  cmd->add_option("--ratio", b.ratio, "Triangles of each level over the previous")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.01, 0.99));
-  cmd->add_option("--max-error", b.max_error, "Stop at this Hausdorff error [diameters]")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--backend", b.backend, "meshopt | openmesh | cgal | cgal-lt")->capture_default_str();
-  cmd->add_flag("--lock-border", b.lock_border, "Keep border vertices in place");
-  cmd->add_option("--crease", b.crease, "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.0, 180.0));
-  cmd->add_option("--measure-seconds", b.measure_seconds, "Time budget for measuring an asset's errors [s]")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.1, 1e5));
-  cmd->add_option("--reference-height", b.reference_height, "Pixels, for MSFT_screencoverage")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(1.0, 1e6));
-  cmd->add_option("--res", b.pixels, "Profile snapshot pixels (power of two)")
-      ->capture_default_str()
-      ->check(CLI::Range(16, 4096));
-  cmd->add_option("--orientations", b.orientations, "Orientations over 180 deg")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 32));
-  cmd->add_option("--bands", b.bands, "Octave bands (0: all up to res / 4)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 32));
-  cmd->add_option("--views", b.views, "Views (0: adaptive)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 4096));
-  cmd->add_option("--tolerance", b.tolerance, "Adaptive views: switching-distance error allowed")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--asset-root", b.asset_root,
-                  "Folder glTF uris may read from (default: each glTF's folder)");
+  add_chain_options(cmd, b);
+  add_profile_options(cmd, b);
+  add_number(cmd, "--views", b.views, "Views (0: adaptive)", 0, 4096);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
   cmd->callback([o] {
     o->bake = bake::parse_options(bake::options_json(o->bake), bake::BakeOptions{},

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
 #include "acuity/sim/simulation.hpp"
 
@@ -26,6 +27,19 @@ inline const CLI::Validator Finite(
       return {};
     },
     "FINITE");
+
+// A numeric option with its default shown, finite and in [lo, hi].
+template <typename T>
+CLI::Option* add_number(CLI::App* cmd, const std::string& name, T& value, const std::string& help, double lo,
+                        double hi) {
+  return cmd->add_option(name, value, help)->capture_default_str()->check(Finite)->check(CLI::Range(lo, hi));
+}
+// The options `acuity lodgen` and `acuity bake` share: the chain (levels, ratio, max error, backend,
+// border, creases, measurement budget, reference height) and the asset root.
+void add_chain_options(CLI::App* cmd, bake::BakeOptions& options);
+// The options `acuity profile` and `acuity bake` share: snapshot pixels, orientations, bands, the
+// adaptive views' tolerance.
+void add_profile_options(CLI::App* cmd, bake::BakeOptions& options);
 
 void add_models_report(CLI::App& app);      // `acuity models`
 void print_models_report();                 // the same tables with the defaults

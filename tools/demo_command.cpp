@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "acuity/bake/chains.hpp"
 #include "acuity/lodgen/gltf.hpp"
+#include "acuity/sim/generators.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -20,7 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using sim::SimulationOptions;
-constexpr double kPi = 3.14159265358979323846;
 
 struct DemoOptions {
   std::string meshes = ACUITY_DEMO_MESHES, cache = ACUITY_DEMO_CACHE;
@@ -28,65 +27,23 @@ struct DemoOptions {
   std::uint32_t pixels = 256;
 };
 
-// lodgen's chain for one mesh, or the one an earlier run cached as <cache>/<name>.glb.
+// lodgen's chain of one demo mesh (5 levels), or the one an earlier run cached as <cache>/<name>.glb.
 lodgen::LodObject chain_for(const std::string& name, const DemoOptions& o) {
-  const fs::path glb = fs::path(o.cache) / (name + ".glb");
-  lodgen::LodObject obj;
-  obj.name = name;
-  if (fs::exists(glb)) {
-    obj.chain = bake::read_chain_file(glb.string()).chain;
-    std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
-    return obj;
-  }
   const auto t0 = std::chrono::steady_clock::now();
-  bake::ChainRequest request;
-  request.input = (fs::path(o.meshes) / (name + ".off")).string();
-  request.chain.levels = 5;
-  obj = std::move(bake::build_scene_chains(request).objects.at(0));
-  lodgen::write_lod_gltf(glb.string(), {obj}, {});
-  std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(),
-              obj.chain.levels.front().mesh.triangle_count(), obj.chain.levels.back().mesh.triangle_count(),
-              obj.chain.levels.size(),
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  const fs::path glb = fs::path(o.cache) / (name + ".glb");
+  bool cached = false;
+  lodgen::LodObject obj =
+      bake::cached_chain((fs::path(o.meshes) / (name + ".off")).string(), glb.string(), 5, &cached);
+  obj.name = name;
+  if (cached) {
+    std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
+  } else {
+    std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(),
+                obj.chain.levels.front().mesh.triangle_count(), obj.chain.levels.back().mesh.triangle_count(),
+                obj.chain.levels.size(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
   return obj;
-}
-
-// The field: 8 x 8 objects 3 m apart resting on the ground, each scaled to a 1.5 m bounding
-// sphere, with a random turn about the vertical.
-std::vector<lodgen::LodInstance> field(const std::vector<lodgen::LodObject>& objects, unsigned seed) {
-  struct Bounds {
-    double centre[3], scale;
-  };  // bounding-box centre, scale to a 0.75 m radius
-  std::vector<Bounds> bounds;
-  for (const lodgen::LodObject& obj : objects) {
-    const lodgen::Mesh& m = obj.chain.levels[0].mesh;
-    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-    for (std::size_t v = 0; v < m.vertex_count(); ++v)
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], double(m.positions[3 * v + std::size_t(k)]));
-        hi[k] = std::max(hi[k], double(m.positions[3 * v + std::size_t(k)]));
-      }
-    bounds.push_back({{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
-                      0.75 / (0.5 * lodgen::diameter(m))});
-  }
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0, 1);
-  std::vector<lodgen::LodInstance> out;
-  for (int i = 0; i < 64; ++i) {
-    const Bounds& b = bounds[std::size_t(i % 4)];
-    const double s = b.scale, yaw = unit(rng) * 2 * kPi, c = std::cos(yaw), sn = std::sin(yaw);
-    const double target[3] = {(i % 8 - 3.5) * 3.0, 0.75,
-                              -(4.0 + (i / 8) * 3.0)};  // where the box centre goes
-    lodgen::LodInstance in;
-    in.object = i % 4;
-    in.name = objects[std::size_t(i % 4)].name + "_" + std::to_string(i);
-    in.matrix = {s * c, 0, -s * sn, 0, 0, s, 0, 0, s * sn, 0, s * c, 0, 0, 0, 0, 1};
-    const double rb[3] = {s * (c * b.centre[0] + sn * b.centre[2]), s * b.centre[1],
-                          s * (-sn * b.centre[0] + c * b.centre[2])};
-    for (int k = 0; k < 3; ++k) in.matrix[std::size_t(12 + k)] = target[k] - rb[k];
-    out.push_back(in);
-  }
-  return out;
 }
 
 void run(const DemoOptions& o) {
@@ -102,7 +59,7 @@ void run(const DemoOptions& o) {
   std::vector<lodgen::LodObject> objects;
   for (const char* name : {"elephant", "camel", "cow", "fandisk"}) objects.push_back(chain_for(name, o));
   const std::string scene_path = (fs::path(o.cache) / "field.glb").string();
-  lodgen::write_lod_gltf(scene_path, objects, {}, {}, field(objects, o.sim.seed));
+  lodgen::write_lod_gltf(scene_path, objects, {}, {}, sim::demo_field(objects, o.sim.seed));
   std::printf("scene:\n  %s: 64 instances of 4 LOD chains (MSFT_lod)\nprofile:\n", scene_path.c_str());
   AssetOptions ao;
   ao.profiles = (fs::path(o.cache) / "profiles").string();
@@ -136,10 +93,7 @@ void add_demo_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("-o,--output", o->sim.output,
                   "Directory for CSV, plots and frame images (default: CACHE/simulate)");
-  cmd->add_option("--seconds", o->sim.seconds, "Length of the fly-through")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.1, 600.0));
+  add_number(cmd, "--seconds", o->sim.seconds, "Length of the fly-through", 0.1, 600.0);
   cmd->add_option("--seed", o->sim.seed, "Layout and gaze seed")->capture_default_str();
   cmd->add_option("--validate", o->sim.validate, "Decisions judged by render-and-analyze")
       ->capture_default_str();

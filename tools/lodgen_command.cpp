@@ -19,12 +19,10 @@ namespace acuity::tools {
 namespace {
 
 struct LodgenOptions {
-  std::string input, output, backend = "meshopt", asset_root;
-  std::size_t levels = 0;
-  double ratio = 0.5, max_error = 0, reference_height = 1080, crease_degrees = 45,
-         measure_seconds = bake::kMeasureSeconds;
+  std::string input, output;
+  bake::BakeOptions chain;  // the chain options acuity bake takes too (its profile options unused)
   int refine = 0;
-  bool lock_border = false, quiet = false;
+  bool quiet = false;
 };
 
 void progress(const char* stage, std::size_t done, std::size_t total) {
@@ -36,23 +34,16 @@ void run(const LodgenOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   lodgen::check_output(o.output, {o.input}, {".glb", ".gltf"});  // before any work
   lodgen::check_output(o.output + ".json", {o.input});
-  bake::BakeOptions b;  // the chain options acuity bake takes too
-  b.levels = static_cast<std::uint32_t>(o.levels);
-  b.ratio = o.ratio;
-  b.max_error = o.max_error;
-  b.backend = o.backend;
-  b.lock_border = o.lock_border;
-  b.crease = o.crease_degrees;
   const lodgen::ChainProgress report = o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress);
 
   bake::ChainRequest request;
   request.input = o.input;
-  request.asset_root = o.asset_root;
+  request.asset_root = o.chain.asset_root;
   try {
-    request.chain = bake::chain_options(b);
+    request.chain = bake::chain_options(o.chain);
   } catch (const lodgen::InputError& e) { throw std::runtime_error(std::string("--") + e.what()); }
   request.refine = o.refine;
-  request.measure_seconds = o.measure_seconds;
+  request.measure_seconds = o.chain.measure_seconds;
   const bake::SceneChains sc = bake::build_scene_chains(request, report);
   const lodgen::Scene& scene = sc.scene;
   const std::vector<lodgen::Chain>& chains = sc.chains;
@@ -60,7 +51,7 @@ void run(const LodgenOptions& o) {
     for (const std::string& w : c.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
 
   lodgen::GltfWriteOptions wo;
-  wo.reference_height = o.reference_height;
+  wo.reference_height = o.chain.reference_height;
   wo.binary = !bake::is_gltf_text_path(o.output);
   lodgen::write_lod_gltf(o.output, sc.objects, scene.materials, wo);
 
@@ -68,7 +59,7 @@ void run(const LodgenOptions& o) {
   nlohmann::json summary;
   summary["input"] = o.input;
   summary["output"] = o.output;
-  summary["backend"] = o.refine > 0 ? "opensubdiv" : o.backend;
+  summary["backend"] = o.refine > 0 ? "opensubdiv" : o.chain.backend;
   std::printf("%-24s %5s %10s %10s %12s %9s %8s\n", "mesh", "level", "target", "triangles", "hausdorff",
               "normal99", "seconds");
   for (std::size_t m = 0; m < chains.size(); ++m) {
@@ -107,42 +98,8 @@ void add_lodgen_command(CLI::App& app) {
       "lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
   cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
-  cmd->add_option("--levels", o->levels, "Number of levels (0: halve down to ~1%; at most 32)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 32));
-  cmd->add_option("--ratio", o->ratio, "Triangles of each level over the previous")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.01, 0.99));
-  cmd->add_option("--max-error", o->max_error, "Stop at this Hausdorff error [bounding-sphere diameters]")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option(
-         "--backend", o->backend,
-         "meshopt (keeps creases and seams) | openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")
-      ->capture_default_str();
-  cmd->add_option("--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 6));
-  cmd->add_option("--crease", o->crease_degrees,
-                  "Edges sharper than this are drawn sharp [degrees]; 180: all smooth")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.0, 180.0));
-  cmd->add_option(
-         "--measure-seconds", o->measure_seconds,
-         "Time budget for measuring the errors of all meshes; past it errors are lower bounds (a warning)")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.1, 1e5));
-  cmd->add_flag("--lock-border", o->lock_border, "Keep border vertices in place");
-  cmd->add_option("--reference-height", o->reference_height, "Pixels, for MSFT_screencoverage")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(1.0, 1e6));
-  cmd->add_option("--asset-root", o->asset_root,
-                  "Folder a glTF's uris may read from (default: the glTF's own folder)");
+  add_chain_options(cmd, o->chain);
+  add_number(cmd, "--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)", 0, 6);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress");
   cmd->callback([o] { run(*o); });
 }

@@ -11,6 +11,7 @@
 
 #include "acuity/file.hpp"
 #include "acuity/foveation_plan.hpp"
+#include "acuity/lodgen/output.hpp"
 #include "acuity/sim/foveation_report.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "commands.hpp"
@@ -36,13 +37,6 @@ struct Options {
   int panel = 700;
   bool table = false;
 };
-
-void same_file_guard(const std::string& output, const std::string& input) {
-  std::error_code ec;
-  if (!output.empty() && !input.empty() && std::filesystem::exists(output, ec) &&
-      std::filesystem::equivalent(output, input, ec))
-    throw std::runtime_error(output + ": would overwrite the input");
-}
 
 void run(const Options& o) {
   FoveationConfig config;
@@ -80,8 +74,10 @@ void run(const Options& o) {
   }
   if (o.frame >= gazes.size())
     throw std::runtime_error("--frame: the track has " + std::to_string(gazes.size()) + " frames");
-  same_file_guard(o.png, o.gaze_track);
-  same_file_guard(o.csv, o.gaze_track);
+  for (const std::string* output : {&o.png, &o.csv})  // never over the track, never a device
+    if (!output->empty())
+      lodgen::check_output(*output,
+                           o.gaze_track.empty() ? std::vector<std::string>{} : std::vector{o.gaze_track});
 
   const TrackPlan plan = plan_track(*planner, eye, gazes, o.tile, o.fps, o.frame);
   const PlanResult& shown = plan.shown;
@@ -116,9 +112,8 @@ void add_plan_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "plan", "Foveation maps (shading rate, mip bias) for a display: pictures and savings");
   cmd->add_option("--display", o->display, "WIDTHxHEIGHT [px]")->capture_default_str();
-  cmd->add_option("--fov", o->fov, "Horizontal field of view [deg] (vertical from the aspect, square pixels)")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, 170.0));
+  add_number(cmd, "--fov", o->fov, "Horizontal field of view [deg] (vertical from the aspect, square pixels)",
+             1.0, 170.0);
   cmd->add_option("--gaze", o->gaze, "YAW,PITCH of the gaze from the view axis [deg], right and up positive")
       ->delimiter(',')
       ->expected(2)
@@ -127,38 +122,24 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--gaze-track", o->gaze_track,
                   "Gaze track, CSV or JSON: t,x,y,z[,confidence] in head space")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--fps", o->fps, "Frame rate the track is resampled to")
-      ->capture_default_str()
-      ->check(CLI::Range(1.0, 1000.0));
+  add_number(cmd, "--fps", o->fps, "Frame rate the track is resampled to", 1.0, 1000.0);
   cmd->add_option("--frame", o->frame, "The frame the picture shows")->capture_default_str();
   cmd->add_option("--tile", o->tile, "Tile size [px]")
       ->capture_default_str()
       ->check(CLI::IsMember({8u, 16u, 32u}));
   cmd->add_option("--model", o->model, "Threshold model: default, geisler-perry, kelly-daly, reddy")
       ->capture_default_str();
-  cmd->add_option("--quality", o->quality, "q: invisible when lost contrast <= q CT")
-      ->capture_default_str()
-      ->check(CLI::Range(0.01f, 100.0f));
-  cmd->add_option("--uncertainty", o->uncertainty, "Gaze uncertainty [deg]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0f, 90.0f));
-  cmd->add_option("--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0f, 90.0f));
-  cmd->add_option("--fovea", o->fovea, "Full rate within this of the gaze [deg]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0f, 90.0f));
+  add_number(cmd, "--quality", o->quality, "q: invisible when lost contrast <= q CT", 0.01f, 100.0f);
+  add_number(cmd, "--uncertainty", o->uncertainty, "Gaze uncertainty [deg]", 0.0f, 90.0f);
+  add_number(cmd, "--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]", 0.0f, 90.0f);
+  add_number(cmd, "--fovea", o->fovea, "Full rate within this of the gaze [deg]", 0.0f, 90.0f);
   cmd->add_option("--max-rate", o->max_rate, "Coarsest pixels per shade: 1, 2 or 4")
       ->capture_default_str()
       ->check(CLI::IsMember({1u, 2u, 4u}));
-  cmd->add_option("--head-speed", o->head_speed, "Head yaw speed [deg/s]")
-      ->capture_default_str()
-      ->check(CLI::Range(-1000.0f, 1000.0f));
+  add_number(cmd, "--head-speed", o->head_speed, "Head yaw speed [deg/s]", -1000.0f, 1000.0f);
   cmd->add_option("--png", o->png, "Picture of the maps of --frame (PNG)");
   cmd->add_option("--csv", o->csv, "Shading work saved per frame (CSV)");
-  cmd->add_option("--panel", o->panel, "Width of each picture panel [px]")
-      ->capture_default_str()
-      ->check(CLI::Range(200, 4000));
+  add_number(cmd, "--panel", o->panel, "Width of each picture panel [px]", 200, 4000);
   cmd->add_flag("--table", o->table, "Print the savings table of docs/foveation.md (markdown) and stop");
   cmd->callback([o] { run(*o); });
 }

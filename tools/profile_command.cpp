@@ -23,9 +23,8 @@ struct ProfileOptions {
   std::string snapshots;
   std::string output, asset_root;
   std::string views = "auto";
-  std::uint32_t pixels = 256, orientations = 8, bands = 0;
+  bake::BakeOptions profile;  // the profile options acuity bake takes too (views from `views`)
   unsigned jobs = 0;
-  float tolerance = 0.25f;
 };
 
 void progress_bar(const char* stage, std::size_t done, std::size_t total) {
@@ -38,8 +37,8 @@ void progress_bar(const char* stage, std::size_t done, std::size_t total) {
 void run_snapshots(const ProfileOptions& o) {
   lodgen::check_output(o.output, {o.snapshots});
   spectra::AnalysisSettings a;
-  a.orientations = o.orientations;
-  a.bands = o.bands;
+  a.orientations = o.profile.orientations;
+  a.bands = o.profile.bands;
   const spectra::ProfileData data = spectra::profile_from_snapshots(o.snapshots, a);
   spectra::write_profile(o.output, data);
   std::printf("profile   %s from %zu views x %zu levels of user snapshots (%u px)\n", o.output.c_str(),
@@ -66,11 +65,7 @@ void run(const ProfileOptions& o) {
     }
   }
   const std::vector<spectra::LevelInput> levels = bake::spectra_levels(file.chain);
-  bake::BakeOptions b;
-  b.pixels = o.pixels;
-  b.orientations = o.orientations;
-  b.bands = o.bands;
-  b.tolerance = o.tolerance;
+  bake::BakeOptions b = o.profile;
   if (o.views != "auto") {
     try {
       b.views = static_cast<std::uint32_t>(std::stoul(o.views));
@@ -90,7 +85,7 @@ void run(const ProfileOptions& o) {
               report.views_kept, report.views_measured, s.views ? "fixed" : "adaptive",
               100.0 * report.prediction_error);
   std::printf("spectra   %zu orientations x %zu bands (%.3g .. %.3g cycles per diameter), %u px snapshots\n",
-              data.orientations.size(), data.bands.size(), data.bands.front(), data.bands.back(), o.pixels);
+              data.orientations.size(), data.bands.size(), data.bands.front(), data.bands.back(), b.pixels);
   std::printf("size      %zu bytes\n", blob.size);
   std::printf("time      load %.2f s, profile %.2f s\n", load_seconds, report.seconds);
 }
@@ -111,18 +106,8 @@ void add_profile_command(CLI::App& app) {
   cmd->add_option("--asset-root", o->asset_root,
                   "Folder a glTF's uris may read from (default: the glTF's own folder)");
   cmd->add_option("--views", o->views, "'auto' (adaptive) or a number of views")->capture_default_str();
-  cmd->add_option("--res", o->pixels, "Snapshot pixels across the object (power of two)")
-      ->capture_default_str();
-  cmd->add_option("--bands", o->bands, "Number of octave bands (0: all up to res / 4)")
-      ->capture_default_str();
-  cmd->add_option("--orientations", o->orientations, "Orientations over 180 deg")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 32));
+  add_profile_options(cmd, o->profile);
   cmd->add_option("--jobs", o->jobs, "Worker threads (0: all cores)")->capture_default_str();
-  cmd->add_option("--tolerance", o->tolerance, "Adaptive views: switching-distance error allowed")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::NonNegativeNumber);
   cmd->callback([o] { run(*o); });
 }
 

@@ -62,25 +62,14 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
   cmd->add_option("--gaze", o->sim.gaze_file,
                   "Gaze trace, CSV or JSON: t,x,y,z[,confidence] in head space (default: generated)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--seconds", o->sim.seconds, "Length of the run")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(0.01, 3600.0));
-  cmd->add_option("--fps", o->sim.fps, "Frame rate")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(1.0, 1000.0));
+  add_number(cmd, "--seconds", o->sim.seconds, "Length of the run", 0.01, 3600.0);
+  add_number(cmd, "--fps", o->sim.fps, "Frame rate", 1.0, 1000.0);
   cmd->add_option("--seed", o->sim.seed, "Seed of the generators and of the judged sample")
       ->capture_default_str();
   cmd->add_option("--movers", o->sim.movers, "Objects moving on circles (pursuit targets)")
       ->capture_default_str();
-  cmd->add_option("--viewport", o->sim.viewport, "Pixels across each eye's square viewport")
-      ->capture_default_str()
-      ->check(CLI::Range(16u, 16384u));
-  cmd->add_option("--fov", o->sim.fov_deg, "Each eye's field of view [deg]")
-      ->capture_default_str()
-      ->check(Finite)
-      ->check(CLI::Range(10.0f, 170.0f));
+  add_number(cmd, "--viewport", o->sim.viewport, "Pixels across each eye's square viewport", 16u, 16384u);
+  add_number(cmd, "--fov", o->sim.fov_deg, "Each eye's field of view [deg]", 10.0f, 170.0f);
   cmd->add_option("--saccade-speed", o->sim.saccade_speed,
                   "Gaze speed above which a frame is a saccade [deg/s]")
       ->capture_default_str()
@@ -105,24 +94,7 @@ void explain(const SimulateOptions& o) {
   AssetOptions quiet = o.assets;
   quiet.quiet = true;
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, quiet);
-  std::uint32_t object = 0;
-  while (object < scene->instances.size() && scene->instances[object].name != o.object) ++object;
-  if (object == scene->instances.size()) {
-    try {
-      object = std::uint32_t(std::stoul(o.object));
-    } catch (...) { object = std::uint32_t(scene->instances.size()); }
-    if (object >= scene->instances.size())
-      throw std::runtime_error("explain: no object '" + o.object + "' (a node name or an index below " +
-                               std::to_string(scene->instances.size()) + ")");
-  }
-  SimulationOptions so = o.sim;
-  so.validate = 0;
-  Simulation sim(*scene, so);
-  if (o.frame >= sim.frame_count())
-    throw std::runtime_error("explain: frame " + std::to_string(o.frame) + " is past the run's " +
-                             std::to_string(sim.frame_count()) + " frames");
-  while (sim.frame_index() <= o.frame) sim.step();
-  std::fputs(sim::explain_text(sim, object).c_str(), stdout);
+  std::fputs(sim::explain_frame(*scene, o.sim, o.frame, o.object).c_str(), stdout);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "acuity/lodgen/mesh.hpp"
 #include "geometry.hpp"
 
 namespace acuity::sim {
@@ -171,6 +172,44 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
     last = s.direction;
     out.phases[f] = blink ? GazePhase::Blink : phase;
     out.targets[f] = current.object;
+  }
+  return out;
+}
+
+// The field: 8 x 8 objects 3 m apart resting on the ground, each scaled to a 1.5 m bounding
+// sphere, with a random turn about the vertical.
+std::vector<lodgen::LodInstance> demo_field(const std::vector<lodgen::LodObject>& objects, unsigned seed) {
+  struct Bounds {
+    double centre[3], scale;
+  };  // bounding-box centre, scale to a 0.75 m radius
+  std::vector<Bounds> bounds;
+  for (const lodgen::LodObject& obj : objects) {
+    const lodgen::Mesh& m = obj.chain.levels[0].mesh;
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (std::size_t v = 0; v < m.vertex_count(); ++v)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], double(m.positions[3 * v + std::size_t(k)]));
+        hi[k] = std::max(hi[k], double(m.positions[3 * v + std::size_t(k)]));
+      }
+    bounds.push_back({{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])},
+                      0.75 / (0.5 * lodgen::diameter(m))});
+  }
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<lodgen::LodInstance> out;
+  for (int i = 0; i < 64; ++i) {
+    const Bounds& b = bounds[std::size_t(i) % bounds.size()];
+    const double s = b.scale, yaw = unit(rng) * 2 * kPi, c = std::cos(yaw), sn = std::sin(yaw);
+    const double target[3] = {(i % 8 - 3.5) * 3.0, 0.75,
+                              -(4.0 + (i / 8) * 3.0)};  // where the box centre goes
+    lodgen::LodInstance in;
+    in.object = int(std::size_t(i) % objects.size());
+    in.name = objects[std::size_t(i) % objects.size()].name + "_" + std::to_string(i);
+    in.matrix = {s * c, 0, -s * sn, 0, 0, s, 0, 0, s * sn, 0, s * c, 0, 0, 0, 0, 1};
+    const double rb[3] = {s * (c * b.centre[0] + sn * b.centre[2]), s * b.centre[1],
+                          s * (-sn * b.centre[0] + c * b.centre[2])};
+    for (int k = 0; k < 3; ++k) in.matrix[std::size_t(12 + k)] = target[k] - rb[k];
+    out.push_back(in);
   }
   return out;
 }

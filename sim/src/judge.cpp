@@ -177,4 +177,25 @@ std::string explain_text(const Simulation& sim, std::uint32_t object) {
   return out;
 }
 
+std::string explain_frame(const SceneAssets& scene, SimulationOptions options, std::size_t frame,
+                          const std::string& object) {
+  std::uint32_t index = 0;
+  while (index < scene.instances.size() && scene.instances[index].name != object) ++index;
+  if (index == scene.instances.size()) {
+    try {
+      index = std::uint32_t(std::stoul(object));
+    } catch (...) { index = std::uint32_t(scene.instances.size()); }
+    if (index >= scene.instances.size())
+      throw std::runtime_error("explain: no object '" + object + "' (a node name or an index below " +
+                               std::to_string(scene.instances.size()) + ")");
+  }
+  options.validate = 0;
+  Simulation sim(scene, options);
+  if (frame >= sim.frame_count())
+    throw std::runtime_error("explain: frame " + std::to_string(frame) + " is past the run's " +
+                             std::to_string(sim.frame_count()) + " frames");
+  while (sim.frame_index() <= frame) sim.step();
+  return explain_text(sim, index);
+}
+
 }  // namespace acuity::sim

@@ -49,6 +49,12 @@ struct ChainFile {
 // Throws lodgen::InputError naming the file when it has no node with MSFT_lod levels.
 ChainFile read_chain_file(const std::string& path, const std::string& asset_root = {});
 
+// The chain of the mesh file `mesh` in `levels` levels (lodgen's defaults otherwise), written to
+// `cache_glb`; or, when `cache_glb` exists, the chain read back from it (*cached set true). The
+// object is unnamed and at the origin.
+lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb, std::size_t levels,
+                               bool* cached);
+
 // True when `path` ends in .glb or .gltf (any case).
 bool is_gltf_path(const std::string& path);
 // True when `path` ends in .gltf (any case): lodgen writes text glTF there, binary otherwise.

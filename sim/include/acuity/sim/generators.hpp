@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/scene.hpp"
 #include "acuity/sim/tracks.hpp"
 
@@ -33,5 +34,10 @@ struct GeneratedGaze {
 };
 GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
                             const std::vector<Mover>& movers, double fps, unsigned seed);
+
+// The demo's field (after Guenter et al.'s test scene): 64 instances of `objects` (cycled, at
+// least one) on an 8 x 8 grid 3 m apart, each scaled to a 1.5 m bounding sphere, resting on the
+// ground (y = 0) 4 to 25 m ahead (-Z), with a random turn about +Y from `seed`.
+std::vector<lodgen::LodInstance> demo_field(const std::vector<lodgen::LodObject>& objects, unsigned seed);
 
 }  // namespace acuity::sim

@@ -109,5 +109,9 @@ Decision example_decision(const Simulation& sim);
 // Why the perceptual rule chose the level of `object` in the last frame run: every level's score,
 // limiting band and orientation, distance, eccentricity, retinal velocity; the other rules' levels.
 std::string explain_text(const Simulation& sim, std::uint32_t object);
+// The same for a fresh run of `scene` with `options` (none judged) up to `frame`; `object` is a
+// node name or an instance index. Throws std::runtime_error naming what is missing.
+std::string explain_frame(const SceneAssets& scene, SimulationOptions options, std::size_t frame,
+                          const std::string& object);
 
 }  // namespace acuity::sim

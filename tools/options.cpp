@@ -1,0 +1,35 @@
+// The options several subcommands share (commands.hpp).
+#include "commands.hpp"
+
+namespace acuity::tools {
+
+void add_chain_options(CLI::App* cmd, bake::BakeOptions& b) {
+  cmd->add_option("--levels", b.levels, "Number of levels (0: halve down to ~1%; at most 32)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 32));
+  add_number(cmd, "--ratio", b.ratio, "Triangles of each level over the previous", 0.01, 0.99);
+  add_number(cmd, "--max-error", b.max_error, "Stop at this Hausdorff error [bounding-sphere diameters]", 0,
+             1e6);
+  cmd->add_option(
+         "--backend", b.backend,
+         "meshopt (keeps creases and seams) | openmesh | cgal (Garland-Heckbert) | cgal-lt (Lindstrom-Turk)")
+      ->capture_default_str();
+  cmd->add_flag("--lock-border", b.lock_border, "Keep border vertices in place");
+  add_number(cmd, "--crease", b.crease, "Edges sharper than this are drawn sharp [degrees]; 180: all smooth",
+             0, 180);
+  add_number(cmd, "--measure-seconds", b.measure_seconds,
+             "Time budget for measuring an asset's errors; past it errors are lower bounds (a warning)", 0.1,
+             1e5);
+  add_number(cmd, "--reference-height", b.reference_height, "Pixels, for MSFT_screencoverage", 1, 1e6);
+  cmd->add_option("--asset-root", b.asset_root,
+                  "Folder a glTF's uris may read from (default: the glTF's own folder)");
+}
+
+void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
+  add_number(cmd, "--res", b.pixels, "Snapshot pixels across the object (power of two)", 16, 4096);
+  add_number(cmd, "--orientations", b.orientations, "Orientations over 180 deg", 1, 32);
+  add_number(cmd, "--bands", b.bands, "Number of octave bands (0: all up to res / 4)", 0, 32);
+  add_number(cmd, "--tolerance", b.tolerance, "Adaptive views: switching-distance error allowed", 0, 1e6);
+}
+
+}  // namespace acuity::tools
