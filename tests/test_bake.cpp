@@ -183,6 +183,40 @@ TEST(Bake, RerunIsAnsweredByTheCacheWithTheSameBytes) {
   for (const bake::AssetResult& r : second.results)
     EXPECT_EQ(r.cached, r.name != "broken") << r.name;  // load errors are not cached
   EXPECT_EQ(tree(root / "out"), before);                // index, chains, profiles and cache: the same bytes
+  // The summary acuity bake prints: a row per asset in plan order, the error's text, the cache hits.
+  const std::string table = bake::summary_table(second.plan, second.results, 3.0);
+  std::vector<std::string> lines;
+  for (std::istringstream in(table); std::getline(in, lines.emplace_back());) {}
+  lines.pop_back();
+  ASSERT_EQ(lines.size(), second.results.size() + 2) << table;
+  EXPECT_EQ(lines[0].rfind("asset", 0), 0u);
+  for (std::size_t i = 0; i < second.results.size(); ++i) {
+    const bake::AssetResult& r = second.results[i];
+    EXPECT_EQ(lines[i + 1].rfind(second.plan.jobs[i].name, 0), 0u) << lines[i + 1];
+    if (r.ok)
+      EXPECT_NE(lines[i + 1].find(std::to_string(r.triangles.front()) + " -> " +
+                                  std::to_string(r.triangles.back())),
+                std::string::npos)
+          << lines[i + 1];
+    else
+      EXPECT_NE(lines[i + 1].find(r.error), std::string::npos) << lines[i + 1];
+  }
+  EXPECT_EQ(lines.back(), "3 assets in 3.00 s (2 from the cache, 60.0 assets/min); index " + second.plan.out +
+                              "/index.json");
+}
+
+TEST(Bake, ProgressLineShowsTheShareDoneAndTheRemainingTime) {
+  // 24 characters of bar: a quarter done is 6 marks; 10 s for 1 of 4 leaves 30 s.
+  EXPECT_EQ(bake::progress_text(1, 4, "ball", 10.0),
+            "[######                  ] 1/4  ball                     ETA   30 s");
+  EXPECT_EQ(bake::progress_text(0, 4, "", 0.0).substr(0, 26), "[                        ]");
+  EXPECT_EQ(bake::progress_text(4, 4, "egg", 8.0).substr(0, 26), "[########################]");
+  // More done than the total (a caller's slip) and no total at all stay well formed.
+  EXPECT_EQ(bake::progress_text(5, 4, "x", 1.0).substr(0, 26), "[########################]");
+  EXPECT_EQ(bake::progress_text(0, 0, "", 0.0).substr(0, 26), "[########################]");
+  // A long asset name is cut to its column.
+  EXPECT_EQ(bake::progress_text(1, 2, std::string(100, 'n'), 1.0).size(),
+            bake::progress_text(1, 2, "n", 1.0).size());
 }
 
 TEST(Bake, ChangedInputIsRebakedAlone) {

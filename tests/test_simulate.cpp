@@ -382,3 +382,26 @@ TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {
   EXPECT_GT(green.first, 200);  // level 2: green
   EXPECT_GT(blue.second, 20);   // the gaze ring
 }
+
+TEST(Outputs, ShellQuotingReadsBackAsTheSamePath) {
+  EXPECT_EQ(shell_quoted("build/demo/simulate"), "build/demo/simulate");  // plain: as is
+  EXPECT_EQ(shell_quoted("my runs/a"), "'my runs/a'");
+  EXPECT_EQ(shell_quoted("it's"), "'it'\\''s'");  // a quote closes, is escaped, reopens
+  EXPECT_EQ(shell_quoted(""), "''");
+  EXPECT_EQ(shell_quoted("$(rm -rf x);`y`"), "'$(rm -rf x);`y`'");
+}
+
+TEST(Outputs, TextListsTheFilesAndThePlotCommandOnlyWhenAsked) {
+  Results r;
+  const std::vector<std::string> written = {"out dir/frames.csv", "out dir/summary.json"};
+  const std::string with = outputs_text(r, written, "out dir", "/usr/share/acuity/plot_simulation.py");
+  EXPECT_NE(with.find("\nwritten to out dir:\n  out dir/frames.csv\n  out dir/summary.json\n"),
+            std::string::npos);
+  EXPECT_NE(with.find("screen-size at 1 px"), std::string::npos);  // no tuned baseline in r
+  EXPECT_NE(with.find("python3 /usr/share/acuity/plot_simulation.py 'out dir'\n"), std::string::npos) << with;
+  const std::string without = outputs_text(r, written, "out dir", "");
+  EXPECT_EQ(without.find("python3"), std::string::npos);
+  r.screen_size.rule = 2;
+  EXPECT_NE(outputs_text(r, {}, "o", "").find("screen-size tuned to the same visible losses"),
+            std::string::npos);
+}

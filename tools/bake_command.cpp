@@ -24,36 +24,9 @@ struct BakeCommandOptions {
   bool quiet = false;
 };
 
-// "[#####     ] 3/10  elephant  ETA 12 s" on stderr, rewritten in place.
 void progress_line(std::size_t done, std::size_t total, const std::string& current, double seconds) {
-  const int width = 24, filled = total ? int(width * done / total) : width;
-  const double eta = done ? seconds / double(done) * double(total - done) : 0;
-  std::fprintf(stderr, "\r[%.*s%*s] %zu/%zu  %-24.24s ETA %4.0f s", filled, "########################",
-               width - filled, "", done, total, current.c_str(), eta);
+  std::fprintf(stderr, "\r%s", bake::progress_text(done, total, current, seconds).c_str());
   if (done == total) std::fputc('\n', stderr);
-}
-
-void print_summary(const bake::BakePlan& plan, const std::vector<bake::AssetResult>& results,
-                   double seconds) {
-  std::printf("%-28s %-6s %6s %20s %10s %8s %s\n", "asset", "status", "levels", "triangles", "profile",
-              "seconds", "");
-  std::size_t hits = 0;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const bake::AssetResult& r = results[i];
-    hits += r.cached;
-    if (!r.ok) {
-      std::printf("%-28.28s %-6s %s\n", plan.jobs[i].name.c_str(), "error", r.error.c_str());
-      continue;
-    }
-    const std::string tris =
-        std::to_string(r.triangles.front()) + " -> " + std::to_string(r.triangles.back());
-    std::printf("%-28.28s %-6s %6zu %20s %10llu %8.2f %s\n", plan.jobs[i].name.c_str(), "ok",
-                r.triangles.size(), tris.c_str(), static_cast<unsigned long long>(r.profile_bytes), r.seconds,
-                r.cached ? "cached" : "");
-  }
-  std::printf("%zu assets in %.2f s (%zu from the cache, %.1f assets/min); index %s/index.json\n",
-              results.size(), seconds, hits, seconds > 0 ? 60.0 * double(results.size()) / seconds : 0.0,
-              plan.out.c_str());
 }
 
 // Replaces this process with `python3 -m acuity.bake ... --dask ADDRESS` (no shell).
@@ -83,8 +56,8 @@ void run(const BakeCommandOptions& o) {
   const std::vector<bake::AssetResult> results =
       bake::bake_all(plan, o.jobs, o.quiet ? bake::BakeProgress{} : progress_line);
   const std::size_t failed = bake::finish_bake(plan, results);
-  print_summary(plan, results,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fputs(bake::summary_table(plan, results, seconds).c_str(), stdout);
   if (failed)
     throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(results.size()) +
                              " assets failed (see " + plan.out + "/index.json)");

@@ -1,6 +1,5 @@
 // `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
 // head path with a gaze trace (given or generated), four rules per frame (acuity/sim/simulation.hpp).
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -8,7 +7,7 @@
 #include <string>
 
 #include "acuity/lodgen/output.hpp"
-#include "acuity/sim/results.hpp"
+#include "acuity/sim/run.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -25,17 +24,6 @@ struct SimulateOptions {
   std::size_t frame = 0;
   std::string object;
 };
-
-// A path as a POSIX shell reads it back: as is when plain, else in single quotes.
-std::string shell_quoted(const std::string& path) {
-  if (!path.empty() &&
-      path.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./+-") ==
-          std::string::npos)
-    return path;
-  std::string out = "'";
-  for (char c : path) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 // The plot script: next to the sources in a build tree, in share/acuity when installed.
 std::string plot_script() {
@@ -100,36 +88,18 @@ void explain(const SimulateOptions& o) {
 }  // namespace
 
 RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Simulation sim(scene, options);
-  sim.run();
-  const auto t1 = std::chrono::steady_clock::now();
-  std::vector<sim::Judged> judged;
-  if (options.validate > 0) judged = sim::judge_decisions(sim, options.validate, options.seed);
-  const auto t2 = std::chrono::steady_clock::now();
+  const sim::Run run = sim::simulate(scene, options);
+  const Simulation& sim = *run.simulation;
   std::printf(
       "\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in "
       "%.1f s\n",
-      sim.frame_count(), sim.rules().size(), std::chrono::duration<double>(t1 - t0).count(), judged.size(),
-      std::chrono::duration<double>(t2 - t1).count());
-  const sim::Results results = sim::analyse(sim, judged);
-  std::fputs(sim::summary_text(sim, results).c_str(), stdout);
-  RunResult run;
-  if (!options.output.empty()) {
-    run.written = sim::write_outputs(sim, results, judged, options.output);
-    std::printf("\nwritten to %s:\n", options.output.c_str());
-    for (const std::string& p : run.written) std::printf("  %s\n", p.c_str());
-    std::printf(
-        "(frames: perceptual left, %s right; level 0 blue, 1 cyan, 2 green, 3 yellow, 4 orange; ring = "
-        "gaze)\n",
-        results.screen_size.rule >= 0 ? "screen-size tuned to the same visible losses"
-                                      : "screen-size at 1 px");
-    if (plot_hint)
-      std::printf("plots (triangles.png, sweep.png; needs python3-matplotlib):\n  python3 %s %s\n",
-                  shell_quoted(plot_script()).c_str(), shell_quoted(options.output).c_str());
-  }
-  run.example = sim::example_decision(sim);
-  return run;
+      sim.frame_count(), sim.rules().size(), run.simulate_seconds, run.judged.size(), run.judge_seconds);
+  std::fputs(sim::summary_text(sim, run.results).c_str(), stdout);
+  if (!options.output.empty())
+    std::fputs(
+        sim::outputs_text(run.results, run.written, options.output, plot_hint ? plot_script() : "").c_str(),
+        stdout);
+  return {run.written, sim::example_decision(sim)};
 }
 
 void add_simulate_commands(CLI::App& app) {

@@ -4,9 +4,13 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "acuity/bake/scene.hpp"
+#include "acuity/lodgen/output.hpp"
 #include "acuity/lodgen/refine.hpp"
 
 namespace acuity::bake {
@@ -123,6 +127,61 @@ lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache
   obj = std::move(build_scene_chains(request).objects.at(0));
   lodgen::write_lod_gltf(cache_glb, {obj}, {});
   return obj;
+}
+
+std::string chains_table(const SceneChains& sc) {
+  char line[256];
+  std::snprintf(line, sizeof line, "%-24s %5s %10s %10s %12s %9s %8s\n", "mesh", "level", "target",
+                "triangles", "hausdorff", "normal99", "seconds");
+  std::string out = line;
+  for (std::size_t m = 0; m < sc.chains.size(); ++m)
+    for (std::size_t k = 0; k < sc.chains[m].levels.size(); ++k) {
+      const lodgen::Level& l = sc.chains[m].levels[k];
+      std::snprintf(line, sizeof line, "%-24.24s %5zu %10zu %10zu %12.6f %9.2f %8.3f\n",
+                    sc.scene.mesh_names[m].c_str(), k, l.target_triangles, l.mesh.triangle_count(),
+                    l.hausdorff, l.normal_deviation, l.seconds);
+      out += line;
+    }
+  return out;
+}
+
+std::string chains_json(const SceneChains& sc, const std::string& input, const std::string& output,
+                        const std::string& backend, double seconds) {
+  nlohmann::json summary = {{"input", input}, {"output", output}, {"backend", backend}};
+  for (std::size_t m = 0; m < sc.chains.size(); ++m) {
+    nlohmann::json jm = {{"name", sc.scene.mesh_names[m]},
+                         {"diameter", sc.chains[m].diameter},
+                         {"warnings", sc.chains[m].warnings}};
+    for (const lodgen::Level& l : sc.chains[m].levels)
+      jm["levels"].push_back({{"target", l.target_triangles},
+                              {"triangles", l.mesh.triangle_count()},
+                              {"hausdorff_diameters", l.hausdorff},
+                              {"normal_deviation_degrees", l.normal_deviation},
+                              {"normal_deviation_max_degrees", l.normal_deviation_max},
+                              {"measured_fully", l.measured_fully},
+                              {"seconds", l.seconds}});
+    summary["meshes"].push_back(jm);
+  }
+  summary["seconds"] = seconds;
+  return summary.dump(2) + "\n";
+}
+
+WrittenChains write_scene_chains(const ChainRequest& request, const std::string& output,
+                                 double reference_height, const std::string& backend,
+                                 const lodgen::ChainProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!output.empty()) lodgen::check_output(output, {request.input}, {".glb", ".gltf"});  // before any work
+  WrittenChains out;
+  out.chains = build_scene_chains(request, progress);
+  if (!output.empty()) {
+    lodgen::GltfWriteOptions wo;
+    wo.reference_height = reference_height;
+    wo.binary = !is_gltf_text_path(output);
+    lodgen::write_lod_gltf(output, out.chains.objects, out.chains.scene.materials, wo);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.json = chains_json(out.chains, request.input, output, backend, out.seconds);
+  return out;
 }
 
 }  // namespace acuity::bake

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -578,6 +579,47 @@ std::string index_json(const BakePlan& plan, const std::vector<AssetResult>& res
                       {"ok", results.size() - failed},
                       {"failed", failed}};
   return index.dump(2) + "\n";
+}
+
+namespace {
+
+template <typename... Args>
+std::string format(const char* pattern, Args... args) {
+  char line[512];
+  std::snprintf(line, sizeof line, pattern, args...);
+  return line;
+}
+
+}  // namespace
+
+std::string progress_text(std::size_t done, std::size_t total, const std::string& current, double seconds) {
+  const int width = 24, filled = total ? int(width * std::min(done, total) / total) : width;
+  const double eta = done ? seconds / double(done) * double(total - std::min(done, total)) : 0;
+  return format("[%.*s%*s] %zu/%zu  %-24.24s ETA %4.0f s", filled, "########################", width - filled,
+                "", done, total, current.c_str(), eta);
+}
+
+std::string summary_table(const BakePlan& plan, const std::vector<AssetResult>& results, double seconds) {
+  std::string out = format("%-28s %-6s %6s %20s %10s %8s\n", "asset", "status", "levels", "triangles",
+                           "profile", "seconds");
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < results.size() && i < plan.jobs.size(); ++i) {
+    const AssetResult& r = results[i];
+    hits += r.cached;
+    if (!r.ok) {
+      out += format("%-28.28s %-6s ", plan.jobs[i].name.c_str(), "error") + r.error + "\n";
+      continue;
+    }
+    const std::string tris = r.triangles.empty() ? std::string("-")
+                                                 : std::to_string(r.triangles.front()) + " -> " +
+                                                       std::to_string(r.triangles.back());
+    out += format("%-28.28s %-6s %6zu %20s %10llu %8.2f %s\n", plan.jobs[i].name.c_str(), "ok",
+                  r.triangles.size(), tris.c_str(), static_cast<unsigned long long>(r.profile_bytes),
+                  r.seconds, r.cached ? "cached" : "");
+  }
+  return out + format("%zu assets in %.2f s (%zu from the cache, %.1f assets/min); index %s/index.json\n",
+                      results.size(), seconds, hits,
+                      seconds > 0 ? 60.0 * double(results.size()) / seconds : 0.0, plan.out.c_str());
 }
 
 std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& results) {

@@ -93,6 +93,15 @@ void bind_bake(py::module_ m) {
       "plan"_a, "results"_a,
       "acuity::bake::finish_bake: outputs from the cache into OUT and OUT/index.json; returns the number of "
       "failed assets.");
+  m.def("progress_text", &bake::progress_text, "done"_a, "total"_a, "current"_a, "seconds"_a,
+        "The progress line acuity bake rewrites in place: bar, done/total, current asset, ETA.");
+  m.def(
+      "summary_table",
+      [](const std::string& plan, const std::vector<std::string>& results, double seconds) {
+        return bake::summary_table(parse_plan(plan), parse_results(results), seconds);
+      },
+      "plan"_a, "results"_a, "seconds"_a,
+      "The summary table acuity bake prints (one row per asset, totals).");
   m.def(
       "sha256",
       [](py::bytes data) {

@@ -8,4 +8,5 @@ void bind_spectra(pybind11::module_ m);
 void bind_lodgen(pybind11::module_ m);
 void bind_foveation(pybind11::module_ m);
 void bind_bake(pybind11::module_ m);  // acuity._acuity._bake, used by acuity.bake (bake.py)
+void bind_sim(pybind11::module_ m);
 }  // namespace acuity::python

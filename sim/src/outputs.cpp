@@ -161,3 +161,31 @@ std::vector<std::string> write_outputs(const Simulation& sim, const Results& r,
 }
 
 }  // namespace acuity::sim
+
+namespace acuity::sim {
+
+std::string shell_quoted(const std::string& path) {
+  if (!path.empty() &&
+      path.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./+-") ==
+          std::string::npos)
+    return path;
+  std::string out = "'";
+  for (char c : path) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string outputs_text(const Results& results, const std::vector<std::string>& written,
+                         const std::string& dir, const std::string& plot_script) {
+  std::string out = "\nwritten to " + dir + ":\n";
+  for (const std::string& p : written) out += "  " + p + "\n";
+  out += std::string("(frames: perceptual left, ") +
+         (results.screen_size.rule >= 0 ? "screen-size tuned to the same visible losses"
+                                        : "screen-size at 1 px") +
+         " right; level 0 blue, 1 cyan, 2 green, 3 yellow, 4 orange; ring = gaze)\n";
+  if (!plot_script.empty())
+    out += "plots (triangles.png, sweep.png; needs python3-matplotlib):\n  python3 " +
+           shell_quoted(plot_script) + " " + shell_quoted(dir) + "\n";
+  return out;
+}
+
+}  // namespace acuity::sim

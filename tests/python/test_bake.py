@@ -14,7 +14,7 @@ import time
 
 import numpy as np
 import pytest
-from dask.distributed import Client, LocalCluster  # required (tools/bootstrap.sh installs python3-distributed)
+from dask.distributed import Client, LocalCluster  # required (scripts/bootstrap.sh installs python3-distributed)
 
 import acuity
 import acuity.bake

@@ -5,6 +5,7 @@ Submodules:
     acuity.models   vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
     acuity.spectra  snapshots, lost-contrast analysis, Reddy features, profiling, profile files
     acuity.lodgen   chains of levels of detail (decimation, Hausdorff error, glTF with MSFT_lod)
+    acuity.sim      simulated runs of a scene through the LOD rules (as acuity simulate / explain)
     acuity.foveation  per-tile shading-rate and mip-bias maps and Guenter layers for one eye
     acuity.bake     (import acuity.bake) bake an asset library (chains, profiles, index) through the cache, locally or on Dask
 
@@ -19,12 +20,13 @@ models = _acuity.models
 spectra = _acuity.spectra
 lodgen = _acuity.lodgen
 foveation = _acuity.foveation
-for _name in ("models", "spectra", "lodgen", "foveation"):
+sim = _acuity.sim
+for _name in ("models", "spectra", "lodgen", "foveation", "sim"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
 from ._acuity import (Eye, Evaluation, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
-__all__ = ["models", "spectra", "lodgen", "foveation", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+__all__ = ["models", "spectra", "lodgen", "foveation", "sim", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
            "SelectionRule", "ViewBlend", "Evaluation", "__version__"]

@@ -42,11 +42,7 @@ def sha256(data):
 
 
 def _progress(done, total, current, start, stream):
-    width = 24
-    filled = width * done // total if total else width
-    elapsed = time.monotonic() - start
-    eta = elapsed / done * (total - done) if done else 0.0
-    stream.write("\r[%s%s] %d/%d  %-24.24s ETA %4.0f s" % ("#" * filled, " " * (width - filled), done, total, current, eta))
+    stream.write("\r" + _native.progress_text(done, total, current, time.monotonic() - start))
     if done == total:
         stream.write("\n")
     stream.flush()
@@ -100,6 +96,11 @@ def bake(input, out, client=None, cache=None, workers=None, jobs=0, profile_jobs
     Returns the index (the dict written to out/index.json). A failed asset is listed with
     "status": "error"; the others are baked. Raises InputError when the input or out is refused.
     """
+    return _bake(input, out, client, cache, workers, jobs, profile_jobs, progress, options)[2]
+
+
+def _bake(input, out, client, cache, workers, jobs, profile_jobs, progress, options):
+    """bake(), returning (plan as JSON text, results as JSON texts, index)."""
     p = plan(input, out, cache, **options)
     text = json.dumps(p)
     if client is None and not workers:
@@ -108,7 +109,7 @@ def bake(input, out, client=None, cache=None, workers=None, jobs=0, profile_jobs
         results = _run_dask(p, client, workers, int(profile_jobs), progress)
     _native.finish(text, results)
     with open(p["out"] + "/index.json", encoding="utf-8") as f:
-        return json.load(f)
+        return text, results, json.load(f)
 
 
 def main(argv=None):
@@ -125,18 +126,12 @@ def main(argv=None):
     a = ap.parse_args(argv)
     start = time.monotonic()
     try:
-        index = bake(a.input, a.output, client=a.dask, cache=a.cache, workers=a.workers, jobs=a.jobs,
-                     progress=not a.quiet, **json.loads(a.options))
+        text, results, index = _bake(a.input, a.output, a.dask, a.cache, a.workers, a.jobs, 1, not a.quiet,
+                                     json.loads(a.options))
     except InputError as e:
         print("acuity bake: %s" % e, file=sys.stderr)
         return 1
-    for name, entry in index["assets"].items():
-        if entry["status"] == "ok":
-            print("%-28.28s ok     %6d %20s %10d %8.2f" % (name, len(entry["triangles"]), "%d -> %d" % (
-                entry["triangles"][0], entry["triangles"][-1]), entry["profile_bytes"], entry["seconds"]))
-        else:
-            print("%-28.28s error  %s" % (name, entry["error"]))
-    print("%d assets in %.2f s; index %s/index.json" % (len(index["assets"]), time.monotonic() - start, a.output))
+    print(_native.summary_table(text, results, time.monotonic() - start), end="")
     if index["failed"]:
         print("acuity bake: %d of %d assets failed (see %s/index.json)" % (index["failed"], len(index["assets"]), a.output),
               file=sys.stderr)

@@ -39,6 +39,27 @@ SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodge
                             const lodgen::ChainProgress& progress = {},
                             double measure_seconds = kMeasureSeconds);
 
+// What `acuity lodgen` reports of the chains it built: a table (one row per mesh and level: target and
+// result triangles, Hausdorff error in diameters, 99th-percentile normal deviation in degrees,
+// seconds), and the same as the JSON it writes beside its output ({input, output, backend, seconds,
+// meshes: [{name, diameter, warnings, levels: [...]}]}).
+std::string chains_table(const SceneChains& chains);
+std::string chains_json(const SceneChains& chains, const std::string& input, const std::string& output,
+                        const std::string& backend, double seconds);
+
+// `acuity lodgen`'s job, also Python's acuity.lodgen.build: the chains of `request.input`, written
+// to `output` (.gltf: text, else binary glTF with MSFT_lod, MSFT_screencoverage at
+// `reference_height` px) unless it is empty; the output is checked (lodgen::check_output) before any
+// work. Returns the chains and chains_json() of them, `backend` naming the back-end used.
+struct WrittenChains {
+  SceneChains chains;
+  std::string json;
+  double seconds = 0;  // the whole job
+};
+WrittenChains write_scene_chains(const ChainRequest& request, const std::string& output,
+                                 double reference_height, const std::string& backend,
+                                 const lodgen::ChainProgress& progress = {});
+
 // A chain file (glTF from write_lod_gltf or any MSFT_lod writer): its first node with MSFT_lod
 // levels, read back as a chain. `material` points into `scene` (keep them together).
 struct ChainFile {

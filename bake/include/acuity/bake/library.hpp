@@ -124,6 +124,12 @@ std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& re
 // The text of OUT/index.json for these results (what finish_bake writes).
 std::string index_json(const BakePlan& plan, const std::vector<AssetResult>& results);
 
+// What `acuity bake` prints: the progress line "[#####     ] 3/10  elephant  ETA 12 s" (no newline;
+// the caller rewrites it in place), and the summary table of the results (one row per asset, then a
+// totals line naming OUT/index.json).
+std::string progress_text(std::size_t done, std::size_t total, const std::string& current, double seconds);
+std::string summary_table(const BakePlan& plan, const std::vector<AssetResult>& results, double seconds);
+
 // The version string every key and index records: "acuity 0.1.0; profile format 1; <libraries>".
 std::string tool_version();
 

@@ -48,4 +48,13 @@ std::string summary_text(const Simulation& sim, const Results& results);
 std::vector<std::string> write_outputs(const Simulation& sim, const Results& results,
                                        const std::vector<Judged>& judged, const std::string& dir);
 
+// What `acuity simulate` prints after write_outputs: the paths written, a legend of the frame
+// pictures, and, unless plot_script is empty, the command that plots the run's CSVs (paths quoted as
+// a POSIX shell reads them back; acuity runs no other program itself).
+std::string outputs_text(const Results& results, const std::vector<std::string>& written,
+                         const std::string& dir, const std::string& plot_script);
+
+// A path as a POSIX shell reads it back: as is when plain, else in single quotes.
+std::string shell_quoted(const std::string& path);
+
 }  // namespace acuity::sim

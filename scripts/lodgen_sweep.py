@@ -2,10 +2,10 @@
 """Runs `acuity lodgen` over every third-party asset lodgen should handle and prints a Markdown table:
 per asset, the result (a chain: meshes, triangles, levels; or the error's first line), the wall time,
 and the worst measured errors. Assets: Debian's assimp-testmodels (the glTF 2.0 files, PLY/Wuson.ply)
-and the controller models of npm @webxr-input-profiles/assets (installed by `tools/bootstrap.sh deps`
+and the controller models of npm @webxr-input-profiles/assets (installed by `scripts/bootstrap.sh deps`
 into assets/third_party/node_modules).
 
-Run: python3 tools/lodgen_sweep.py build/tools/acuity [OUT_DIR]   (docs/lodgen.md names it)
+Run: python3 scripts/lodgen_sweep.py build/tools/acuity [OUT_DIR]   (docs/lodgen.md names it)
 Exit status 1 when an asset neither gets a chain nor a clear error (a crash, a timeout at 60 s).
 """
 import glob

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # acuity's one setup script: installs the Debian packages, configures and builds, then runs a job.
-#   bash tools/bootstrap.sh demo   # set up, build, run the main job on its embedded default
-#   bash tools/bootstrap.sh test   # set up, build, run every test (what .ci/run runs)
-#   bash tools/bootstrap.sh deps   # only install the packages
+#   bash scripts/bootstrap.sh demo   # set up, build, run the main job on its embedded default
+#   bash scripts/bootstrap.sh test   # set up, build, run every test (what .ci/run runs)
+#   bash scripts/bootstrap.sh deps   # only install the packages
 # Idempotent: packages already present are not reinstalled; the build is incremental.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 # Every package the project needs, in one list. Debian 12 names.
 PACKAGES=(
   build-essential cmake ninja-build pkg-config clang
-  clang-format                                # tools/check_format.sh: the code matches .clang-format (version 14)
+  clang-format                                # scripts/check_format.sh: the code matches .clang-format (version 14)
   libglm-dev                                  # runtime (scheduler/): header-only maths
   libopenmesh-dev libcgal-dev libosd-dev      # lodgen/: mesh IO, repair, decimation, subdivision
   libeigen3-dev                               # CGAL's Garland-Heckbert quadrics need Eigen
@@ -82,7 +82,7 @@ case "${1:-test}" in
     install_packages
     install_npm_packages
     # Formatting: every C and C++ file matches .clang-format (clang-format 14; `clang-format -i FILE`).
-    bash tools/check_format.sh --all
+    bash scripts/check_format.sh --all
     configure_and_build build
     ctest --test-dir build --output-on-failure -j "$JOBS"
     # The runtime alone (standard library + GLM): what an engine links must build by itself.

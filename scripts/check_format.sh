@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Checks that C and C++ files match .clang-format, changing nothing (Debian's clang-format 14: other
 # versions format differently, so another major version is refused).
-#   bash tools/check_format.sh --all            # every tracked *.cpp, *.hpp, *.h, *.c
-#   bash tools/check_format.sh --changed REF    # those changed since git REF (and still present)
-#   bash tools/check_format.sh FILE...          # just these
+#   bash scripts/check_format.sh --all            # every tracked *.cpp, *.hpp, *.h, *.c
+#   bash scripts/check_format.sh --changed REF    # those changed since git REF (and still present)
+#   bash scripts/check_format.sh FILE...          # just these
 # Exit 0 when every file matches; 1 listing the files that do not (clang-format's first
 # differences above the list); 2 on bad usage. `clang-format -i FILE` reformats one.
 set -euo pipefail

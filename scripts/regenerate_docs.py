@@ -1,14 +1,14 @@
 #!/usr/bin/python3
 """Regenerates the figures in docs/ from the commands that produce them, or checks them.
 
-  python3 tools/regenerate_docs.py [--build build]            rewrite docs/ from fresh runs
-  python3 tools/regenerate_docs.py --check [--build build]    fail when docs/demo.md's summary differs
+  python3 scripts/regenerate_docs.py [--build build]            rewrite docs/ from fresh runs
+  python3 scripts/regenerate_docs.py --check [--build build]    fail when docs/demo.md's summary differs
 
 What it regenerates (each from the command docs/ names next to the figure):
   docs/demo.md, between <!-- demo-summary:begin --> and <!-- demo-summary:end -->: the summary
       `build/tools/acuity demo` prints (the table of rules and the quality sweep; the timings, cache
       lines and file list around it are not part of it);
-  docs/images/demo_sweep.png, demo_triangles.png: `python3 tools/plot_simulation.py
+  docs/images/demo_sweep.png, demo_triangles.png: `python3 scripts/plot_simulation.py
       build/demo/simulate` over that run; demo_frame_0600.png: that run's frame_0600.png;
   docs/images/foveation_plan.png: `acuity plan --display 2000x2000 --fov 100 --gaze 15,8 --panel 640`;
   docs/images/osg_field_debug.png: frame 80 of the acuity-osg command in docs/integrations.md
@@ -86,11 +86,11 @@ def main():
     if a.check:
         if documented != summary:
             sys.exit(f"{DEMO_MD}: the demo summary differs from what `acuity demo` prints; "
-                     f"run python3 tools/regenerate_docs.py\n--- documented\n{documented}\n--- printed\n{summary}")
+                     f"run python3 scripts/regenerate_docs.py\n--- documented\n{documented}\n--- printed\n{summary}")
         print(f"{DEMO_MD}: the demo summary matches `acuity demo`")
         return
     write_atomically(DEMO_MD, text.replace(documented, summary).encode("utf-8"))
-    run([sys.executable, os.path.join(ROOT, "tools", "plot_simulation.py"), out])
+    run([sys.executable, os.path.join(ROOT, "scripts", "plot_simulation.py"), out])
     for name, target in (("sweep.png", "demo_sweep.png"), ("triangles.png", "demo_triangles.png"),
                          ("frame_0600.png", "demo_frame_0600.png")):
         shutil.copyfile(os.path.join(out, name), os.path.join(IMAGES, target))
