@@ -39,25 +39,66 @@ struct ErrorStats {
 
 // One prediction scheme's record over levels and probes.
 struct Scheme {
-  std::vector<double> logs;      // |ln(predicted / direct)| switching angles
-  std::vector<double> ratios;    // direct / predicted switching angle
-  std::size_t optimistic = 0;    // predicted switches later than direct
-  std::size_t optimistic10 = 0;  // predicted score at the direct switching angle < 1 / 1.1
+  std::vector<double> logs;               // |ln(predicted / direct)| switching angles
+  std::vector<double> ratios;             // direct / predicted switching angle
+  std::size_t optimistic = 0;             // predicted switches later than direct
+  std::size_t optimistic10 = 0;           // predicted score at the direct switching angle < 1 / 1.1
+  std::vector<double> predicted, direct;  // switching angles, K - 1 per probe
 
-  void add(const float* lost, std::size_t T, const std::vector<float>& bands, double direct) {
+  void add(const float* lost, std::size_t T, const std::vector<float>& bands, double truth) {
     const double p = switching_angle(lost, T, bands);
-    logs.push_back(std::abs(std::log(p / direct)));
-    ratios.push_back(direct / p);
-    optimistic += p > direct * 1.0001;
+    predicted.push_back(p);
+    direct.push_back(truth);
+    logs.push_back(std::abs(std::log(p / truth)));
+    ratios.push_back(truth / p);
+    optimistic += p > truth * 1.0001;
     // The direct score is 1 at its switching angle (180 deg: never visible; 1e-4: always).
-    const double at = std::clamp(direct, 1e-4, 180.0);
-    optimistic10 += direct < 180.0 && still_score(lost, T, bands, at) < 1.0 / 1.1;
+    const double at = std::clamp(truth, 1e-4, 180.0);
+    optimistic10 += truth < 180.0 && still_score(lost, T, bands, at) < 1.0 / 1.1;
   }
 };
 
 double median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
   return v[v.size() / 2];
+}
+
+// Decisions at the probes for a still object at the fovea, sizes log-uniform over [lo, hi] deg:
+// the rule takes the coarsest level k whose predicted switching angle is at least the size; the
+// exact-view check calls it visible when the size exceeds k's direct switching angle. Returns the
+// visible share and the mean triangles relative to the exact view's own choice (the oracle).
+std::pair<double, double> decide(const Scheme& s, const std::vector<ProfileLevel>& levels, double lo,
+                                 double hi) {
+  const std::size_t L = levels.size() - 1;
+  constexpr int kSizes = 64;
+  std::size_t visible = 0, decisions = 0;
+  double triangles = 0, oracle = 0;
+  for (std::size_t at = 0; at + L <= s.predicted.size(); at += L)
+    for (int i = 0; i < kSizes; ++i) {
+      const double size = lo * std::pow(hi / lo, (i + 0.5) / kSizes);
+      std::size_t rule = 0, best = 0;
+      for (std::size_t k = 1; k <= L; ++k) {
+        if (size <= s.predicted[at + k - 1]) rule = k;
+        if (size <= s.direct[at + k - 1]) best = k;
+      }
+      visible += rule > 0 && size > s.direct[at + rule - 1];
+      triangles += levels[rule].triangles;
+      oracle += levels[best].triangles;
+      ++decisions;
+    }
+  return {double(visible) / double(decisions), triangles / oracle};
+}
+
+// [half the smallest, twice the largest] median direct switching angle over the levels [deg].
+std::pair<double, double> size_range(const Scheme& s, std::size_t L) {
+  double lo = 180, hi = 1e-4;
+  for (std::size_t k = 0; k < L; ++k) {
+    std::vector<double> v;
+    for (std::size_t at = k; at < s.direct.size(); at += L) v.push_back(s.direct[at]);
+    lo = std::min(lo, median(v));
+    hi = std::max(hi, median(v));
+  }
+  return {0.5 * lo, 2 * hi};
 }
 
 // |ln(predicted / direct)| of switching angles over levels and views; `optimistic` is the share of
@@ -114,6 +155,11 @@ int main(int argc, char** argv) {
       "median direct / predicted | max of 3: median / p95 / worst | max of 3: optimistic | max of 3: "
       "optimistic > 10%% |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  struct Decision {
+    const char* name;
+    double lo, hi, near_visible, near_triangles, max_visible, max_triangles;
+  };
+  std::vector<Decision> decisions;
   for (const Setting& s : settings) {
     if (!all && &s - settings >= 3) continue;  // the bounds' settings only
     ProfileSettings ps;
@@ -153,6 +199,9 @@ int main(int argc, char** argv) {
     }
     const ErrorStats a = stats(nearest.logs, nearest.optimistic), b = stats(max3.logs, max3.optimistic);
     const double n = double(nearest.logs.size());
+    const auto [lo, hi] = size_range(nearest, K - 1);
+    const auto dn = decide(nearest, profile.levels, lo, hi), dm = decide(max3, profile.levels, lo, hi);
+    decisions.push_back({s.name, lo, hi, dn.first, dn.second, dm.first, dm.second});
     std::printf(
         "| %s | %u | %u | %.2f | %.1f | %zu | %.1f%% | %.1f%% / %.1f%% / %.1f%% | %.0f%% | %.1f%% | %.2f | "
         "%.1f%% / %.1f%% / "
@@ -163,4 +212,13 @@ int main(int argc, char** argv) {
         100 * b.worst, 100 * b.optimistic, 100 * double(max3.optimistic10) / n);
     std::fflush(stdout);
   }
+  std::printf(
+      "\nDecisions (still object, fovea, q = 1) at the probes, sizes log-uniform over [half the smallest, "
+      "twice the largest] median direct switching angle:\n\n"
+      "| setting | sizes [deg] | nearest: visible by the exact-view check | nearest: triangles / exact "
+      "view's "
+      "choice | max of 3: visible | max of 3: triangles / exact view's |\n|---|---|---|---|---|---|\n");
+  for (const Decision& d : decisions)
+    std::printf("| %s | %.2f-%.1f | %.1f%% | %.3f | %.1f%% | %.3f |\n", d.name, d.lo, d.hi,
+                100 * d.near_visible, d.near_triangles, 100 * d.max_visible, d.max_triangles);
 }
