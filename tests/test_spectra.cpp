@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "acuity/spectra/analyze.hpp"
+#include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/profile_writer.hpp"
 #include "acuity/spectra/render.hpp"
 #include "mesh_fixture.hpp"
@@ -225,6 +226,7 @@ TEST(ProfileBuilder, StoredValuesAreTheDirectMeasurementAndThreadsDoNotMatter) {
   ProfileSettings s = small_settings();
   s.views = 6;
   s.jobs = 1;
+  s.bound_cells = false;
   const ProfileData one = build_profile(inputs(statue), Material{}, s);
   s.jobs = 2;
   std::size_t calls = 0;
@@ -255,4 +257,230 @@ TEST(ProfileBuilder, BadChains) {
   bad.mesh.indices = tri;
   bad.mesh.index_count = 3;
   EXPECT_THROW(build_profile({bad}, Material{}, small_settings()), std::invalid_argument);
+}
+
+// ---- Bounds over the cells of the runtime's nearest-view lookup ------------------------------------
+
+namespace {
+// Per band, the largest lost contrast over orientations (what a still object's decision reads).
+std::vector<float> band_peaks(const float* lost, std::size_t T, std::size_t B) {
+  std::vector<float> out(B, 0.0f);
+  for (std::size_t t = 0; t < T; ++t)
+    for (std::size_t b = 0; b < B; ++b) out[b] = std::max(out[b], lost[t * B + b]);
+  return out;
+}
+
+// The statue measured directly (no builder) at every sample direction, once.
+const std::vector<ViewMeasurement>& statue_at_samples() {
+  static const std::vector<ViewMeasurement> out = [] {
+    const auto statue = chain(true);
+    const ProfileMeasurer measurer(inputs(statue), Material{}, small_settings());
+    std::vector<ViewMeasurement> m;
+    for (const ProfileView& v : bound_sample_views()) m.push_back(measurer.measure(v));
+    return m;
+  }();
+  return out;
+}
+
+// The statue's profile with bounds (default settings but small snapshots), built once.
+const ProfileData& statue_bounded(ProfileReport* report = nullptr) {
+  static ProfileReport r;
+  static const ProfileData p = build_profile(inputs(chain(true)), Material{}, small_settings(), {}, &r);
+  if (report) *report = r;
+  return p;
+}
+
+// Every sample direction's direct measurement is at most the profile's nearest view, per level
+// and band (orientations folded: the sample's frame is not the view's).
+void expect_bound_at_samples(const ProfileData& p, const char* what) {
+  const auto& direct = statue_at_samples();
+  const std::vector<ProfileView> samples = bound_sample_views();
+  const std::size_t V = p.views.size(), T = p.orientations.size(), B = p.bands.size();
+  const std::size_t K = p.levels.size();
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const std::size_t v = nearest_view(p.views, samples[s].direction);
+    for (std::size_t k = 1; k < K; ++k) {
+      const auto stored = band_peaks(&p.lost[((k - 1) * V + v) * T * B], T, B);
+      const auto seen = band_peaks(&direct[s].lost[(k - 1) * T * B], T, B);
+      for (std::size_t b = 0; b < B; ++b)
+        ASSERT_GE(stored[b], seen[b])
+            << what << ": sample " << s << " view " << v << " level " << k << " band " << b;
+      EXPECT_LE(switching_angle(&p.lost[((k - 1) * V + v) * T * B], T, p.bands),
+                direct[s].switching[k - 1] * 1.0001f)
+          << what << ": sample " << s << " level " << k;
+    }
+  }
+}
+}  // namespace
+
+TEST(ProfileBounds, MaxInFrameFollowsTheRoll) {
+  // Lost contrast at one orientation of `from`; `to` looks the same way with its up rolled.
+  constexpr std::size_t T = 8, B = 2;
+  const ProfileView from = make_view(0, 0, 1);  // up +y, right +x
+  auto rolled = [&](double degrees) {           // `to`'s up at 90 + degrees in `from`'s image
+    ProfileView to = from;
+    const double a = (90 + degrees) * kPi / 180;
+    to.up[0] = float(std::cos(a));
+    to.up[1] = float(std::sin(a));
+    to.up[2] = 0;
+    return to;
+  };
+  std::vector<float> lost(T * B, 0.0f);
+  lost[3 * B + 1] = 0.5f;  // orientation 3 (67.5 deg), band 1
+  auto read = [&](const ProfileView& to) {
+    std::vector<float> out(T * B, 0.0f);
+    max_in_frame(lost.data(), from, to, T, B, out.data());
+    return out;
+  };
+  // Same frame: unchanged.
+  EXPECT_EQ(read(from), lost);
+  // Rolled by one orientation step: `from`'s 67.5 deg is `to`'s 45 deg (index 2).
+  std::vector<float> want(T * B, 0.0f);
+  want[2 * B + 1] = 0.5f;
+  EXPECT_EQ(read(rolled(22.5)), want);
+  // Half a step: both neighbours carry it (the conservative reading).
+  want[3 * B + 1] = 0.5f;
+  EXPECT_EQ(read(rolled(11.25)), want);
+  // A grating along `from`'s x (0 deg) rolled by one step reads at 180 - 22.5 deg (index 7).
+  std::fill(lost.begin(), lost.end(), 0.0f);
+  lost[0 * B + 0] = 0.25f;
+  std::vector<float> wrap(T * B, 0.0f);
+  wrap[7 * B + 0] = 0.25f;
+  EXPECT_EQ(read(rolled(22.5)), wrap);
+  // A direction apart from `from` still carries `to`'s up: a view tilted about its own up keeps its roll.
+  ProfileView tilted = make_view(0.3f, 0, 1);
+  EXPECT_EQ(read(tilted), lost);
+  // Accumulates as a maximum; no frame (up along `from`'s direction): every orientation.
+  ProfileView edge = from;
+  edge.up[0] = 0;
+  edge.up[1] = 0;
+  edge.up[2] = 1;
+  std::vector<float> out(T * B, 0.1f);
+  max_in_frame(lost.data(), from, edge, T, B, out.data());
+  for (std::size_t t = 0; t < T; ++t) {
+    EXPECT_EQ(out[t * B + 0], 0.25f);
+    EXPECT_EQ(out[t * B + 1], 0.1f);
+  }
+}
+
+TEST(ProfileBounds, HoldAtTheSampledDirectionsInsideEveryCell) {
+  const auto statue = chain(true);
+  ProfileReport r;
+  const ProfileData& p = statue_bounded(&r);
+  std::printf("statue with bounds: %u views kept, %u directions measured, bound pessimism %.1f%%, %.1f s\n",
+              r.views_kept, r.views_sampled, 100 * r.bound_pessimism, r.seconds);
+  EXPECT_EQ(r.views_sampled, 162u);
+  EXPECT_GE(r.bound_pessimism, 0.0f);
+  expect_bound_at_samples(p, "adaptive");
+  // Without bounds the same object's nearest view is optimistic at some samples: the test can fail.
+  ProfileSettings own = small_settings();
+  own.bound_cells = false;
+  const ProfileData q = build_profile(inputs(statue), Material{}, own);
+  const auto& direct = statue_at_samples();
+  const std::vector<ProfileView> samples = bound_sample_views();
+  std::size_t optimistic = 0;
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const std::size_t v = nearest_view(q.views, samples[s].direction);
+    const std::size_t T = q.orientations.size(), B = q.bands.size();
+    optimistic += switching_angle(&q.lost[v * T * B], T, q.bands) > direct[s].switching[0] * 1.0001f;
+  }
+  EXPECT_GT(optimistic, 0u);
+}
+
+TEST(ProfileBounds, RefinementAddsViewsWhereCellsDisagreeAndStillBounds) {
+  ProfileReport plain, refined;
+  statue_bounded(&plain);
+  ProfileSettings s = small_settings();
+  s.bound_views = 48;
+  const ProfileData p = build_profile(inputs(chain(true)), Material{}, s, {}, &refined);
+  std::printf("statue: %u views, pessimism %.1f%%; refined to %u views, %.1f%%\n", plain.views_kept,
+              100 * plain.bound_pessimism, refined.views_kept, 100 * refined.bound_pessimism);
+  EXPECT_GT(refined.views_kept, plain.views_kept);
+  EXPECT_LE(refined.views_kept, 48u);
+  EXPECT_LT(refined.bound_pessimism, plain.bound_pessimism);
+  expect_bound_at_samples(p, "refined");
+}
+
+TEST(ProfileBounds, CellsAreCoveredBySamples) {
+  // Every direction lies near a sample that its own nearest kept view's cell bounds: the median
+  // direction within the covering radius of the samples (the farthest any direction is from any
+  // sample), and the farthest (at cell borders) nearer than the farthest direction of a cell from
+  // its view (sampling only the views would not do).
+  const ProfileData& p = statue_bounded();
+  const std::vector<ProfileView> samples = bound_sample_views();
+  std::vector<std::size_t> cell_of(samples.size()), members(p.views.size(), 0);
+  for (std::size_t s = 0; s < samples.size(); ++s)
+    ++members[cell_of[s] = nearest_view(p.views, samples[s].direction)];
+  auto degrees = [](const float* a, const float* b) {
+    return float(std::acos(std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0f, 1.0f)) * 180 / kPi);
+  };
+  const auto dense = acuity::testing::icosphere(4);  // 2562 directions
+  float same_cell = 0, any_cell = 0, cell_radius = 0;
+  std::vector<float> distances;
+  for (std::size_t i = 0; i < dense.positions.size(); i += 3) {
+    const float* d = &dense.positions[i];
+    const float n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    const float u[3] = {d[0] / n, d[1] / n, d[2] / n};
+    const std::size_t cell = nearest_view(p.views, u);
+    float best = 180, best_any = 180;
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+      const float a = degrees(u, samples[s].direction);
+      best_any = std::min(best_any, a);
+      if (cell_of[s] == cell) best = std::min(best, a);
+    }
+    same_cell = std::max(same_cell, best);
+    distances.push_back(best);
+    any_cell = std::max(any_cell, best_any);
+    cell_radius = std::max(cell_radius, degrees(u, p.views[cell].direction));
+  }
+  std::sort(distances.begin(), distances.end());
+  const float median = distances[distances.size() / 2];
+  std::printf(
+      "%zu cells: direction to the nearest sample of its cell: median %.1f deg, farthest %.1f; to any "
+      "sample: "
+      "farthest %.1f; to its view: farthest %.1f\n",
+      p.views.size(), median, same_cell, any_cell, cell_radius);
+  EXPECT_LE(median, any_cell);
+  EXPECT_LT(same_cell, cell_radius);
+  for (std::size_t v = 0; v < p.views.size(); ++v) EXPECT_GE(members[v], 1u) << "view " << v;
+}
+
+TEST(ProfileBounds, OneViewBoundsTheWholeSphere) {
+  const auto statue = chain(true);
+  ProfileSettings s = small_settings();
+  s.views = 1;
+  ProfileReport r;
+  const ProfileData p = build_profile(inputs(statue), Material{}, s, {}, &r);
+  ASSERT_EQ(p.views.size(), 1u);     // a fixed count: bounds add no views
+  EXPECT_EQ(r.views_sampled, 162u);  // the one view, (0 1 0), is one of the samples
+  expect_bound_at_samples(p, "one view");
+  // The one view's level-1 bound is the largest over the samples, orientations folded.
+  const std::size_t T = p.orientations.size(), B = p.bands.size();
+  float largest = 0, stored = 0;
+  for (const ViewMeasurement& m : statue_at_samples())
+    for (std::size_t i = 0; i < T * B; ++i) largest = std::max(largest, m.lost[i]);
+  for (std::size_t i = 0; i < T * B; ++i) stored = std::max(stored, p.lost[i]);
+  const ProfileMeasurer measurer(inputs(statue), Material{}, s);
+  const ViewMeasurement own = measurer.measure(p.views[0]);
+  EXPECT_EQ(stored, std::max(largest, *std::max_element(own.lost.begin(), own.lost.begin() + T * B)));
+}
+
+TEST(ProfileBounds, ASphereKeepsOneView) {
+  // The sphere chain's coarse levels (icospheres of 80 to 1280 triangles) differ a little with the
+  // direction: the bound is the largest of them, and no cell disagrees enough to add views.
+  const auto sphere = chain(false);
+  ProfileReport r;
+  const ProfileData p = build_profile(inputs(sphere), Material{}, small_settings(), {}, &r);
+  EXPECT_EQ(p.views.size(), 1u);
+  EXPECT_LE(r.bound_pessimism, 0.25f);
+  const ProfileMeasurer measurer(inputs(sphere), Material{}, small_settings());
+  const std::size_t T = p.orientations.size(), B = p.bands.size(), V = p.views.size();
+  for (std::size_t i : {std::size_t(0), std::size_t(57), std::size_t(161)}) {  // spread over the sphere
+    const ProfileView sample = bound_sample_views()[i];
+    const ViewMeasurement m = measurer.measure(sample);
+    const std::size_t v = nearest_view(p.views, sample.direction);
+    for (std::size_t k = 1; k < p.levels.size(); ++k)
+      EXPECT_LE(switching_angle(&p.lost[((k - 1) * V + v) * T * B], T, p.bands), m.switching[k - 1] * 1.0001f)
+          << "sample " << i << " level " << k;
+  }
 }

@@ -30,7 +30,9 @@ namespace fs = std::filesystem;
 using json = nlohmann::json;
 namespace {
 
-constexpr const char* kCacheFormat = "acuity-bake-cache 1";
+// 2: profiles bound the loss over each view's cell (spectra::ProfileSettings::bound_cells), so
+// entries of 1 (one view's own measurement) are not reused.
+constexpr const char* kCacheFormat = "acuity-bake-cache 2";
 constexpr const char* kInputToken = "{input}";  // stands for the asset's path in cached error messages
 
 // ---- Options ------------------------------------------------------------------------------------

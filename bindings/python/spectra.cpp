@@ -133,7 +133,7 @@ void bind_spectra(py::module_ m) {
   m.def(
       "build_profile",
       [](py::list levels, std::uint32_t views, std::uint32_t pixels, std::uint32_t orientations,
-         std::uint32_t bands, float tolerance, unsigned jobs) {
+         std::uint32_t bands, float tolerance, bool bound_cells, unsigned jobs) {
         std::vector<F32> keep_p;
         std::vector<U32> keep_i;
         std::vector<LevelInput> inputs;
@@ -153,6 +153,7 @@ void bind_spectra(py::module_ m) {
         s.render.pixels = pixels;
         s.analysis = analysis(orientations, bands, 1.0f);
         s.view_tolerance = tolerance;
+        s.bound_cells = bound_cells;
         s.jobs = jobs;
         ProfileReport report;
         ProfileData data;
@@ -164,11 +165,14 @@ void bind_spectra(py::module_ m) {
         return py::make_tuple(
             py::bytes(static_cast<const char*>(b.data()), b.size),
             py::dict("views_measured"_a = report.views_measured, "views_kept"_a = report.views_kept,
-                     "prediction_error"_a = report.prediction_error, "seconds"_a = report.seconds));
+                     "prediction_error"_a = report.prediction_error, "views_sampled"_a = report.views_sampled,
+                     "bound_pessimism"_a = report.bound_pessimism, "seconds"_a = report.seconds));
       },
       "levels"_a, "views"_a = 0, "pixels"_a = 256, "orientations"_a = 8, "bands"_a = 0,
-      "view_tolerance"_a = 0.25f, "jobs"_a = 0,
-      "Profile a chain: levels = [(positions (N, 3), indices), ...], finest first. Returns (bytes, report).");
+      "view_tolerance"_a = 0.25f, "bound_cells"_a = true, "jobs"_a = 0,
+      "Profile a chain: levels = [(positions (N, 3), indices), ...], finest first. Returns (bytes, report).\n"
+      "bound_cells: each view stores the largest loss over its cell of 162 sample directions "
+      "(docs/spectra.md).");
 
   py::register_exception<spectra::InvalidProfile>(m, "InvalidProfile", PyExc_ValueError);
   const char* doc =

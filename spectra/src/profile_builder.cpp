@@ -75,33 +75,38 @@ ProfileMeasurer::ProfileMeasurer(const std::vector<LevelInput>& levels, const Ma
     throw std::invalid_argument("profile: level 0 has no extent (empty, a point, or non-finite)");
 }
 
-ViewMeasurement ProfileMeasurer::measure(const ProfileView& view) const {
+ViewMeasurement ProfileMeasurer::measure(const ProfileView& view, bool features) const {
   const std::size_t K = levels_.size(), T = analyzer_.orientation_count(), B = analyzer_.band_count();
   ViewMeasurement m;
   m.lost.assign((K - 1) * T * B, 0.0f);
   const Image reference = render_snapshot(levels_[0].mesh, material_, view, render_);
-  m.features = reddy_features(reference, analysis_);
+  if (features) m.features = reddy_features(reference, analysis_);
   const auto prepared = analyzer_.prepare(reference);
   for (std::size_t k = 1; k < K; ++k) {
     const Image image = render_snapshot(levels_[k].mesh, material_, view, render_);
     analyzer_.measure(image, *prepared, &m.lost[(k - 1) * T * B]);
     m.switching.push_back(switching_angle(&m.lost[(k - 1) * T * B], T, analyzer_.bands()));
+    if (!features) continue;
     const std::vector<float> f = reddy_features(image, analysis_);
     m.features.insert(m.features.end(), f.begin(), f.end());
   }
   return m;
 }
 
+float still_score(const float* lost, std::size_t orientations, const std::vector<float>& bands,
+                  double angle) {
+  double s = 0;  // a still object's thresholds do not depend on orientation
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    float peak = 0;
+    for (std::size_t t = 0; t < orientations; ++t) peak = std::max(peak, lost[t * bands.size() + b]);
+    s = std::max(s, double(peak) / threshold(double(bands[b]) / angle, 0.0, 0.0));
+  }
+  return float(s);
+}
+
 float switching_angle(const float* lost, std::size_t orientations, const std::vector<float>& bands) {
-  const std::size_t B = bands.size();
-  std::vector<double> peak(B, 0.0);  // a still object's thresholds do not depend on orientation
-  for (std::size_t t = 0; t < orientations; ++t)
-    for (std::size_t b = 0; b < B; ++b) peak[b] = std::max(peak[b], double(lost[t * B + b]));
   auto score = [&](double theta) {  // falls as theta shrinks: thresholds rise with frequency
-    double s = 0;
-    for (std::size_t b = 0; b < B; ++b)
-      s = std::max(s, peak[b] / threshold(double(bands[b]) / theta, 0.0, 0.0));
-    return s;
+    return still_score(lost, orientations, bands, theta);
   };
   constexpr double kSmallest = 1e-4, kLargest = 180.0;
   if (score(kLargest) <= 1) return float(kLargest);
@@ -119,6 +124,59 @@ float view_difference(const ViewMeasurement& a, const ViewMeasurement& b) {
   for (std::size_t k = 0; k < a.switching.size(); ++k)
     worst = std::max(worst, std::abs(std::log(a.switching[k] / b.switching[k])));
   return worst;
+}
+
+std::vector<ProfileView> bound_sample_views() {
+  const SphereMesh ico = icosphere(2);
+  std::vector<ProfileView> out;
+  for (std::size_t v = 0; v < ico.positions.size() / 3; ++v)
+    out.push_back(make_view(ico.positions[3 * v], ico.positions[3 * v + 1], ico.positions[3 * v + 2]));
+  return out;
+}
+
+void max_in_frame(const float* lost, const ProfileView& from, const ProfileView& to, std::size_t orientations,
+                  std::size_t bands, float* out) {
+  const float* d = from.direction;
+  const float along = to.up[0] * d[0] + to.up[1] * d[1] + to.up[2] * d[2];
+  const float u[3] = {to.up[0] - along * d[0], to.up[1] - along * d[1], to.up[2] - along * d[2]};
+  const float* f = from.up;
+  const float right[3] = {f[1] * d[2] - f[2] * d[1], f[2] * d[0] - f[0] * d[2],
+                          f[0] * d[1] - f[1] * d[0]};  // -direction x up
+  const double x = u[0] * right[0] + u[1] * right[1] + u[2] * right[2];
+  const double y = u[0] * f[0] + u[1] * f[1] + u[2] * f[2];
+  const std::size_t T = orientations, B = bands;
+  if (x * x + y * y < 1e-6) {  // `to`'s up along `from`'s direction: no common frame, every orientation
+    for (std::size_t t = 0; t < T; ++t)
+      for (std::size_t i = 0; i < T * B; ++i) out[t * B + i % B] = std::max(out[t * B + i % B], lost[i]);
+    return;
+  }
+  // `to`'s orientation a [deg] is `from`'s a + delta: `to`'s up (90 deg) lies at atan2(y, x) in `from`.
+  const double delta = std::atan2(y, x) * 180.0 / 3.14159265358979 - 90.0, step = 180.0 / double(T);
+  for (std::size_t t = 0; t < T; ++t) {
+    double p = std::fmod(double(t) + delta / step, double(T));
+    if (p < 0) p += double(T);
+    const auto i0 = static_cast<std::size_t>(p) % T, i1 = (i0 + 1) % T;
+    const double frac = p - std::floor(p);
+    for (std::size_t b = 0; b < B; ++b) {
+      const float a = lost[i0 * B + b], c = lost[i1 * B + b];
+      const float v = frac < 1e-3 ? a : frac > 1 - 1e-3 ? c : std::max(a, c);
+      out[t * B + b] = std::max(out[t * B + b], v);
+    }
+  }
+}
+
+std::size_t nearest_view(const std::vector<ProfileView>& views, const float* d) {
+  std::size_t best = 0;
+  float best_dot = -2;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const float* w = views[v].direction;
+    const float x = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
+    if (x > best_dot) {
+      best_dot = x;
+      best = v;
+    }
+  }
+  return best;
 }
 
 namespace {
@@ -152,6 +210,123 @@ float prediction_error(const std::vector<ProfileView>& views, const std::vector<
   }
   return worst;
 }
+
+// A sample within this angle [rad] of a cell's border counts for both cells: the runtime's lookup
+// is nearest-first among candidates tabulated per cube-map cell, close to but not exactly nearest.
+constexpr float kBorderMargin = 2.0f * 3.14159265f / 180.0f;
+
+float angle_between(const float* a, const float* b) { return std::acos(std::clamp(dot3(a, b), -1.0f, 1.0f)); }
+
+// For each kept view (index into `kept`), the measured directions in or near its cell.
+std::vector<std::vector<std::size_t>> cells(const std::vector<ProfileView>& views,
+                                            const std::vector<std::size_t>& kept) {
+  std::vector<std::vector<std::size_t>> out(kept.size());
+  std::vector<float> angles(kept.size());
+  for (std::size_t s = 0; s < views.size(); ++s) {
+    for (std::size_t j = 0; j < kept.size(); ++j)
+      angles[j] = angle_between(views[s].direction, views[kept[j]].direction);
+    const float nearest_angle = *std::min_element(angles.begin(), angles.end());
+    for (std::size_t j = 0; j < kept.size(); ++j)
+      if (angles[j] <= nearest_angle + kBorderMargin) out[j].push_back(s);
+  }
+  return out;
+}
+
+// The bound of one cell: per level, orientation and band the largest lost contrast over its
+// members, in the frame of view `v`.
+std::vector<float> cell_bound(const std::vector<ProfileView>& views, const std::vector<ViewMeasurement>& data,
+                              std::size_t v, const std::vector<std::size_t>& members, std::size_t T,
+                              std::size_t B) {
+  std::vector<float> out = data[v].lost;
+  const std::size_t levels = out.size() / (T * B);
+  for (std::size_t s : members)
+    if (s != v)
+      for (std::size_t k = 0; k < levels; ++k)
+        max_in_frame(&data[s].lost[k * T * B], views[s], views[v], T, B, &out[k * T * B]);
+  return out;
+}
+
+struct BoundState {
+  std::vector<std::vector<std::size_t>> members;  // per kept view
+  std::vector<std::vector<float>> lost;           // per kept view: [(K-1) T B]
+  std::vector<std::vector<float>> switching;      // per kept view: [K-1]
+};
+
+BoundState bound_state(const std::vector<ProfileView>& views, const std::vector<ViewMeasurement>& data,
+                       const std::vector<std::size_t>& kept, const std::vector<float>& bands, std::size_t T) {
+  const std::size_t B = bands.size();
+  BoundState st;
+  st.members = cells(views, kept);
+  for (std::size_t j = 0; j < kept.size(); ++j) {
+    st.lost.push_back(cell_bound(views, data, kept[j], st.members[j], T, B));
+    std::vector<float> sw;
+    for (std::size_t k = 0; k < st.lost[j].size() / (T * B); ++k)
+      sw.push_back(switching_angle(&st.lost[j][k * T * B], T, bands));
+    st.switching.push_back(std::move(sw));
+  }
+  return st;
+}
+
+// How much earlier [ln of the switching angles' ratio] the bound of cell j switches than member s,
+// averaged over the levels.
+float pessimism(const BoundState& st, const std::vector<ViewMeasurement>& data, std::size_t j,
+                std::size_t s) {
+  const std::vector<float>& own = data[s].switching;
+  if (own.empty()) return 0;
+  double sum = 0;
+  for (std::size_t k = 0; k < own.size(); ++k)
+    sum += std::max(0.0, std::log(double(own[k]) / st.switching[j][k]));
+  return float(sum / double(own.size()));
+}
+
+// Mean pessimism over every cell's members (the cost of the bound in decisions).
+double total_pessimism(const BoundState& st, const std::vector<ViewMeasurement>& data) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t j = 0; j < st.members.size(); ++j)
+    for (std::size_t s : st.members[j]) {
+      sum += pessimism(st, data, j, s);
+      ++n;
+    }
+  return n ? sum / double(n) : 0.0;
+}
+
+// Adds kept views (from the measured directions) while some cell's mean pessimism exceeds
+// `tolerance` [ln] and fewer than `limit` views are kept; each time the direction of the worst cell
+// whose addition lowers the total pessimism most.
+void refine_cells(const std::vector<ProfileView>& views, const std::vector<ViewMeasurement>& data,
+                  std::vector<std::size_t>& kept, const std::vector<float>& bands, std::size_t T,
+                  float tolerance, std::size_t limit) {
+  while (kept.size() < limit && kept.size() < views.size()) {
+    const BoundState st = bound_state(views, data, kept, bands, T);
+    std::size_t worst = kept.size();
+    float worst_mean = tolerance;
+    for (std::size_t j = 0; j < kept.size(); ++j) {
+      double sum = 0;
+      for (std::size_t s : st.members[j]) sum += pessimism(st, data, j, s);
+      const float mean = float(sum / double(st.members[j].size()));
+      if (mean > worst_mean) {
+        worst_mean = mean;
+        worst = j;
+      }
+    }
+    if (worst == kept.size()) return;
+    std::size_t best = views.size();
+    double best_total = 0;
+    for (std::size_t s : st.members[worst]) {
+      if (std::find(kept.begin(), kept.end(), s) != kept.end()) continue;
+      std::vector<std::size_t> trial = kept;
+      trial.push_back(s);
+      const double total = total_pessimism(bound_state(views, data, trial, bands, T), data);
+      if (best == views.size() || total < best_total) {
+        best_total = total;
+        best = s;
+      }
+    }
+    if (best == views.size()) return;  // the worst cell holds no other measured direction
+    kept.push_back(best);
+  }
+}
 }  // namespace
 
 ProfileData build_profile(const std::vector<LevelInput>& levels, const Material& material,
@@ -166,14 +341,15 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
   std::vector<ViewMeasurement> data;
   std::mutex progress_mutex;
   std::size_t done = 0;
-  auto measure_new = [&](std::size_t total) {  // measures views[data.size() ..) in parallel
+  // Measures views[data.size() ..) in parallel; bounds' samples without Reddy's features.
+  auto measure_new = [&](std::size_t total, const char* stage, bool features) {
     const std::size_t first = data.size();
     data.resize(views.size());
     oneapi::tbb::parallel_for(first, views.size(), [&](std::size_t v) {
-      data[v] = measurer.measure(views[v]);
+      data[v] = measurer.measure(views[v], features);
       if (progress) {
         std::lock_guard<std::mutex> lock(progress_mutex);
-        progress("views", ++done, total);
+        progress(stage, ++done, total);
       }
     });
   };
@@ -182,7 +358,7 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
   std::vector<std::size_t> kept;
   if (settings.views > 0) {
     views = fibonacci_views(settings.views);
-    measure_new(views.size());
+    measure_new(views.size(), "views", true);
   } else {
     // Nested icosphere vertex sets: 12, 42, 162.
     const SphereMesh ico = icosphere(2);
@@ -190,7 +366,7 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
     while (true) {
       for (std::size_t v = views.size(); v < count; ++v)
         views.push_back(make_view(ico.positions[3 * v], ico.positions[3 * v + 1], ico.positions[3 * v + 2]));
-      measure_new(count);
+      measure_new(count, "views", true);
       std::vector<std::size_t> all(views.size());
       for (std::size_t v = 0; v < all.size(); ++v) all[v] = v;
       const float loo = prediction_error(views, data, all, true);
@@ -211,6 +387,32 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
     }
   }
 
+  const std::size_t measured = views.size();
+  const float own_error = prediction_error(views, data, kept, false);
+
+  // Bounds: measure the sample directions not yet measured, refine where cells disagree, and
+  // store each cell's maximum.
+  const std::size_t T = settings.analysis.orientations;
+  const std::vector<float>& bands = measurer.analyzer().bands();
+  BoundState bound;
+  if (settings.bound_cells) {
+    const std::size_t first = views.size();
+    for (const ProfileView& s : bound_sample_views()) {
+      bool known = false;  // the adaptive sets are the samples' first 12 or 42
+      for (std::size_t v = 0; v < first && !known; ++v)
+        known = dot3(views[v].direction, s.direction) > 0.99999f;
+      if (!known) views.push_back(s);
+    }
+    done = 0;
+    measure_new(views.size() - first, "samples", false);
+    const std::size_t view_limit =
+        settings.views > 0 ? kept.size() : std::max<std::size_t>(settings.bound_views, kept.size());
+    refine_cells(views, data, kept, bands, T, 0.5f * tolerance, view_limit);
+    for (std::size_t v : kept)  // samples that became views: their features
+      if (data[v].features.empty()) data[v].features = measurer.measure(views[v]).features;
+    bound = bound_state(views, data, kept, bands, T);
+  }
+
   ProfileData out;
   std::copy(measurer.sphere(), measurer.sphere() + 4, out.sphere);
   out.snapshot_pixels = settings.render.pixels;
@@ -219,21 +421,36 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
         {l.triangles ? l.triangles : static_cast<std::uint32_t>(l.mesh.index_count / 3), l.geometric_error});
   out.orientations = orientation_angles(settings.analysis);
   out.bands = measurer.analyzer().bands();
-  const std::size_t K = levels.size(), T = out.orientations.size(), B = out.bands.size();
+  const std::size_t K = levels.size(), B = out.bands.size();
   out.lost.resize((K - 1) * kept.size() * T * B);
   out.features.resize(K * kept.size() * T);
   for (std::size_t j = 0; j < kept.size(); ++j) {
     const ViewMeasurement& m = data[kept[j]];
+    const std::vector<float>& lost = settings.bound_cells ? bound.lost[j] : m.lost;
     out.views.push_back(views[kept[j]]);
     for (std::size_t k = 1; k < K; ++k)
-      std::copy_n(&m.lost[(k - 1) * T * B], T * B, &out.lost[((k - 1) * kept.size() + j) * T * B]);
+      std::copy_n(&lost[(k - 1) * T * B], T * B, &out.lost[((k - 1) * kept.size() + j) * T * B]);
     for (std::size_t k = 0; k < K; ++k)
       std::copy_n(&m.features[k * T], T, &out.features[(k * kept.size() + j) * T]);
   }
   if (report) {
-    report->views_measured = static_cast<std::uint32_t>(views.size());
+    report->views_measured = static_cast<std::uint32_t>(measured);
     report->views_kept = static_cast<std::uint32_t>(kept.size());
-    report->prediction_error = std::exp(prediction_error(views, data, kept, false)) - 1.0f;
+    report->prediction_error = std::exp(own_error) - 1.0f;
+    report->views_sampled = static_cast<std::uint32_t>(views.size());
+    if (settings.bound_cells) {
+      std::vector<float> ratios;  // each measured direction against its nearest kept view's bound
+      std::vector<ProfileView> kept_views(out.views);
+      for (std::size_t s = 0; s < views.size(); ++s) {
+        const std::size_t j = nearest_view(kept_views, views[s].direction);
+        for (std::size_t k = 0; k < data[s].switching.size(); ++k)
+          ratios.push_back(data[s].switching[k] / bound.switching[j][k] - 1.0f);
+      }
+      if (!ratios.empty()) {
+        std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
+        report->bound_pessimism = ratios[ratios.size() / 2];
+      }
+    }
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return out;

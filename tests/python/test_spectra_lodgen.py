@@ -42,6 +42,14 @@ def test_render_and_features_of_a_sphere_chain():
     prof = acuity.Profile.from_bytes(data)
     assert report["views_kept"] == 1 and prof.level_count == 2  # identical levels: one view suffices
     assert not prof.lost.any()
+    assert report["views_sampled"] == 162 and report["bound_pessimism"] == 0  # cell bounds: nothing lost anywhere
+    # A coarse level: the bounded profile stores at least the unbounded one's values, per view.
+    coarse = np.array([0, 4, 8, 1, 5, 9], np.uint32)  # two triangles of the 20: lost contrast everywhere
+    bounded, rb = acuity.spectra.build_profile([(p, f), (p, coarse)], pixels=64, views=6)
+    own, ro = acuity.spectra.build_profile([(p, f), (p, coarse)], pixels=64, views=6, bound_cells=False)
+    assert ro["views_sampled"] == 6 and rb["views_sampled"] == 6 + 162
+    lb, lo = acuity.Profile.from_bytes(bounded).lost, acuity.Profile.from_bytes(own).lost
+    assert lb.shape == lo.shape and (lb >= lo).all() and (lb > lo).any()
 
 
 def test_lodgen_build_returns_the_summary(tmp_path):

@@ -9,6 +9,14 @@
 // "Predicted well" is about decisions: each level's switching distance (where its loss becomes
 // just visible to a still fovea, default model) from the predicting view is within
 // view_tolerance of the view's own. A sphere keeps few views; a statue keeps many.
+// Bounds (bound_cells, the default): the runtime reads the stored view nearest to the eye, so
+// each kept view serves its cell on the sphere (the directions nearer to it than to any other
+// kept view). The builder also measures the sample directions bound_sample_views() (162, nested
+// with the adaptive sets), optionally (bound_views) adds kept views where a cell's samples
+// disagree (silhouettes, creases), and stores per view, level, orientation and band the largest lost contrast over
+// the view and every measured direction in or near its cell (orientations carried into the
+// view's image frame, taking the larger of the two nearest). The nearest-view lookup then
+// reads a bound at the sampled directions, not one view's value.
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -28,19 +36,29 @@ struct LevelInput {
 struct ProfileSettings {
   RenderSettings render;  // pixels, supersample, background, ambient; the sphere is level 0's
   AnalysisSettings analysis;
-  std::uint32_t views = 0;       // 0: adaptive; else exactly this many (Fibonacci sphere)
-  float view_tolerance = 0.25f;  // adaptive: largest relative error of a switching distance
-  std::uint32_t max_views = 42;  // adaptive: stop refining here (12, 42 or 162); past 42 the
-                                 // per-view spread of the image maximum dominates (docs/spectra.md)
-  bool prune = true;             // adaptive: drop views their neighbours predict
-  unsigned jobs = 0;             // worker threads; 0: all cores
+  std::uint32_t views = 0;        // 0: adaptive; else exactly this many (Fibonacci sphere; bounds
+                                  // then add no views)
+  float view_tolerance = 0.25f;   // adaptive: largest relative error of a switching distance
+  std::uint32_t max_views = 42;   // adaptive: stop refining here (12, 42 or 162); past 42 the
+                                  // per-view spread of the image maximum dominates (docs/spectra.md)
+  bool prune = true;              // adaptive: drop views their neighbours predict
+  bool bound_cells = true;        // store the maximum over each view's cell (above); false: the
+                                  // view's own measurement (4x faster to build, optimistic often)
+  std::uint32_t bound_views = 0;  // bounds: add views, up to this many, where a cell's bound switches
+                                  // earlier than its samples by over half view_tolerance (mean);
+                                  // 0: none (smaller cells hold fewer samples: less safe, docs/spectra.md)
+  unsigned jobs = 0;              // worker threads; 0: all cores
 };
 
 struct ProfileReport {
   std::uint32_t views_measured = 0, views_kept = 0;
-  float prediction_error = 0;  // largest relative switching-distance error of a measured view
-                               // predicted by its nearest kept view
-  double seconds = 0;          // wall time
+  float prediction_error = 0;       // largest relative switching-distance error of a measured view
+                                    // predicted by its nearest kept view (own measurements, before bounds)
+  double seconds = 0;               // wall time
+  std::uint32_t views_sampled = 0;  // directions measured in all (views_measured and bounds' samples)
+  float bound_pessimism = 0;        // bounds: median over measured directions and levels of how much
+                                    // earlier the bound switches than the direction's own measurement
+                                    // (switching angle ratio - 1; 0 where the bound is exact)
 };
 
 // stage ("views"), done, total. Called from worker threads, one call at a time.
@@ -59,7 +77,8 @@ class ProfileMeasurer {
  public:
   ProfileMeasurer(const std::vector<LevelInput>& levels, const Material& material,
                   const ProfileSettings& settings);
-  ViewMeasurement measure(const ProfileView& view) const;  // thread-safe
+  // Thread-safe. features = false leaves ViewMeasurement::features empty (bounds' samples need none).
+  ViewMeasurement measure(const ProfileView& view, bool features = true) const;
   const LostContrast& analyzer() const { return analyzer_; }
   const float* sphere() const { return render_.sphere; }
 
@@ -81,6 +100,9 @@ float view_difference(const ViewMeasurement& a, const ViewMeasurement& b);
 // The angular diameter [deg] at which lost contrast `lost` [T B] in `bands` [cpod] reaches one
 // threshold of the default model for a still object at the fovea.
 float switching_angle(const float* lost, std::size_t orientations, const std::vector<float>& bands);
+// The score (lost contrast in thresholds, the largest over bands) of lost contrast `lost` [T B]
+// seen at angular diameter `angle` [deg], still object at the fovea, default model.
+float still_score(const float* lost, std::size_t orientations, const std::vector<float>& bands, double angle);
 
 // Unit sphere meshes and direction sets.
 struct SphereMesh {
@@ -89,5 +111,15 @@ struct SphereMesh {
 };
 SphereMesh icosphere(int subdivisions);
 std::vector<ProfileView> fibonacci_views(std::uint32_t count);
+// The sample directions bounds measure: the 162 vertices of icosphere(2), as make_view frames them.
+std::vector<ProfileView> bound_sample_views();
+// Index of the view in `views` whose direction is nearest to unit vector d (the runtime's lookup).
+std::size_t nearest_view(const std::vector<ProfileView>& views, const float* d);
+// Lost contrast `lost` [T B] measured in view `from`'s image frame, read in view `to`'s frame:
+// out[t B + b] = the larger of the two orientations of `from` nearest to `to`'s orientation t
+// (orientations uniform over [0, 180), as orientation_angles()). Directions may differ (the roll
+// is taken after carrying `to`'s up onto `from`'s image plane); out is max-accumulated.
+void max_in_frame(const float* lost, const ProfileView& from, const ProfileView& to, std::size_t orientations,
+                  std::size_t bands, float* out);
 
 }  // namespace acuity::spectra
