@@ -246,7 +246,8 @@ class Scheduler {
   void prefetch_moving(ObjectId id,
                        const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
-  Choice choose_by_error(const Sight& s, const Profile& p) const;  // Distance, ScreenSize
+  Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
+  float error_factor(float focal_px) const;
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;                          // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
@@ -256,12 +257,24 @@ class Scheduler {
            (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
   }
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
-  void select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j);
+  struct Decisions;                            // one block's choices, both eyes combined
+  void derive_velocities(std::uint32_t first, std::uint32_t count);
+  void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
+                         const Sight (*sights)[kBlock], Decisions* out);
+  void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
+  void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
   void apply_budget();
 
   SchedulerConfig config_;
   std::vector<ProfileCache> profiles_;
   std::uint32_t profile_count_ = 0;
+  // Per profile, what every object reads, in small arrays owned here (not the profile blob):
+  std::vector<std::uint8_t> level_count_;  // [max_profiles]
+  std::vector<std::uint32_t> triangles_;   // [max_profiles][kMaxLevels]
+  std::vector<float> error_size_;          // [max_profiles][kMaxLevels]: 2 x geometric error
+  std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
+                                           // radius (Distance, ScreenSize); +inf past K - 1
+  std::uint32_t max_level_count_ = 1;      // the largest K added
   // Objects, structure of arrays: one array per component, so the frame loop vectorises.
   std::vector<int> profile_of_;  // -1: free slot
   std::vector<double> position_[3], previous_position_[3];
