@@ -166,9 +166,14 @@ struct FrameStats {
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
 // from the tables. update() runs each block of 64 objects as passes (geometry, view lookup, table
 // positions, decisions), each prefetching the per-profile data the next reads, so the cache misses of
-// a block's objects overlap. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
-// band-pass CSF rises with speed at low frequencies) and the Reddy step model evaluate exactly, as
-// does an object whose bias is not 1 (tables are built for q).
+// a block's objects overlap; then clamps and hysteresis run as one branch-free pass over the block's
+// decisions. Every rule reads per-profile counts, triangles and thresholds from small arrays the
+// scheduler owns (not the profile blob); Distance and ScreenSize compare distance / radius with
+// per-level thresholds set at begin_frame and compute no angles; velocities are derived from
+// positions only in blocks holding an object without a given velocity. Tables cover the smooth
+// low-pass models, Default and GeislerPerry; KellyDaly (its band-pass CSF rises with speed at low
+// frequencies) and the Reddy step model evaluate exactly, as does an object whose bias is not 1
+// (tables are built for q).
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
 class Scheduler {
  public:
