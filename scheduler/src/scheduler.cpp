@@ -108,11 +108,6 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   return f + y + 0.693359375f * kf;
 }
 
-// Distance and ScreenSize: level k is allowed while distance / radius >= factor x (its error in
-// radii), factor per rule and eye (error_factor()); an error of 0 is allowed everywhere.
-inline float error_threshold(float error_size, float factor) {
-  return error_size == 0.0f ? 0.0f : factor * error_size;
-}
 // The coarsest level whose threshold distance / radius = x passes (thresholds of absent levels are
 // +inf); NaN passes none.
 [[gnu::always_inline]] inline std::uint8_t level_by_ratio(float x, const float* threshold,
@@ -856,11 +851,10 @@ void Scheduler::begin_frame(const Frame& frame) {
     }
     stats_.gaze_used |= c.gaze;
     if (!perceptual()) {  // level k's least distance / radius under this eye
-      const float factor = error_factor(c.focal_px);
       float* threshold = error_threshold_[i].data();
       for (std::uint32_t p = 0; p < profile_count_; ++p)
         for (std::uint32_t k = 1; k < level_count_[p]; ++k)
-          threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], factor);
+          threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], c.focal_px);
     }
   }
 }
@@ -1156,10 +1150,15 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
   return {0, 0, 0};
 }
 
-// Distance (OpenSceneGraph-style) and ScreenSize (Unity-style): the factor of error_threshold()
-// for an eye of this focal length [px].
-float Scheduler::error_factor(float focal_px) const {
-  return config_.rule == SelectionRule::Distance ? pre_->distance_per_error : focal_px / config_.pixel_error;
+// Distance (OpenSceneGraph-style) and ScreenSize (Unity-style): the least distance / radius at which
+// a level whose geometric error is error_size radii is allowed, for an eye of this focal length [px]
+// (+inf: never). Distance: d >= distance_scale / tan(1 arcmin) x error. ScreenSize: error / d x
+// focal <= pixel_error, so never for pixel_error < 0 (or NaN), only an error of 0 for pixel_error 0.
+float Scheduler::error_threshold(float error_size, float focal_px) const {
+  if (config_.rule == SelectionRule::Distance) return pre_->distance_per_error * error_size;
+  const float allowed = config_.pixel_error;
+  if (allowed > 0) return error_size * focal_px / allowed;
+  return allowed == 0 && error_size == 0 ? 0.0f : kInf;
 }
 
 // One object (explain()): the coarsest level whose geometric error passes the rule's test.
@@ -1167,7 +1166,7 @@ Scheduler::Choice Scheduler::choose_by_error(ObjectId id, const Sight& s) const 
   const std::size_t at = std::size_t(profile_of_[id]) * kMaxLevels;
   float threshold[kMaxLevels];
   for (std::uint32_t k = 1; k < level_count_[profile_of_[id]]; ++k)
-    threshold[k] = error_threshold(error_size_[at + k], error_factor(s.focal_px));
+    threshold[k] = error_threshold(error_size_[at + k], s.focal_px);
   const std::uint8_t level = level_by_ratio(s.d / s.r, threshold, level_count_[profile_of_[id]]);
   return {level, level, 0};
 }

@@ -252,7 +252,7 @@ class Scheduler {
                        const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
-  float error_factor(float focal_px) const;
+  float error_threshold(float error_size, float focal_px) const;
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;                          // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
