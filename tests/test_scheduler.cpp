@@ -824,6 +824,31 @@ TEST(SchedulerBaselines, DistanceAndScreenSize) {
   EXPECT_EQ(Single(tp, sc).level(at(0, 0, -3.78), nullptr, f), 1);  // centre at 3.886 m
 }
 
+// The baselines' thresholds are precomputed per profile and level at begin_frame; degenerate settings
+// keep the meaning of the per-object tests they replace (error / d x focal <= pixel_error;
+// d >= distance_scale x error / tan(1 arcmin)).
+TEST(SchedulerBaselines, DegenerateSettingsKeepTheirMeaning) {
+  const TestProfile tp;  // level 0's geometric error is 0, every other level's is positive
+  const auto coarsest = static_cast<std::uint8_t>(tp.profile.meta.level_count - 1);
+  const Frame f = looking_forward();
+  SchedulerConfig sc;
+  sc.rule = SelectionRule::ScreenSize;
+  sc.pixel_error = -1.0f;  // no error is ever small enough
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -1000), nullptr, f), 0);
+  sc.pixel_error = 0.0f;  // only an error of 0
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -1000), nullptr, f), 0);
+  sc.pixel_error = 1e30f;  // every error
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -3), nullptr, f), coarsest);
+  sc.pixel_error = std::numeric_limits<float>::quiet_NaN();  // comparisons with NaN fail
+  EXPECT_EQ(Single(tp, sc).level(at(0, 0, -1000), nullptr, f), 0);
+  SchedulerConfig dc;
+  dc.rule = SelectionRule::Distance;
+  dc.distance_scale = 0.0f;  // every level from any distance
+  EXPECT_EQ(Single(tp, dc).level(at(0, 0, -3), nullptr, f), coarsest);
+  dc.distance_scale = 1e30f;  // only level 0
+  EXPECT_EQ(Single(tp, dc).level(at(0, 0, -1e6), nullptr, f), 0);
+}
+
 TEST(SchedulerExplain, NamesTheLimitingBand) {
   const TestProfile tp;
   SchedulerConfig c;

@@ -108,6 +108,15 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
   return f + y + 0.693359375f * kf;
 }
 
+// The coarsest level whose threshold distance / radius = x passes (thresholds of absent levels are
+// +inf); NaN passes none.
+[[gnu::always_inline]] inline std::uint8_t level_by_ratio(float x, const float* threshold,
+                                                          std::uint32_t count) {
+  std::uint8_t level = 0;
+  for (std::uint32_t k = 1; k < count; ++k) level = x >= threshold[k] ? static_cast<std::uint8_t>(k) : level;
+  return level;
+}
+
 // Angle between unit vectors [deg], accurate at small angles.
 [[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) {
   return atan2_deg(length(cross(a, b)), dot(a, b));
@@ -502,6 +511,11 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   for (std::uint32_t i = 0; i < n; ++i) free_list_.push_back(static_cast<std::uint32_t>(n - 1 - i));
   heap_.reserve(n);
   eyes_.resize(2);
+  const std::size_t slots = std::size_t(config_.max_profiles) * kMaxLevels;
+  level_count_.assign(config_.max_profiles, 1);
+  triangles_.assign(slots, 0);
+  error_size_.assign(slots, 0.0f);
+  for (std::vector<float>& t : error_threshold_) t.assign(slots, kInf);
   pre_ = std::make_unique<Precomputed>();
   Precomputed& pre = *pre_;
   pre.daly = daly_constants(config_.params);
@@ -723,6 +737,12 @@ int Scheduler::add_profile(const Profile& p) {
     c.view_right[3 * v + 2] = r.z;
   }
   if (curves_) build_tables(c);
+  level_count_[profile_count_] = static_cast<std::uint8_t>(K);
+  max_level_count_ = std::max(max_level_count_, K);
+  for (std::uint32_t k = 0; k < K; ++k) {
+    triangles_[std::size_t(profile_count_) * kMaxLevels + k] = p.levels[k].triangles;
+    error_size_[std::size_t(profile_count_) * kMaxLevels + k] = 2.0f * p.levels[k].geometric_error;
+  }
   return static_cast<int>(profile_count_++);
 }
 
@@ -830,6 +850,12 @@ void Scheduler::begin_frame(const Frame& frame) {
       c.gaze_velocity = in_head + kDeg * cross(c.omega, c.gaze_dir);
     }
     stats_.gaze_used |= c.gaze;
+    if (!perceptual()) {  // level k's least distance / radius under this eye
+      float* threshold = error_threshold_[i].data();
+      for (std::uint32_t p = 0; p < profile_count_; ++p)
+        for (std::uint32_t k = 1; k < level_count_[p]; ++k)
+          threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], c.focal_px);
+    }
   }
 }
 
@@ -871,56 +897,71 @@ struct Scheduler::Block {
   }
 };
 
+// One block's choices, both eyes combined (the finer need wins), before clamps and hysteresis.
+struct Scheduler::Decisions {
+  std::uint8_t fine[kBlock], coarse[kBlock], flags[kBlock];
+};
+
 void Scheduler::update(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t end =
       first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
   Block blocks[2];
   Sight sights[2][Block::kSize];
   Look looks[2][Block::kSize];
+  Decisions decisions{};
   for (std::uint32_t start = first; start < end; start += Block::kSize) {
     const std::uint32_t n = std::min(Block::kSize, end - start);
-    // Velocities not given are derived from the positions and dt.
-    for (int k = 0; k < 3; ++k) {
-      const double* pos = &position_[k][start];
-      double* prev = &previous_position_[k][start];
-      float* vel = &velocity_[k][start];
-      const std::uint8_t* given = &explicit_velocity_[start];
-      const double inv_dt = dt_ > 0 ? 1.0 / double(dt_) : 0.0;
-      for (std::uint32_t j = 0; j < n; ++j) {
-        const float derived = static_cast<float>((pos[j] - prev[j]) * inv_dt);
-        vel[j] = given[j] ? vel[j] : derived;
-        prev[j] = pos[j];
-      }
-    }
+    derive_velocities(start, n);
     for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
-    // Every object's sight first, with its table rows prefetched, then the decisions: the rows of
-    // 64 objects load in parallel instead of one cache miss after another.
+    if (!perceptual()) {
+      choose_by_error(start, n, blocks, &decisions);
+      settle(start, n, decisions);
+      continue;
+    }
     // Passes over the block, each prefetching what the next reads: the lookup cell, the candidate
     // views, the table rows. The misses of a block's objects overlap instead of queueing.
     for (std::uint32_t j = 0; j < n; ++j)
       if (profile_of_[start + j] >= 0)
         for (std::uint32_t i = 0; i < eye_count_; ++i)
           looks[i][j] = sight(start + j, eyes_[i], blocks[i], j, &sights[i][j]);
-    if (perceptual()) {
-      for (std::uint32_t j = 0; j < n; ++j)
-        if (profile_of_[start + j] >= 0)
-          for (std::uint32_t i = 0; i < eye_count_; ++i)
-            if (looks[i][j] == Look::Ok) prefetch_views(start + j, sights[i][j]);
-      for (std::uint32_t j = 0; j < n; ++j)
-        if (profile_of_[start + j] >= 0)
-          for (std::uint32_t i = 0; i < eye_count_; ++i)
-            if (looks[i][j] == Look::Ok) {
-              aim(start + j, &sights[i][j]);
-              if (curves_) probe(start + j, &sights[i][j]);
-            }
-      if (curves_)
-        for (std::uint32_t j = 0; j < n; ++j)
-          if (profile_of_[start + j] >= 0)
-            for (std::uint32_t i = 0; i < eye_count_; ++i)
-              if (looks[i][j] == Look::Ok) prefetch_moving(start + j, sights[i][j]);
-    }
     for (std::uint32_t j = 0; j < n; ++j)
-      if (profile_of_[start + j] >= 0) select(start + j, looks, sights, j);
+      if (profile_of_[start + j] >= 0)
+        for (std::uint32_t i = 0; i < eye_count_; ++i)
+          if (looks[i][j] == Look::Ok) prefetch_views(start + j, sights[i][j]);
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (profile_of_[start + j] >= 0)
+        for (std::uint32_t i = 0; i < eye_count_; ++i)
+          if (looks[i][j] == Look::Ok) {
+            aim(start + j, &sights[i][j]);
+            if (curves_) probe(start + j, &sights[i][j]);
+          }
+    if (curves_)
+      for (std::uint32_t j = 0; j < n; ++j)
+        if (profile_of_[start + j] >= 0)
+          for (std::uint32_t i = 0; i < eye_count_; ++i)
+            if (looks[i][j] == Look::Ok) prefetch_moving(start + j, sights[i][j]);
+    choose_perceptual(start, n, looks, sights, &decisions);
+    settle(start, n, decisions);
+  }
+}
+
+// Velocities not given are derived from the positions and dt (a given velocity stays given, so its
+// object's previous position is never read again). Blocks whose velocities are all given skip it.
+void Scheduler::derive_velocities(std::uint32_t first, std::uint32_t n) {
+  const std::uint8_t* given = &explicit_velocity_[first];
+  std::uint8_t all = 1;
+  for (std::uint32_t j = 0; j < n; ++j) all &= given[j];
+  if (all) return;
+  const double inv_dt = dt_ > 0 ? 1.0 / double(dt_) : 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double* pos = &position_[k][first];
+    double* prev = &previous_position_[k][first];
+    float* vel = &velocity_[k][first];
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const float derived = static_cast<float>((pos[j] - prev[j]) * inv_dt);
+      vel[j] = given[j] ? vel[j] : derived;
+      prev[j] = pos[j];
+    }
   }
 }
 
@@ -973,19 +1014,22 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
     // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1, q > 0.
     const float margin = std::min(std::min(r, 1e-3f - std::abs(qn - 1.0f)), q_object);
     const float test = nan_test + (margin > 0.0f ? 0.0f : kNaN);  // 0: valid
-    const float d = std::sqrt(dot(rel, rel));
-    const float sin_radius = d > r ? r / d : 0.5f;  // any finite value where the object is not seen
-    const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
-    out_d[j] = d;
+    out_d[j] = std::sqrt(dot(rel, rel));
     out_r[j] = r;
-    out_radius[j] = radius_deg;
-    out_ln[j] = ln_positive(2.0f * radius_deg);
     out_test[j] = test;
     rx[j] = rel.x;
     ry[j] = rel.y;
     rz[j] = rel.z;
   }
-  if (!perceptual()) return;
+  if (!perceptual()) return;  // Distance and ScreenSize need no angles
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < count; ++j) {
+    const float d = out_d[j], r = out_r[j];
+    const float sin_radius = d > r ? r / d : 0.5f;  // any finite value where the object is not seen
+    const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
+    out_radius[j] = radius_deg;
+    out_ln[j] = ln_positive(2.0f * radius_deg);
+  }
   const Vec3 eye_velocity = eye.velocity, omega = eye.omega, forward = eye.forward;
   const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
   const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
@@ -1019,10 +1063,10 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
   s->d = b.d[j];
   s->r = b.r[j];
   s->focal_px = eye.focal_px;
+  if (!perceptual()) return Look::Ok;
   s->radius_deg = b.radius_deg[j];
   s->diameter_deg = 2.0f * b.radius_deg[j];
   s->ln_diam = b.ln_diam[j];
-  if (!perceptual()) return Look::Ok;
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
   s->u = Vec3{b.u[0][j], b.u[1][j], b.u[2][j]};
@@ -1096,7 +1140,7 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
   switch (config_.rule) {
     case SelectionRule::Distance:
     case SelectionRule::ScreenSize:
-      return choose_by_error(s, p);
+      return choose_by_error(id, s);
     case SelectionRule::Reddy:
       return choose_exact(id, s, scores_out, ex);
     case SelectionRule::Perceptual:
@@ -1106,19 +1150,53 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
   return {0, 0, 0};
 }
 
-// Distance (OpenSceneGraph-style) and ScreenSize (Unity-style): the coarsest level whose geometric
-// error passes the rule's test.
-Scheduler::Choice Scheduler::choose_by_error(const Sight& s, const Profile& p) const {
-  std::uint8_t level = 0;
-  const float diameter = 2.0f * s.r;
-  const bool by_distance = config_.rule == SelectionRule::Distance;
-  for (std::uint32_t k = 1; k < p.meta.level_count; ++k) {
-    const float error = p.levels[k].geometric_error * diameter;  // world units
-    const bool ok = by_distance ? s.d >= pre_->distance_per_error * error
-                                : error / s.d * s.focal_px <= config_.pixel_error;
-    if (ok) level = static_cast<std::uint8_t>(k);
-  }
+// Distance (OpenSceneGraph-style) and ScreenSize (Unity-style): the least distance / radius at which
+// a level whose geometric error is error_size radii is allowed, for an eye of this focal length [px]
+// (+inf: never). Distance: d >= distance_scale / tan(1 arcmin) x error. ScreenSize: error / d x
+// focal <= pixel_error, so never for pixel_error < 0 (or NaN), only an error of 0 for pixel_error 0.
+float Scheduler::error_threshold(float error_size, float focal_px) const {
+  if (config_.rule == SelectionRule::Distance) return pre_->distance_per_error * error_size;
+  const float allowed = config_.pixel_error;
+  if (allowed > 0) return error_size * focal_px / allowed;
+  return allowed == 0 && error_size == 0 ? 0.0f : kInf;
+}
+
+// One object (explain()): the coarsest level whose geometric error passes the rule's test.
+Scheduler::Choice Scheduler::choose_by_error(ObjectId id, const Sight& s) const {
+  const std::size_t at = std::size_t(profile_of_[id]) * kMaxLevels;
+  float threshold[kMaxLevels];
+  for (std::uint32_t k = 1; k < level_count_[profile_of_[id]]; ++k)
+    threshold[k] = error_threshold(error_size_[at + k], s.focal_px);
+  const std::uint8_t level = level_by_ratio(s.d / s.r, threshold, level_count_[profile_of_[id]]);
   return {level, level, 0};
+}
+
+// A block through Distance or ScreenSize: per object and eye the ratio distance / radius against
+// the profile's thresholds of this frame (begin_frame).
+void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Block* blocks, Decisions* out) {
+  const std::uint32_t count = max_level_count_;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const int p = profile_of_[first + j];
+    if (p < 0) continue;
+    const auto fallback =
+        static_cast<std::uint8_t>(std::min<std::uint32_t>(config_.fallback_level, level_count_[p] - 1u));
+    std::uint8_t fine = 255, flags = 0;
+    for (std::uint32_t i = 0; i < eye_count_; ++i) {
+      const Block& b = blocks[i];
+      const std::uint8_t level =
+          level_by_ratio(b.d[j] / b.r[j], &error_threshold_[i][std::size_t(p) * kMaxLevels], count);
+      const Look look = b.state(j);
+      fine = std::min(fine, look == Look::Ok ? level : look == Look::Inside ? std::uint8_t(0) : fallback);
+      flags |= look == Look::Ok ? 0 : look == Look::Inside ? kFlagEyeInside : kFlagInvalidInput;
+    }
+    out->fine[j] = out->coarse[j] = fine;
+    out->flags[j] = flags;
+  }
+  if (config_.keep_scores)  // these rules have no scores: 0
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (profile_of_[first + j] >= 0)
+        std::fill_n(&scores_[std::size_t(first + j) * kMaxLevels], level_count_[profile_of_[first + j]],
+                    0.0f);
 }
 
 // The tabulated path's grid position of one object, and its table rows prefetched (the decision
@@ -1374,52 +1452,61 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   return out;
 }
 
-void Scheduler::select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock],
-                       std::uint32_t j) {
-  const Profile& p = profiles_[profile_of_[id]].profile;
-  const std::uint32_t K = p.meta.level_count;
-
-  std::uint8_t fine = 255, coarse = 255, flags = 0;
-  float* kept = config_.keep_scores ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
-  float eye_scores[kMaxLevels];
-  for (std::uint32_t i = 0; i < eye_count_; ++i) {  // both eyes agree: the finer need wins
-    const Choice c = evaluate(id, looks[i][j], sights[i][j], kept ? eye_scores : nullptr, nullptr);
-    fine = std::min(fine, c.fine);
-    coarse = std::min(coarse, c.coarse);
-    flags |= c.flags;
-    if (kept)
-      for (std::uint32_t k = 0; k < K; ++k)
-        kept[k] = i == 0 ? eye_scores[k] : std::max(kept[k], eye_scores[k]);
-  }
-  const std::uint8_t hi = static_cast<std::uint8_t>(std::min<std::uint32_t>(max_level_[id], K - 1));
-  const std::uint8_t lo = std::min(min_level_[id], hi);
-  fine = std::clamp(fine, lo, hi);
-  coarse = std::clamp(coarse, lo, hi);
-
-  const std::uint8_t current = chosen_[id];
-  std::uint8_t next = current;
-  if (fresh_[id]) {  // a new object takes its first level at once
-    next = fine;
-    fresh_[id] = 0;
-  } else if ((flags & kFlagInvalidInput) || fine < current) {  // refine (or fall back) at once
-    next = fine;
-    calm_frames_[id] = wait_frames_[id] = 0;
-  } else if (coarse > current) {
-    ++calm_frames_[id];
-    const bool settled = calm_frames_[id] >= config_.hysteresis_frames;
-    const bool gate = config_.saccade_speed <= 0 || saccade_ || wait_frames_[id] >= config_.max_coarsen_wait;
-    if (settled && gate) {
-      next = coarse;
-      calm_frames_[id] = wait_frames_[id] = 0;
-    } else {
-      flags |= kFlagHeld;
-      if (settled) ++wait_frames_[id];
+// The perceptual rules for a block whose passes are done: each eye's choice, the finer need wins.
+void Scheduler::choose_perceptual(std::uint32_t first, std::uint32_t n, const Look (*looks)[kBlock],
+                                  const Sight (*sights)[kBlock], Decisions* out) {
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const ObjectId id = first + j;
+    if (profile_of_[id] < 0) continue;
+    const std::uint32_t K = level_count_[profile_of_[id]];
+    std::uint8_t fine = 255, coarse = 255, flags = 0;
+    float* kept = config_.keep_scores ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
+    float eye_scores[kMaxLevels];
+    for (std::uint32_t i = 0; i < eye_count_; ++i) {  // both eyes agree: the finer need wins
+      const Choice c = evaluate(id, looks[i][j], sights[i][j], kept ? eye_scores : nullptr, nullptr);
+      fine = std::min(fine, c.fine);
+      coarse = std::min(coarse, c.coarse);
+      flags |= c.flags;
+      if (kept)
+        for (std::uint32_t k = 0; k < K; ++k)
+          kept[k] = i == 0 ? eye_scores[k] : std::max(kept[k], eye_scores[k]);
     }
-  } else {
-    calm_frames_[id] = wait_frames_[id] = 0;
+    out->fine[j] = fine;
+    out->coarse[j] = coarse;
+    out->flags[j] = flags;
   }
-  chosen_[id] = next_[id] = next;
-  flags_[id] = flags;
+}
+
+// Clamps and hysteresis for a block, branch-free per object: a new object takes its first level at
+// once; a finer level (or the fallback) applies at once; a coarser one after hysteresis_frames
+// calm frames and, with saccade gating, in a saccade or after max_coarsen_wait frames (kFlagHeld
+// meanwhile). Free slots keep their state.
+void Scheduler::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
+  const std::uint32_t frames = config_.hysteresis_frames, max_wait = config_.max_coarsen_wait;
+  const bool gate_open = config_.saccade_speed <= 0 || saccade_;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const ObjectId id = first + j;
+    const int p = profile_of_[id];
+    const bool alive = p >= 0;
+    const std::uint8_t top = alive ? static_cast<std::uint8_t>(level_count_[p] - 1) : std::uint8_t(0);
+    const std::uint8_t hi = std::min(max_level_[id], top);
+    const std::uint8_t lo = std::min(min_level_[id], hi);
+    const std::uint8_t fine = std::clamp(d.fine[j], lo, hi), coarse = std::clamp(d.coarse[j], lo, hi);
+    const std::uint8_t current = chosen_[id];
+    const std::uint32_t calm = calm_frames_[id], wait = wait_frames_[id];
+    const bool refine = fresh_[id] || (d.flags[j] & kFlagInvalidInput) || fine < current;
+    const bool coarsen = !refine && coarse > current;
+    const bool settled = calm + 1 >= frames;
+    const bool go = coarsen && settled && (gate_open || wait >= max_wait);
+    const std::uint8_t next = refine ? fine : go ? coarse : current;
+    const std::uint8_t flags = static_cast<std::uint8_t>(d.flags[j] | (coarsen && !go ? kFlagHeld : 0));
+    chosen_[id] = alive ? next : chosen_[id];
+    next_[id] = alive ? next : next_[id];
+    flags_[id] = alive ? flags : flags_[id];
+    fresh_[id] = alive ? std::uint8_t(0) : fresh_[id];
+    calm_frames_[id] = !alive ? calm : coarsen && !go ? calm + 1 : 0;
+    wait_frames_[id] = !alive ? wait : coarsen && !go ? wait + (settled ? 1u : 0u) : 0;
+  }
 }
 
 void Scheduler::end_frame() {
@@ -1439,7 +1526,7 @@ void Scheduler::end_frame() {
                       ? std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds)
                       : 1.0f;
     }
-    st.triangles += profiles_[profile_of_[id]].profile.levels[level_[id]].triangles;
+    st.triangles += triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
     st.changed += (flags_[id] & kFlagChanged) != 0;
     st.invalid += (flags_[id] & kFlagInvalidInput) != 0;
     st.budget_forced += (flags_[id] & kFlagBudgetForced) != 0;

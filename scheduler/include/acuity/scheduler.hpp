@@ -166,9 +166,14 @@ struct FrameStats {
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
 // from the tables. update() runs each block of 64 objects as passes (geometry, view lookup, table
 // positions, decisions), each prefetching the per-profile data the next reads, so the cache misses of
-// a block's objects overlap. Tables cover the smooth low-pass models, Default and GeislerPerry; KellyDaly (its
-// band-pass CSF rises with speed at low frequencies) and the Reddy step model evaluate exactly, as
-// does an object whose bias is not 1 (tables are built for q).
+// a block's objects overlap; then clamps and hysteresis run as one branch-free pass over the block's
+// decisions. Every rule reads per-profile counts, triangles and thresholds from small arrays the
+// scheduler owns (not the profile blob); Distance and ScreenSize compare distance / radius with
+// per-level thresholds set at begin_frame and compute no angles; velocities are derived from
+// positions only in blocks holding an object without a given velocity. Tables cover the smooth
+// low-pass models, Default and GeislerPerry; KellyDaly (its band-pass CSF rises with speed at low
+// frequencies) and the Reddy step model evaluate exactly, as does an object whose bias is not 1
+// (tables are built for q).
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
 class Scheduler {
  public:
@@ -246,7 +251,8 @@ class Scheduler {
   void prefetch_moving(ObjectId id,
                        const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
-  Choice choose_by_error(const Sight& s, const Profile& p) const;  // Distance, ScreenSize
+  Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
+  float error_threshold(float error_size, float focal_px) const;
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;                          // Perceptual, Reddy
   Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
@@ -256,12 +262,24 @@ class Scheduler {
            (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
   }
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
-  void select(ObjectId id, const Look (*looks)[kBlock], const Sight (*sights)[kBlock], std::uint32_t j);
+  struct Decisions;                            // one block's choices, both eyes combined
+  void derive_velocities(std::uint32_t first, std::uint32_t count);
+  void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
+                         const Sight (*sights)[kBlock], Decisions* out);
+  void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
+  void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
   void apply_budget();
 
   SchedulerConfig config_;
   std::vector<ProfileCache> profiles_;
   std::uint32_t profile_count_ = 0;
+  // Per profile, what every object reads, in small arrays owned here (not the profile blob):
+  std::vector<std::uint8_t> level_count_;  // [max_profiles]
+  std::vector<std::uint32_t> triangles_;   // [max_profiles][kMaxLevels]
+  std::vector<float> error_size_;          // [max_profiles][kMaxLevels]: 2 x geometric error
+  std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
+                                           // radius (Distance, ScreenSize); +inf past K - 1
+  std::uint32_t max_level_count_ = 1;      // the largest K added
   // Objects, structure of arrays: one array per component, so the frame loop vectorises.
   std::vector<int> profile_of_;  // -1: free slot
   std::vector<double> position_[3], previous_position_[3];
