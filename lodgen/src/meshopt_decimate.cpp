@@ -86,16 +86,20 @@ Mesh compact(const Mesh& in, const std::vector<std::uint32_t>& kept) {
 }
 }  // namespace
 
-Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
+bool decimate_meshopt_keeping_seams(const Mesh& in, std::size_t target, bool lock_border, Mesh* out) {
   const std::vector<std::uint32_t> kept = simplify(in, in.indices, target, lock_border);
-  if (kept.size() / 3 <= target + target / 20 + 2) {
-    Mesh out = compact(in, kept);
-    if (out.normals.empty()) {
-      compute_normals(out);
-      return out;
-    }
-    if (flips(out) * 100 <= out.triangle_count()) return out;
+  if (kept.size() / 3 > target + target / 20 + 2) return false;
+  *out = compact(in, kept);
+  if (out->normals.empty()) {
+    compute_normals(*out);
+    return true;
   }
+  return flips(*out) * 100 <= out->triangle_count();
+}
+
+Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
+  Mesh out;
+  if (decimate_meshopt_keeping_seams(in, target, lock_border, &out)) return out;
   // Over 1% of the triangles flipped (meshoptimizer 0.18 checks one side of a seam), or seams everywhere (a
   // coarse organic mesh split at many creases) left too few collapses: decimate the welded mesh and
   // split its creases afresh (UV seams close there).
