@@ -3,7 +3,7 @@
 // outside reference) on real meshes at 50, 25, 12.5 and 6.25% of the triangles.
 // Time is the best of `repeats` runs of what lodgen's chain does per level: for meshopt
 // decimate_meshopt_level (the crease-split input decimated keeping its seams; once that is
-// rejected, this and the later levels from the previous level, with its fallbacks; the split itself
+// rejected, the welded input, the later levels each from the previous welded one; the split itself
 // is made once per chain, timed separately and included in the chain table), for the others the
 // decimation of the input and the crease split of its result; plain meshoptimizer is timed on the
 // input's indices alone, every level from the input. The chain table
@@ -41,13 +41,12 @@ Mesh meshopt(const Mesh& in, std::size_t target) {
   return out;
 }
 
-// `previous`, `from_previous`: the meshopt chain's previous level and its state (build_chain's).
-Mesh run(int b, const Mesh& m, const Mesh& shaded, const Mesh& previous, bool* from_previous,
-         std::size_t target) {
+// `state`: the meshopt chain's, as build_chain keeps it.
+Mesh run(int b, const Mesh& m, const Mesh& shaded, MeshoptChainState* state, std::size_t target) {
   if (b == 4) return meshopt(m, target);
   const Backend backend = Backend(b);
   if (backend == Backend::Meshopt)
-    return decimate_meshopt_level(shaded, previous, target, {backend, false, kCrease}, from_previous);
+    return decimate_meshopt_level(shaded, target, {backend, false, kCrease}, state);
   return split_creases(decimate(m, target, {backend, false, kCrease}), kCrease);
 }
 
@@ -91,8 +90,7 @@ int main(int argc, char** argv) {
     const double d = diameter(m);
     DeviationOptions measure;
     measure.spacing = d / 250;
-    Mesh previous = shaded;  // the meshopt chain's last level
-    bool from_previous = false;
+    MeshoptChainState chain_state;  // the meshopt chain's
     for (double keep : {0.5, 0.25, 0.125, 0.0625}) {
       const std::size_t target = std::size_t(double(m.triangle_count()) * keep);
       struct Row {
@@ -106,16 +104,16 @@ int main(int argc, char** argv) {
         Mesh best;
         double ms = 1e30;
         for (int r = 0; r < repeats; ++r) {
+          MeshoptChainState state =
+              chain_state;  // each repeat starts from the chain's state (copied untimed)
           const auto t0 = std::chrono::steady_clock::now();
-          bool state = from_previous;  // each repeat starts from the chain's state
-          Mesh out = run(b, m, shaded, previous, &state, target);
-          if (r + 1 == repeats && b == int(Backend::Meshopt)) from_previous = state;
+          Mesh out = run(b, m, shaded, &state, target);
           ms = std::min(
               ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+          if (r + 1 == repeats && b == int(Backend::Meshopt)) chain_state = std::move(state);
           best = std::move(out);
         }
         if (b == 4) best = split_creases(best, kCrease);
-        if (b == int(Backend::Meshopt)) previous = best;
         rows.push_back({b == 4 ? "meshoptimizer" : to_string(Backend(b)), ms,
                         deviation(shaded, best, measure), best.triangle_count()});
       }

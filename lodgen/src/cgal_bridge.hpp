@@ -24,5 +24,10 @@ Mesh decimate_meshopt(const Mesh& mesh, std::size_t target_triangles, bool lock_
 // 5% above the target), where decimate_meshopt goes on to the welded mesh.
 bool decimate_meshopt_keeping_seams(const Mesh& mesh, std::size_t target_triangles, bool lock_border,
                                     Mesh* out);
+// The mesh with one vertex per position (seams closed), without normals; each keeps the texture
+// coordinates of its first vertex.
+Mesh weld_positions(const Mesh& mesh);
+// A welded mesh (weld_positions) decimated by meshoptimizer, its unused vertices dropped; no normals.
+Mesh decimate_welded(const Mesh& welded, std::size_t target_triangles, bool lock_border);
 
 }  // namespace acuity::lodgen::detail

@@ -38,14 +38,17 @@ void finish(Chain& c, const ChainProgress& progress, const DeviationOptions& mea
 }
 }  // namespace
 
-Mesh decimate_meshopt_level(const Mesh& level0, const Mesh& previous, std::size_t target,
-                            const DecimateOptions& o, bool* from_previous) {
-  if (!*from_previous && target < level0.triangle_count()) {
+Mesh decimate_meshopt_level(const Mesh& level0, std::size_t target, const DecimateOptions& o,
+                            MeshoptChainState* state) {
+  if (!state->welded) {
     Mesh out;
+    if (target >= level0.triangle_count()) return decimate(level0, target, o);
     if (detail::decimate_meshopt_keeping_seams(level0, target, o.lock_border, &out)) return out;
+    state->welded = true;
+    state->previous_welded = detail::weld_positions(level0);
   }
-  *from_previous = true;
-  return decimate(previous, target, o);
+  state->previous_welded = detail::decimate_welded(state->previous_welded, target, o.lock_border);
+  return split_creases(state->previous_welded, o.crease_degrees);
 }
 
 Chain build_chain(const Mesh& input, const std::string& where, const ChainOptions& o,
@@ -73,13 +76,13 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     targets.push_back(std::size_t(std::llround(t)));
   }
   c.levels.push_back({base, n0, 0.0, 0.0});
-  bool from_previous = false;  // meshopt: see decimate_meshopt_level
+  MeshoptChainState meshopt_state;
   for (std::size_t k = 1; k < targets.size(); ++k) {
     if (progress) progress("decimate", k, targets.size() - 1);
     const auto t = std::chrono::steady_clock::now();
     Level l;
     l.mesh = o.decimate.backend == Backend::Meshopt
-                 ? decimate_meshopt_level(base, c.levels.back().mesh, targets[k], o.decimate, &from_previous)
+                 ? decimate_meshopt_level(base, targets[k], o.decimate, &meshopt_state)
                  : split_creases(decimate(welded, targets[k], o.decimate), o.decimate.crease_degrees);
     l.target_triangles = targets[k];
     l.seconds = seconds_since(t);

@@ -97,15 +97,19 @@ bool decimate_meshopt_keeping_seams(const Mesh& in, std::size_t target, bool loc
   return flips(*out) * 100 <= out->triangle_count();
 }
 
+Mesh weld_positions(const Mesh& in) { return weld(in); }
+
+Mesh decimate_welded(const Mesh& welded, std::size_t target, bool lock_border) {
+  return compact(welded, simplify(welded, welded.indices, target, lock_border));
+}
+
 Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
   Mesh out;
   if (decimate_meshopt_keeping_seams(in, target, lock_border, &out)) return out;
   // Over 1% of the triangles flipped (meshoptimizer 0.18 checks one side of a seam), or seams everywhere (a
   // coarse organic mesh split at many creases) left too few collapses: decimate the welded mesh and
   // split its creases afresh (UV seams close there).
-  const Mesh welded = weld(in);
-  return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)),
-                       crease_degrees);
+  return split_creases(decimate_welded(weld(in), target, lock_border), crease_degrees);
 }
 
 }  // namespace acuity::lodgen::detail
