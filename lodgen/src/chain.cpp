@@ -41,8 +41,8 @@ void finish(Chain& c, const ChainProgress& progress, const DeviationOptions& mea
 Mesh decimate_meshopt_level(const Mesh& level0, std::size_t target, const DecimateOptions& o,
                             MeshoptChainState* state) {
   if (!state->welded) {
-    Mesh out;
     if (target >= level0.triangle_count()) return decimate(level0, target, o);
+    Mesh out;
     if (detail::decimate_meshopt_keeping_seams(level0, target, o.lock_border, &out)) return out;
     state->welded = true;
     state->previous_welded = detail::weld_positions(level0);

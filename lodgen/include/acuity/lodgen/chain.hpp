@@ -44,10 +44,9 @@ using ChainProgress = std::function<void(const char* stage, std::size_t done, st
 // Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees).
 // meshopt decimates level 0 keeping its creases as seams, level after level, until such a result
 // is rejected; from that level on it decimates level 0 welded, each level from the previous one
-// (decimate_meshopt_level). The
-// other back-ends decimate the welded input, every level from level 0, and split each level at its
-// own creases. Every level is
-// measured against level 0 (lodgen::deviation, bounded by options.measure): the Hausdorff error and
+// (decimate_meshopt_level). The other back-ends decimate the welded input, every level from level
+// 0, and split each level at its own creases. Every level is measured against level 0
+// (lodgen::deviation, bounded by options.measure): the Hausdorff error and
 // the normal deviations are made non-decreasing along the chain (a level is never reported better
 // than a finer one). Throws InputError for unusable input.
 Chain build_chain(const Mesh& mesh, const std::string& where, const ChainOptions& options,
