@@ -19,5 +19,15 @@ Mesh decimate_cgal(const Mesh& mesh, std::size_t target_triangles, bool lindstro
 Mesh decimate_openmesh(const Mesh& mesh, std::size_t target_triangles, bool lock_border);
 Mesh decimate_meshopt(const Mesh& mesh, std::size_t target_triangles, bool lock_border,
                       double crease_degrees);
+// decimate_meshopt's first try alone: `mesh` decimated keeping its seams into `*out`; false (and
+// `*out` unspecified) when that result is rejected (over 1% flipped triangles, or stuck more than
+// 5% above the target), where decimate_meshopt goes on to the welded mesh.
+bool decimate_meshopt_keeping_seams(const Mesh& mesh, std::size_t target_triangles, bool lock_border,
+                                    Mesh* out);
+// The mesh with one vertex per position (seams closed), without normals; each keeps the texture
+// coordinates of its first vertex.
+Mesh weld_positions(const Mesh& mesh);
+// A welded mesh (weld_positions) decimated by meshoptimizer, its unused vertices dropped; no normals.
+Mesh decimate_welded(const Mesh& welded, std::size_t target_triangles, bool lock_border);
 
 }  // namespace acuity::lodgen::detail

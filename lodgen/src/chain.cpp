@@ -7,6 +7,7 @@
 
 #include "acuity/lodgen/repair.hpp"
 #include "acuity/profile.hpp"
+#include "cgal_bridge.hpp"
 
 namespace acuity::lodgen {
 namespace {
@@ -37,6 +38,19 @@ void finish(Chain& c, const ChainProgress& progress, const DeviationOptions& mea
 }
 }  // namespace
 
+Mesh decimate_meshopt_level(const Mesh& level0, std::size_t target, const DecimateOptions& o,
+                            MeshoptChainState* state) {
+  if (!state->welded) {
+    if (target >= level0.triangle_count()) return decimate(level0, target, o);
+    Mesh out;
+    if (detail::decimate_meshopt_keeping_seams(level0, target, o.lock_border, &out)) return out;
+    state->welded = true;
+    state->previous_welded = detail::weld_positions(level0);
+  }
+  state->previous_welded = detail::decimate_welded(state->previous_welded, target, o.lock_border);
+  return split_creases(state->previous_welded, o.crease_degrees);
+}
+
 Chain build_chain(const Mesh& input, const std::string& where, const ChainOptions& o,
                   const ChainProgress& progress) {
   if (!(o.ratio > 0 && o.ratio < 1)) throw std::invalid_argument("lodgen: ratio must lie in (0, 1)");
@@ -62,12 +76,13 @@ Chain build_chain(const Mesh& input, const std::string& where, const ChainOption
     targets.push_back(std::size_t(std::llround(t)));
   }
   c.levels.push_back({base, n0, 0.0, 0.0});
+  MeshoptChainState meshopt_state;
   for (std::size_t k = 1; k < targets.size(); ++k) {
     if (progress) progress("decimate", k, targets.size() - 1);
     const auto t = std::chrono::steady_clock::now();
     Level l;
     l.mesh = o.decimate.backend == Backend::Meshopt
-                 ? decimate(base, targets[k], o.decimate)
+                 ? decimate_meshopt_level(base, targets[k], o.decimate, &meshopt_state)
                  : split_creases(decimate(welded, targets[k], o.decimate), o.decimate.crease_degrees);
     l.target_triangles = targets[k];
     l.seconds = seconds_since(t);

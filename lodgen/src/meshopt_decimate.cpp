@@ -19,29 +19,6 @@ std::vector<std::uint32_t> simplify(const Mesh& in, const std::vector<std::uint3
   return kept;
 }
 
-// The mesh with one vertex per position (meshoptimizer sees any two vertices at one position as a
-// seam, used or not), without normals; each keeps the texture coordinates of its first vertex.
-Mesh weld(const Mesh& in) {
-  std::vector<std::uint32_t> shadow(in.indices.size());
-  meshopt_generateShadowIndexBuffer(shadow.data(), in.indices.data(), in.indices.size(), in.positions.data(),
-                                    in.vertex_count(), 3 * sizeof(float), 3 * sizeof(float));
-  Mesh out;
-  out.material = in.material;
-  std::vector<std::uint32_t> remap(in.vertex_count(), std::numeric_limits<std::uint32_t>::max());
-  for (std::uint32_t v : shadow) {
-    if (remap[v] == std::numeric_limits<std::uint32_t>::max()) {
-      remap[v] = std::uint32_t(out.vertex_count());
-      out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v,
-                           in.positions.begin() + 3 * v + 3);
-      if (in.texcoords.size() == 2 * in.vertex_count())
-        out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v,
-                             in.texcoords.begin() + 2 * v + 2);
-    }
-    out.indices.push_back(remap[v]);
-  }
-  return out;
-}
-
 // How many triangles face against the sum of their vertex normals (flipped).
 std::size_t flips(const Mesh& m) {
   std::size_t flipped = 0;
@@ -86,22 +63,50 @@ Mesh compact(const Mesh& in, const std::vector<std::uint32_t>& kept) {
 }
 }  // namespace
 
-Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
+bool decimate_meshopt_keeping_seams(const Mesh& in, std::size_t target, bool lock_border, Mesh* out) {
   const std::vector<std::uint32_t> kept = simplify(in, in.indices, target, lock_border);
-  if (kept.size() / 3 <= target + target / 20 + 2) {
-    Mesh out = compact(in, kept);
-    if (out.normals.empty()) {
-      compute_normals(out);
-      return out;
-    }
-    if (flips(out) * 100 <= out.triangle_count()) return out;
+  if (kept.size() / 3 > target + target / 20 + 2) return false;
+  *out = compact(in, kept);
+  if (out->normals.empty()) {
+    compute_normals(*out);
+    return true;
   }
+  return flips(*out) * 100 <= out->triangle_count();
+}
+
+// meshoptimizer sees any two vertices at one position as a seam, used or not.
+Mesh weld_positions(const Mesh& in) {
+  std::vector<std::uint32_t> shadow(in.indices.size());
+  meshopt_generateShadowIndexBuffer(shadow.data(), in.indices.data(), in.indices.size(), in.positions.data(),
+                                    in.vertex_count(), 3 * sizeof(float), 3 * sizeof(float));
+  Mesh out;
+  out.material = in.material;
+  std::vector<std::uint32_t> remap(in.vertex_count(), std::numeric_limits<std::uint32_t>::max());
+  for (std::uint32_t v : shadow) {
+    if (remap[v] == std::numeric_limits<std::uint32_t>::max()) {
+      remap[v] = std::uint32_t(out.vertex_count());
+      out.positions.insert(out.positions.end(), in.positions.begin() + 3 * v,
+                           in.positions.begin() + 3 * v + 3);
+      if (in.texcoords.size() == 2 * in.vertex_count())
+        out.texcoords.insert(out.texcoords.end(), in.texcoords.begin() + 2 * v,
+                             in.texcoords.begin() + 2 * v + 2);
+    }
+    out.indices.push_back(remap[v]);
+  }
+  return out;
+}
+
+Mesh decimate_welded(const Mesh& welded, std::size_t target, bool lock_border) {
+  return compact(welded, simplify(welded, welded.indices, target, lock_border));
+}
+
+Mesh decimate_meshopt(const Mesh& in, std::size_t target, bool lock_border, double crease_degrees) {
+  Mesh out;
+  if (decimate_meshopt_keeping_seams(in, target, lock_border, &out)) return out;
   // Over 1% of the triangles flipped (meshoptimizer 0.18 checks one side of a seam), or seams everywhere (a
   // coarse organic mesh split at many creases) left too few collapses: decimate the welded mesh and
   // split its creases afresh (UV seams close there).
-  const Mesh welded = weld(in);
-  return split_creases(compact(welded, simplify(welded, welded.indices, target, lock_border)),
-                       crease_degrees);
+  return split_creases(decimate_welded(weld_positions(in), target, lock_border), crease_degrees);
 }
 
 }  // namespace acuity::lodgen::detail

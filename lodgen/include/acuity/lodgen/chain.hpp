@@ -41,15 +41,31 @@ struct Chain {
 // stage, done, total
 using ChainProgress = std::function<void(const char* stage, std::size_t done, std::size_t total)>;
 
-// Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees); each
-// level is decimated from level 0 (not from the previous level), so errors do not compound. meshopt
-// keeps level 0's creases as seams (see decimate()); the other back-ends decimate the welded input
-// and split each level at its own creases. Every level is
-// measured against level 0 (lodgen::deviation, bounded by options.measure): the Hausdorff error and
+// Level 0 is the input (repaired if needed) with normals split at creases (decimate.crease_degrees).
+// meshopt decimates level 0 keeping its creases as seams, level after level, until such a result
+// is rejected; from that level on it decimates level 0 welded, each level from the previous one
+// (decimate_meshopt_level). The other back-ends decimate the welded input, every level from level
+// 0, and split each level at its own creases. Every level is measured against level 0
+// (lodgen::deviation, bounded by options.measure): the Hausdorff error and
 // the normal deviations are made non-decreasing along the chain (a level is never reported better
 // than a finer one). Throws InputError for unusable input.
 Chain build_chain(const Mesh& mesh, const std::string& where, const ChainOptions& options,
                   const ChainProgress& progress = {});
+
+// One meshopt level of build_chain, levels made finest first with one state: `level0`
+// (crease-split) decimated to `target` triangles keeping its seams, as long as that result is
+// accepted (under 1% flipped triangles, at most 5% above the target: see decimate()). Once one is
+// rejected, that level is decimated from level 0 welded (seams closed) and split at its own
+// creases, as decimate() does, and every later level continues the welded decimation from the
+// previous one (`previous_welded`): level 0 is neither tried again nor decimated again, so a
+// rejected level costs two decimations of level 0 and the later ones about their input's size
+// (docs/lodgen.md).
+struct MeshoptChainState {
+  bool welded = false;  // a level was rejected: the later ones continue previous_welded
+  Mesh previous_welded;
+};
+Mesh decimate_meshopt_level(const Mesh& level0, std::size_t target, const DecimateOptions& options,
+                            MeshoptChainState* state);
 
 // A chain from given levels (refinement output), measured as build_chain does.
 Chain measure_chain(std::vector<Mesh> levels, const ChainProgress& progress = {},
