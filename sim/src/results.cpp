@@ -283,10 +283,9 @@ std::string summary_text(const Simulation& sim, const Results& r) {
   const double n = double(oracle.same + oracle.finer + oracle.coarser);
   appendf(
       &out,
-      "Against the oracle (per judged decision, the coarsest level the exact-view check finds invisible): "
-      "the "
-      "perceptual rule draws %.2fx its triangles; the oracle's level in %.1f%% of the decisions, a finer one "
-      "in %.1f%%, a coarser one in %.1f%%\n",
+      "Against the oracle (per judged decision, the coarsest level the exact-view check finds invisible):\n"
+      "  the perceptual rule draws %.2fx the oracle's triangles over the judged decisions; it picks the "
+      "oracle's level in %.1f%%, a finer one in %.1f%%, a coarser one in %.1f%%\n",
       oracle.ratio(), 100.0 * oracle.same / n, 100.0 * oracle.finer / n, 100.0 * oracle.coarser / n);
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
   appendf(&out, "  %6s %16s %15s %10s %32s\n", "q", "triangles/frame", "visible losses", "of oracle",
