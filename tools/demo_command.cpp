@@ -30,15 +30,14 @@ struct DemoOptions {
 // lodgen's chain of one demo mesh (5 levels), or the one an earlier run cached as <cache>/<name>.glb.
 lodgen::LodObject chain_for(const sim::DemoMesh& mesh, const DemoOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string& name = mesh.name;
-  const fs::path glb = fs::path(o.cache) / (name + ".glb");
+  const fs::path glb = fs::path(o.cache) / (mesh.name + ".glb");
   bool cached = false;
   lodgen::LodObject obj = bake::cached_chain(mesh.path, glb.string(), 5, &cached);
-  obj.name = name;
+  obj.name = mesh.name;
   if (cached) {
-    std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
+    std::printf("  %-15s LOD chain cached in %s\n", mesh.name.c_str(), glb.string().c_str());
   } else {
-    std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(),
+    std::printf("  %-15s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", mesh.name.c_str(),
                 obj.chain.levels.front().mesh.triangle_count(), obj.chain.levels.back().mesh.triangle_count(),
                 obj.chain.levels.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
