@@ -21,7 +21,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
   emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
-  assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/)
+  assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/); real assets (lodgen's tests, the demo's Wuson)
   libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run
   g++-mingw-w64-x86-64                        # the runtime and the C ABI cross-compiled for Windows (portability check)
   python3-distributed                         # acuity.bake on a Dask cluster (LocalCluster in the tests)
@@ -46,7 +46,7 @@ install_packages() {
 #   web/               three, playwright-core, pngjs: the page and its tests (no browser download:
 #                      the tests drive Debian's chromium)
 #   assets/third_party/ @webxr-input-profiles/assets: 82 controller models (MIT) for lodgen's
-#                      real-asset tests
+#                      real-asset tests and the demo's field (two of them)
 #   tests/node/        gltf-validator: the Khronos validator run on lodgen's output
 install_npm_packages() {
   local dir

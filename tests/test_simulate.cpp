@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 
 #include "acuity/bake/scene.hpp"
@@ -323,23 +324,54 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
       if (j.scores[rules[i].levels[std::size_t(j.frame) * objects + j.object]] > 1.0f) ++losses;
     EXPECT_EQ(r.visible_losses[i], losses) << rules[i].name << " " << rules[i].parameter;
   }
-  // The tuned screen-size baseline: a sweep entry at most as lossy, and none as safe is cheaper.
+  // The baselines at a rate: the entry they start from is at most as lossy and none as safe is
+  // cheaper; the interpolated triangles lie between it and the riskier entry; ratio over the rule's.
+  const double frames = double(r.frames);
   auto check = [&](const Match& m, const std::string& name, std::size_t to) {
     for (std::size_t i = 0; i < rules.size(); ++i) {
       if (!rules[i].sweep || rules[i].name != name || r.visible_losses[i] > r.visible_losses[to]) continue;
       ASSERT_GE(m.rule, 0) << name;
       EXPECT_LE(rules[std::size_t(m.rule)].triangles, rules[i].triangles) << name;
     }
-    if (m.rule < 0) return;
+    if (m.rule < 0) {
+      EXPECT_EQ(m.kind, Match::Kind::AtLeast);
+      ASSERT_GE(m.riskier, 0);
+      EXPECT_GT(r.visible_losses[std::size_t(m.riskier)], r.visible_losses[to]);
+      return;
+    }
     EXPECT_TRUE(rules[std::size_t(m.rule)].sweep && rules[std::size_t(m.rule)].name == name);
     EXPECT_LE(r.visible_losses[std::size_t(m.rule)], r.visible_losses[to]);
-    EXPECT_DOUBLE_EQ(m.ratio, rules[std::size_t(m.rule)].triangles / rules[to].triangles);
+    EXPECT_LE(m.triangles, rules[std::size_t(m.rule)].triangles / frames * (1 + 1e-12));
+    if (m.riskier >= 0) {
+      EXPECT_GT(r.visible_losses[std::size_t(m.riskier)], r.visible_losses[to]);
+      EXPECT_GE(m.triangles, rules[std::size_t(m.riskier)].triangles / frames * (1 - 1e-12));
+    }
+    EXPECT_DOUBLE_EQ(m.ratio, m.triangles / (rules[to].triangles / frames));
   };
   check(r.screen_size, "screen-size", std::size_t(r.perceptual));
   check(r.distance, "distance", std::size_t(r.perceptual));
   ASSERT_EQ(r.quality_sweep.size(), 9u);  // q = 2^(i/4), i = -6..2
   for (const Results::QualityPoint& q : r.quality_sweep)
     check(q.screen_size, "screen-size", std::size_t(q.rule));
+  // The oracle, recounted here: per decision the coarsest level scoring at most 1.
+  double chosen = 0, best = 0;
+  std::uint32_t same = 0;
+  for (const Judged& j : judged) {
+    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+    int o = 0;
+    for (std::uint32_t k = 0; k < p.meta.level_count; ++k)
+      if (j.scores[k] <= 1.0f) o = int(k);
+    const int level = sim.rule("perceptual").levels[std::size_t(j.frame) * objects + j.object];
+    chosen += p.levels[level].triangles;
+    best += p.levels[o].triangles;
+    same += level == o;
+  }
+  EXPECT_DOUBLE_EQ(r.oracle.ratio(), chosen / best);
+  EXPECT_EQ(r.oracle.same, same);
+  EXPECT_EQ(r.oracle.same + r.oracle.finer + r.oracle.coarser, judged.size());
+  // No third-party assets named: the group is empty and the summary has no such table.
+  EXPECT_EQ(r.third_party.objects, 0u);
+  EXPECT_EQ(summary_text(sim, r).find("Third-party"), std::string::npos);
   // The summary names every main rule with its losses out of the judged decisions.
   const std::string text = summary_text(sim, r);
   for (const char* name : {"perceptual", "reddy", "distance", "screen-size"}) {
@@ -352,6 +384,114 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
   const Results none = analyse(sim, {});
   EXPECT_EQ(none.fraction(std::size_t(none.perceptual)), 0.0);
   EXPECT_EQ(summary_text(sim, none).find("visible"), std::string::npos);
+}
+
+TEST(Simulate, ThirdPartyAssetsAreReportedApart) {
+  const SceneAssets& scene = small_scene();
+  SimulationOptions o = small_options("");
+  o.third_party = {"ball"};  // every instance: the group's figures are the whole run's
+  Simulation sim(scene, o);
+  sim.run();
+  const std::vector<Judged> judged = judge_decisions(sim, 20, 1);
+  const Results r = analyse(sim, judged);
+  const Results::Group& g = r.third_party;
+  EXPECT_EQ(g.objects, scene.instances.size());
+  EXPECT_EQ(g.judged, judged.size());
+  EXPECT_NEAR(g.all_finest, r.all_finest, 1e-9 * r.all_finest);
+  ASSERT_EQ(g.triangles.size(), sim.rules().size());
+  for (std::size_t i = 0; i < sim.rules().size(); ++i) {
+    EXPECT_NEAR(g.triangles[i], sim.rules()[i].triangles / double(r.frames), 1e-9 * r.all_finest);
+    EXPECT_EQ(g.visible_losses[i], r.visible_losses[i]);
+  }
+  EXPECT_NE(summary_text(sim, r).find("Third-party assets (ball): 9 of the 9 objects, 20 of the 20 judged"),
+            std::string::npos)
+      << summary_text(sim, r);
+}
+
+// at_equal_loss on sweeps whose answer is known: triangles 1000 at rate 0 and 250 at rate 0.02
+// (tuning 1/32 and 1/8) give 500 and 1/16 at 0.01 (log-linear halfway).
+TEST(EqualLoss, InterpolatesTheFrontierBetweenTheEntriesThatBracketTheRate) {
+  const std::vector<SweepPoint> sweep = {
+      {0.02, 250, 0.125},
+      {0.005, 2000, 0.01},  // riskier and dearer than entry 2: off the frontier
+      {0.0, 1000, 0.03125},
+      {0.03, 900, 0.2}};  // dearer than a safer entry: off the frontier
+  Match m = at_equal_loss(sweep, 0.01);
+  EXPECT_EQ(m.kind, Match::Kind::Interpolated);
+  EXPECT_EQ(m.rule, 2);
+  EXPECT_EQ(m.riskier, 0);
+  EXPECT_NEAR(m.triangles, 500.0, 1e-9);
+  EXPECT_NEAR(m.parameter, 0.0625, 1e-12);
+  // A quarter of the way: 1000 * (1/4)^(1/4).
+  EXPECT_NEAR(at_equal_loss(sweep, 0.005).triangles, 1000.0 * std::pow(0.25, 0.25), 1e-9);
+  // At an entry's rate: that entry, exactly, and the cheaper of two at the same rate.
+  std::vector<SweepPoint> tied = sweep;
+  tied.push_back({0.02, 300, 0.1});
+  m = at_equal_loss(tied, 0.02);
+  EXPECT_EQ(m.kind, Match::Kind::Interpolated);
+  EXPECT_EQ(m.rule, 0);
+  EXPECT_EQ(m.riskier, -1);
+  EXPECT_DOUBLE_EQ(m.triangles, 250.0);
+  m = at_equal_loss(sweep, 0.0);
+  EXPECT_EQ(m.rule, 2);
+  EXPECT_DOUBLE_EQ(m.triangles, 1000.0);
+  // Safer than every entry: the safest is a lower bound; riskier than all: the cheapest an upper one.
+  const std::vector<SweepPoint> risky = {{0.04, 800, 0.5}, {0.01, 1200, 0.25}, {0.1, 300, 1}};
+  m = at_equal_loss(risky, 0.0);
+  EXPECT_EQ(m.kind, Match::Kind::AtLeast);
+  EXPECT_EQ(m.rule, -1);
+  EXPECT_EQ(m.riskier, 1);
+  EXPECT_DOUBLE_EQ(m.triangles, 1200.0);
+  EXPECT_DOUBLE_EQ(m.parameter, 0.25);
+  m = at_equal_loss(risky, 0.5);
+  EXPECT_EQ(m.kind, Match::Kind::AtMost);
+  EXPECT_EQ(m.rule, 2);
+  EXPECT_DOUBLE_EQ(m.triangles, 300.0);
+}
+
+TEST(EqualLoss, DegenerateSweepsAndRatesGiveNoneOrSkipTheBadEntries) {
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(at_equal_loss({}, 0.01).kind, Match::Kind::None);
+  EXPECT_EQ(at_equal_loss({{0, 100, 1}}, nan).kind, Match::Kind::None);
+  EXPECT_EQ(at_equal_loss({{0, 100, 1}}, inf).kind, Match::Kind::None);
+  EXPECT_EQ(at_equal_loss({{nan, 100, 1}, {0, 0, 1}, {0, -5, 1}, {0, inf, 1}, {0, nan, 1}}, 0.0).kind,
+            Match::Kind::None);
+  // Bad entries are skipped, the rest still answer; a NaN tuning gives a NaN tuning, not a crash.
+  const Match m = at_equal_loss({{nan, 1, 1}, {0, 400, 2}, {0.1, 100, 8}, {0.05, nan, 4}}, 0.05);
+  EXPECT_EQ(m.kind, Match::Kind::Interpolated);
+  EXPECT_NEAR(m.triangles, 200.0, 1e-9);
+  EXPECT_NEAR(m.parameter, 4.0, 1e-12);
+  // A single entry: exact at its rate, bounds on either side.
+  EXPECT_EQ(at_equal_loss({{0.01, 100, 1}}, 0.01).kind, Match::Kind::Interpolated);
+  EXPECT_EQ(at_equal_loss({{0.01, 100, 1}}, 0.0).kind, Match::Kind::AtLeast);
+  EXPECT_EQ(at_equal_loss({{0.01, 100, 1}}, 0.02).kind, Match::Kind::AtMost);
+}
+
+// The oracle on constructed decisions: scores 0, 0.5, 1, 1.5, 0.8 make level 4 the coarsest
+// invisible of five levels, level 2 of three; NaN is never invisible.
+TEST(Oracle, CoarsestInvisibleLevelAndTriangleRatio) {
+  Judged j{};
+  j.scores = {};
+  const float s[] = {0, 0.5f, 1.0f, 1.5f, 0.8f};
+  std::copy(std::begin(s), std::end(s), j.scores.begin());
+  EXPECT_EQ(oracle_level(j, 5), 4);
+  EXPECT_EQ(oracle_level(j, 3), 2);
+  EXPECT_EQ(oracle_level(j, 1), 0);
+  EXPECT_EQ(oracle_level(j, 1000), int(kMaxLevels) - 1);  // levels past kMaxLevels do not exist; score 0
+  j.scores[1] = j.scores[2] = std::numeric_limits<float>::quiet_NaN();
+  j.scores[4] = 2;
+  EXPECT_EQ(oracle_level(j, 5), 0);
+  // Three decisions over levels of 1000, 500, 250, 125 triangles: finer (1 for 2), the same (2),
+  // coarser (3 for 1): 875 against 1000.
+  Oracle o;
+  EXPECT_TRUE(std::isnan(o.ratio()));
+  o.add(1, 2, 500, 250);
+  o.add(2, 2, 250, 250);
+  o.add(3, 1, 125, 500);
+  EXPECT_DOUBLE_EQ(o.ratio(), 0.875);
+  EXPECT_EQ(o.same, 1u);
+  EXPECT_EQ(o.finer, 1u);
+  EXPECT_EQ(o.coarser, 1u);
 }
 
 TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {

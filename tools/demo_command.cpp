@@ -1,7 +1,7 @@
-// `acuity demo`: the whole system on its embedded default. Four real meshes (Debian's
-// libcgal-demo) go through lodgen (cached), are laid out as a field of 64 objects like Guenter et
-// al.'s test scene (a glTF with MSFT_lod levels, instanced), get profiles (cached), and the field is
-// simulated: a fly-through with eye-tracked gaze, four rules, decisions judged by render-and-analyze.
+// `acuity demo`: the whole system on its embedded default. Seven real meshes (sim::demo_meshes) go
+// through lodgen (cached), are laid out as a field of 64 objects like Guenter et al.'s test scene (a
+// glTF with MSFT_lod levels, instanced), get profiles (cached), and the field is simulated: a
+// fly-through with eye-tracked gaze, four rules, decisions judged by render-and-analyze.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,17 +28,16 @@ struct DemoOptions {
 };
 
 // lodgen's chain of one demo mesh (5 levels), or the one an earlier run cached as <cache>/<name>.glb.
-lodgen::LodObject chain_for(const std::string& name, const DemoOptions& o) {
+lodgen::LodObject chain_for(const sim::DemoMesh& mesh, const DemoOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
-  const fs::path glb = fs::path(o.cache) / (name + ".glb");
+  const fs::path glb = fs::path(o.cache) / (mesh.name + ".glb");
   bool cached = false;
-  lodgen::LodObject obj =
-      bake::cached_chain((fs::path(o.meshes) / (name + ".off")).string(), glb.string(), 5, &cached);
-  obj.name = name;
+  lodgen::LodObject obj = bake::cached_chain(mesh.path, glb.string(), 5, &cached);
+  obj.name = mesh.name;
   if (cached) {
-    std::printf("  %-10s LOD chain cached in %s\n", name.c_str(), glb.string().c_str());
+    std::printf("  %-15s LOD chain cached in %s\n", mesh.name.c_str(), glb.string().c_str());
   } else {
-    std::printf("  %-10s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", name.c_str(),
+    std::printf("  %-15s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", mesh.name.c_str(),
                 obj.chain.levels.front().mesh.triangle_count(), obj.chain.levels.back().mesh.triangle_count(),
                 obj.chain.levels.size(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -47,20 +46,23 @@ lodgen::LodObject chain_for(const std::string& name, const DemoOptions& o) {
 }
 
 void run(const DemoOptions& o) {
-  if (!fs::exists(fs::path(o.meshes) / "elephant.off"))
-    throw std::runtime_error("demo meshes not found in " + o.meshes +
-                             " (install libcgal-demo and build with tests)");
+  const std::vector<sim::DemoMesh> meshes =
+      sim::demo_meshes(o.meshes, ACUITY_DEMO_ASSIMP_MODELS, ACUITY_DEMO_WEBXR_PROFILES);
   fs::create_directories(o.cache);
   SimulationOptions so = o.sim;
   if (so.output.empty()) so.output = (fs::path(o.cache) / "simulate").string();
   const auto start = std::chrono::steady_clock::now();
   std::printf(
-      "acuity demo: four real meshes, a field of 64 objects, an eye-tracked fly-through\n\nlodgen:\n");
+      "acuity demo: seven real meshes, a field of 64 objects, an eye-tracked fly-through\n\nlodgen:\n");
   std::vector<lodgen::LodObject> objects;
-  for (const char* name : {"elephant", "camel", "cow", "fandisk"}) objects.push_back(chain_for(name, o));
+  for (const sim::DemoMesh& m : meshes) {
+    objects.push_back(chain_for(m, o));
+    if (m.third_party) so.third_party.push_back(m.name);
+  }
   const std::string scene_path = (fs::path(o.cache) / "field.glb").string();
   lodgen::write_lod_gltf(scene_path, objects, {}, {}, sim::demo_field(objects, o.sim.seed));
-  std::printf("scene:\n  %s: 64 instances of 4 LOD chains (MSFT_lod)\nprofile:\n", scene_path.c_str());
+  std::printf("scene:\n  %s: 64 instances of %zu LOD chains (MSFT_lod)\nprofile:\n", scene_path.c_str(),
+              objects.size());
   AssetOptions ao;
   ao.profiles = (fs::path(o.cache) / "profiles").string();
   ao.profile_pixels = o.pixels;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <random>
+#include <stdexcept>
 
 #include "acuity/lodgen/mesh.hpp"
 #include "geometry.hpp"
@@ -173,6 +175,27 @@ GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose
     out.phases[f] = blink ? GazePhase::Blink : phase;
     out.targets[f] = current.object;
   }
+  return out;
+}
+
+std::vector<DemoMesh> demo_meshes(const std::string& cgal_meshes, const std::string& assimp_models,
+                                  const std::string& webxr_profiles) {
+  namespace fs = std::filesystem;
+  const std::string webxr = "npm @webxr-input-profiles/assets";
+  std::vector<DemoMesh> out;
+  for (const char* name : {"elephant", "camel", "cow", "fandisk"})
+    out.push_back(
+        {name, (fs::path(cgal_meshes) / (std::string(name) + ".off")).string(), "libcgal-demo", false});
+  out.push_back(
+      {"wuson", (fs::path(assimp_models) / "OFF" / "Wuson.off").string(), "assimp-testmodels", true});
+  out.push_back(
+      {"generic-hand", (fs::path(webxr_profiles) / "generic-hand" / "left.glb").string(), webxr, true});
+  out.push_back(
+      {"google-daydream", (fs::path(webxr_profiles) / "google-daydream" / "none.glb").string(), webxr, true});
+  for (const DemoMesh& m : out)
+    if (!fs::exists(m.path))
+      throw std::runtime_error("demo mesh " + m.name + " not found: " + m.path + " (" + m.package +
+                               "; bash scripts/bootstrap.sh deps installs it)");
   return out;
 }
 

@@ -104,23 +104,39 @@ std::string summary_json(const Simulation& sim, const Results& r) {
                                          {"switches_outside_saccades", rules[i].switches_outside_saccades},
                                          {"visible_losses", r.visible_losses[i]}};
   if (r.judged == 0) return summary.dump(2) + "\n";
-  for (const char* name : {"screen-size", "distance"}) {
-    const Match& m = std::string(name) == "screen-size" ? r.screen_size : r.distance;
-    if (m.rule < 0) continue;
-    const RuleRun& run = rules[std::size_t(m.rule)];
-    summary["tuned"][name] = {{"parameter", run.parameter},
-                              {"triangles_per_frame", run.triangles * per_frame},
-                              {"visible_losses", r.visible_losses[std::size_t(m.rule)]},
-                              {"ratio_to_perceptual", m.ratio}};
-  }
+  auto match = [&](const Match& m) {
+    const char* kinds[] = {"none", "interpolated", "at_least", "at_most"};
+    return nlohmann::json{{"kind", kinds[int(m.kind)]},
+                          {"parameter", m.parameter},
+                          {"triangles_per_frame", m.triangles},
+                          {"ratio", m.ratio}};
+  };
+  summary["equal_loss"]["screen-size"] = match(r.screen_size);
+  summary["equal_loss"]["distance"] = match(r.distance);
+  for (const char* name : {"perceptual", "screen-size", "distance"})
+    summary["one_percent"][name] = match(name[0] == 'p'   ? r.one_percent_perceptual
+                                         : name[0] == 's' ? r.one_percent_screen_size
+                                                          : r.one_percent_distance);
+  summary["oracle"] = {{"ratio", r.oracle.ratio()},
+                       {"same", r.oracle.same},
+                       {"finer", r.oracle.finer},
+                       {"coarser", r.oracle.coarser}};
   for (const Results::QualityPoint& q : r.quality_sweep) {
     const RuleRun& run = rules[std::size_t(q.rule)];
-    summary["quality_sweep"].push_back(
-        {{"quality", run.parameter},
-         {"triangles_per_frame", run.triangles * per_frame},
-         {"visible_losses", r.visible_losses[std::size_t(q.rule)]},
-         {"screen_size_ratio", q.screen_size.rule >= 0 ? q.screen_size.ratio : 0.0}});
+    summary["quality_sweep"].push_back({{"quality", run.parameter},
+                                        {"triangles_per_frame", run.triangles * per_frame},
+                                        {"visible_losses", r.visible_losses[std::size_t(q.rule)]},
+                                        {"oracle_ratio", q.oracle.ratio()},
+                                        {"screen_size", match(q.screen_size)}});
   }
+  const Results::Group& g = r.third_party;
+  summary["third_party"] = {{"objects", g.objects},
+                            {"judged_decisions", g.judged},
+                            {"all_finest_triangles_per_frame", g.all_finest}};
+  for (std::size_t i = 0; i < rules.size(); ++i)
+    if (!rules[i].sweep)
+      summary["third_party"]["rules"][rules[i].name] = {{"triangles_per_frame", g.triangles[i]},
+                                                        {"visible_losses", g.visible_losses[i]}};
   return summary.dump(2) + "\n";
 }
 

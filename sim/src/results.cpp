@@ -1,6 +1,10 @@
 // analyse() and summary_text(): what a run means, computed and formatted (acuity/sim/results.hpp).
 #include "acuity/sim/results.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "text.hpp"
 
 namespace acuity::sim {
@@ -12,20 +16,136 @@ std::uint32_t visible_losses(const RuleRun& r, const std::vector<Judged>& judged
   return n;
 }
 
-// The cheapest sweep entry of baseline `name` whose visible losses are at most those of rule `to`.
-Match tuned(const Simulation& sim, const std::vector<std::uint32_t>& losses, const std::string& name,
-            std::size_t to) {
+// The sweep entries of rule `name` at `rate` (losses over judged), their triangles per frame compared
+// with `triangles` (per frame). Match's indices are into sim.rules().
+Match tuned(const Simulation& sim, const Results& r, const std::string& name, double rate, double triangles) {
   const std::vector<RuleRun>& rules = sim.rules();
-  Match m;
+  std::vector<int> index;
+  std::vector<SweepPoint> points;
   for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].sweep && rules[i].name == name && losses[i] <= losses[to] &&
-        (m.rule < 0 || rules[i].triangles < rules[std::size_t(m.rule)].triangles))
-      m.rule = int(i);
-  if (m.rule >= 0) m.ratio = rules[std::size_t(m.rule)].triangles / rules[to].triangles;
+    if (rules[i].sweep && rules[i].name == name) {
+      index.push_back(int(i));
+      points.push_back({r.fraction(i), rules[i].triangles / double(r.frames), rules[i].parameter});
+    }
+  Match m = at_equal_loss(points, rate);
+  if (m.rule >= 0) m.rule = index[std::size_t(m.rule)];
+  if (m.riskier >= 0) m.riskier = index[std::size_t(m.riskier)];
+  if (m.kind != Match::Kind::None && triangles > 0) m.ratio = m.triangles / triangles;
   return m;
 }
 
+// The rule's levels on the judged decisions against the oracle's.
+Oracle against_oracle(const Simulation& sim, const RuleRun& run, const std::vector<Judged>& judged) {
+  const SceneAssets& scene = sim.scene();
+  Oracle o;
+  for (const Judged& j : judged) {
+    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+    const int best = oracle_level(j, p.meta.level_count);
+    const int level = run.levels[std::size_t(j.frame) * scene.instances.size() + j.object];
+    o.add(level, best, p.levels[level].triangles, p.levels[best].triangles);
+  }
+  return o;
+}
+
+// Every rule on the instances of options().third_party's assets.
+Results::Group third_party(const Simulation& sim, const std::vector<Judged>& judged, std::size_t frames) {
+  const SceneAssets& scene = sim.scene();
+  const std::vector<std::string>& names = sim.options().third_party;
+  const std::size_t objects = scene.instances.size();
+  std::vector<const Profile*> in_group(objects, nullptr);  // the instance's profile, when in the group
+  Results::Group g;
+  for (std::size_t i = 0; i < objects; ++i) {
+    const Asset& a = scene.assets[std::size_t(scene.instances[i].asset)];
+    if (std::find(names.begin(), names.end(), a.name) != names.end()) in_group[i] = &a.profile;
+    g.objects += in_group[i] != nullptr;
+  }
+  const double per_frame = frames > 0 ? 1.0 / double(frames) : 0.0;
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::size_t i = 0; i < objects; ++i)
+      if (in_group[i] && sim.in_view(std::uint32_t(i), f))
+        g.all_finest += in_group[i]->levels[0].triangles * per_frame;
+  for (const RuleRun& run : sim.rules()) {
+    double drawn = 0;
+    for (std::size_t f = 0; f < frames; ++f)
+      for (std::size_t i = 0; i < objects; ++i)
+        if (in_group[i] && sim.in_view(std::uint32_t(i), f))
+          drawn += in_group[i]->levels[run.levels[f * objects + i]].triangles;
+    g.triangles.push_back(drawn * per_frame);
+    std::uint32_t losses = 0;
+    for (const Judged& j : judged)
+      losses += in_group[j.object] && j.scores[run.levels[std::size_t(j.frame) * objects + j.object]] > 1.0f;
+    g.visible_losses.push_back(losses);
+  }
+  for (const Judged& j : judged) g.judged += in_group[j.object] != nullptr;
+  return g;
+}
+
 }  // namespace
+
+Match at_equal_loss(const std::vector<SweepPoint>& sweep, double rate) {
+  Match m;
+  if (!std::isfinite(rate)) return m;
+  std::vector<int> order;
+  for (std::size_t i = 0; i < sweep.size(); ++i)
+    if (std::isfinite(sweep[i].rate) && std::isfinite(sweep[i].triangles) && sweep[i].triangles > 0)
+      order.push_back(int(i));
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const SweepPoint &x = sweep[std::size_t(a)], &y = sweep[std::size_t(b)];
+    return x.rate < y.rate || (x.rate == y.rate && x.triangles < y.triangles);
+  });
+  std::vector<int> frontier;  // rates strictly increasing, triangles strictly decreasing
+  for (int i : order)
+    if (frontier.empty() || sweep[std::size_t(i)].triangles < sweep[std::size_t(frontier.back())].triangles)
+      frontier.push_back(i);
+  if (frontier.empty()) return m;
+  const SweepPoint& safest = sweep[std::size_t(frontier.front())];
+  if (rate < safest.rate) {
+    m.kind = Match::Kind::AtLeast;
+    m.riskier = frontier.front();
+    m.triangles = safest.triangles;
+    m.parameter = safest.parameter;
+    return m;
+  }
+  std::size_t k = 0;
+  while (k + 1 < frontier.size() && sweep[std::size_t(frontier[k + 1])].rate <= rate) ++k;
+  m.rule = frontier[k];
+  const SweepPoint& a = sweep[std::size_t(m.rule)];
+  m.kind = Match::Kind::Interpolated;
+  m.triangles = a.triangles;
+  m.parameter = a.parameter;
+  if (rate == a.rate) return m;
+  if (k + 1 == frontier.size()) {
+    m.kind = Match::Kind::AtMost;
+    return m;
+  }
+  m.riskier = frontier[k + 1];
+  const SweepPoint& b = sweep[std::size_t(m.riskier)];
+  const double t = (rate - a.rate) / (b.rate - a.rate);  // b.rate > rate > a.rate
+  m.triangles = std::exp(std::log(a.triangles) + t * (std::log(b.triangles) - std::log(a.triangles)));
+  m.parameter = a.parameter > 0 && b.parameter > 0
+                    ? std::exp(std::log(a.parameter) + t * (std::log(b.parameter) - std::log(a.parameter)))
+                    : a.parameter + t * (b.parameter - a.parameter);
+  return m;
+}
+
+void Oracle::add(int level, int oracle, double level_triangles, double oracle_level_triangles) {
+  rule_triangles += level_triangles;
+  oracle_triangles += oracle_level_triangles;
+  same += level == oracle;
+  finer += level < oracle;
+  coarser += level > oracle;
+}
+
+double Oracle::ratio() const {
+  return oracle_triangles > 0 ? rule_triangles / oracle_triangles : std::numeric_limits<double>::quiet_NaN();
+}
+
+int oracle_level(const Judged& judged, std::uint32_t levels) {
+  int best = 0;
+  for (std::uint32_t k = 1; k < std::min<std::uint32_t>(levels, kMaxLevels); ++k)
+    if (judged.scores[k] <= 1.0f) best = int(k);
+  return best;
+}
 
 Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   const std::vector<RuleRun>& rules = sim.rules();
@@ -37,13 +157,67 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   for (const RuleRun& run : rules) r.visible_losses.push_back(visible_losses(run, judged, r.objects));
   const RuleRun* perceptual = &sim.rule("perceptual");
   r.perceptual = int(perceptual - rules.data());
-  r.screen_size = tuned(sim, r.visible_losses, "screen-size", std::size_t(r.perceptual));
-  r.distance = tuned(sim, r.visible_losses, "distance", std::size_t(r.perceptual));
+  const double per_frame = 1.0 / double(r.frames);
+  const double rate = r.fraction(std::size_t(r.perceptual));
+  r.screen_size = tuned(sim, r, "screen-size", rate, perceptual->triangles * per_frame);
+  r.distance = tuned(sim, r, "distance", rate, perceptual->triangles * per_frame);
+  r.oracle = against_oracle(sim, *perceptual, judged);
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].sweep && rules[i].name == "perceptual")
-      r.quality_sweep.push_back({int(i), tuned(sim, r.visible_losses, "screen-size", i)});
+      r.quality_sweep.push_back({int(i),
+                                 tuned(sim, r, "screen-size", r.fraction(i), rules[i].triangles * per_frame),
+                                 against_oracle(sim, rules[i], judged)});
+  r.one_percent_perceptual = tuned(sim, r, "perceptual", 0.01, 0);
+  const double at_one =
+      r.one_percent_perceptual.kind == Match::Kind::Interpolated ? r.one_percent_perceptual.triangles : 0;
+  r.one_percent_screen_size = tuned(sim, r, "screen-size", 0.01, at_one);
+  r.one_percent_distance = tuned(sim, r, "distance", 0.01, at_one);
+  r.third_party = third_party(sim, judged, r.frames);
   return r;
 }
+
+namespace {
+
+// A Match in words: triangles per frame, ratio over `of`, and the tuning (named `tuning`).
+std::string match_text(const Simulation& sim, const Results& r, const Match& m, const char* tuning,
+                       const char* of) {
+  if (m.kind == Match::Kind::None) return "no tuning in the sweep";
+  const bool at_least = m.kind == Match::Kind::AtLeast, at_most = m.kind == Match::Kind::AtMost;
+  const char* bound = at_least ? "at least " : at_most ? "at most " : "";
+  std::string out;
+  appendf(&out, "%s%.0f triangles/frame", bound, m.triangles);
+  if (m.ratio > 0) appendf(&out, " = %s%.2fx %s", bound, m.ratio, of);
+  auto entry = [&](int i) {  // "0.0312 at 0.5%"
+    std::string e;
+    appendf(&e, "%.3g at %.1f%%", sim.rules()[std::size_t(i)].parameter, 100.0 * r.fraction(std::size_t(i)));
+    return e;
+  };
+  if (at_least)
+    appendf(&out, " (no tuning is that safe; the safest: %s %s visible)", tuning, entry(m.riskier).c_str());
+  else if (at_most)
+    appendf(&out, " (every tuning is safer; the cheapest: %s %s visible)", tuning, entry(m.rule).c_str());
+  else if (m.riskier < 0)
+    appendf(&out, " (%s %s visible)", tuning, entry(m.rule).c_str());
+  else
+    appendf(&out, " (%s ~%.3g, between %s and %s visible)", tuning, m.parameter, entry(m.rule).c_str(),
+            entry(m.riskier).c_str());
+  return out;
+}
+
+// The same in a table cell: "0.0312 px: 1.45x", "~0.041 px: 1.30x", "< 0.0312 px: >= 1.45x".
+std::string match_cell(const Match& m, const char* unit) {
+  std::string out;
+  if (m.kind == Match::Kind::None) return "none";
+  const char* at = m.kind == Match::Kind::AtLeast  ? "< "
+                   : m.kind == Match::Kind::AtMost ? "> "
+                   : m.riskier >= 0                ? "~"
+                                                   : "";
+  const char* bound = m.kind == Match::Kind::AtLeast ? ">= " : m.kind == Match::Kind::AtMost ? "<= " : "";
+  appendf(&out, "%s%.3g%s: %s%.2fx", at, m.parameter, unit, bound, m.ratio);
+  return out;
+}
+
+}  // namespace
 
 std::string summary_text(const Simulation& sim, const Results& r) {
   const SimulationOptions& o = sim.options();
@@ -68,37 +242,59 @@ std::string summary_text(const Simulation& sim, const Results& r) {
       appendf(&out, " %10.1f%% (%u/%zu)", 100.0 * r.fraction(i), r.visible_losses[i], r.judged);
     appendf(&out, "\n");
   }
+  const Results::Group& g = r.third_party;
+  if (g.objects > 0) {
+    appendf(&out, "\nThird-party assets (");
+    for (std::size_t i = 0; i < o.third_party.size(); ++i)
+      appendf(&out, "%s%s", i ? ", " : "", o.third_party[i].c_str());
+    appendf(&out, "): %zu of the %zu objects", g.objects, r.objects);
+    if (r.judged > 0) appendf(&out, ", %zu of the %zu judged decisions", g.judged, r.judged);
+    appendf(&out, ";\nall of them in view at their finest: %.0f triangles per frame\n", g.all_finest);
+    appendf(&out, "%-12s %16s %14s %18s\n", "rule", "triangles/frame", "of all-finest",
+            g.judged > 0 ? "visible losses" : "");
+    for (std::size_t i = 0; i < rules.size(); ++i) {
+      if (rules[i].sweep) continue;
+      appendf(&out, "%-12s %16.0f %13.1f%%", rules[i].name.c_str(), g.triangles[i],
+              g.all_finest > 0 ? 100.0 * g.triangles[i] / g.all_finest : 0.0);
+      if (g.judged > 0)
+        appendf(&out, " %17.1f%% (%u/%zu)", 100.0 * g.visible_losses[i] / double(g.judged),
+                g.visible_losses[i], g.judged);
+      appendf(&out, "\n");
+    }
+  }
   if (r.judged == 0) return out;
   appendf(&out,
           "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering "
-          "both levels at the exact view):\n",
+          "both levels at the exact view; the baselines' sweeps interpolated):\n",
           100.0 * r.fraction(std::size_t(r.perceptual)), r.judged);
-  for (const char* name : {"screen-size", "distance"}) {
-    const bool screen_size = std::string(name) == "screen-size";
-    const Match& m = screen_size ? r.screen_size : r.distance;
-    if (m.rule >= 0) {
-      const RuleRun& run = rules[std::size_t(m.rule)];
-      appendf(
-          &out,
-          "  %-12s tuned to %s %.3g: %.0f triangles/frame (%.1f%% visible) = %.2fx the perceptual rule's\n",
-          name, screen_size ? "pixel error" : "distance scale", run.parameter, run.triangles * per_frame,
-          100.0 * r.fraction(std::size_t(m.rule)), m.ratio);
-    } else {
-      appendf(&out, "  %-12s no tuning in the sweep is that safe\n", name);
-    }
-  }
+  appendf(&out, "  %-12s %s\n", "screen-size",
+          match_text(sim, r, r.screen_size, "pixel error", "the perceptual rule's").c_str());
+  appendf(&out, "  %-12s %s\n", "distance",
+          match_text(sim, r, r.distance, "distance scale", "the perceptual rule's").c_str());
+  appendf(&out, "At a 1%% rate of visible losses (every sweep interpolated):\n");
+  appendf(&out, "  %-12s %s\n", "perceptual", match_text(sim, r, r.one_percent_perceptual, "q", "").c_str());
+  appendf(
+      &out, "  %-12s %s\n", "screen-size",
+      match_text(sim, r, r.one_percent_screen_size, "pixel error", "the perceptual rule's at 1%").c_str());
+  appendf(
+      &out, "  %-12s %s\n", "distance",
+      match_text(sim, r, r.one_percent_distance, "distance scale", "the perceptual rule's at 1%").c_str());
+  const Oracle& oracle = r.oracle;
+  const double n = double(oracle.same + oracle.finer + oracle.coarser);
+  appendf(
+      &out,
+      "Against the oracle (per judged decision, the coarsest level the exact-view check finds invisible):\n"
+      "  the perceptual rule draws %.2fx the oracle's triangles over the judged decisions; it picks the "
+      "oracle's level in %.1f%%, a finer one in %.1f%%, a coarser one in %.1f%%\n",
+      oracle.ratio(), 100.0 * oracle.same / n, 100.0 * oracle.finer / n, 100.0 * oracle.coarser / n);
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
-  appendf(&out, "  %6s %16s %15s %30s\n", "q", "triangles/frame", "visible losses",
+  appendf(&out, "  %6s %16s %15s %10s %32s\n", "q", "triangles/frame", "visible losses", "of oracle",
           "screen-size at that rate: ratio");
   for (const Results::QualityPoint& q : r.quality_sweep) {
     const RuleRun& run = rules[std::size_t(q.rule)];
-    appendf(&out, "  %6.3g %16.0f %14.1f%%", run.parameter, run.triangles * per_frame,
-            100.0 * r.fraction(std::size_t(q.rule)));
-    if (q.screen_size.rule >= 0)
-      appendf(&out, " %14.3g px: %.2fx\n", rules[std::size_t(q.screen_size.rule)].parameter,
-              q.screen_size.ratio);
-    else
-      appendf(&out, " %30s\n", "none as safe in the sweep");
+    appendf(&out, "  %6.3g %16.0f %14.1f%% %9.2fx %32s\n", run.parameter, run.triangles * per_frame,
+            100.0 * r.fraction(std::size_t(q.rule)), q.oracle.ratio(),
+            match_cell(q.screen_size, " px").c_str());
   }
   return out;
 }

@@ -3,6 +3,7 @@
 // a gaze trace over them. Deterministic for a seed. Units as in acuity/scheduler.hpp: metres,
 // degrees, seconds; the head looks along its local -Z with +Y up.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -34,6 +35,21 @@ struct GeneratedGaze {
 };
 GeneratedGaze generate_gaze(const SceneAssets& scene, const std::vector<HeadPose>& head,
                             const std::vector<Mover>& movers, double fps, unsigned seed);
+
+// A mesh of the demo's field: its name (the asset's), its file, and whether it is third-party
+// content (SimulationOptions::third_party: the summary reports its instances apart).
+struct DemoMesh {
+  std::string name, path;
+  std::string package;  // what installs the file (scripts/bootstrap.sh deps installs each)
+  bool third_party = false;
+};
+// The demo's meshes: elephant, camel, cow and fandisk (OFF in `cgal_meshes`: Debian's libcgal-demo),
+// then three nobody here wrote: assimp's Wuson (`assimp_models`/OFF/Wuson.off: Debian's
+// assimp-testmodels) and two controllers of npm @webxr-input-profiles/assets (`webxr_profiles`/
+// generic-hand/left.glb and google-daydream/none.glb; installed by scripts/bootstrap.sh deps).
+// Throws std::runtime_error naming the first missing file and what installs it.
+std::vector<DemoMesh> demo_meshes(const std::string& cgal_meshes, const std::string& assimp_models,
+                                  const std::string& webxr_profiles);
 
 // The demo's field (after Guenter et al.'s test scene): 64 instances of `objects` (cycled, at
 // least one) on an 8 x 8 grid 3 m apart, each scaled to a 1.5 m bounding sphere, resting on the

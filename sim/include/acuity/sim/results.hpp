@@ -11,11 +11,40 @@
 
 namespace acuity::sim {
 
-// A baseline tuned to a rule's rate of visible losses: its cheapest sweep entry at or below it.
-struct Match {
-  int rule = -1;     // index into Simulation::rules(); -1: none is that safe
-  double ratio = 0;  // its triangles over the rule's
+// One entry of a rule's tuning sweep: its rate of visible losses (a fraction of the judged
+// decisions), triangles per frame and tuning (quality q, pixel error, distance scale).
+struct SweepPoint {
+  double rate = 0, triangles = 0, parameter = 0;
 };
+
+// A rule's sweep at a given rate of visible losses. Triangles as a function of the rate is the
+// sweep's frontier: at each rate, its cheapest entry at or below that rate (this favours the swept
+// rule). Between the two frontier entries that bracket the rate, log triangles and log tuning are
+// interpolated linearly in the rate. Below every entry's rate the safest frontier entry is a lower
+// bound (a safer tuning needs at least its triangles); above every rate the cheapest entry an upper
+// bound.
+struct Match {
+  enum class Kind { None, Interpolated, AtLeast, AtMost };
+  Kind kind = Kind::None;  // None: no valid entry, or the rate is not a number
+  int rule = -1;           // the frontier entry at or below the rate (the cheapest that safe); -1: none
+  int riskier = -1;  // the frontier entry above the rate it is interpolated towards (AtLeast: the bound)
+  double triangles = 0, parameter = 0;  // at the rate (bounds: the bounding entry's)
+  double ratio = 0;                     // triangles over the compared rule's (set by analyse)
+};
+// rule and riskier index `sweep`. Entries whose rate or triangles are not finite, or whose triangles
+// are not positive, are ignored.
+Match at_equal_loss(const std::vector<SweepPoint>& sweep, double rate);
+
+// A rule against the oracle over judged decisions: per decision, the oracle's level is the
+// coarsest the exact-view check finds invisible (score <= 1; level 0 loses nothing).
+struct Oracle {
+  double rule_triangles = 0, oracle_triangles = 0;  // summed over the decisions added
+  std::uint32_t same = 0, finer = 0, coarser = 0;   // decisions by the rule's level against the oracle's
+  void add(int level, int oracle, double level_triangles, double oracle_level_triangles);
+  double ratio() const;  // rule_triangles / oracle_triangles; NaN when that is 0
+};
+// The coarsest of the first `levels` levels (at most kMaxLevels) whose score is <= 1; 0 when none is.
+int oracle_level(const Judged& judged, std::uint32_t levels);
 
 struct Results {
   std::size_t frames = 0, objects = 0, judged = 0;
@@ -23,12 +52,24 @@ struct Results {
                                               // (the sum over frames times 1 / frames)
   std::vector<std::uint32_t> visible_losses;  // [rule index] among the judged decisions
   int perceptual = 0;                         // index of the main perceptual rule
-  Match screen_size, distance;                // the baselines tuned to the perceptual rule's rate
+  Match screen_size, distance;                // the baselines' sweeps at the perceptual rule's rate
+  Oracle oracle;                              // the perceptual rule against the oracle
   struct QualityPoint {
     int rule = 0;       // a perceptual sweep entry (quality q)
-    Match screen_size;  // the screen-size baseline tuned to its rate
+    Match screen_size;  // the screen-size sweep at its rate
+    Oracle oracle;      // it against the oracle
   };
   std::vector<QualityPoint> quality_sweep;  // in the order of the sweep
+  // At a 1% rate of visible losses: the perceptual, screen-size and distance sweeps (ratios over
+  // the perceptual sweep's triangles there).
+  Match one_percent_perceptual, one_percent_screen_size, one_percent_distance;
+  // The instances of SimulationOptions::third_party's assets.
+  struct Group {
+    std::size_t objects = 0, judged = 0;
+    double all_finest = 0;                      // triangles per frame (sum over frames / frames)
+    std::vector<double> triangles;              // [rule] per frame
+    std::vector<std::uint32_t> visible_losses;  // [rule] among its judged decisions
+  } third_party;
   // visible_losses[rule] over judged; 0 when nothing was judged.
   double fraction(std::size_t rule) const { return judged > 0 ? visible_losses[rule] / double(judged) : 0.0; }
 };

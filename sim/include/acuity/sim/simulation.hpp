@@ -32,6 +32,7 @@ struct SimulationOptions {
   Evaluation evaluation = Evaluation::Tabulated;  // the perceptual rule's thresholds
   std::uint32_t validate = 200;                   // decisions judged by render-and-analyze (0: none)
   std::uint32_t images = 3;                       // frames rendered as PNG
+  std::vector<std::string> third_party;           // asset names whose instances the summary reports apart
   std::string output;  // directory for CSV, JSON, images (write_outputs); empty: none
 };
 
