@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "acuity/bake/chains.hpp"
 #include "acuity/bake/library.hpp"
 #include "acuity/bake/sha256.hpp"
 #include "acuity/file.hpp"
@@ -347,4 +348,36 @@ TEST(Bake, HostileAssetFailsAloneAndNothingOutsideOutIsWritten) {
   for (auto it = after.begin(); it != after.end();)
     it = it->first.rfind("out/", 0) == 0 ? after.erase(it) : std::next(it);
   EXPECT_EQ(after, before);
+}
+
+TEST(Bake, CacheFolderIsClearedOfWhatAnotherVersionOrSettingMade) {
+  const fs::path dir = scratch("refresh");
+  fs::create_directories(dir / "profiles");
+  const auto put = [](const fs::path& p) { std::ofstream(p) << "x"; };
+  for (const fs::path& p : {dir / "ball.glb", dir / "profiles" / "ball.acuity", dir / "mine.glb",
+                            dir / "profiles" / "mine.acuity", dir / "notes.txt"})
+    put(p);
+  // No stamp: the named assets' chain and profile go, nothing else; the stamp is written.
+  EXPECT_FALSE(bake::refresh_cache(dir.string(), {"ball"}, "profile pixels 256"));
+  EXPECT_FALSE(fs::exists(dir / "ball.glb"));
+  EXPECT_FALSE(fs::exists(dir / "profiles" / "ball.acuity"));
+  for (const fs::path& p : {dir / "mine.glb", dir / "profiles" / "mine.acuity", dir / "notes.txt"})
+    EXPECT_TRUE(fs::exists(p)) << p;
+  const std::string stamp = slurp(dir / "cache-stamp");
+  EXPECT_NE(stamp.find(bake::cache_format()), std::string::npos);
+  EXPECT_NE(stamp.find(bake::tool_version()), std::string::npos);
+  EXPECT_NE(stamp.find("profile pixels 256"), std::string::npos);
+  // Same stamp: kept.
+  put(dir / "ball.glb");
+  EXPECT_TRUE(bake::refresh_cache(dir.string(), {"ball"}, "profile pixels 256"));
+  EXPECT_TRUE(fs::exists(dir / "ball.glb"));
+  // Other settings: removed again; a damaged stamp too.
+  EXPECT_FALSE(bake::refresh_cache(dir.string(), {"ball"}, "profile pixels 64"));
+  EXPECT_FALSE(fs::exists(dir / "ball.glb"));
+  put(dir / "cache-stamp");
+  EXPECT_FALSE(bake::refresh_cache(dir.string(), {"ball"}, "profile pixels 64"));
+  EXPECT_TRUE(bake::refresh_cache(dir.string(), {"ball"}, "profile pixels 64"));
+  // A new folder is made.
+  EXPECT_FALSE(bake::refresh_cache((dir / "new" / "deeper").string(), {"ball"}, ""));
+  EXPECT_TRUE(fs::exists(dir / "new" / "deeper" / "cache-stamp"));
 }

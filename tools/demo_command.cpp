@@ -48,7 +48,10 @@ lodgen::LodObject chain_for(const sim::DemoMesh& mesh, const DemoOptions& o) {
 void run(const DemoOptions& o) {
   const std::vector<sim::DemoMesh> meshes =
       sim::demo_meshes(o.meshes, ACUITY_DEMO_ASSIMP_MODELS, ACUITY_DEMO_WEBXR_PROFILES);
-  fs::create_directories(o.cache);
+  std::vector<std::string> names;
+  for (const sim::DemoMesh& m : meshes) names.push_back(m.name);
+  if (!bake::refresh_cache(o.cache, names, "profile pixels " + std::to_string(o.pixels)))
+    std::printf("(%s: cached chains and profiles of another version or settings removed)\n", o.cache.c_str());
   SimulationOptions so = o.sim;
   if (so.output.empty()) so.output = (fs::path(o.cache) / "simulate").string();
   const auto start = std::chrono::steady_clock::now();

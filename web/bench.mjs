@@ -1,6 +1,6 @@
 #!/usr/bin/env node
 // node web/bench.mjs [BUILD_DIR]: the WebAssembly module's cost per object as a ratio to the native
-// library's, in the same run on the same scene: 10,000 objects (the demo field's four profiles on a
+// library's, in the same run on the same scene: 10,000 objects (the demo field's seven profiles on a
 // 100 x 100 grid), 60 frames of a moving head with gaze and 100 moved objects per frame, each frame
 // set_transforms + begin + update + end + get_levels. Native: build/web/native_reference --repeat.
 // Needs the field and profiles `ctest -L web` makes in BUILD_DIR/web/field (or `acuity demo`'s BUILD_DIR/demo).

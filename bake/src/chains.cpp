@@ -6,10 +6,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
+#include "acuity/file.hpp"
 #include "acuity/lodgen/output.hpp"
 #include "acuity/lodgen/refine.hpp"
 
@@ -127,6 +130,27 @@ lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache
   obj = std::move(build_scene_chains(request).objects.at(0));
   lodgen::write_lod_gltf(cache_glb, {obj}, {});
   return obj;
+}
+
+bool refresh_cache(const std::string& dir, const std::vector<std::string>& names,
+                   const std::string& settings) {
+  namespace fs = std::filesystem;
+  const std::string stamp = cache_format() + "\n" + tool_version() + "\n" + settings + "\n";
+  const fs::path path = fs::path(dir) / "cache-stamp";
+  Blob old;
+  std::string error;
+  if (read_file(path.string(), &old, &error) &&
+      std::string(static_cast<const char*>(old.data()), old.size) == stamp)
+    return true;
+  for (const std::string& name : names) {
+    std::error_code ec;
+    fs::remove(fs::path(dir) / (name + ".glb"), ec);
+    fs::remove(fs::path(dir) / "profiles" / (name + ".acuity"), ec);
+  }
+  fs::create_directories(dir);
+  if (!write_file_atomically(path.string(), stamp.data(), stamp.size(), &error))
+    throw std::runtime_error(error);
+  return false;
 }
 
 std::string chains_table(const SceneChains& sc) {

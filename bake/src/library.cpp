@@ -31,7 +31,8 @@ using json = nlohmann::json;
 namespace {
 
 // 2: profiles bound the loss over each view's cell (spectra::ProfileSettings::bound_cells), so
-// entries of 1 (one view's own measurement) are not reused.
+// entries of 1 (one view's own measurement) are not reused; lodgen's meshopt chains continue from
+// the welded level after a rejected one.
 constexpr const char* kCacheFormat = "acuity-bake-cache 2";
 constexpr const char* kInputToken = "{input}";  // stands for the asset's path in cached error messages
 
@@ -623,6 +624,8 @@ std::string summary_table(const BakePlan& plan, const std::vector<AssetResult>& 
                       results.size(), seconds, hits,
                       seconds > 0 ? 60.0 * double(results.size()) / seconds : 0.0, plan.out.c_str());
 }
+
+std::string cache_format() { return kCacheFormat; }
 
 std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& results) {
   if (results.size() != plan.jobs.size())

@@ -1,7 +1,8 @@
 // The WebAssembly module chooses the same levels and flags, bit for bit, as the native library on a
-// recorded scene: the demo's field (64 objects, four real profiles) seen still, with and without
-// gaze, during a saccade, moving with moved objects, with two eyes, and through hard cases (an eye
-// inside an object, NaN and huge positions, zero scale, an invalid eye), under four configurations.
+// recorded scene: the demo's field (64 objects, seven real profiles: four libcgal-demo meshes and
+// three third-party ones) seen still, with and without gaze, during a saccade, moving with moved
+// objects, with two eyes, and through hard cases (an eye inside an object, NaN and huge positions,
+// zero scale, an invalid eye), under four configurations.
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { Euler, Quaternion, Vector3 } from 'three';
@@ -13,7 +14,7 @@ const fieldDir = env('ACUITY_FIELD_DIR');
 const field = readField(fieldDir);
 const n = field.objects.profiles.length;
 assert.equal(n, 64, 'the demo field has 64 objects');
-assert.equal(field.profiles.length, 4, 'four profiles');
+assert.equal(field.profiles.length, 7, 'seven profiles');
 
 const dt = 1 / 72;
 const fov = [-50, 50, 47, -47], viewport = [1440, 1600];

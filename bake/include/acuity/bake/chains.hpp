@@ -76,6 +76,15 @@ ChainFile read_chain_file(const std::string& path, const std::string& asset_root
 lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb, std::size_t levels,
                                bool* cached);
 
+// Keeps a folder of cached chains (<dir>/<name>.glb, as cached_chain writes them) and profiles
+// (<dir>/profiles/<name>.acuity) true to the code and settings that made them: its stamp
+// <dir>/cache-stamp names the bake cache format, the tool version and `settings`; when the stamp is
+// missing or differs, those files of each of `names` are removed (nothing else) and the stamp is
+// rewritten. Returns true when the cached files were kept. Throws std::runtime_error when the stamp
+// cannot be written.
+bool refresh_cache(const std::string& dir, const std::vector<std::string>& names,
+                   const std::string& settings);
+
 // True when `path` ends in .glb or .gltf (any case).
 bool is_gltf_path(const std::string& path);
 // True when `path` ends in .gltf (any case): lodgen writes text glTF there, binary otherwise.

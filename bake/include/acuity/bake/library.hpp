@@ -130,6 +130,10 @@ std::string index_json(const BakePlan& plan, const std::vector<AssetResult>& res
 std::string progress_text(std::size_t done, std::size_t total, const std::string& current, double seconds);
 std::string summary_table(const BakePlan& plan, const std::vector<AssetResult>& results, double seconds);
 
+// The bake cache's format ("acuity-bake-cache N"): every cache key and refresh_cache's stamp holds
+// it; raised whenever the chains or profiles the same options produce change.
+std::string cache_format();
+
 // The version string every key and index records: "acuity 0.1.0; profile format 1; <libraries>".
 std::string tool_version();
 
