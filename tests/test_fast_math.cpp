@@ -1,0 +1,89 @@
+// The scheduler's branch-free atan2 and log (scheduler/src/fast_math.hpp) against std:: in double
+// precision over their whole domain: every binade, zeros, subnormals, infinities, NaN.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include "fast_math.hpp"
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+double atan2_deg_ref(float y, float x) { return std::atan2(double(y), double(x)) * 180.0 / kPi; }
+
+float from_bits(std::uint32_t bits) {
+  float x;
+  std::memcpy(&x, &bits, sizeof x);
+  return x;
+}
+
+TEST(SchedulerFastMath, Atan2WithinOneMillionthOfStdAtEveryAngleAndMagnitude) {
+  double worst = 0;
+  for (int e = -149; e <= 127; e += 2) {  // radii from the smallest subnormal to near FLT_MAX
+    const double radius = std::ldexp(1.0, e);
+    for (int i = -3600; i <= 3600; ++i) {
+      const double angle = i * kPi / 3600 + 1e-4 * i * i / 3600;  // irregular steps, both signs
+      const auto y = static_cast<float>(radius * std::sin(angle));
+      const auto x = static_cast<float>(radius * std::cos(angle));
+      if (!std::isfinite(x) || !std::isfinite(y)) continue;
+      const double ref = atan2_deg_ref(y, x), got = acuity::detail::atan2_deg(y, x);
+      // Below 1e-30 deg y / x is itself subnormal (few significant bits): absolute there.
+      const double err = std::abs(got - ref) / std::max(std::abs(ref), 1e-30);
+      worst = std::max(worst, err);
+      ASSERT_LE(err, 1e-6) << "y " << y << " x " << x << " got " << got << " want " << ref;
+    }
+  }
+  std::printf("atan2_deg: worst relative error %.3g\n", worst);
+}
+
+TEST(SchedulerFastMath, Atan2EdgesMatchStd) {
+  const float values[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 1e-38f, 1.0f, -1.0f, 3e38f, -3e38f, kInf, -kInf};
+  for (float y : values)
+    for (float x : values) {
+      const double ref = atan2_deg_ref(y, x), got = acuity::detail::atan2_deg(y, x);
+      EXPECT_NEAR(got, ref, 1e-6 * std::abs(ref) + 1e-37) << "y " << y << " x " << x;
+      EXPECT_EQ(std::signbit(got), std::signbit(ref)) << "y " << y << " x " << x;  // signed zeros too
+    }
+  EXPECT_TRUE(std::isnan(acuity::detail::atan2_deg(kNaN, 1.0f)));
+  EXPECT_TRUE(std::isnan(acuity::detail::atan2_deg(1.0f, kNaN)));
+  EXPECT_TRUE(std::isnan(acuity::detail::atan2_deg(kNaN, kNaN)));
+  EXPECT_TRUE(std::isnan(acuity::detail::atan2_deg(kInf, kNaN)));
+}
+
+TEST(SchedulerFastMath, LnWithinTwoUlpOfStdForEveryPositiveFloat) {
+  double worst_ulp = 0;
+  // Every 257th bit pattern from the smallest subnormal to the largest float, and the last one.
+  for (std::uint64_t bits = 1; bits <= 0x7f7fffffu; bits += bits < 0x00800000u ? 4099 : 257) {
+    const float x = from_bits(static_cast<std::uint32_t>(bits));
+    const double ref = std::log(double(x));
+    const float got = acuity::detail::ln_positive(x);
+    const double ulp =
+        std::nextafter(static_cast<float>(std::abs(ref)), kInf) - static_cast<float>(std::abs(ref));
+    const double err = std::abs(got - ref) / ulp;
+    worst_ulp = std::max(worst_ulp, err);
+    ASSERT_LE(err, 2.0) << "x " << x << " got " << got << " want " << ref;
+  }
+  const float largest = std::numeric_limits<float>::max();
+  EXPECT_NEAR(acuity::detail::ln_positive(largest), std::log(double(largest)), 1e-5);
+  std::printf("ln_positive: worst error %.3g ulp\n", worst_ulp);
+}
+
+TEST(SchedulerFastMath, LnEdgesMatchStd) {
+  EXPECT_EQ(acuity::detail::ln_positive(1.0f), 0.0f);
+  EXPECT_EQ(acuity::detail::ln_positive(0.0f), -kInf);
+  EXPECT_EQ(acuity::detail::ln_positive(-0.0f), -kInf);
+  EXPECT_EQ(acuity::detail::ln_positive(kInf), kInf);
+  EXPECT_TRUE(std::isnan(acuity::detail::ln_positive(-1.0f)));
+  EXPECT_TRUE(std::isnan(acuity::detail::ln_positive(-1e-45f)));
+  EXPECT_TRUE(std::isnan(acuity::detail::ln_positive(-kInf)));
+  EXPECT_TRUE(std::isnan(acuity::detail::ln_positive(kNaN)));
+  EXPECT_NEAR(acuity::detail::ln_positive(1e-45f), std::log(double(1e-45f)), 1e-5);  // smallest subnormal
+}
+
+}  // namespace
