@@ -160,25 +160,34 @@ void cube_cell_center(std::uint32_t cell, std::uint32_t resolution, float direct
 
 // ---- inline definitions ----
 inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
-  // Selects, not branches (the major axis of a random direction is unpredictable): x on ties with
-  // y or z, then y on a tie with z.
   const float ax = d[0] < 0 ? -d[0] : d[0], ay = d[1] < 0 ? -d[1] : d[1], az = d[2] < 0 ? -d[2] : d[2];
-  const bool x_major = ax >= ay && ax >= az, y_major = !x_major && ay >= az;
-  const std::uint32_t face = x_major   ? (d[0] >= 0 ? 0u : 1u)
-                             : y_major ? (d[1] >= 0 ? 2u : 3u)
-                                       : (d[2] >= 0 ? 4u : 5u);
-  const float major = x_major ? ax : y_major ? ay : az;
-  const float u = x_major ? d[1] : y_major ? d[2] : d[0];
-  const float v = x_major ? d[2] : y_major ? d[0] : d[1];
-  const float scale = 0.5f * static_cast<float>(r) / (major > 0 ? major : 1.0f);  // [-major, major] -> [0, r]
+  std::uint32_t face;
+  float u, v, major;
+  if (ax >= ay && ax >= az) {
+    face = d[0] >= 0 ? 0 : 1;
+    major = ax;
+    u = d[1];
+    v = d[2];
+  } else if (ay >= az) {
+    face = d[1] >= 0 ? 2 : 3;
+    major = ay;
+    u = d[2];
+    v = d[0];
+  } else {
+    face = d[2] >= 0 ? 4 : 5;
+    major = az;
+    u = d[0];
+    v = d[1];
+  }
+  if (!(major > 0)) return 0;                                // zero or NaN direction
+  const float scale = 0.5f * static_cast<float>(r) / major;  // [-major, major] -> [0, r]
   const float half = 0.5f * static_cast<float>(r);
   const float fr = static_cast<float>(r);
   auto index = [&](float t) {
     const float x = t * scale + half;
-    return !(x > 0) ? 0u : (x >= fr ? r - 1 : static_cast<std::uint32_t>(x));  // NaN: 0
+    return x <= 0 ? 0u : (x >= fr ? r - 1 : static_cast<std::uint32_t>(x));
   };
-  const std::uint32_t cell = face * r * r + index(v) * r + index(u);
-  return major > 0 ? cell : 0u;  // zero or NaN direction: 0
+  return face * r * r + index(v) * r + index(u);
 }
 
 }  // namespace acuity
