@@ -1230,31 +1230,9 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
   }
   const Cell ec = s.ec, em = s.em;
   const Cell* sc = s.sc;
-  const bool decide_only = scores_out == nullptr;
-  if (!s.moving && decide_only) {
-    // Still, no scores: every level's bound read (two rows of the profile's still table), no early
-    // exit and no branch per level; the coarsest level whose bound holds, per table set. The same
-    // levels as the loop below: a set-1 (margin) bound never exceeds the set-0 one.
-    std::uint8_t fine = 0, coarse = 0;
-    for (std::uint32_t k = 1; k <= L; ++k) {
-      float bound[2] = {-kNever, -kNever};
-      for (std::uint32_t j = 0; j < blended; ++j) {
-        const std::uint32_t w = blended == 1 ? s.view : s.cand[j];
-        const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1);
-        for (int set = 0; set < sets; ++set) {
-          const std::int16_t* row = &pc.still[set][at];
-          bound[set] =
-              std::min(bound[set], decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0])));
-        }
-      }
-      const auto level = static_cast<std::uint8_t>(k);
-      fine = x <= bound[0] ? level : fine;
-      coarse = x <= bound[sets - 1] ? level : coarse;
-    }
-    return {fine, coarse, s.flags};
-  }
   // The largest invisible ln diameter of level k seen from view w, table set `set`.
   // Without scores only pass or fail matters: a moving object's bounds stop at the first that decides.
+  const bool decide_only = scores_out == nullptr;
   auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
     const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1);
     const std::int16_t* row = &pc.still[set][at];
