@@ -11,6 +11,8 @@
 //   ln S(f, v) = A(v) + 2 ln(2 pi c1 f) - b(v) f  above the peak f_p(v) = 2 / b(v), plateau below.
 #include "acuity/scheduler.hpp"
 
+#include "fast_math.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -20,6 +22,9 @@
 
 namespace acuity {
 namespace {
+
+using detail::atan2_deg;
+using detail::ln_positive;
 
 // The loop after it writes arrays that none of its inputs overlap (GCC would otherwise give up on the
 // run-time overlap checks of many streams; Clang vectorises such loops by itself).
@@ -64,50 +69,6 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
 [[gnu::always_inline]] inline Vec3 rotate(const float* q, Vec3 v) {
   return rotate(q[0], q[1], q[2], q[3], v);
 }
-// atan2(y, x) in degrees for y >= 0, in [0, 180]: exact reductions to |t| <= tan 15 deg, then the
-// odd Taylor series to t^9 (truncation below 6e-8 rad). Pure arithmetic: deterministic, ~4x libm's speed.
-[[gnu::always_inline]] inline float atan2_deg(float y, float x) {
-  constexpr float kTan15 = 0.26794919f, kSqrt3 = 1.7320508f;
-  const float ax = std::abs(x);
-  const bool swap = y > ax;  // atan(y/x) = 90 - atan(x/y)
-  const float num = swap ? ax : y, den = swap ? y : ax;
-  float t = den > 0 ? num / den : 0.0f;
-  const bool reduce = t > kTan15;  // atan(t) = 30 deg + atan((sqrt3 t - 1) / (sqrt3 + t))
-  t = reduce ? (kSqrt3 * t - 1.0f) / (kSqrt3 + t) : t;
-  const float base = reduce ? 30.0f : 0.0f;
-  const float t2 = t * t;
-  const float a =
-      base + kDeg * t * (1.0f + t2 * (-1.0f / 3 + t2 * (1.0f / 5 + t2 * (-1.0f / 7 + t2 * (1.0f / 9)))));
-  const float first = swap ? 90.0f - a : a;
-  return x < 0 ? 180.0f - first : first;
-}
-// Natural log of x > 0 (normal), deterministic, branch-free (vectorises), within 2 ulp of logf:
-// x = m 2^k with m in [sqrt(1/2), sqrt(2)), ln x = k ln 2 + ln(1 + f), f = m - 1, by a minimax series.
-[[gnu::always_inline]] inline float ln_positive(float x) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &x, sizeof bits);
-  int k = int((bits >> 23) & 255u) - 127;
-  bits = (bits & 0x007fffffu) | 0x3f800000u;  // m in [1, 2)
-  float m;
-  std::memcpy(&m, &bits, sizeof m);
-  const bool high = m > 1.41421356f;
-  m = high ? 0.5f * m : m;
-  k += high ? 1 : 0;
-  const float f = m - 1.0f, z = f * f;
-  float y =
-      f * z *
-      (3.3333331174e-1f +
-       f * (-2.4999993993e-1f +
-            f * (2.0000714765e-1f +
-                 f * (-1.6668057665e-1f +
-                      f * (1.4249322787e-1f +
-                           f * (-1.2420140846e-1f +
-                                f * (1.1676998740e-1f + f * (-1.1514610310e-1f + f * 7.0376836292e-2f))))))));
-  const float kf = float(k);
-  y += -2.12194440e-4f * kf - 0.5f * z;
-  return f + y + 0.693359375f * kf;
-}
-
 // The coarsest level whose threshold distance / radius = x passes (thresholds of absent levels are
 // +inf); NaN passes none.
 [[gnu::always_inline]] inline std::uint8_t level_by_ratio(float x, const float* threshold,
