@@ -53,7 +53,7 @@ def main():
         wall, cpu = timed(args)
         rows.append((name, wall, cpu, 60.0 * n / wall))
     print("load average at end: %.1f %.1f %.1f" % os.getloadavg())
-    print("%d assets (%s), %s" % (n, ", ".join(MESHES), " ".join(OPTIONS)))
+    print("%d assets (%s), %s\n" % (n, ", ".join(MESHES), " ".join(OPTIONS)))
     print("| run | wall s | CPU s | assets/min |")
     print("|---|---|---|---|")
     for name, wall, cpu, rate in rows:

@@ -21,6 +21,10 @@ rewritten from the same runs:
       -DACUITY_OSG=ON and xvfb-run; --no-osg leaves it);
   web_page_levels.png: `ctest -R web_page_chromium`'s page_levels.png (-DACUITY_WEB=ON; --no-web
       leaves it).
+Not yet blocks (their commands, named beside them, print tables the docs quote in several sections):
+docs/lodgen.md's tables (`build/bench/bench_lodgen build/cgal-data/data/meshes 2`, `python3
+scripts/lodgen_sweep.py build/tools/acuity`) and docs/spectra.md's (`build/bench/bench_profile
+build/cgal-data/data/meshes 48`).
 Runs programs with argument vectors, never a shell; writes each file by temp file and rename.
 """
 import argparse
@@ -85,12 +89,6 @@ FIGURES = [
            lambda b: [PY, os.path.join(ROOT, "bench", "scheduler_table.py"), os.path.join(b, "bench", "bench_scheduler"),
                       "--min-time", "0.2"],
            measured=True),
-    Figure("lodgen-table", "lodgen.md",
-           lambda b: [os.path.join(b, "bench", "bench_lodgen"), meshes(b), "2"], measured=True),
-    Figure("lodgen-real-assets", "lodgen.md",
-           lambda b: [PY, os.path.join(ROOT, "scripts", "lodgen_sweep.py"), acuity(b)], measured=True),
-    Figure("spectra-table", "spectra.md",
-           lambda b: [os.path.join(b, "bench", "bench_profile"), meshes(b), "24"], measured=True),
     Figure("bake-table", "bake.md",
            lambda b: [PY, os.path.join(ROOT, "bench", "bake_table.py"), acuity(b), meshes(b)], measured=True),
 ]
