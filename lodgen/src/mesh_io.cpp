@@ -184,15 +184,16 @@ Mesh load_mesh(const std::string& path) {
   return read_openmesh(path, declared);
 }
 
-// The child reads and sends, the parent waits with a deadline. Message: u8 ok, then u64 float
-// count + floats and u64 index count + indices, or u64 length + text.
-Mesh load_mesh_isolated(const std::string& path) {
-#ifndef ACUITY_HAVE_FORK
-  throw std::runtime_error(
-      path + ": load_mesh_isolated needs fork(), which this system lacks; use load_mesh for trusted files");
-#else
-  std::uintmax_t size = 0;
-  const std::size_t declared = checked_declared_faces(path, &size);
+#ifdef ACUITY_HAVE_FORK
+namespace {
+
+struct ReaderTimedOut : InputError {
+  using InputError::InputError;
+};
+
+// One isolated read: the child reads and sends, the parent waits with a deadline. Message: u8 ok,
+// then u64 float count + floats and u64 index count + indices, or u64 length + text.
+Mesh read_isolated_once(const std::string& path, std::size_t declared, std::uintmax_t size) {
   int fds[2];
   if (::pipe(fds) != 0)
     throw std::runtime_error(path + ": cannot isolate the mesh reader (pipe: " + std::strerror(errno) + ")");
@@ -250,7 +251,7 @@ Mesh load_mesh_isolated(const std::string& path) {
   if (timed_out) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
-  if (timed_out) throw InputError(path + ": the reader did not finish in time (a malformed file)");
+  if (timed_out) throw ReaderTimedOut(path + ": the reader did not finish in time (a malformed file)");
   if (WIFSIGNALED(status))
     throw InputError(path + ": the reader failed on this file (malformed; signal " +
                      std::to_string(WTERMSIG(status)) + ")");
@@ -281,6 +282,24 @@ Mesh load_mesh_isolated(const std::string& path) {
   mesh.indices.resize(n);
   take(at, mesh.indices.data(), n * 4);
   return mesh;
+}
+
+}  // namespace
+#endif
+
+Mesh load_mesh_isolated(const std::string& path) {
+#ifndef ACUITY_HAVE_FORK
+  throw std::runtime_error(
+      path + ": load_mesh_isolated needs fork(), which this system lacks; use load_mesh for trusted files");
+#else
+  std::uintmax_t size = 0;
+  const std::size_t declared = checked_declared_faces(path, &size);
+  // A child forked from a multi-threaded process (acuity bake's threads) can stall on a lock another
+  // thread held at the fork (seen under AddressSanitizer's allocator): one timeout is retried once,
+  // so only a reader stuck twice calls the file malformed.
+  try {
+    return read_isolated_once(path, declared, size);
+  } catch (const ReaderTimedOut&) { return read_isolated_once(path, declared, size); }
 #endif
 }
 
