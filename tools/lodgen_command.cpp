@@ -30,13 +30,10 @@ void progress(const char* stage, std::size_t done, std::size_t total) {
 void run(const LodgenOptions& o) {
   lodgen::check_output(o.output + ".json", {o.input});  // before any work
   bake::ChainRequest request;
-  request.input = o.input;
-  request.asset_root = o.chain.asset_root;
   try {
-    request.chain = bake::chain_options(o.chain);
+    request = bake::chain_request(o.input, o.chain);
   } catch (const lodgen::InputError& e) { throw std::runtime_error(std::string("--") + e.what()); }
   request.refine = o.refine;
-  request.measure_seconds = o.chain.measure_seconds;
   const bake::WrittenChains w = bake::write_scene_chains(
       request, o.output, o.chain.reference_height, o.refine > 0 ? "opensubdiv" : o.chain.backend,
       o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress));

@@ -320,6 +320,15 @@ lodgen::ChainOptions chain_options(const BakeOptions& o) {
   return co;
 }
 
+ChainRequest chain_request(const std::string& input, const BakeOptions& o) {
+  ChainRequest request;
+  request.input = input;
+  request.asset_root = o.asset_root;
+  request.chain = chain_options(o);
+  request.measure_seconds = o.measure_seconds;
+  return request;
+}
+
 spectra::ProfileSettings profile_settings(const BakeOptions& o, unsigned jobs) {
   spectra::ProfileSettings s;
   s.render.pixels = o.pixels;

@@ -21,11 +21,7 @@ void bind_lodgen(py::module_ m) {
         // The options acuity bake and acuity lodgen take, checked by the library (bake::parse_options).
         const std::string text = py::str(py::module_::import("json").attr("dumps")(options));
         const bake::BakeOptions o = bake::parse_options(text, bake::BakeOptions{}, "options");
-        bake::ChainRequest request;
-        request.input = input;
-        request.asset_root = o.asset_root;
-        request.chain = bake::chain_options(o);
-        request.measure_seconds = o.measure_seconds;
+        const bake::ChainRequest request = bake::chain_request(input, o);
         std::string summary;
         {
           py::gil_scoped_release release;

@@ -46,6 +46,9 @@ struct BakeOptions {
 // lodgen's chain options for these options (levels, ratio, max_error, backend, lock_border,
 // crease). Throws lodgen::InputError for an unknown backend.
 lodgen::ChainOptions chain_options(const BakeOptions& options);
+// The chain request of `input` under these options (chain_options, asset_root, measure_seconds): what
+// `acuity lodgen` and acuity.lodgen.build hand to write_scene_chains. Throws as chain_options.
+ChainRequest chain_request(const std::string& input, const BakeOptions& options);
 // The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)
 // with `jobs` threads (0: all cores).
 spectra::ProfileSettings profile_settings(const BakeOptions& options, unsigned jobs);
