@@ -836,11 +836,6 @@ struct Scheduler::Sight {
   float vx, vy;               // slip in the view's image axes [deg/s]
   bool moving;
   std::uint8_t flags;  // kFlagNoGaze
-  // Tabulated path (probe()): the bands the display shows, the grid cells of the eccentricity
-  // (still and moving grids) and of each orientation's speed.
-  std::uint32_t bands_visible;
-  Cell ec, em;
-  Cell sc[kMaxOrientations];
 };
 
 // One eye's view of up to kSize consecutive objects, structure of arrays (the frame loop's first pass).
@@ -879,8 +874,13 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
       settle(start, n, decisions);
       continue;
     }
+    if (curves_) {
+      choose_tabulated(start, n, blocks, &decisions);
+      settle(start, n, decisions);
+      continue;
+    }
     // Passes over the block, each prefetching what the next reads: the lookup cell, the candidate
-    // views, the table rows. The misses of a block's objects overlap instead of queueing.
+    // views. The misses of a block's objects overlap instead of queueing.
     for (std::uint32_t j = 0; j < n; ++j)
       if (profile_of_[start + j] >= 0)
         for (std::uint32_t i = 0; i < eye_count_; ++i)
@@ -892,15 +892,7 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
     for (std::uint32_t j = 0; j < n; ++j)
       if (profile_of_[start + j] >= 0)
         for (std::uint32_t i = 0; i < eye_count_; ++i)
-          if (looks[i][j] == Look::Ok) {
-            aim(start + j, &sights[i][j]);
-            if (curves_) probe(start + j, &sights[i][j]);
-          }
-    if (curves_)
-      for (std::uint32_t j = 0; j < n; ++j)
-        if (profile_of_[start + j] >= 0)
-          for (std::uint32_t i = 0; i < eye_count_; ++i)
-            if (looks[i][j] == Look::Ok) prefetch_moving(start + j, sights[i][j]);
+          if (looks[i][j] == Look::Ok) aim(start + j, &sights[i][j]);
     choose_perceptual(start, n, looks, sights, &decisions);
     settle(start, n, decisions);
   }
@@ -1017,6 +1009,36 @@ void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32
   }
 }
 
+namespace {
+// Retinal slip of an image moving at `image` [deg/s]: against the measured gaze motion, or Daly's
+// pursuit model.
+inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const ModelParams& params) {
+  if (gaze_moving) return image - gaze_velocity;
+  const float vi = length(image);
+  return vi > 0 ? (daly_retinal_velocity(vi, params) / vi) * image : Vec3{0, 0, 0};
+}
+// Of a lookup cell's candidates, the view nearest to the direction to the eye (the first on ties).
+inline std::uint32_t nearest_view(const Profile& p, const std::uint16_t* cand, Vec3 to_eye) {
+  std::uint32_t view = cand[0];
+  float best = -2.0f;
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
+    const float dd = dot(to_eye, load(p.views[cand[k]].direction));
+    view = dd > best ? cand[k] : view;
+    best = std::max(best, dd);
+  }
+  return view;
+}
+// The slip [deg/s] in a view's image axes (right, up; object space, q the object's rotation): there
+// it meets the profile's orientations. 0 for no slip.
+inline void slip_in_view(Vec3 slip, const float q[4], const float* right, const float* up, float* vx,
+                         float* vy) {
+  *vx = *vy = 0;
+  if (slip.x == 0.0f && slip.y == 0.0f && slip.z == 0.0f) return;
+  *vx = dot(slip, rotate(q, load(right)));
+  *vy = dot(slip, rotate(q, load(up)));
+}
+}  // namespace
+
 // The second pass for one object: the view lookup and retinal slip, what branches.
 Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& b, std::uint32_t j,
                                  Sight* s) const {
@@ -1035,14 +1057,7 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
   s->e = b.e[j];
   s->nyquist_cpd = b.nyquist[j];
   s->flags = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
-  // Retinal slip: against the measured gaze motion, or Daly's pursuit model.
-  s->slip = Vec3{0, 0, 0};
-  if (eye.gaze_moving) {
-    s->slip = s->image - eye.gaze_velocity;
-  } else {
-    const float vi = length(s->image);
-    if (vi > 0) s->slip = (daly_retinal_velocity(vi, config_.params) / vi) * s->image;
-  }
+  s->slip = retinal_slip(s->image, eye.gaze_moving, eye.gaze_velocity, config_.params);
   // The lookup cell of the direction from the object to the eye; aim() picks the nearest view.
   s->to_eye = Vec3{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
   const float dir[3] = {s->to_eye.x, s->to_eye.y, s->to_eye.z};
@@ -1062,26 +1077,13 @@ void Scheduler::prefetch_views(ObjectId id, const Sight& s) const {
 void Scheduler::aim(ObjectId id, Sight* s) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
-  s->view = s->cand[0];
-  float best = -2.0f;
-  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
-    const float dd = dot(s->to_eye, load(p.views[s->cand[k]].direction));
-    if (dd > best) {
-      best = dd;
-      s->view = s->cand[k];
-    }
-  }
-  s->vx = s->vy = 0;
-  const Vec3 slip = s->slip;
-  if (slip.x != 0.0f || slip.y != 0.0f || slip.z != 0.0f) {
-    const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
-    s->vx = dot(slip, rotate(q, load(&pc.view_right[3 * std::size_t(s->view)])));
-    s->vy = dot(slip, rotate(q, load(p.views[s->view].up)));
-  }
+  s->view = nearest_view(p, s->cand, s->to_eye);
+  const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
+  slip_in_view(s->slip, q, &pc.view_right[3 * std::size_t(s->view)], p.views[s->view].up, &s->vx, &s->vy);
   s->moving = s->vx != 0.0f || s->vy != 0.0f;
 }
 
-// One eye's view of one object (sight() and, tabulated, probe() done) through the configured rule.
+// One eye's view of one object (sight() and aim() done) through the configured rule, exactly.
 // scores_out (K floats) and ex are optional.
 Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out,
                                       ObjectExplain* ex) const {
@@ -1105,7 +1107,6 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
     case SelectionRule::Reddy:
       return choose_exact(id, s, scores_out, ex);
     case SelectionRule::Perceptual:
-      if (curves_ && !ex && bias_[id] == 1.0f) return choose_tabulated(id, s, scores_out);
       return choose_exact(id, s, scores_out, ex);
   }
   return {0, 0, 0};
@@ -1160,87 +1161,128 @@ void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Bloc
                     0.0f);
 }
 
-// The tabulated path's grid position of one object, and its table rows prefetched (the decision
-// reads them a block later, so the misses of a block's objects overlap).
-void Scheduler::probe(ObjectId id, Sight* s) const {
-  const ProfileCache& pc = profiles_[profile_of_[id]];
-  const Profile& p = pc.profile;
-  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count, L = K - 1;
-  // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
-  const float inv_diam = 1.0f / s->diameter_deg;  // as the exact path computes each band's frequency
-  std::uint32_t n = 0;
-  for (std::uint32_t b = 0; b < B; ++b) n += p.bands[b] * inv_diam <= s->nyquist_cpd;
-  s->bands_visible = n;
-  s->ec = e_cell<kStillE>(s->e);
-  s->em = e_cell<kMovingE>(s->e);
-  if (n == 0 || L == 0) return;
-  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
-  for (std::uint32_t c = 0; c < blended; ++c) {
-    const std::uint32_t w = blended == 1 ? s->view : s->cand[c];
-    const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + s->ec.j) * L;
-    ACUITY_PREFETCH(&pc.still[0][at]);
-    if (s->moving) ACUITY_PREFETCH(&pc.slow[0][at]);
-  }
-  if (!s->moving) return;
-  const float floor = pre_->floor_velocity;
-  for (std::uint32_t t = 0; t < T; ++t)
-    s->sc[t] = speed_cell(std::max(std::abs(s->vx * pc.cos_t[t] + s->vy * pc.sin_t[t]), floor), floor,
-                          pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
-}
+// ---- The tabulated path, a block at a time (update()) ----------------------------------------------
+// One object's place in its profile's tables, seen by one eye: what the decision reads.
+struct Scheduler::Probe {
+  float x;                                 // ln angular diameter [ln deg]
+  float vx, vy;                            // retinal slip in the view's image axes [deg/s]
+  Cell ec;                                 // eccentricity cell of the still grid
+  std::uint32_t bands;                     // the lowest bands the display shows (0: none)
+  std::uint16_t views[kLookupCandidates];  // the views whose tables bound it (one, or Max3's three)
+  std::uint8_t view_count;
+  bool moving;
+};
 
-// A moving object's rows of the moving tables prefetched, where the slow bound (read a pass after
-// probe() prefetched it) does not already pass the coarsest level: most objects never read them.
-void Scheduler::prefetch_moving(ObjectId id, const Sight& s) const {
-  if (!s.moving || s.bands_visible == 0) return;
-  const ProfileCache& pc = profiles_[profile_of_[id]];
-  const Profile& p = pc.profile;
-  const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count, L = K - 1;
-  if (L == 0) return;
-  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
-  for (std::uint32_t c = 0; c < blended; ++c) {
-    const std::uint32_t w = blended == 1 ? s.view : s.cand[c];
-    const std::int16_t* slow =
-        &pc.slow[0][((std::size_t(w) * B + (s.bands_visible - 1)) * kStillE + s.ec.j) * L + (L - 1)];
-    if (s.ln_diam <= decode_size(slow[0]) + s.ec.w * (decode_size(slow[L]) - decode_size(slow[0]))) continue;
-    const std::int16_t* base = &pc.moving[0][std::size_t(w) * T * kMovingS * kMovingE * L];
-    for (std::uint32_t t = 0; t < T; ++t) {
-      const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + s.sc[t].j) * kMovingE + s.em.j) * L;
-      ACUITY_PREFETCH(r0);
-      ACUITY_PREFETCH(r0 + std::size_t(kMovingE) * L);
+// One eye, the objects of a block: per object the lookup cell (pass 1), the view, slip and grid cell
+// (pass 2), the decision (pass 3); each pass prefetches what the next reads, so a block's cache misses
+// overlap. Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
+// whose bias is not 1 is evaluated exactly (the tables are built for q). Writes out[j], and with
+// `scores` (kMaxLevels per object) each level's score.
+void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                         Choice* out, float (*scores)[kMaxLevels]) const {
+  const std::uint16_t* cand[kBlock];
+  Probe probe[kBlock];
+  std::uint8_t todo[kBlock];  // 1: decided by the tables in pass 3
+  const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const ObjectId id = first + j;
+    const int p = profile_of_[id];
+    todo[j] = 0;
+    if (p < 0) continue;
+    const Look look = b.state(j);
+    if (look != Look::Ok || bias_[id] != 1.0f) {
+      Sight s;
+      if (look == Look::Ok) {
+        sight(id, eye, b, j, &s);
+        aim(id, &s);
+      }
+      out[j] = evaluate(id, look, s, scores ? scores[j] : nullptr, nullptr);
+      continue;
     }
+    todo[j] = 1;
+    const Profile& pr = profiles_[p].profile;
+    const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+    cand[j] = pr.lookup + cube_cell(dir, pr.meta.lookup_resolution) * kLookupCandidates;
+    ACUITY_PREFETCH(cand[j]);
+  }
+  const bool max3 = config_.view_blend == ViewBlend::Max3;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (!todo[j]) continue;
+    const ObjectId id = first + j;
+    const ProfileCache& pc = profiles_[profile_of_[id]];
+    const Profile& p = pc.profile;
+    const std::uint32_t B = p.meta.band_count, L = p.meta.level_count - 1;
+    Probe& o = probe[j];
+    o.x = b.ln_diam[j];
+    const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+    const std::uint32_t view = nearest_view(p, cand[j], to_eye);
+    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
+    const Vec3 slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
+    const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
+    slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
+    o.moving = o.vx != 0.0f || o.vy != 0.0f;
+    // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
+    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    std::uint32_t bands = 0;
+    for (std::uint32_t k = 0; k < B; ++k) bands += p.bands[k] * inv_diam <= b.nyquist[j];
+    o.bands = bands;
+    o.ec = e_cell<kStillE>(b.e[j]);
+    o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
+    for (std::uint32_t c = 0; c < o.view_count; ++c) {
+      o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
+      if (bands == 0 || L == 0) continue;
+      const std::size_t at = ((std::size_t(o.views[c]) * B + (bands - 1)) * kStillE + o.ec.j) * L;
+      ACUITY_PREFETCH(&pc.still[0][at]);
+      if (o.moving) ACUITY_PREFETCH(&pc.slow[0][at]);
+    }
+  }
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (!todo[j]) continue;
+    const ObjectId id = first + j;
+    out[j] = table_choice(profiles_[profile_of_[id]], b.e[j], probe[j], scores ? scores[j] : nullptr);
+    out[j].flags |= gaze_flag;
   }
 }
 
 // The perceptual rule through the tables: per level, is the object's angular size at most the largest
-// invisible one at its eccentricity (and, moving, per orientation at its retinal speed)?
-Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float* scores_out) const {
-  const ProfileCache& pc = profiles_[profile_of_[id]];
+// invisible one at its eccentricity (and, moving, per orientation at its retinal speed)? With
+// `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
+// decides.
+Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const Probe& o,
+                                          float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const std::uint32_t L = K - 1;                           // coarser levels per view
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
-  const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
-  const float x = s.ln_diam;
-  Choice out{0, 0, s.flags};
-
-  const std::uint32_t n = s.bands_visible;
-  if (n == 0) {
-    out.fine = out.coarse = static_cast<std::uint8_t>(K - 1);
-    return out;  // scores stay 0
+  const float x = o.x;
+  if (scores) std::fill(scores, scores + K, 0.0f);
+  if (o.bands == 0) {
+    const auto top = static_cast<std::uint8_t>(K - 1);
+    return {top, top, 0};  // scores stay 0
   }
-  const Cell ec = s.ec, em = s.em;
-  const Cell* sc = s.sc;
+  const Cell ec = o.ec;
+  // The moving grid's cells, computed on first use (most moving objects pass on the slow bound).
+  Cell em{0, 0};
+  Cell sc[kMaxOrientations];
+  bool cells = false;
+  const bool decide_only = scores == nullptr;
   // The largest invisible ln diameter of level k seen from view w, table set `set`.
-  // Without scores only pass or fail matters: a moving object's bounds stop at the first that decides.
-  const bool decide_only = scores_out == nullptr;
   auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
-    const std::size_t at = ((std::size_t(w) * B + (n - 1)) * kStillE + ec.j) * L + (k - 1);
+    const std::size_t at = ((std::size_t(w) * B + (o.bands - 1)) * kStillE + ec.j) * L + (k - 1);
     const std::int16_t* row = &pc.still[set][at];
-    if (!s.moving) return decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0]));
+    if (!o.moving) return decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0]));
     // Two conservative bounds; the larger holds. The slow one knows the display's limit.
     const std::int16_t* slow = &pc.slow[set][at];
     const float slow_bound = decode_size(slow[0]) + ec.w * (decode_size(slow[L]) - decode_size(slow[0]));
     if (decide_only && x <= slow_bound) return slow_bound;
+    if (!cells) {
+      em = e_cell<kMovingE>(e);
+      const float floor = pre_->floor_velocity;
+      for (std::uint32_t t = 0; t < T; ++t)
+        sc[t] = speed_cell(std::max(std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]), floor), floor,
+                           pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
+      cells = true;
+    }
     const std::int16_t* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
     float m = -kNever;
     for (std::uint32_t t = 0; t < T; ++t) {
@@ -1254,13 +1296,13 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
     }
     return std::max(m, slow_bound);
   };
+  Choice out{0, 0, 0};
   bool fine_found = false;
   for (std::uint32_t k = K - 1; k >= 1; --k) {
     float fine = -kNever, coarse = -kNever;
-    for (std::uint32_t j = 0; j < blended; ++j) {
-      const std::uint32_t w = blended == 1 ? s.view : s.cand[j];
-      fine = std::min(fine, largest(0, w, k));
-      if (sets == 2) coarse = std::min(coarse, largest(1, w, k));
+    for (std::uint32_t c = 0; c < o.view_count; ++c) {
+      fine = std::min(fine, largest(0, o.views[c], k));
+      if (sets == 2) coarse = std::min(coarse, largest(1, o.views[c], k));
     }
     if (sets == 1) coarse = fine;
     if (!fine_found && x <= fine) {
@@ -1268,8 +1310,8 @@ Scheduler::Choice Scheduler::choose_tabulated(ObjectId id, const Sight& s, float
       fine_found = true;
     }
     if (out.coarse == 0 && x <= coarse) out.coarse = static_cast<std::uint8_t>(k);
-    if (scores_out)
-      scores_out[k] = std::exp(std::min(x - fine, 80.0f));
+    if (scores)
+      scores[k] = std::exp(std::min(x - fine, 80.0f));
     else if (out.coarse != 0)
       break;
   }
@@ -1435,6 +1477,33 @@ void Scheduler::choose_perceptual(std::uint32_t first, std::uint32_t n, const Lo
     out->fine[j] = fine;
     out->coarse[j] = coarse;
     out->flags[j] = flags;
+  }
+}
+
+// The tabulated path for a block whose geometry is done: each eye's choice, the finer need wins.
+void Scheduler::choose_tabulated(std::uint32_t first, std::uint32_t n, const Block* blocks, Decisions* out) {
+  Choice eye_choice[2][kBlock];
+  float eye_scores[kBlock][kMaxLevels];  // the second eye's, with keep_scores
+  auto* kept = config_.keep_scores
+                   ? reinterpret_cast<float(*)[kMaxLevels]>(&scores_[std::size_t(first) * kMaxLevels])
+                   : nullptr;
+  for (std::uint32_t i = 0; i < eye_count_; ++i)
+    tabulate(eyes_[i], first, n, blocks[i], eye_choice[i], kept && i > 0 ? eye_scores : kept);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const int p = profile_of_[first + j];
+    if (p < 0) continue;
+    Choice c = eye_choice[0][j];
+    if (eye_count_ > 1) {
+      const Choice& d = eye_choice[1][j];
+      c = {std::min(c.fine, d.fine), std::min(c.coarse, d.coarse),
+           static_cast<std::uint8_t>(c.flags | d.flags)};
+      if (kept)
+        for (std::uint32_t k = 0; k < level_count_[p]; ++k)
+          kept[j][k] = std::max(kept[j][k], eye_scores[j][k]);
+    }
+    out->fine[j] = c.fine;
+    out->coarse[j] = c.coarse;
+    out->flags[j] = c.flags;
   }
 }
 

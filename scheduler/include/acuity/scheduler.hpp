@@ -247,15 +247,15 @@ class Scheduler {
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
   void prefetch_views(ObjectId id, const Sight& s) const;
   void aim(ObjectId id, Sight* s) const;  // perceptual rules: the nearest view, the slip in its axes
-  void probe(ObjectId id, Sight* s) const;
-  void prefetch_moving(ObjectId id,
-                       const Sight& s) const;  // tabulated path: grid cells, table rows prefetched
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
   float error_threshold(float error_size, float focal_px) const;
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
-                      ObjectExplain* explain) const;                          // Perceptual, Reddy
-  Choice choose_tabulated(ObjectId id, const Sight& s, float* scores) const;  // Perceptual
+                      ObjectExplain* explain) const;  // Perceptual, Reddy
+  struct Probe;                                       // tabulated path: one object's table position
+  void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Choice* out,
+                float (*scores)[kMaxLevels]) const;
+  Choice table_choice(const ProfileCache& pc, float e, const Probe& o, float* scores) const;
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
     return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
@@ -267,6 +267,7 @@ class Scheduler {
   void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
                          const Sight (*sights)[kBlock], Decisions* out);
   void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
+  void choose_tabulated(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
   void apply_budget();
 
