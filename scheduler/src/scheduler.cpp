@@ -34,6 +34,15 @@ using detail::ln_positive;
 #define ACUITY_NO_ALIAS
 #endif
 
+// The vectorised loops are also compiled for AVX2 and picked at load time where the CPU has it (GCC
+// on x86-64 ELF: an ifunc; Clang wants the attribute on the class's declaration); the baseline build
+// has 4-wide SSE2 only. The same IEEE operations without FMA contraction: the same bits on every CPU.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__ELF__)
+#define ACUITY_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define ACUITY_SIMD_CLONES
+#endif
+
 // A hint to load a cache line that is read a pass later.
 #if defined(__GNUC__) || defined(__clang__)
 #define ACUITY_PREFETCH(p) __builtin_prefetch(p)
@@ -900,7 +909,7 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
 
 // Velocities not given are derived from the positions and dt (a given velocity stays given, so its
 // object's previous position is never read again). Blocks whose velocities are all given skip it.
-void Scheduler::derive_velocities(std::uint32_t first, std::uint32_t n) {
+ACUITY_SIMD_CLONES void Scheduler::derive_velocities(std::uint32_t first, std::uint32_t n) {
   const std::uint8_t* given = &explicit_velocity_[first];
   std::uint8_t all = 1;
   for (std::uint32_t j = 0; j < n; ++j) all &= given[j];
@@ -921,7 +930,8 @@ void Scheduler::derive_velocities(std::uint32_t first, std::uint32_t n) {
 // The first pass, for `count` consecutive objects from `first` and one eye: arithmetic only, no
 // branches and no calls, so the compiler vectorises it. Camera-relative geometry subtracts in double
 // first, so 1e7 m from the origin is exact. Free slots have radius 0 and come out Invalid.
-void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const {
+ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count,
+                                              Block* out) const {
   const double* px = &position_[0][first];
   const double* py = &position_[1][first];
   const double* pz = &position_[2][first];
@@ -1261,59 +1271,63 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const
     return {top, top, 0};  // scores stay 0
   }
   const Cell ec = o.ec;
-  // The moving grid's cells, computed on first use (most moving objects pass on the slow bound).
-  Cell em{0, 0};
-  Cell sc[kMaxOrientations];
-  bool cells = false;
-  const bool decide_only = scores == nullptr;
-  // The largest invisible ln diameter of level k seen from view w, table set `set`.
-  auto largest = [&](int set, std::uint32_t w, std::uint32_t k) {
-    const std::size_t at = ((std::size_t(w) * B + (o.bands - 1)) * kStillE + ec.j) * L + (k - 1);
-    const std::int16_t* row = &pc.still[set][at];
-    if (!o.moving) return decode_size(row[0]) + ec.w * (decode_size(row[L]) - decode_size(row[0]));
-    // Two conservative bounds; the larger holds. The slow one knows the display's limit.
-    const std::int16_t* slow = &pc.slow[set][at];
-    const float slow_bound = decode_size(slow[0]) + ec.w * (decode_size(slow[L]) - decode_size(slow[0]));
-    if (decide_only && x <= slow_bound) return slow_bound;
-    if (!cells) {
-      em = e_cell<kMovingE>(e);
-      const float floor = pre_->floor_velocity;
-      for (std::uint32_t t = 0; t < T; ++t)
-        sc[t] = speed_cell(std::max(std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]), floor), floor,
-                           pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
-      cells = true;
-    }
-    const std::int16_t* base = &pc.moving[set][std::size_t(w) * T * kMovingS * kMovingE * L + (k - 1)];
-    float m = -kNever;
-    for (std::uint32_t t = 0; t < T; ++t) {
-      const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
-      const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
-      const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]),
-                  b1 = decode_size(r1[L]);
-      const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
-      m = std::min(m, lo + sc[t].w * (hi - lo));
-      if (decide_only && m < x) break;  // this orientation alone makes the level visible
-    }
-    return std::max(m, slow_bound);
-  };
-  Choice out{0, 0, 0};
-  bool fine_found = false;
-  for (std::uint32_t k = K - 1; k >= 1; --k) {
-    float fine = -kNever, coarse = -kNever;
+  // Per set, view and level k, the largest invisible ln diameter from the still (or, moving, the
+  // slow) tables; the level's bound is the smallest over the views. A still object needs no more.
+  float bound[2][kLookupCandidates][kMaxLevels], size[2][kMaxLevels];
+  for (int set = 0; set < sets; ++set)
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      fine = std::min(fine, largest(0, o.views[c], k));
-      if (sets == 2) coarse = std::min(coarse, largest(1, o.views[c], k));
+      const std::size_t at = ((std::size_t(o.views[c]) * B + (o.bands - 1)) * kStillE + ec.j) * L;
+      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][at];
+      for (std::uint32_t k = 1; k <= L; ++k) {
+        const float a = decode_size(row[k - 1]), b = decode_size(row[L + k - 1]);
+        bound[set][c][k] = a + ec.w * (b - a);
+        size[set][k] = c == 0 ? bound[set][c][k] : std::min(size[set][k], bound[set][c][k]);
+      }
     }
-    if (sets == 1) coarse = fine;
-    if (!fine_found && x <= fine) {
-      out.fine = static_cast<std::uint8_t>(k);
-      fine_found = true;
+  if (o.moving) {
+    // Per orientation at its own speed, the moving tables' bound where the slow one does not pass;
+    // per view the larger of the two holds. Without scores, from the coarsest level until one passes.
+    Cell em = e_cell<kMovingE>(e), sc[kMaxOrientations];
+    const float floor = pre_->floor_velocity;
+    for (std::uint32_t t = 0; t < T; ++t)
+      sc[t] = speed_cell(std::max(std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]), floor), floor,
+                         pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
+    const bool decide_only = scores == nullptr;
+    for (std::uint32_t k = L; k >= 1; --k) {
+      for (int set = 0; set < sets; ++set) {
+        float least = -kNever;  // over the views
+        for (std::uint32_t c = 0; c < o.view_count; ++c) {
+          const float slow_bound = bound[set][c][k];
+          if (decide_only && x <= slow_bound) {
+            least = std::min(least, slow_bound);
+            continue;
+          }
+          const std::int16_t* base =
+              &pc.moving[set][std::size_t(o.views[c]) * T * kMovingS * kMovingE * L + (k - 1)];
+          float m = -kNever;
+          for (std::uint32_t t = 0; t < T; ++t) {
+            const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
+            const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
+            const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]),
+                        b1 = decode_size(r1[L]);
+            const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
+            m = std::min(m, lo + sc[t].w * (hi - lo));
+            if (decide_only && m < x) break;  // this orientation alone makes the level visible
+          }
+          least = std::min(least, std::max(m, slow_bound));
+        }
+        size[set][k] = least;
+      }
+      if (decide_only && x <= size[sets - 1][k]) break;  // the coarsest level passing every set
     }
-    if (out.coarse == 0 && x <= coarse) out.coarse = static_cast<std::uint8_t>(k);
-    if (scores)
-      scores[k] = std::exp(std::min(x - fine, 80.0f));
-    else if (out.coarse != 0)
-      break;
+  }
+  if (sets == 1) std::copy(size[0] + 1, size[0] + K, size[1] + 1);
+  // The coarsest level that passes (levels above a moving object's break passed no set).
+  Choice out{0, 0, 0};
+  for (std::uint32_t k = 1; k <= L; ++k) {
+    out.fine = x <= size[0][k] ? static_cast<std::uint8_t>(k) : out.fine;
+    out.coarse = x <= size[1][k] ? static_cast<std::uint8_t>(k) : out.coarse;
+    if (scores) scores[k] = std::exp(std::min(x - size[0][k], 80.0f));
   }
   return out;
 }
@@ -1511,7 +1525,7 @@ void Scheduler::choose_tabulated(std::uint32_t first, std::uint32_t n, const Blo
 // once; a finer level (or the fallback) applies at once; a coarser one after hysteresis_frames
 // calm frames and, with saccade gating, in a saccade or after max_coarsen_wait frames (kFlagHeld
 // meanwhile). Free slots keep their state.
-void Scheduler::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
+ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
   const std::uint32_t frames = config_.hysteresis_frames, max_wait = config_.max_coarsen_wait;
   const bool gate_open = config_.saccade_speed <= 0 || saccade_;
   for (std::uint32_t j = 0; j < n; ++j) {
