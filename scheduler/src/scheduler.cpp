@@ -730,7 +730,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   explicit_velocity_[id] = 0;
   fresh_[id] = 1;
   min_level_[id] = 0;
-  max_level_[id] = 255;
+  max_level_[id] = static_cast<std::uint8_t>(level_count_[profile] - 1);
   bias_[id] = 1.0f;
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
@@ -763,7 +763,8 @@ void Scheduler::set_velocity(ObjectId id, const float v[3]) {
 void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level) {
   if (!alive(id)) return;
   min_level_[id] = min_level;
-  max_level_[id] = std::max(min_level, max_level);
+  max_level_[id] =
+      std::min(std::max(min_level, max_level), static_cast<std::uint8_t>(level_count_[profile_of_[id]] - 1));
 }
 
 void Scheduler::set_bias(ObjectId id, float quality_bias) {
@@ -1527,29 +1528,38 @@ void Scheduler::choose_tabulated(std::uint32_t first, std::uint32_t n, const Blo
 // meanwhile). Free slots keep their state.
 ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
   const std::uint32_t frames = config_.hysteresis_frames, max_wait = config_.max_coarsen_wait;
-  const bool gate_open = config_.saccade_speed <= 0 || saccade_;
+  const std::uint32_t gate_open = config_.saccade_speed <= 0 || saccade_;
+  const int* profile = &profile_of_[first];
+  const std::uint8_t *max_level = &max_level_[first], *min_level = &min_level_[first];
+  std::uint8_t *chosen = &chosen_[first], *next_level = &next_[first], *flags = &flags_[first],
+               *fresh = &fresh_[first];
+  std::uint32_t *calm_frames = &calm_frames_[first], *wait_frames = &wait_frames_[first];
+  // Plain arithmetic and selects (no short-circuits, every load unconditional): it vectorises.
+  ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
-    const ObjectId id = first + j;
-    const int p = profile_of_[id];
-    const bool alive = p >= 0;
-    const std::uint8_t top = alive ? static_cast<std::uint8_t>(level_count_[p] - 1) : std::uint8_t(0);
-    const std::uint8_t hi = std::min(max_level_[id], top);
-    const std::uint8_t lo = std::min(min_level_[id], hi);
-    const std::uint8_t fine = std::clamp(d.fine[j], lo, hi), coarse = std::clamp(d.coarse[j], lo, hi);
-    const std::uint8_t current = chosen_[id];
-    const std::uint32_t calm = calm_frames_[id], wait = wait_frames_[id];
-    const bool refine = fresh_[id] || (d.flags[j] & kFlagInvalidInput) || fine < current;
-    const bool coarsen = !refine && coarse > current;
-    const bool settled = calm + 1 >= frames;
-    const bool go = coarsen && settled && (gate_open || wait >= max_wait);
-    const std::uint8_t next = refine ? fine : go ? coarse : current;
-    const std::uint8_t flags = static_cast<std::uint8_t>(d.flags[j] | (coarsen && !go ? kFlagHeld : 0));
-    chosen_[id] = alive ? next : chosen_[id];
-    next_[id] = alive ? next : next_[id];
-    flags_[id] = alive ? flags : flags_[id];
-    fresh_[id] = alive ? std::uint8_t(0) : fresh_[id];
-    calm_frames_[id] = !alive ? calm : coarsen && !go ? calm + 1 : 0;
-    wait_frames_[id] = !alive ? wait : coarsen && !go ? wait + (settled ? 1u : 0u) : 0;
+    const std::uint32_t alive = profile[j] >= 0;
+    const std::uint32_t hi = max_level[j];  // clamped to the profile's coarsest level (set_clamps)
+    const std::uint32_t lo = min_level[j] < hi ? min_level[j] : hi;
+    const std::uint32_t want_fine = d.fine[j], want_coarse = d.coarse[j];
+    const std::uint32_t fine = want_fine < lo ? lo : want_fine > hi ? hi : want_fine;
+    const std::uint32_t coarse = want_coarse < lo ? lo : want_coarse > hi ? hi : want_coarse;
+    const std::uint32_t current = chosen[j];
+    const std::uint32_t calm = calm_frames[j], wait = wait_frames[j];
+    const std::uint32_t refine = std::uint32_t(fresh[j] != 0) |
+                                 std::uint32_t((d.flags[j] & kFlagInvalidInput) != 0) |
+                                 std::uint32_t(fine < current);
+    const std::uint32_t coarsen = (refine ^ 1u) & std::uint32_t(coarse > current);
+    const std::uint32_t settled = calm + 1 >= frames;
+    const std::uint32_t go = coarsen & settled & (gate_open | std::uint32_t(wait >= max_wait));
+    const std::uint32_t held = coarsen & (go ^ 1u);
+    const auto level = static_cast<std::uint8_t>(refine ? fine : go ? coarse : current);
+    const auto flag = static_cast<std::uint8_t>(d.flags[j] | (held ? kFlagHeld : 0));
+    chosen[j] = alive ? level : chosen[j];
+    next_level[j] = alive ? level : next_level[j];
+    flags[j] = alive ? flag : flags[j];
+    fresh[j] = alive ? std::uint8_t(0) : fresh[j];
+    calm_frames[j] = alive ? (held ? calm + 1 : 0u) : calm;
+    wait_frames[j] = alive ? (held ? wait + settled : 0u) : wait;
   }
 }
 
