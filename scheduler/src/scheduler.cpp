@@ -1195,6 +1195,17 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   Probe probe[kBlock];
   std::uint8_t todo[kBlock];  // 1: decided by the tables in pass 3
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
+  // The lookup cells of the directions to the eye, as vectors (cube_cell has no branches).
+  std::uint32_t resolution[kBlock], cell[kBlock];
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const int p = profile_of_[first + j];
+    resolution[j] = p >= 0 ? profiles_[p].profile.meta.lookup_resolution : 1u;
+  }
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+    cell[j] = cube_cell(dir, resolution[j]);
+  }
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
     const int p = profile_of_[id];
@@ -1211,9 +1222,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       continue;
     }
     todo[j] = 1;
-    const Profile& pr = profiles_[p].profile;
-    const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-    cand[j] = pr.lookup + cube_cell(dir, pr.meta.lookup_resolution) * kLookupCandidates;
+    cand[j] = profiles_[p].profile.lookup + cell[j] * kLookupCandidates;
     ACUITY_PREFETCH(cand[j]);
   }
   const bool max3 = config_.view_blend == ViewBlend::Max3;
@@ -1322,12 +1331,12 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const
       if (decide_only && x <= size[sets - 1][k]) break;  // the coarsest level passing every set
     }
   }
-  if (sets == 1) std::copy(size[0] + 1, size[0] + K, size[1] + 1);
+  const float* coarse_size = size[sets - 1];  // without a margin, the same tables
   // The coarsest level that passes (levels above a moving object's break passed no set).
   Choice out{0, 0, 0};
   for (std::uint32_t k = 1; k <= L; ++k) {
     out.fine = x <= size[0][k] ? static_cast<std::uint8_t>(k) : out.fine;
-    out.coarse = x <= size[1][k] ? static_cast<std::uint8_t>(k) : out.coarse;
+    out.coarse = x <= coarse_size[k] ? static_cast<std::uint8_t>(k) : out.coarse;
     if (scores) scores[k] = std::exp(std::min(x - size[0][k], 80.0f));
   }
   return out;

@@ -159,35 +159,22 @@ inline std::uint32_t cube_cell(const float direction[3], std::uint32_t resolutio
 void cube_cell_center(std::uint32_t cell, std::uint32_t resolution, float direction[3]);
 
 // ---- inline definitions ----
-inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
-  const float ax = d[0] < 0 ? -d[0] : d[0], ay = d[1] < 0 ? -d[1] : d[1], az = d[2] < 0 ? -d[2] : d[2];
-  std::uint32_t face;
-  float u, v, major;
-  if (ax >= ay && ax >= az) {
-    face = d[0] >= 0 ? 0 : 1;
-    major = ax;
-    u = d[1];
-    v = d[2];
-  } else if (ay >= az) {
-    face = d[1] >= 0 ? 2 : 3;
-    major = ay;
-    u = d[2];
-    v = d[0];
-  } else {
-    face = d[2] >= 0 ? 4 : 5;
-    major = az;
-    u = d[0];
-    v = d[1];
-  }
-  if (!(major > 0)) return 0;                                // zero or NaN direction
-  const float scale = 0.5f * static_cast<float>(r) / major;  // [-major, major] -> [0, r]
-  const float half = 0.5f * static_cast<float>(r);
+[[gnu::always_inline]] inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
+  // Selects only, no branches: the scheduler's frame loop runs it over a block of objects as vectors.
+  const float x = d[0], y = d[1], z = d[2];
+  const float ax = x < 0 ? -x : x, ay = y < 0 ? -y : y, az = z < 0 ? -z : z;
+  const bool on_x = ax >= ay && ax >= az, on_y = !on_x && ay >= az;  // else on z
+  const float major = on_x ? ax : on_y ? ay : az, sign = on_x ? x : on_y ? y : z;
+  const float u = on_x ? y : on_y ? z : x, v = on_x ? z : on_y ? x : y;
+  const int face = (on_x ? 0 : on_y ? 2 : 4) + (sign >= 0 ? 0 : 1);
   const float fr = static_cast<float>(r);
+  const float scale = 0.5f * fr / major, half = 0.5f * fr;  // [-major, major] -> [0, r]
   auto index = [&](float t) {
-    const float x = t * scale + half;
-    return x <= 0 ? 0u : (x >= fr ? r - 1 : static_cast<std::uint32_t>(x));
+    const float at = t * scale + half, low = 0.0f < at ? at : 0.0f;  // NaN -> 0
+    return static_cast<int>(low < fr - 1.0f ? low : fr - 1.0f);
   };
-  return face * r * r + index(v) * r + index(u);
+  const int cell = (face * static_cast<int>(r) + index(v)) * static_cast<int>(r) + index(u);
+  return major > 0 ? static_cast<std::uint32_t>(cell) : 0u;  // zero or NaN direction: cell 0
 }
 
 }  // namespace acuity
