@@ -46,8 +46,10 @@ using detail::ln_positive;
 // A hint to load a cache line that is read a pass later.
 #if defined(__GNUC__) || defined(__clang__)
 #define ACUITY_PREFETCH(p) __builtin_prefetch(p)
+#define ACUITY_PREFETCH_L2(p) __builtin_prefetch(p, 0, 1)  // many lines: keep them out of L1
 #else
 #define ACUITY_PREFETCH(p) ((void)(p))
+#define ACUITY_PREFETCH_L2(p) ((void)(p))
 #endif
 
 constexpr float kDeg = 180.0f / std::numbers::pi_v<float>;
@@ -230,17 +232,22 @@ template <std::uint32_t n>
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
 // fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
-// node[j] = floor 2^j and inv_g[j] = 1 / g(r(2 node[j])) tabulated once: per orientation one division.
-[[gnu::always_inline]] inline Cell speed_cell(float v, float floor, float v0, const float* node,
-                                              const float* inv_g, std::uint32_t n) {
+// Plain arithmetic (the node and 1 / g at the cell's top computed, not looked up): a loop over
+// orientations vectorises.
+[[gnu::always_inline]] inline void speed_cell(float v, float floor, float v0, std::uint32_t n,
+                                              std::uint32_t* j, float* w) {
   const float r = v / floor;  // >= 1
   std::uint32_t bits;
   std::memcpy(&bits, &r, sizeof bits);
-  const int octave = int((bits >> 23) & 255u) - 127;
-  const std::uint32_t j = std::min(static_cast<std::uint32_t>(std::max(octave, 0)), n - 2);
-  const float lo = node[j];
+  const int octave = std::min(std::max(int((bits >> 23) & 255u) - 127, 0), int(n) - 2);
+  const std::uint32_t power_bits = std::uint32_t(octave + 127) << 23;  // 2^octave
+  float power;
+  std::memcpy(&power, &power_bits, sizeof power);
+  const float lo = floor * power;                    // the cell's lower node
+  const float inv_g = (3.0f * lo + 2.0f * v0) / lo;  // 1 / g at the cell's top, 2 lo
   // g(r) = (r - 1) / (r + 1) with r = (v + v0) / (lo + v0) is (v - lo) / (v + lo + 2 v0).
-  return {j, std::clamp((v - lo) / (v + lo + 2.0f * v0) * inv_g[j], 0.0f, 1.0f)};
+  *j = static_cast<std::uint32_t>(octave);
+  *w = std::clamp((v - lo) / (v + lo + 2.0f * v0) * inv_g, 0.0f, 1.0f);
 }
 // The speed at weight 1/2 of cell [lo, 2 lo].
 inline float speed_midpoint(float lo, float v0) {
@@ -276,7 +283,6 @@ struct Scheduler::Precomputed {
   float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
   float distance_per_error = 0;  // Distance rule: distance_scale / tan(1 arcmin)
   float speed_offset = 1;        // tabulated path: v0 = 2 / c2 of the speed grid's weight [deg/s]
-  float speed_node[kMovingS] = {}, speed_inv_g[kMovingS] = {};  // see speed_cell()
   // velocity_terms() tabulated over ln v, linear between nodes (error ~1e-5 in ln S).
   static constexpr int kTermsSize = 2048;
   static constexpr float kTermsLnV0 = -2.31f, kTermsLnV1 = 6.91f;  // 0.0993 .. 1000 deg/s
@@ -498,11 +504,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
   pre.distance_per_error = config_.distance_scale / std::tan(kRad / 60.0f);
   pre.speed_offset = 2.0f / pre.daly.c2;
-  for (std::uint32_t j = 0; j < kMovingS; ++j) {
-    pre.speed_node[j] = pre.floor_velocity * std::ldexp(1.0f, int(j));
-    pre.speed_inv_g[j] = (3.0f * pre.speed_node[j] + 2.0f * pre.speed_offset) /
-                         pre.speed_node[j];  // 1 / g at the cell's top, 2 node[j]
-  }
+  for (std::uint32_t j = 0; j < kMovingS; ++j) {}
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
     pre.terms[i] = velocity_terms(
         std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) * float(i) /
@@ -1182,6 +1184,10 @@ struct Scheduler::Probe {
   std::uint16_t views[kLookupCandidates];  // the views whose tables bound it (one, or Max3's three)
   std::uint8_t view_count;
   bool moving;
+  bool cells;                               // moving: em and sc are set (where a slow bound does not pass)
+  Cell em;                                  // eccentricity cell of the moving grid
+  std::uint32_t speed_j[kMaxOrientations];  // each orientation's speed cell: lower node
+  float speed_w[kMaxOrientations];          // and the weight of the upper one
 };
 
 // One eye, the objects of a block: per object the lookup cell (pass 1), the view, slip and grid cell
@@ -1241,6 +1247,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
     slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
     o.moving = o.vx != 0.0f || o.vy != 0.0f;
+    o.cells = false;
     // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
     const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
     std::uint32_t bands = 0;
@@ -1256,6 +1263,29 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       if (o.moving) ACUITY_PREFETCH(&pc.slow[0][at]);
     }
   }
+  // Moving objects whose slow bound (read a pass after its prefetch) does not pass the coarsest
+  // level: their grid cells, and the moving tables' rows they read prefetched (most never read them).
+  for (std::uint32_t j = 0; j < n; ++j) {
+    Probe& o = probe[j];
+    if (!todo[j] || !o.moving || o.bands == 0) continue;
+    const ProfileCache& pc = profiles_[profile_of_[first + j]];
+    const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
+                        L = pc.profile.meta.level_count - 1;
+    if (L == 0) continue;
+    for (std::uint32_t c = 0; c < o.view_count; ++c) {
+      const std::int16_t* slow =
+          &pc.slow[0][((std::size_t(o.views[c]) * B + (o.bands - 1)) * kStillE + o.ec.j) * L];
+      const float a = decode_size(slow[L - 1]), bound = a + o.ec.w * (decode_size(slow[2 * L - 1]) - a);
+      if (o.x <= bound) continue;
+      if (!o.cells) speed_cells(pc, b.e[j], &o);
+      const std::int16_t* base = &pc.moving[0][std::size_t(o.views[c]) * T * kMovingS * kMovingE * L];
+      for (std::uint32_t t = 0; t < T; ++t) {
+        const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + o.speed_j[t]) * kMovingE + o.em.j) * L;
+        ACUITY_PREFETCH_L2(r0);
+        ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
+      }
+    }
+  }
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
     const ObjectId id = first + j;
@@ -1268,8 +1298,20 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
 // invisible one at its eccentricity (and, moving, per orientation at its retinal speed)? With
 // `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
 // decides.
-Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const Probe& o,
-                                          float* scores) const {
+// A moving object's cells on the moving grid: eccentricity e [deg], each orientation's speed.
+ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, Probe* o) const {
+  const float floor = pre_->floor_velocity, v0 = pre_->speed_offset, vx = o->vx, vy = o->vy;
+  const float *cos_t = pc.cos_t.data(), *sin_t = pc.sin_t.data();
+  const std::uint32_t T = pc.profile.meta.orientation_count;
+  o->em = e_cell<kMovingE>(e);
+  ACUITY_NO_ALIAS
+  for (std::uint32_t t = 0; t < T; ++t)
+    speed_cell(std::max(std::abs(vx * cos_t[t] + vy * sin_t[t]), floor), floor, v0, kMovingS, &o->speed_j[t],
+               &o->speed_w[t]);
+  o->cells = true;
+}
+
+Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const std::uint32_t L = K - 1;                           // coarser levels per view
@@ -1297,11 +1339,8 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const
   if (o.moving) {
     // Per orientation at its own speed, the moving tables' bound where the slow one does not pass;
     // per view the larger of the two holds. Without scores, from the coarsest level until one passes.
-    Cell em = e_cell<kMovingE>(e), sc[kMaxOrientations];
-    const float floor = pre_->floor_velocity;
-    for (std::uint32_t t = 0; t < T; ++t)
-      sc[t] = speed_cell(std::max(std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]), floor), floor,
-                         pre_->speed_offset, pre_->speed_node, pre_->speed_inv_g, kMovingS);
+    if (!o.cells) speed_cells(pc, e, &o);
+    const Cell em = o.em;
     const bool decide_only = scores == nullptr;
     for (std::uint32_t k = L; k >= 1; --k) {
       for (int set = 0; set < sets; ++set) {
@@ -1316,12 +1355,13 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, const
               &pc.moving[set][std::size_t(o.views[c]) * T * kMovingS * kMovingE * L + (k - 1)];
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + sc[t].j) * kMovingE + em.j) * L;
+            const std::int16_t* r0 =
+                base + ((std::size_t(t) * kMovingS + o.speed_j[t]) * kMovingE + em.j) * L;
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
             const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]),
                         b1 = decode_size(r1[L]);
             const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
-            m = std::min(m, lo + sc[t].w * (hi - lo));
+            m = std::min(m, lo + o.speed_w[t] * (hi - lo));
             if (decide_only && m < x) break;  // this orientation alone makes the level visible
           }
           least = std::min(least, std::max(m, slow_bound));

@@ -255,7 +255,8 @@ class Scheduler {
   struct Probe;                                       // tabulated path: one object's table position
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Choice* out,
                 float (*scores)[kMaxLevels]) const;
-  Choice table_choice(const ProfileCache& pc, float e, const Probe& o, float* scores) const;
+  Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
+  void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
     return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
