@@ -1232,6 +1232,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     ACUITY_PREFETCH(cand[j]);
   }
   const bool max3 = config_.view_blend == ViewBlend::Max3;
+  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
     const ObjectId id = first + j;
@@ -1259,8 +1260,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       if (bands == 0 || L == 0) continue;
       const std::size_t at = ((std::size_t(o.views[c]) * B + (bands - 1)) * kStillE + o.ec.j) * L;
-      ACUITY_PREFETCH(&pc.still[0][at]);
-      if (o.moving) ACUITY_PREFETCH(&pc.slow[0][at]);
+      for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
+        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][at];
+        ACUITY_PREFETCH(row);
+        ACUITY_PREFETCH(row + 2 * L - 1);
+      }
     }
   }
   // Moving objects whose slow bound (read a pass after its prefetch) does not pass the coarsest
@@ -1603,12 +1607,15 @@ ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, 
     const std::uint32_t held = coarsen & (go ^ 1u);
     const auto level = static_cast<std::uint8_t>(refine ? fine : go ? coarse : current);
     const auto flag = static_cast<std::uint8_t>(d.flags[j] | (held ? kFlagHeld : 0));
-    chosen[j] = alive ? level : chosen[j];
-    next_level[j] = alive ? level : next_level[j];
-    flags[j] = alive ? flag : flags[j];
-    fresh[j] = alive ? std::uint8_t(0) : fresh[j];
-    calm_frames[j] = alive ? (held ? calm + 1 : 0u) : calm;
-    wait_frames[j] = alive ? (held ? wait + settled : 0u) : wait;
+    // A free slot keeps its state: masks, not selects (GCC turns those into conditional stores).
+    const auto keep = static_cast<std::uint8_t>(alive - 1u), take = static_cast<std::uint8_t>(~keep);
+    const std::uint32_t keep_count = alive - 1u;
+    chosen[j] = static_cast<std::uint8_t>((level & take) | (chosen[j] & keep));
+    next_level[j] = static_cast<std::uint8_t>((level & take) | (next_level[j] & keep));
+    flags[j] = static_cast<std::uint8_t>((flag & take) | (flags[j] & keep));
+    fresh[j] = static_cast<std::uint8_t>(fresh[j] & keep);
+    calm_frames[j] = ((held ? calm + 1 : 0u) & ~keep_count) | (calm & keep_count);
+    wait_frames[j] = ((held ? wait + settled : 0u) & ~keep_count) | (wait & keep_count);
   }
 }
 
