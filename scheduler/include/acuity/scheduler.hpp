@@ -164,12 +164,14 @@ struct FrameStats {
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
-// from the tables. update() runs each block of 64 objects as passes (geometry, view lookup, table
-// positions, decisions), each prefetching the per-profile data the next reads, so the cache misses of
-// a block's objects overlap; then clamps and hysteresis run as one branch-free pass over the block's
-// decisions. Every rule reads per-profile counts, triangles and thresholds from small arrays the
-// scheduler owns (not the profile blob); Distance and ScreenSize compare distance / radius with
-// per-level thresholds set at begin_frame and compute no angles; velocities are derived from
+// from the tables. update() runs each block of 64 objects as passes: the geometry, the lookup cells
+// and the clamps/hysteresis as vectorised loops (branch-free; with GCC on x86-64 also compiled for
+// AVX2, picked at load time, same bits); the view, slip and grid position, then the decision, as
+// scalar passes over compact per-object probes, each prefetching the table rows the next reads so a
+// block's cache misses overlap. A moving object reads its per-orientation rows only where the slow
+// bound does not already pass. Every rule reads per-profile counts, triangles and thresholds from
+// small arrays the scheduler owns (not the profile blob); Distance and ScreenSize compare distance /
+// radius with per-level thresholds set at begin_frame and compute no angles; velocities are derived from
 // positions only in blocks holding an object without a given velocity. Tables cover the smooth
 // low-pass models, Default and GeislerPerry; KellyDaly (its band-pass CSF rises with speed at low
 // frequencies) and the Reddy step model evaluate exactly, as does an object whose bias is not 1
