@@ -19,7 +19,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdarg>
 #include <cstdio>
 #include <iterator>
 #include <map>
@@ -52,22 +51,6 @@ Mesh run(int b, const Mesh& m, const Mesh& shaded, MeshoptChainState* state, std
   if (backend == Backend::Meshopt)
     return decimate_meshopt_level(shaded, target, {backend, false, kCrease}, state);
   return split_creases(decimate(m, target, {backend, false, kCrease}), kCrease);
-}
-
-// printf into `out` (the tables are printed in an order other than the one they are measured in).
-void appendf(std::string& out, const char* format, ...) {
-  va_list args, copy;
-  va_start(args, format);
-  va_copy(copy, args);
-  const int n = std::vsnprintf(nullptr, 0, format, copy);
-  va_end(copy);
-  if (n > 0) {
-    const std::size_t at = out.size();
-    out.resize(at + std::size_t(n) + 1);
-    std::vsnprintf(out.data() + at, std::size_t(n) + 1, format, args);
-    out.resize(at + std::size_t(n));
-  }
-  va_end(args);
 }
 
 double median(std::vector<double> v) {
@@ -144,14 +127,20 @@ int main(int argc, char** argv) {
       const Row& ref = rows.back();
       for (const Row& r : rows) {
         const double tr = r.ms / ref.ms, er = r.error.hausdorff / ref.error.hausdorff;
-        appendf(all_rows, "| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name,
-                m.triangle_count(), 100 * keep, r.backend.c_str(), r.triangles, r.ms, r.error.hausdorff / d,
-                r.error.normal_p99_degrees, tr, er);
+        char line[512];  // a row: names under 100 characters and numbers
+        std::snprintf(line, sizeof line,
+                      "| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name,
+                      m.triangle_count(), 100 * keep, r.backend.c_str(), r.triangles, r.ms,
+                      r.error.hausdorff / d, r.error.normal_p99_degrees, tr, er);
+        all_rows += line;
         if (r.backend == "meshopt") {
           chains.back().meshopt_ms += r.ms;
           std::string& list = was_welded ? continued : rejected;
-          if (was_welded || chain_state.welded)
-            appendf(list, "%s%s %.2f%% (%.2fx)", list.empty() ? "" : ", ", name, 100 * keep, tr);
+          if (was_welded || chain_state.welded) {
+            std::snprintf(line, sizeof line, "%s%s %.2f%% (%.2fx)", list.empty() ? "" : ", ", name,
+                          100 * keep, tr);
+            list += line;
+          }
         }
         if (r.backend == "meshoptimizer") chains.back().reference_ms += r.ms;
         Summary& s = summary[r.backend];
