@@ -12,12 +12,15 @@
 // bounding-sphere diameters, and the 99th-percentile angle between the result's shading normals
 // and the input's crease-split normals (plain meshoptimizer's result gets crease-split normals,
 // untimed, as a renderer would compute them).
-// Run: build/bench/bench_lodgen [MESH_DIR] [repeats]   (prints Markdown tables: all rows, then a summary)
+// Run: build/bench/bench_lodgen [MESH_DIR] [repeats]   (prints Markdown: a summary per back-end, the
+// whole chains with a sentence on the meshopt rows that were rejected or continued a welded level,
+// then all rows; docs/lodgen.md holds it as a figure, scripts/regenerate_docs.py --only lodgen-bench)
 #include <meshoptimizer.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -71,13 +74,16 @@ int main(int argc, char** argv) {
     double split_ms, meshopt_ms, reference_ms;
   };
   std::vector<ChainRow> chains;
-  std::printf(
+  std::string rejected, continued;  // meshopt rows: "mesh kept% (time ratio)", comma-separated
+  std::string all_rows =
       "| mesh | triangles | kept | backend | result | time [ms] | Hausdorff [diam] | normal p99 [deg] | time "
-      "/ meshopt | error / meshopt |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+      "/ meshopt | error / meshopt |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  const double keeps[] = {0.5, 0.25, 0.125, 0.0625};
+  std::size_t mesh_count = 0;
   for (const char* name : {"elephant.off", "fandisk.off", "camel.off", "ChineseDragon-10kv.off",
                            "armadillo.off", "bunny00.off"}) {
     const Mesh m = load_mesh(dir + "/" + name);
+    ++mesh_count;
     double split_ms = 1e30;
     Mesh shaded;
     for (int r = 0; r < repeats; ++r) {
@@ -91,7 +97,7 @@ int main(int argc, char** argv) {
     DeviationOptions measure;
     measure.spacing = d / 250;
     MeshoptChainState chain_state;  // the meshopt chain's
-    for (double keep : {0.5, 0.25, 0.125, 0.0625}) {
+    for (double keep : keeps) {
       const std::size_t target = std::size_t(double(m.triangle_count()) * keep);
       struct Row {
         std::string backend;
@@ -100,6 +106,7 @@ int main(int argc, char** argv) {
         std::size_t triangles;
       };
       std::vector<Row> rows;
+      const bool was_welded = chain_state.welded;
       for (int b : order) {
         Mesh best;
         double ms = 1e30;
@@ -120,10 +127,21 @@ int main(int argc, char** argv) {
       const Row& ref = rows.back();
       for (const Row& r : rows) {
         const double tr = r.ms / ref.ms, er = r.error.hausdorff / ref.error.hausdorff;
-        std::printf("| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name,
-                    m.triangle_count(), 100 * keep, r.backend.c_str(), r.triangles, r.ms,
-                    r.error.hausdorff / d, r.error.normal_p99_degrees, tr, er);
-        if (r.backend == "meshopt") chains.back().meshopt_ms += r.ms;
+        char line[512];  // a row: names under 100 characters and numbers
+        std::snprintf(line, sizeof line,
+                      "| %s | %zu | %.2f%% | %s | %zu | %.1f | %.5f | %.1f | %.2f | %.2f |\n", name,
+                      m.triangle_count(), 100 * keep, r.backend.c_str(), r.triangles, r.ms,
+                      r.error.hausdorff / d, r.error.normal_p99_degrees, tr, er);
+        all_rows += line;
+        if (r.backend == "meshopt") {
+          chains.back().meshopt_ms += r.ms;
+          std::string& list = was_welded ? continued : rejected;
+          if (was_welded || chain_state.welded) {
+            std::snprintf(line, sizeof line, "%s%s %.2f%% (%.2fx)", list.empty() ? "" : ", ", name,
+                          100 * keep, tr);
+            list += line;
+          }
+        }
         if (r.backend == "meshoptimizer") chains.back().reference_ms += r.ms;
         Summary& s = summary[r.backend];
         s.time.push_back(tr);
@@ -131,22 +149,13 @@ int main(int argc, char** argv) {
         s.normal.push_back(r.error.normal_p99_degrees / std::max(1e-9, ref.error.normal_p99_degrees));
         s.at_or_below += r.error.hausdorff <= ref.error.hausdorff;
       }
-      std::fflush(stdout);
+      std::fprintf(stderr, "%s %.2f%% done\n", name, 100 * keep);  // progress
     }
   }
+  std::printf("### Summary over %zu meshes × %zu targets (%zu rows)\n\n", mesh_count, std::size(keeps),
+              mesh_count * std::size(keeps));
   std::printf(
-      "\n| mesh | crease split [ms] | meshopt chain: split + 4 levels [ms] | meshoptimizer: 4 levels [ms] | "
-      "chain time / meshoptimizer |\n");
-  std::printf("|---|---|---|---|---|\n");
-  std::vector<double> chain_ratio;
-  for (const ChainRow& c : chains) {
-    chain_ratio.push_back(c.meshopt_ms / c.reference_ms);
-    std::printf("| %s | %.1f | %.1f | %.1f | %.2f |\n", c.mesh.c_str(), c.split_ms, c.meshopt_ms,
-                c.reference_ms, chain_ratio.back());
-  }
-  std::printf("| median | | | | %.2f |\n", median(chain_ratio));
-  std::printf(
-      "\n| backend | time / meshoptimizer, median (range) | Hausdorff / meshoptimizer, median | normal p99 / "
+      "| backend | time / meshoptimizer, median (range) | Hausdorff / meshoptimizer, median | normal p99 / "
       "meshoptimizer, median | rows at or below meshoptimizer's Hausdorff |\n");
   std::printf("|---|---|---|---|---|\n");
   for (int b : order) {
@@ -157,4 +166,24 @@ int main(int argc, char** argv) {
                 *std::max_element(s.time.begin(), s.time.end()), median(s.error), median(s.normal),
                 s.at_or_below, s.time.size());
   }
+  std::printf("\n### Whole chains (level 0's split + the %zu levels)\n\n", std::size(keeps));
+  std::printf(
+      "| mesh | crease split [ms] | meshopt chain: split + 4 levels [ms] | meshoptimizer: 4 levels [ms] | "
+      "chain time / meshoptimizer |\n");
+  std::printf("|---|---|---|---|---|\n");
+  std::vector<double> chain_ratio;
+  for (const ChainRow& c : chains) {
+    chain_ratio.push_back(c.meshopt_ms / c.reference_ms);
+    std::printf("| %s | %.1f | %.1f | %.1f | %.2f |\n", c.mesh.c_str(), c.split_ms, c.meshopt_ms,
+                c.reference_ms, chain_ratio.back());
+  }
+  std::printf("| median | | | | %.2f |\n", median(chain_ratio));
+  std::printf(
+      "\nDefault meshopt: chains %.2f-%.2fx meshoptimizer's time (median %.2fx). Levels whose seam-keeping "
+      "run was rejected (decimated twice): %s. Levels continuing from a rejected level's welded result: "
+      "%s.\n",
+      *std::min_element(chain_ratio.begin(), chain_ratio.end()),
+      *std::max_element(chain_ratio.begin(), chain_ratio.end()), median(chain_ratio),
+      rejected.empty() ? "none" : rejected.c_str(), continued.empty() ? "none" : continued.c_str());
+  std::printf("\n### All rows\n\n%s", all_rows.c_str());
 }

@@ -9,6 +9,7 @@
 // 1): a prediction optimistic by more than 10%, and by the median ratio of the direct switching
 // angle to the predicted one (> 1: conservative; what the bound costs in switching distance).
 // Run: build/bench/bench_profile [MESH_DIR] [random views] [all: every setting; else the first 3]
+// (docs/spectra.md holds its output as a figure: scripts/regenerate_docs.py --only profile-bench)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -157,7 +158,7 @@ int main(int argc, char** argv) {
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   struct Decision {
     const char* name;
-    double lo, hi, near_visible, near_triangles, max_visible, max_triangles;
+    double lo, hi, near_visible, near_triangles, max_visible, max_triangles, cpu, near_optimistic10;
   };
   std::vector<Decision> decisions;
   for (const Setting& s : settings) {
@@ -201,7 +202,8 @@ int main(int argc, char** argv) {
     const double n = double(nearest.logs.size());
     const auto [lo, hi] = size_range(nearest, K - 1);
     const auto dn = decide(nearest, profile.levels, lo, hi), dm = decide(max3, profile.levels, lo, hi);
-    decisions.push_back({s.name, lo, hi, dn.first, dn.second, dm.first, dm.second});
+    decisions.push_back(
+        {s.name, lo, hi, dn.first, dn.second, dm.first, dm.second, cpu, double(nearest.optimistic10) / n});
     std::printf(
         "| %s | %u | %u | %.2f | %.1f | %zu | %.1f%% | %.1f%% / %.1f%% / %.1f%% | %.0f%% | %.1f%% | %.2f | "
         "%.1f%% / %.1f%% / "
@@ -221,4 +223,14 @@ int main(int argc, char** argv) {
   for (const Decision& d : decisions)
     std::printf("| %s | %.2f-%.1f | %.1f%% | %.3f | %.1f%% | %.3f |\n", d.name, d.lo, d.hi,
                 100 * d.near_visible, d.near_triangles, 100 * d.max_visible, d.max_triangles);
+  if (decisions.size() >= 2) {  // the first two settings: without and with cell bounds
+    const Decision &before = decisions[0], &bounded = decisions[1];
+    std::printf(
+        "\nNearest view, %s -> %s: predictions optimistic > 10%% %.1f%% -> %.1f%%, decisions visible by "
+        "the exact-view check %.1f%% -> %.1f%%, triangles / exact view's %.3f -> %.3f (%+.1f%%), profiling "
+        "CPU time %.1fx.\n",
+        before.name, bounded.name, 100 * before.near_optimistic10, 100 * bounded.near_optimistic10,
+        100 * before.near_visible, 100 * bounded.near_visible, before.near_triangles, bounded.near_triangles,
+        100 * (bounded.near_triangles / before.near_triangles - 1), bounded.cpu / before.cpu);
+  }
 }

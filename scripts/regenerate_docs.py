@@ -3,7 +3,7 @@
 
   python3 scripts/regenerate_docs.py [--build build]              the quick figures (the demo's summary, images)
   python3 scripts/regenerate_docs.py --all [--build build]        also the slow ones: the 600-decision demo and every
-                                                                  benchmark table (an idle machine: ~40 min)
+                                                                  benchmark table (an idle machine: ~50 min)
   python3 scripts/regenerate_docs.py --only NAME [NAME ...]       just these figures (--list names them)
   python3 scripts/regenerate_docs.py --check [NAME ...]           fail when a deterministic figure differs from its command
 
@@ -21,10 +21,6 @@ rewritten from the same runs:
       -DACUITY_OSG=ON and xvfb-run; --no-osg leaves it);
   web_page_levels.png: `ctest -R web_page_chromium`'s page_levels.png (-DACUITY_WEB=ON; --no-web
       leaves it).
-Not yet blocks (their commands, named beside them, print tables the docs quote in several sections):
-docs/lodgen.md's tables (`build/bench/bench_lodgen build/cgal-data/data/meshes 2`, `python3
-scripts/lodgen_sweep.py build/tools/acuity`) and docs/spectra.md's (`build/bench/bench_profile
-build/cgal-data/data/meshes 48`).
 Runs programs with argument vectors, never a shell; writes each file by temp file and rename.
 """
 import argparse
@@ -91,6 +87,13 @@ FIGURES = [
            measured=True),
     Figure("bake-table", "bake.md",
            lambda b: [PY, os.path.join(ROOT, "bench", "bake_table.py"), acuity(b), meshes(b)], measured=True),
+    Figure("lodgen-bench", "lodgen.md",
+           lambda b: [os.path.join(b, "bench", "bench_lodgen"), meshes(b), "2"], measured=True),
+    Figure("lodgen-sweep", "lodgen.md",
+           lambda b: [PY, os.path.join(ROOT, "scripts", "lodgen_sweep.py"), acuity(b), os.path.join(b, "lodgen-sweep")],
+           measured=True),
+    Figure("profile-bench", "spectra.md",
+           lambda b: [os.path.join(b, "bench", "bench_profile"), meshes(b), "48"], measured=True),
 ]
 
 

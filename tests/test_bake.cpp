@@ -287,6 +287,21 @@ TEST(Bake, ManifestGivesPerAssetOptions) {
   EXPECT_EQ(index["options"]["pixels"], 32);
 }
 
+// bound_cells reaches the profile builder's settings (the one translation acuity profile, acuity bake
+// and the manifests share), enters the cache key, and round-trips through the options' JSON.
+TEST(Bake, BoundCellsOptionReachesTheProfileSettings) {
+  const bake::BakeOptions defaults;
+  EXPECT_TRUE(defaults.bound_cells);
+  EXPECT_TRUE(bake::profile_settings(defaults, 1).bound_cells);
+  EXPECT_EQ(bake::profile_settings(defaults, 1).bound_cells, spectra::ProfileSettings{}.bound_cells);
+  const bake::BakeOptions off = bake::parse_options(R"({"bound_cells": false})", defaults, "m");
+  EXPECT_FALSE(off.bound_cells);
+  EXPECT_FALSE(bake::profile_settings(off, 1).bound_cells);
+  EXPECT_NE(bake::options_json(off), bake::options_json(defaults));
+  EXPECT_FALSE(bake::parse_options(bake::options_json(off), defaults, "m").bound_cells);
+  EXPECT_TRUE(bake::parse_options(R"({"bound_cells": true})", off, "m").bound_cells);
+}
+
 TEST(Bake, BadInputIsRefusedClearly) {
   const fs::path root = library("bad");
   const std::string in = (root / "in").string();
@@ -318,6 +333,10 @@ TEST(Bake, BadInputIsRefusedClearly) {
   EXPECT_NE(
       error_of([&] { bake::parse_options(R"({"colour": 1})", {}, "m"); }).find("unknown option 'colour'"),
       std::string::npos);
+  EXPECT_NE(error_of([&] {
+              bake::parse_options(R"({"bound_cells": 0})", {}, "m");
+            }).find("option 'bound_cells' must be true or false"),
+            std::string::npos);
   std::ofstream(root / "in" / "list.json")
       << R"({"assets": [{"input": "ball.off", "name": "a b"}, {"input": "ball.off", "name": "a_b"}]})";
   EXPECT_NE(error_of([&] {

@@ -30,6 +30,9 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
   add_number(cmd, "--orientations", b.orientations, "Orientations over 180 deg", 1, 32);
   add_number(cmd, "--bands", b.bands, "Number of octave bands (0: all up to res / 4)", 0, 32);
   add_number(cmd, "--tolerance", b.tolerance, "Adaptive views: switching-distance error allowed", 0, 1e6);
+  cmd->add_flag("!--no-cell-bounds", b.bound_cells,
+                "Store each view's own measurement, not the largest loss over its cell (faster, optimistic "
+                "between views)");
 }
 
 }  // namespace acuity::tools

@@ -52,6 +52,7 @@ json to_json(const BakeOptions& o) {
           {"bands", o.bands},
           {"views", o.views},
           {"tolerance", o.tolerance},
+          {"bound_cells", o.bound_cells},
           {"asset_root", o.asset_root}};
 }
 
@@ -92,9 +93,9 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
       o.views = number<std::uint32_t>(v, where, key, 0, 4096);
     else if (key == "tolerance")
       o.tolerance = number<float>(v, where, key, 0, 1e6);
-    else if (key == "lock_border") {
-      if (!v.is_boolean()) throw lodgen::InputError(where + ": option 'lock_border' must be true or false");
-      o.lock_border = v.get<bool>();
+    else if (key == "lock_border" || key == "bound_cells") {
+      if (!v.is_boolean()) throw lodgen::InputError(where + ": option '" + key + "' must be true or false");
+      (key == "lock_border" ? o.lock_border : o.bound_cells) = v.get<bool>();
     } else if (key == "backend" || key == "asset_root") {
       if (!v.is_string()) throw lodgen::InputError(where + ": option '" + key + "' must be a string");
       (key == "backend" ? o.backend : o.asset_root) = v.get<std::string>();
@@ -336,6 +337,7 @@ spectra::ProfileSettings profile_settings(const BakeOptions& o, unsigned jobs) {
   s.analysis.bands = o.bands;
   s.views = o.views;
   s.view_tolerance = o.tolerance;
+  s.bound_cells = o.bound_cells;
   s.jobs = jobs;
   return s;
 }

@@ -130,6 +130,44 @@ def test_profile_then_inspect(tmp_path):
     assert r.returncode != 0 and "bad.acuity" in r.stderr
 
 
+def write_off(path, positions, indices):
+    path.write_text("OFF\n%d %d 0\n" % (len(positions), len(indices) // 3)
+                    + "".join("%r %r %r\n" % tuple(map(float, p)) for p in positions)
+                    + "".join("3 %d %d %d\n" % tuple(indices[i:i + 3]) for i in range(0, len(indices), 3)))
+
+
+def test_profile_without_cell_bounds_is_the_librarys(tmp_path):
+    """--no-cell-bounds makes the profile the library makes with bound_cells=False (each view's own
+    measurement); the default is the library's bounded one, which stores at least as much loss in
+    every entry and more in some (a coarse level of a sphere: two cells of different loss)."""
+    import acuity
+    n = 12  # a UV sphere, and a coarse level: every other band of latitude dropped
+    th, ph = np.meshgrid(np.linspace(0.1, np.pi - 0.1, n), np.linspace(0, 2 * np.pi, 2 * n, endpoint=False), indexing="ij")
+    p = np.stack([np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)], -1).reshape(-1, 3).astype(np.float32)
+    quads = [(r, c) for r in range(n - 1) for c in range(2 * n)]
+    tri = lambda r, c: [r * 2 * n + c, (r + 1) * 2 * n + c, r * 2 * n + (c + 1) % (2 * n),
+                        r * 2 * n + (c + 1) % (2 * n), (r + 1) * 2 * n + c, (r + 1) * 2 * n + (c + 1) % (2 * n)]
+    fine = np.array([i for r, c in quads for i in tri(r, c)], np.uint32)
+    coarse = np.array([i for r, c in quads if c % 2 == 0 for i in tri(r, c)], np.uint32)
+    write_off(tmp_path / "fine.off", p, fine)
+    write_off(tmp_path / "coarse.off", p, coarse)
+    common = [tmp_path / "fine.off", tmp_path / "coarse.off", "--res", "64", "--views", "6", "--jobs", "1"]
+    r = run("profile", *common, "-o", tmp_path / "own.acuity", "--no-cell-bounds")
+    assert r.returncode == 0, r.stderr
+    r = run("profile", *common, "-o", tmp_path / "bounded.acuity")
+    assert r.returncode == 0, r.stderr
+    own = acuity_profile(tmp_path / "own.acuity").lost
+    bounded = acuity_profile(tmp_path / "bounded.acuity").lost
+    levels = [(p, fine), (p, coarse)]
+    lib_own, _ = acuity.spectra.build_profile(levels, pixels=64, views=6, bound_cells=False, jobs=1)
+    lib_bounded, _ = acuity.spectra.build_profile(levels, pixels=64, views=6, jobs=1)
+    assert np.array_equal(own, acuity.Profile.from_bytes(lib_own).lost)
+    assert np.array_equal(bounded, acuity.Profile.from_bytes(lib_bounded).lost)
+    assert own.shape == bounded.shape and (bounded >= own).all() and (bounded > own).any()
+    r = run("profile", *common, "-o", tmp_path / "x.acuity", "--no-cell-bounds=maybe")
+    assert r.returncode != 0 and not (tmp_path / "x.acuity").exists()
+
+
 def test_profile_from_user_snapshots(tmp_path):
     """Two views of a level that adds a vertical grating (16 cycles per diameter, contrast 0.2) to
     a flat grey reference: the lost contrast is in band 16, orientation 0, and nowhere else."""

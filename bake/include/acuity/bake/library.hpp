@@ -40,6 +40,7 @@ struct BakeOptions {
   std::uint32_t bands = 0;                   // 0: all up to pixels / 4
   std::uint32_t views = 0;                   // 0: adaptive
   float tolerance = 0.25f;                   // adaptive views' switching-distance error, >= 0
+  bool bound_cells = true;                   // each view bounds the loss over its cell (docs/spectra.md)
   std::string asset_root;                    // folder a glTF's uris may read ("": the glTF's own folder)
 };
 
@@ -49,8 +50,8 @@ lodgen::ChainOptions chain_options(const BakeOptions& options);
 // The chain request of `input` under these options (chain_options, asset_root, measure_seconds): what
 // `acuity lodgen` and acuity.lodgen.build hand to write_scene_chains. Throws as chain_options.
 ChainRequest chain_request(const std::string& input, const BakeOptions& options);
-// The profile builder's settings for these options (pixels, orientations, bands, views, tolerance)
-// with `jobs` threads (0: all cores).
+// The profile builder's settings for these options (pixels, orientations, bands, views, tolerance,
+// bound_cells) with `jobs` threads (0: all cores).
 spectra::ProfileSettings profile_settings(const BakeOptions& options, unsigned jobs);
 
 // The options as canonical JSON text (sorted keys), and back: `json` holds any subset of the
