@@ -1322,6 +1322,7 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
   const float x = o.x;
   if (scores) std::fill(scores, scores + K, 0.0f);
+  if (L == 0) return {0, 0, 0};  // one level: nothing to choose (and no tables)
   if (o.bands == 0) {
     const auto top = static_cast<std::uint8_t>(K - 1);
     return {top, top, 0};  // scores stay 0
