@@ -195,6 +195,11 @@ inline std::int16_t encode_size(float ln_size) {
   return static_cast<std::int16_t>(x);
 }
 [[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / 1024.0f); }
+// Between two table entries (a cell's lower and upper node) at the upper one's weight w [ln deg].
+[[gnu::always_inline]] inline float between(std::int16_t lower, std::int16_t upper, float w) {
+  const float a = decode_size(lower);
+  return a + w * (decode_size(upper) - a);
+}
 
 constexpr float e_node(std::uint32_t j, std::uint32_t n) {
   const float t = float(j) / float(n - 1);
@@ -1188,6 +1193,16 @@ struct Scheduler::Probe {
   Cell em;                                  // eccentricity cell of the moving grid
   std::uint32_t speed_j[kMaxOrientations];  // each orientation's speed cell: lower node
   float speed_w[kMaxOrientations];          // and the weight of the upper one
+  // Where candidate view c's rows start (profile of B bands, L coarser levels): in the still and
+  // slow tables (the lower eccentricity node's levels, then the upper one's), and in the moving
+  // table for orientation t (its lower speed node's two eccentricity nodes; the upper speed node's
+  // are kMovingE * L further). ProfileCache describes the layouts.
+  std::size_t still_row(std::uint32_t c, std::uint32_t B, std::uint32_t L) const {
+    return ((std::size_t(views[c]) * B + (bands - 1)) * kStillE + ec.j) * L;
+  }
+  std::size_t moving_row(std::uint32_t c, std::uint32_t t, std::uint32_t T, std::uint32_t L) const {
+    return (((std::size_t(views[c]) * T + t) * kMovingS + speed_j[t]) * kMovingE + em.j) * L;
+  }
 };
 
 // One eye, the objects of a block: per object the lookup cell (pass 1), the view, slip and grid cell
@@ -1259,9 +1274,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       if (bands == 0 || L == 0) continue;
-      const std::size_t at = ((std::size_t(o.views[c]) * B + (bands - 1)) * kStillE + o.ec.j) * L;
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
-        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][at];
+        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][o.still_row(c, B, L)];
         ACUITY_PREFETCH(row);
         ACUITY_PREFETCH(row + 2 * L - 1);
       }
@@ -1277,14 +1291,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
                         L = pc.profile.meta.level_count - 1;
     if (L == 0) continue;
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::int16_t* slow =
-          &pc.slow[0][((std::size_t(o.views[c]) * B + (o.bands - 1)) * kStillE + o.ec.j) * L];
-      const float a = decode_size(slow[L - 1]), bound = a + o.ec.w * (decode_size(slow[2 * L - 1]) - a);
-      if (o.x <= bound) continue;
+      const std::int16_t* slow = &pc.slow[0][o.still_row(c, B, L) + (L - 1)];  // the coarsest level
+      if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
       if (!o.cells) speed_cells(pc, b.e[j], &o);
-      const std::int16_t* base = &pc.moving[0][std::size_t(o.views[c]) * T * kMovingS * kMovingE * L];
       for (std::uint32_t t = 0; t < T; ++t) {
-        const std::int16_t* r0 = base + ((std::size_t(t) * kMovingS + o.speed_j[t]) * kMovingE + o.em.j) * L;
+        const std::int16_t* r0 = &pc.moving[0][o.moving_row(c, t, T, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
@@ -1298,10 +1309,6 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   }
 }
 
-// The perceptual rule through the tables: per level, is the object's angular size at most the largest
-// invisible one at its eccentricity (and, moving, per orientation at its retinal speed)? With
-// `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
-// decides.
 // A moving object's cells on the moving grid: eccentricity e [deg], each orientation's speed.
 ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, Probe* o) const {
   const float floor = pre_->floor_velocity, v0 = pre_->speed_offset, vx = o->vx, vy = o->vy;
@@ -1315,6 +1322,10 @@ ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, 
   o->cells = true;
 }
 
+// The perceptual rule through the tables: per level, is the object's angular size at most the largest
+// invisible one at its eccentricity (and, moving, per orientation at its retinal speed)? With
+// `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
+// decides.
 Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
@@ -1333,11 +1344,9 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
   float bound[2][kLookupCandidates][kMaxLevels], size[2][kMaxLevels];
   for (int set = 0; set < sets; ++set)
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::size_t at = ((std::size_t(o.views[c]) * B + (o.bands - 1)) * kStillE + ec.j) * L;
-      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][at];
+      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][o.still_row(c, B, L)];
       for (std::uint32_t k = 1; k <= L; ++k) {
-        const float a = decode_size(row[k - 1]), b = decode_size(row[L + k - 1]);
-        bound[set][c][k] = a + ec.w * (b - a);
+        bound[set][c][k] = between(row[k - 1], row[L + k - 1], ec.w);
         size[set][k] = c == 0 ? bound[set][c][k] : std::min(size[set][k], bound[set][c][k]);
       }
     }
@@ -1356,16 +1365,11 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
             least = std::min(least, slow_bound);
             continue;
           }
-          const std::int16_t* base =
-              &pc.moving[set][std::size_t(o.views[c]) * T * kMovingS * kMovingE * L + (k - 1)];
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 =
-                base + ((std::size_t(t) * kMovingS + o.speed_j[t]) * kMovingE + em.j) * L;
+            const std::int16_t* r0 = &pc.moving[set][o.moving_row(c, t, T, L) + (k - 1)];
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
-            const float a0 = decode_size(r0[0]), a1 = decode_size(r0[L]), b0 = decode_size(r1[0]),
-                        b1 = decode_size(r1[L]);
-            const float lo = a0 + em.w * (a1 - a0), hi = b0 + em.w * (b1 - b0);
+            const float lo = between(r0[0], r0[L], em.w), hi = between(r1[0], r1[L], em.w);
             m = std::min(m, lo + o.speed_w[t] * (hi - lo));
             if (decide_only && m < x) break;  // this orientation alone makes the level visible
           }
