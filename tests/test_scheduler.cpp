@@ -907,18 +907,24 @@ namespace {
 
 struct Agreement {
   int coarser = 0, differ = 0, total = 0;
+  int shortcut_differs = 0;  // tabulated levels that change when every level's score is kept
 };
 
 // Random objects (0.3-40 deg across, up to 300 deg/s of image motion, random poses) seen by the same
-// frames through both evaluations; hysteresis off, so every level is that frame's choice.
+// frames through both evaluations; hysteresis off, so every level is that frame's choice. A third
+// scheduler keeps every level's score, which reads each object's own view's tables: the bounds over
+// every view, which decide most objects otherwise, must decide exactly the same levels.
 Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed, int objects, int frames,
                         int moving_percent, bool gaze, bool two_eyes) {
   c.max_objects = std::uint32_t(objects);
   SchedulerConfig exact_config = c;
   exact_config.evaluation = Evaluation::Exact;
   c.evaluation = Evaluation::Tabulated;
-  Scheduler tab(c), exact(exact_config);
+  SchedulerConfig scored_config = c;
+  scored_config.keep_scores = true;
+  Scheduler tab(c), exact(exact_config), scored(scored_config);
   const int pt = tab.add_profile(tp.profile), pe = exact.add_profile(tp.profile);
+  const int ps = scored.add_profile(tp.profile);
   Rng rng(seed);
   Agreement a;
   for (int f = 0; f < frames; ++f) {
@@ -941,9 +947,10 @@ Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed,
         for (int k = 0; k < 3; ++k)
           v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
       }
-      const ObjectId it = tab.add_object(pt, t), ie = exact.add_object(pe, t);
+      const ObjectId it = tab.add_object(pt, t), ie = exact.add_object(pe, t), is = scored.add_object(ps, t);
       tab.set_velocity(it, v);
       exact.set_velocity(ie, v);
+      scored.set_velocity(is, v);
     }
     Frame fr = looking_forward();
     fr.eye_count = two_eyes ? 2 : 1;
@@ -957,12 +964,15 @@ Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed,
     fr.gaze[0].valid = fr.gaze[1].valid = gaze;
     tab.run_frame(fr);
     exact.run_frame(fr);
+    scored.run_frame(fr);
     for (ObjectId id = 0; id < ObjectId(objects); ++id) {
       ++a.total;
       a.coarser += tab.level(id) > exact.level(id);
       a.differ += tab.level(id) != exact.level(id);
+      a.shortcut_differs += tab.level(id) != scored.level(id);
       tab.remove_object(id);
       exact.remove_object(id);
+      scored.remove_object(id);
     }
   }
   return a;
@@ -979,6 +989,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     ViewBlend blend;
     int moving;
     bool gaze, two_eyes;
+    float margin = 0;
   };
   const Case cases[] = {
       {"default still gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 0, true, false},
@@ -988,6 +999,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
       {"default q 0.5 max3", ThresholdModel::Default, 0.5f, ViewBlend::Max3, 50, true, false},
       {"default q 2", ThresholdModel::Default, 2.0f, ViewBlend::Nearest, 50, true, false},
       {"default q 1.37", ThresholdModel::Default, 1.37f, ViewBlend::Nearest, 50, true, true},
+      {"default margin 0.3", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 50, true, false, 0.3f},
       {"geisler-perry", ThresholdModel::GeislerPerry, 1.0f, ViewBlend::Nearest, 50, true, false},
       {"kelly-daly", ThresholdModel::KellyDaly, 1.0f, ViewBlend::Nearest, 50, true, false},
       {"reddy model", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 50, true, false},
@@ -998,8 +1010,10 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     c.model = k.model;
     c.quality = k.q;
     c.view_blend = k.blend;
+    c.hysteresis_margin = k.margin;
     const Agreement a = compare_paths(tp, c, ++seed, 1000, 10, k.moving, k.gaze, k.two_eyes);
     EXPECT_EQ(a.coarser, 0) << k.name;
+    EXPECT_EQ(a.shortcut_differs, 0) << k.name;
     EXPECT_LE(a.differ * 1000, a.total * 5) << k.name << ": " << a.differ << " of " << a.total << " differ";
     std::printf("%-24s %5d of %d differ (%.2f%%)\n", k.name, a.differ, a.total, 100.0 * a.differ / a.total);
   }

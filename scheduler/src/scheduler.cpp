@@ -277,6 +277,12 @@ struct Scheduler::ProfileCache {
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
   // [0]: score <= 1; [1]: score <= 1 - margin (empty when the margin is 0).
   std::vector<std::int16_t> still[2], slow[2], moving[2];  // encode_size(): 1/1024 ln deg, rounded down
+  // The same bounds taken over every view and over each eccentricity cell, so that most objects are
+  // decided before their view is looked up: any_view [B][kStillE - 1][2 (K-1) + 1], per band count
+  // and cell the least and the most over the views and the cell's two nodes of the still table, then
+  // the least over the views and nodes of the still and slow tables at the coarsest level (every
+  // object whose image moves is bounded by one of them).
+  std::vector<std::int16_t> any_view[2];
 };
 
 // Everything that depends only on the configuration, computed once at creation.
@@ -658,6 +664,24 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 encode_size(node[i] - lower[i] - kBilinearMargin);
         }
       }
+    std::vector<std::int16_t>& any = c.any_view[set];
+    const std::size_t width = 2 * std::size_t(L) + 1;
+    any.assign(L > 0 ? std::size_t(B) * (kStillE - 1) * width : 0, 0);
+    for (std::uint32_t n = 0; n < B && L > 0; ++n)
+      for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
+        std::int16_t* row = &any[(std::size_t(n) * (kStillE - 1) + j) * width];
+        std::fill(row, row + L, std::numeric_limits<std::int16_t>::max());
+        std::fill(row + L, row + 2 * L, std::numeric_limits<std::int16_t>::min());
+        row[2 * L] = std::numeric_limits<std::int16_t>::max();
+        for (std::uint32_t w = 0; w < V; ++w)
+          for (std::uint32_t node = j; node <= j + 1; ++node)
+            for (std::uint32_t k = 0; k < L; ++k) {
+              const std::size_t at = ((std::size_t(w) * B + n) * kStillE + node) * L + k;
+              row[k] = std::min(row[k], still[at]);
+              row[L + k] = std::max(row[L + k], still[at]);
+              if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.slow[set][at]});
+            }
+      }
   }
 }
 
@@ -669,14 +693,16 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& 
   const std::size_t per_set =
       std::size_t(m.view_count) * (m.level_count - 1) *
       (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
-  return per_set * (config.hysteresis_margin > 0 ? 2 : 1) * sizeof(std::int16_t);
+  const std::size_t any_view = std::size_t(m.band_count) * (kStillE - 1) * (2 * (m.level_count - 1) + 1);
+  return (per_set + any_view) * (config.hysteresis_margin > 0 ? 2 : 1) * sizeof(std::int16_t);
 }
 
 std::size_t Scheduler::table_bytes(int profile) const {
   if (profile < 0 || profile >= static_cast<int>(profile_count_)) return 0;
   const ProfileCache& c = profiles_[profile];
   std::size_t n = 0;
-  for (int set = 0; set < 2; ++set) n += c.still[set].size() + c.slow[set].size() + c.moving[set].size();
+  for (int set = 0; set < 2; ++set)
+    n += c.still[set].size() + c.slow[set].size() + c.moving[set].size() + c.any_view[set].size();
   return n * sizeof(std::int16_t);
 }
 
@@ -1183,6 +1209,7 @@ void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Bloc
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Probe {
   float x;                                 // ln angular diameter [ln deg]
+  Vec3 slip;                               // retinal slip [deg/s], world
   float vx, vy;                            // retinal slip in the view's image axes [deg/s]
   Cell ec;                                 // eccentricity cell of the still grid
   std::uint32_t bands;                     // the lowest bands the display shows (0: none)
@@ -1204,6 +1231,34 @@ struct Scheduler::Probe {
     return (((std::size_t(views[c]) * T + t) * kMovingS + speed_j[t]) * kMovingE + em.j) * L;
   }
 };
+
+// The level the bounds over every view decide for one object (set 0: score <= 1, set 1: <= 1 - margin),
+// or -1 where its view would matter. A view's bound between its cell's two nodes lies between the
+// least and the most of them, so for a still object the coarsest level passing the least bound
+// passes in its view too, and no coarser one passes where it fails the most: when the two agree,
+// that is the level. A moving one (or one whose view's image axes see no slip) is decided only where
+// the least still and slow bound passes the coarsest level. Integers: x [ln deg] rounded up to the
+// tables' step passes an entry exactly where x does.
+[[gnu::always_inline]] inline const std::int16_t* Scheduler::any_view_row(const ProfileCache& pc,
+                                                                          const Probe& o, int set) {
+  const std::uint32_t L = pc.profile.meta.level_count - 1;
+  return &pc.any_view[set][((std::size_t(o.bands) - 1) * (kStillE - 1) + o.ec.j) * (2 * std::size_t(L) + 1)];
+}
+[[gnu::always_inline]] inline int Scheduler::any_view_level(const ProfileCache& pc, const Probe& o,
+                                                            bool still, int set) const {
+  const std::uint32_t L = pc.profile.meta.level_count - 1;
+  const std::int16_t* row = any_view_row(pc, o, set);
+  const float scaled = std::clamp(o.x, -64.0f, 64.0f) * 1024.0f;  // exact: a power of two
+  const auto x =
+      static_cast<std::int32_t>(scaled) + (float(static_cast<std::int32_t>(scaled)) < scaled);  // ceil
+  if (!still) return x <= row[2 * L] ? static_cast<int>(L) : -1;
+  int passes = 0, may_pass = 0;
+  for (std::uint32_t k = 1; k <= L; ++k) {
+    passes = x <= row[k - 1] ? static_cast<int>(k) : passes;
+    may_pass = x <= row[L + k - 1] ? static_cast<int>(k) : may_pass;
+  }
+  return passes == may_pass ? passes : -1;
+}
 
 // One eye, the objects of a block: per object the lookup cell (pass 1), the view, slip and grid cell
 // (pass 2), the decision (pass 3); each pass prefetches what the next reads, so a block's cache misses
@@ -1227,6 +1282,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     cell[j] = cube_cell(dir, resolution[j]);
   }
+  // Pass 1: the bands the display shows, the eccentricity cell and the slip, with which the bounds
+  // over every view decide most objects; the rest have their lookup cell's candidates prefetched.
+  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
     const int p = profile_of_[id];
@@ -1242,12 +1300,50 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       out[j] = evaluate(id, look, s, scores ? scores[j] : nullptr, nullptr);
       continue;
     }
+    const ProfileCache& pc = profiles_[p];
+    const std::uint32_t B = pc.profile.meta.band_count, L = pc.profile.meta.level_count - 1;
+    Probe& o = probe[j];
+    o.x = b.ln_diam[j];
+    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    std::uint32_t bands = 0;
+    for (std::uint32_t k = 0; k < B; ++k) bands += pc.profile.bands[k] * inv_diam <= b.nyquist[j];
+    o.bands = bands;
+    o.ec = e_cell<kStillE>(b.e[j]);
+    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
+    o.slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
+    if (L == 0 || bands == 0) {  // one level, or none of it shown: no tables to read
+      const auto top = static_cast<std::uint8_t>(bands == 0 ? L : 0);
+      out[j] = {top, top, gaze_flag};
+      if (scores) std::fill(scores[j], scores[j] + L + 1, 0.0f);
+      continue;
+    }
     todo[j] = 1;
-    cand[j] = profiles_[p].profile.lookup + cell[j] * kLookupCandidates;
-    ACUITY_PREFETCH(cand[j]);
+    if (scores) continue;  // every level's score: the view's tables
+    todo[j] = 2;
+    for (int set = 0; set < sets; ++set) {
+      const std::int16_t* row = any_view_row(pc, o, set);
+      ACUITY_PREFETCH(row);
+      ACUITY_PREFETCH(row + 2 * L);
+    }
   }
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (todo[j] == 2) {
+      const Probe& o = probe[j];
+      const ProfileCache& pc = profiles_[profile_of_[first + j]];
+      const bool still = o.slip.x == 0.0f && o.slip.y == 0.0f && o.slip.z == 0.0f;
+      const int fine = any_view_level(pc, o, still, 0);
+      const int coarse = sets > 1 && fine >= 0 ? any_view_level(pc, o, still, 1) : fine;
+      todo[j] = coarse < 0;
+      if (coarse >= 0)
+        out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
+    }
+    if (todo[j]) {
+      cand[j] = profiles_[profile_of_[first + j]].profile.lookup + cell[j] * kLookupCandidates;
+      ACUITY_PREFETCH(cand[j]);
+    }
+  }
+  // Pass 2: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
-  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
     const ObjectId id = first + j;
@@ -1255,25 +1351,15 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const Profile& p = pc.profile;
     const std::uint32_t B = p.meta.band_count, L = p.meta.level_count - 1;
     Probe& o = probe[j];
-    o.x = b.ln_diam[j];
     const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     const std::uint32_t view = nearest_view(p, cand[j], to_eye);
-    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
-    const Vec3 slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
     const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
-    slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
+    slip_in_view(o.slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
     o.moving = o.vx != 0.0f || o.vy != 0.0f;
     o.cells = false;
-    // The bands the display can show (the lowest n): the rest are invisible whatever the eye.
-    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
-    std::uint32_t bands = 0;
-    for (std::uint32_t k = 0; k < B; ++k) bands += p.bands[k] * inv_diam <= b.nyquist[j];
-    o.bands = bands;
-    o.ec = e_cell<kStillE>(b.e[j]);
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
-      if (bands == 0 || L == 0) continue;
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
         const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][o.still_row(c, B, L)];
         ACUITY_PREFETCH(row);

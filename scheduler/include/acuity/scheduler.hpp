@@ -258,6 +258,8 @@ class Scheduler {
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Choice* out,
                 float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
+  int any_view_level(const ProfileCache& pc, const Probe& o, bool still, int set) const;
+  static const std::int16_t* any_view_row(const ProfileCache& pc, const Probe& o, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
