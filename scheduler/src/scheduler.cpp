@@ -500,6 +500,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   eyes_.resize(2);
   const std::size_t slots = std::size_t(config_.max_profiles) * kMaxLevels;
   level_count_.assign(config_.max_profiles, 1);
+  band_frequency_.assign(std::size_t(config_.max_profiles) * kMaxBands, kInf);
   triangles_.assign(slots, 0);
   error_size_.assign(slots, 0.0f);
   for (std::vector<float>& t : error_threshold_) t.assign(slots, kInf);
@@ -741,6 +742,8 @@ int Scheduler::add_profile(const Profile& p) {
   }
   if (curves_) build_tables(c);
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
+  std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
+  max_band_count_ = std::max(max_band_count_, B);
   max_level_count_ = std::max(max_level_count_, K);
   for (std::uint32_t k = 0; k < K; ++k) {
     triangles_[std::size_t(profile_count_) * kMaxLevels + k] = p.levels[k].triangles;
@@ -1209,7 +1212,6 @@ void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Bloc
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Probe {
   float x;                                 // ln angular diameter [ln deg]
-  Vec3 slip;                               // retinal slip [deg/s], world
   float vx, vy;                            // retinal slip in the view's image axes [deg/s]
   Cell ec;                                 // eccentricity cell of the still grid
   std::uint32_t bands;                     // the lowest bands the display shows (0: none)
@@ -1240,17 +1242,17 @@ struct Scheduler::Probe {
 // the least still and slow bound passes the coarsest level. Integers: x [ln deg] rounded up to the
 // tables' step passes an entry exactly where x does.
 [[gnu::always_inline]] inline const std::int16_t* Scheduler::any_view_row(const ProfileCache& pc,
-                                                                          const Probe& o, int set) {
+                                                                          std::uint32_t bands,
+                                                                          std::uint32_t ec, int set) {
   const std::uint32_t L = pc.profile.meta.level_count - 1;
-  return &pc.any_view[set][((std::size_t(o.bands) - 1) * (kStillE - 1) + o.ec.j) * (2 * std::size_t(L) + 1)];
+  return &pc.any_view[set][((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
 }
-[[gnu::always_inline]] inline int Scheduler::any_view_level(const ProfileCache& pc, const Probe& o,
-                                                            bool still, int set) const {
+// x: the object's ln angular diameter rounded up to the tables' step [1/1024 ln deg].
+[[gnu::always_inline]] inline int Scheduler::any_view_level(const ProfileCache& pc, std::uint32_t bands,
+                                                            std::uint32_t ec, std::int32_t x, bool still,
+                                                            int set) {
   const std::uint32_t L = pc.profile.meta.level_count - 1;
-  const std::int16_t* row = any_view_row(pc, o, set);
-  const float scaled = std::clamp(o.x, -64.0f, 64.0f) * 1024.0f;  // exact: a power of two
-  const auto x =
-      static_cast<std::int32_t>(scaled) + (float(static_cast<std::int32_t>(scaled)) < scaled);  // ceil
+  const std::int16_t* row = any_view_row(pc, bands, ec, set);
   if (!still) return x <= row[2 * L] ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
@@ -1282,8 +1284,35 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     cell[j] = cube_cell(dir, resolution[j]);
   }
-  // Pass 1: the bands the display shows, the eccentricity cell and the slip, with which the bounds
-  // over every view decide most objects; the rest have their lookup cell's candidates prefetched.
+  // Pass 1, as vectors: the tables' x and eccentricity cell, whether the image is still on the retina
+  // (as retinal_slip() finds it), and the bands the display shows (the lowest n: the rest are invisible
+  // whatever the eye), with which the bounds over every view decide most objects.
+  std::int32_t x_step[kBlock];
+  std::uint32_t ec_j[kBlock], bands[kBlock];
+  float ec_w[kBlock];
+  std::uint8_t still[kBlock];
+  const Vec3 gaze_velocity = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const float scaled = std::clamp(b.ln_diam[j], -64.0f, 64.0f) * 1024.0f;  // exact: a power of two
+    const auto truncated = static_cast<std::int32_t>(scaled);
+    x_step[j] = truncated + (float(truncated) < scaled);  // rounded up
+    const Cell ec = e_cell<kStillE>(b.e[j]);
+    ec_j[j] = ec.j;
+    ec_w[j] = ec.w;
+    still[j] = (b.image[0][j] == gaze_velocity.x) & (b.image[1][j] == gaze_velocity.y) &
+               (b.image[2][j] == gaze_velocity.z);
+  }
+  const float* band_frequency[kBlock];
+  for (std::uint32_t j = 0; j < n; ++j)
+    band_frequency[j] = &band_frequency_[std::size_t(std::max(profile_of_[first + j], 0)) * kMaxBands];
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    std::uint32_t shown = 0;
+    for (std::uint32_t k = 0; k < max_band_count_; ++k) shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
+    bands[j] = shown;
+  }
+  // Pass 2: objects not seen, with a bias or nothing to choose; the any-view rows of the rest prefetched.
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
@@ -1301,18 +1330,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       continue;
     }
     const ProfileCache& pc = profiles_[p];
-    const std::uint32_t B = pc.profile.meta.band_count, L = pc.profile.meta.level_count - 1;
-    Probe& o = probe[j];
-    o.x = b.ln_diam[j];
-    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
-    std::uint32_t bands = 0;
-    for (std::uint32_t k = 0; k < B; ++k) bands += pc.profile.bands[k] * inv_diam <= b.nyquist[j];
-    o.bands = bands;
-    o.ec = e_cell<kStillE>(b.e[j]);
-    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
-    o.slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
-    if (L == 0 || bands == 0) {  // one level, or none of it shown: no tables to read
-      const auto top = static_cast<std::uint8_t>(bands == 0 ? L : 0);
+    const std::uint32_t L = pc.profile.meta.level_count - 1;
+    if (L == 0 || bands[j] == 0) {  // one level, or none of it shown: no tables to read
+      const auto top = static_cast<std::uint8_t>(bands[j] == 0 ? L : 0);
       out[j] = {top, top, gaze_flag};
       if (scores) std::fill(scores[j], scores[j] + L + 1, 0.0f);
       continue;
@@ -1321,18 +1341,18 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     if (scores) continue;  // every level's score: the view's tables
     todo[j] = 2;
     for (int set = 0; set < sets; ++set) {
-      const std::int16_t* row = any_view_row(pc, o, set);
+      const std::int16_t* row = any_view_row(pc, bands[j], ec_j[j], set);
       ACUITY_PREFETCH(row);
       ACUITY_PREFETCH(row + 2 * L);
     }
   }
+  // Pass 3: the any-view decisions; the rest have their lookup cell's candidates prefetched.
   for (std::uint32_t j = 0; j < n; ++j) {
     if (todo[j] == 2) {
-      const Probe& o = probe[j];
       const ProfileCache& pc = profiles_[profile_of_[first + j]];
-      const bool still = o.slip.x == 0.0f && o.slip.y == 0.0f && o.slip.z == 0.0f;
-      const int fine = any_view_level(pc, o, still, 0);
-      const int coarse = sets > 1 && fine >= 0 ? any_view_level(pc, o, still, 1) : fine;
+      const int fine = any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 0);
+      const int coarse =
+          sets > 1 && fine >= 0 ? any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 1) : fine;
       todo[j] = coarse < 0;
       if (coarse >= 0)
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
@@ -1342,7 +1362,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(cand[j]);
     }
   }
-  // Pass 2: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
+  // Pass 4: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
@@ -1351,10 +1371,15 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const Profile& p = pc.profile;
     const std::uint32_t B = p.meta.band_count, L = p.meta.level_count - 1;
     Probe& o = probe[j];
+    o.x = b.ln_diam[j];
+    o.bands = bands[j];
+    o.ec = {ec_j[j], ec_w[j]};
+    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
+    const Vec3 slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
     const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     const std::uint32_t view = nearest_view(p, cand[j], to_eye);
     const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
-    slip_in_view(o.slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
+    slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
     o.moving = o.vx != 0.0f || o.vy != 0.0f;
     o.cells = false;
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);

@@ -258,8 +258,9 @@ class Scheduler {
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Choice* out,
                 float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
-  int any_view_level(const ProfileCache& pc, const Probe& o, bool still, int set) const;
-  static const std::int16_t* any_view_row(const ProfileCache& pc, const Probe& o, int set);
+  static int any_view_level(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec, std::int32_t x,
+                            bool still, int set);
+  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
@@ -285,7 +286,9 @@ class Scheduler {
   std::vector<float> error_size_;          // [max_profiles][kMaxLevels]: 2 x geometric error
   std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
                                            // radius (Distance, ScreenSize); +inf past K - 1
+  std::vector<float> band_frequency_;      // [max_profiles][kMaxBands]: band centres [cpod], +inf past B
   std::uint32_t max_level_count_ = 1;      // the largest K added
+  std::uint32_t max_band_count_ = 0;       // the largest B added
   // Objects, structure of arrays: one array per component, so the frame loop vectorises.
   std::vector<int> profile_of_;  // -1: free slot
   std::vector<double> position_[3], previous_position_[3];
