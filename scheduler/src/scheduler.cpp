@@ -1309,7 +1309,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   for (std::uint32_t j = 0; j < n; ++j) {
     const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
     std::uint32_t shown = 0;
-    for (std::uint32_t k = 0; k < max_band_count_; ++k) shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
+    for (std::uint32_t k = 0; k < max_band_count_; ++k)
+      shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
     bands[j] = shown;
   }
   // Pass 2: objects not seen, with a bias or nothing to choose; the any-view rows of the rest prefetched.

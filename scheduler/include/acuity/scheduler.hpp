@@ -260,7 +260,8 @@ class Scheduler {
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
   static int any_view_level(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec, std::int32_t x,
                             bool still, int set);
-  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec, int set);
+  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec,
+                                          int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
   bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
