@@ -1262,16 +1262,17 @@ struct Scheduler::Probe {
   return passes == may_pass ? passes : -1;
 }
 
-// One eye, the objects of a block: per object the lookup cell (pass 1), the view, slip and grid cell
-// (pass 2), the decision (pass 3); each pass prefetches what the next reads, so a block's cache misses
-// overlap. Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
+// One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
+// cache misses overlap: the inputs of the bounds over every view as vectors (pass 1), the objects
+// decided without tables and the any-view rows of the rest (2), the any-view decisions (3); for the
+// objects they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
 // whose bias is not 1 is evaluated exactly (the tables are built for q). Writes out[j], and with
 // `scores` (kMaxLevels per object) each level's score.
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Choice* out, float (*scores)[kMaxLevels]) const {
   const std::uint16_t* cand[kBlock];
   Probe probe[kBlock];
-  std::uint8_t todo[kBlock];  // 1: decided by the tables in pass 3
+  std::uint8_t todo[kBlock];  // 2: the bounds over every view first; 1: through the object's view
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   // The lookup cells of the directions to the eye, as vectors (cube_cell has no branches).
   std::uint32_t resolution[kBlock], cell[kBlock];
@@ -1294,7 +1295,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   const Vec3 gaze_velocity = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
-    const float scaled = std::clamp(b.ln_diam[j], -64.0f, 64.0f) * 1024.0f;  // exact: a power of two
+    const float x = b.ln_diam[j] > -64.0f ? std::min(b.ln_diam[j], 64.0f) : -64.0f;  // (NaN: -64)
+    const float scaled = x * 1024.0f;                                                // exact: a power of two
     const auto truncated = static_cast<std::int32_t>(scaled);
     x_step[j] = truncated + (float(truncated) < scaled);  // rounded up
     const Cell ec = e_cell<kStillE>(b.e[j]);
@@ -1393,7 +1395,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       }
     }
   }
-  // Moving objects whose slow bound (read a pass after its prefetch) does not pass the coarsest
+  // Pass 5: moving objects whose slow bound (read a pass after its prefetch) does not pass the coarsest
   // level: their grid cells, and the moving tables' rows they read prefetched (most never read them).
   for (std::uint32_t j = 0; j < n; ++j) {
     Probe& o = probe[j];
@@ -1413,6 +1415,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       }
     }
   }
+  // Pass 6: the decisions through the objects' views.
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
     const ObjectId id = first + j;

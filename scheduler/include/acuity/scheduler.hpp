@@ -159,16 +159,20 @@ struct FrameStats {
 // view and level k, add_profile stores the largest angular size [ln deg] at which k's loss stays below
 // q x threshold: still objects on a grid over eccentricity (one table per number of bands the display
 // can show: the display's Nyquist limit is exact up to 3 bands cut), moving objects per orientation on
-// a grid over eccentricity and that orientation's retinal speed. Per object and frame the work is the
-// geometry, then one table read per level (still) or per level and orientation (moving). Tables are
+// a grid over eccentricity and that orientation's retinal speed. Beside them, per band count and
+// eccentricity cell, the least and the most of the still tables over every view (and the least of the
+// still and slow ones): most objects are decided from those before their view is looked up, exactly
+// as their own view's tables would decide. Per object and frame the work is the geometry, then one
+// table read (decided over every view), or one per level (still) or per level and orientation
+// (moving) through the object's view. Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
 // from the tables. update() runs each block of 64 objects as passes: the geometry, the lookup cells
 // and the clamps/hysteresis as vectorised loops (branch-free; with GCC on x86-64 also compiled for
-// AVX2, picked at load time, same bits); the view, slip and grid position, then the decision, as
-// scalar passes over compact per-object probes, each prefetching the table rows the next reads so a
-// block's cache misses overlap. A moving object reads its per-orientation rows only where the slow
+// AVX2, picked at load time, same bits); the decision over every view, then for the rest the view,
+// slip and grid position and the decision through the view, as scalar passes over compact per-object
+// probes, each prefetching the table rows the next reads so a block's cache misses overlap. A moving object reads its per-orientation rows only where the slow
 // bound does not already pass. Every rule reads per-profile counts, triangles and thresholds from
 // small arrays the scheduler owns (not the profile blob); Distance and ScreenSize compare distance /
 // radius with per-level thresholds set at begin_frame and compute no angles; velocities are derived from
