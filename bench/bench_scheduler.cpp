@@ -100,8 +100,9 @@ struct Scene {
 };
 
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
-                  Evaluation evaluation = Evaluation::Tabulated) {
+                  Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation);
+  scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
     benchmark::DoNotOptimize(scene.scheduler->stats().triangles);
@@ -221,6 +222,10 @@ BENCHMARK(BM_distance_loop)->Apply(sizes);
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);
+// Still objects, the head turning at 30 deg/s (a VR head is never quite still): every image moves.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_turning, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 30.0f)
+    ->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)
     ->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_exact, SelectionRule::Perceptual, 1.0f,
