@@ -190,11 +190,19 @@ constexpr float kBilinearMargin = 0.001f;
 
 // Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at +-32
 // (e^32 deg: every size passes; e^-32: none does).
+constexpr float kSizeSteps = 1024.0f;  // per ln deg (a power of two: scaling is exact)
 inline std::int16_t encode_size(float ln_size) {
-  const float x = std::floor(std::clamp(ln_size, -32.0f, 31.99f) * 1024.0f);
+  const float x = std::floor(std::clamp(ln_size, -32.0f, 31.99f) * kSizeSteps);
   return static_cast<std::int16_t>(x);
 }
-[[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / 1024.0f); }
+[[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / kSizeSteps); }
+// An object's ln size [ln deg] in table steps, rounded up (NaN: -64 ln deg): it is at most an entry
+// exactly where the size is at most that entry's decoded value. Branch-free, so a loop vectorises.
+[[gnu::always_inline]] inline std::int32_t size_steps_above(float ln_size) {
+  const float scaled = (ln_size > -64.0f ? std::min(ln_size, 64.0f) : -64.0f) * kSizeSteps;
+  const auto truncated = static_cast<std::int32_t>(scaled);
+  return truncated + (float(truncated) < scaled);
+}
 // Between two table entries (a cell's lower and upper node) at the upper one's weight w [ln deg].
 [[gnu::always_inline]] inline float between(std::int16_t lower, std::int16_t upper, float w) {
   const float a = decode_size(lower);
@@ -1064,6 +1072,12 @@ inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const
   const float vi = length(image);
   return vi > 0 ? (daly_retinal_velocity(vi, params) / vi) * image : Vec3{0, 0, 0};
 }
+// Whether retinal_slip() is 0 (Daly's pursuit leaves at least the drift of any moving image), without
+// branches: the image moves with the measured gaze, or not at all.
+[[gnu::always_inline]] inline bool no_retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity) {
+  const Vec3 with = gaze_moving ? gaze_velocity : Vec3{0, 0, 0};
+  return (image.x == with.x) & (image.y == with.y) & (image.z == with.z);
+}
 // Of a lookup cell's candidates, the view nearest to the direction to the eye (the first on ties).
 inline std::uint32_t nearest_view(const Profile& p, const std::uint16_t* cand, Vec3 to_eye) {
   std::uint32_t view = cand[0];
@@ -1263,7 +1277,7 @@ struct Scheduler::Probe {
 }
 
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
-// cache misses overlap: the inputs of the bounds over every view as vectors (pass 1), the objects
+// cache misses overlap: the inputs of the bounds over every view (pass 1), the objects
 // decided without tables and the any-view rows of the rest (2), the any-view decisions (3); for the
 // objects they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
 // whose bias is not 1 is evaluated exactly (the tables are built for q). Writes out[j], and with
@@ -1285,25 +1299,21 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     cell[j] = cube_cell(dir, resolution[j]);
   }
-  // Pass 1, as vectors: the tables' x and eccentricity cell, whether the image is still on the retina
-  // (as retinal_slip() finds it), and the bands the display shows (the lowest n: the rest are invisible
+  // Pass 1, branch-free per object (GCC 12 does not vectorise it): the tables' x and eccentricity cell,
+  // whether the image is still on the retina (as retinal_slip() finds it), and the bands the display shows (the lowest n: the rest are invisible
   // whatever the eye), with which the bounds over every view decide most objects.
   std::int32_t x_step[kBlock];
   std::uint32_t ec_j[kBlock], bands[kBlock];
   float ec_w[kBlock];
   std::uint8_t still[kBlock];
-  const Vec3 gaze_velocity = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
-    const float x = b.ln_diam[j] > -64.0f ? std::min(b.ln_diam[j], 64.0f) : -64.0f;  // (NaN: -64)
-    const float scaled = x * 1024.0f;                                                // exact: a power of two
-    const auto truncated = static_cast<std::int32_t>(scaled);
-    x_step[j] = truncated + (float(truncated) < scaled);  // rounded up
+    x_step[j] = size_steps_above(b.ln_diam[j]);
     const Cell ec = e_cell<kStillE>(b.e[j]);
     ec_j[j] = ec.j;
     ec_w[j] = ec.w;
-    still[j] = (b.image[0][j] == gaze_velocity.x) & (b.image[1][j] == gaze_velocity.y) &
-               (b.image[2][j] == gaze_velocity.z);
+    still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, eye.gaze_moving,
+                               eye.gaze_velocity);
   }
   const float* band_frequency[kBlock];
   for (std::uint32_t j = 0; j < n; ++j)
@@ -1351,8 +1361,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   }
   // Pass 3: the any-view decisions; the rest have their lookup cell's candidates prefetched.
   for (std::uint32_t j = 0; j < n; ++j) {
+    if (!todo[j]) continue;
+    const ProfileCache& pc = profiles_[profile_of_[first + j]];
     if (todo[j] == 2) {
-      const ProfileCache& pc = profiles_[profile_of_[first + j]];
       const int fine = any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 0);
       const int coarse =
           sets > 1 && fine >= 0 ? any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 1) : fine;
@@ -1361,7 +1372,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
     }
     if (todo[j]) {
-      cand[j] = profiles_[profile_of_[first + j]].profile.lookup + cell[j] * kLookupCandidates;
+      cand[j] = pc.profile.lookup + cell[j] * kLookupCandidates;
       ACUITY_PREFETCH(cand[j]);
     }
   }
@@ -1399,11 +1410,10 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   // level: their grid cells, and the moving tables' rows they read prefetched (most never read them).
   for (std::uint32_t j = 0; j < n; ++j) {
     Probe& o = probe[j];
-    if (!todo[j] || !o.moving || o.bands == 0) continue;
+    if (!todo[j] || !o.moving) continue;
     const ProfileCache& pc = profiles_[profile_of_[first + j]];
     const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
                         L = pc.profile.meta.level_count - 1;
-    if (L == 0) continue;
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       const std::int16_t* slow = &pc.slow[0][o.still_row(c, B, L) + (L - 1)];  // the coarsest level
       if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
@@ -1440,7 +1450,8 @@ ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, 
 // The perceptual rule through the tables: per level, is the object's angular size at most the largest
 // invisible one at its eccentricity (and, moving, per orientation at its retinal speed)? With
 // `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
-// decides.
+// decides. For a profile of two or more levels and an object the display shows bands of (tabulate
+// decides the others without tables).
 Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
@@ -1448,11 +1459,6 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
   const float x = o.x;
   if (scores) std::fill(scores, scores + K, 0.0f);
-  if (L == 0) return {0, 0, 0};  // one level: nothing to choose (and no tables)
-  if (o.bands == 0) {
-    const auto top = static_cast<std::uint8_t>(K - 1);
-    return {top, top, 0};  // scores stay 0
-  }
   const Cell ec = o.ec;
   // Per set, view and level k, the largest invisible ln diameter from the still (or, moving, the
   // slow) tables; the level's bound is the smallest over the views. A still object needs no more.
