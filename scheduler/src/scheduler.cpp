@@ -1300,8 +1300,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     cell[j] = cube_cell(dir, resolution[j]);
   }
   // Pass 1, branch-free per object (GCC 12 does not vectorise it): the tables' x and eccentricity cell,
-  // whether the image is still on the retina (as retinal_slip() finds it), and the bands the display shows (the lowest n: the rest are invisible
-  // whatever the eye), with which the bounds over every view decide most objects.
+  // whether the image is still on the retina (as retinal_slip() finds it), and the bands the display
+  // shows (the lowest n: the rest are invisible whatever the eye), with which the bounds over every
+  // view decide most objects.
   std::int32_t x_step[kBlock];
   std::uint32_t ec_j[kBlock], bands[kBlock];
   float ec_w[kBlock];
