@@ -224,23 +224,15 @@ struct Cell {
   std::uint32_t j;
   float w;
 };
-// The eccentricity nodes of an n-node axis and the reciprocal widths of its cells, at compile time.
-template <std::uint32_t n>
-struct ENodes {
-  float node[n] = {}, inv_width[n] = {};
-  constexpr ENodes() {
-    for (std::uint32_t j = 0; j < n; ++j) node[j] = e_node(j, n);
-    for (std::uint32_t j = 0; j + 1 < n; ++j) inv_width[j] = 1.0f / (node[j + 1] - node[j]);
-  }
-};
-template <std::uint32_t n>
-inline constexpr ENodes<n> kENodes{};
+// The cell of eccentricity e [deg] on an n-node axis. The nodes are computed, not looked up (the
+// same floats as e_node()), so a loop over objects vectorises without gathers.
 template <std::uint32_t n>
 [[gnu::always_inline]] inline Cell e_cell(float e) {
-  constexpr const ENodes<n>& axis = kENodes<n>;
   const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
-  return {j, std::clamp((e - axis.node[j]) * axis.inv_width[j], 0.0f, 1.0f)};
+  const float t0 = float(j) / float(n - 1), t1 = float(j + 1) / float(n - 1);
+  const float lower = kTableMaxE * t0 * t0, upper = kTableMaxE * t1 * t1;
+  return {j, std::clamp((e - lower) * (1.0f / (upper - lower)), 0.0f, 1.0f)};
 }
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
@@ -524,7 +516,6 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   pre.ecc_slope = static_cast<float>(config_.params.alpha / config_.params.e2);
   pre.distance_per_error = config_.distance_scale / std::tan(kRad / 60.0f);
   pre.speed_offset = 2.0f / pre.daly.c2;
-  for (std::uint32_t j = 0; j < kMovingS; ++j) {}
   for (int i = 0; i < Precomputed::kTermsSize; ++i)
     pre.terms[i] = velocity_terms(
         std::exp(Precomputed::kTermsLnV0 + (Precomputed::kTermsLnV1 - Precomputed::kTermsLnV0) * float(i) /
@@ -1073,10 +1064,9 @@ inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const
   return vi > 0 ? (daly_retinal_velocity(vi, params) / vi) * image : Vec3{0, 0, 0};
 }
 // Whether retinal_slip() is 0 (Daly's pursuit leaves at least the drift of any moving image), without
-// branches: the image moves with the measured gaze, or not at all.
-[[gnu::always_inline]] inline bool no_retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity) {
-  const Vec3 with = gaze_moving ? gaze_velocity : Vec3{0, 0, 0};
-  return (image.x == with.x) & (image.y == with.y) & (image.z == with.z);
+// branches: the image moves with the measured gaze (`tracked`: the gaze velocity, or 0 without one).
+[[gnu::always_inline]] inline bool no_retinal_slip(Vec3 image, Vec3 tracked) {
+  return (image.x == tracked.x) & (image.y == tracked.y) & (image.z == tracked.z);
 }
 // Of a lookup cell's candidates, the view nearest to the direction to the eye (the first on ties).
 inline std::uint32_t nearest_view(const Profile& p, const std::uint16_t* cand, Vec3 to_eye) {
@@ -1299,22 +1289,21 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     cell[j] = cube_cell(dir, resolution[j]);
   }
-  // Pass 1, branch-free per object (GCC 12 does not vectorise it): the tables' x and eccentricity cell,
-  // whether the image is still on the retina (as retinal_slip() finds it), and the bands the display
-  // shows (the lowest n: the rest are invisible whatever the eye), with which the bounds over every
-  // view decide most objects.
+  // Pass 1, branch-free: the tables' x and eccentricity cell and whether the image is still on the
+  // retina (as retinal_slip() finds it), as vectors; then the bands the display shows (the lowest n:
+  // the rest are invisible whatever the eye). With these the bounds over every view decide most objects.
   std::int32_t x_step[kBlock];
   std::uint32_t ec_j[kBlock], bands[kBlock];
   float ec_w[kBlock];
-  std::uint8_t still[kBlock];
+  std::uint32_t still[kBlock];  // 0 or 1, as wide as the loop's floats (so it vectorises)
+  const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
     x_step[j] = size_steps_above(b.ln_diam[j]);
     const Cell ec = e_cell<kStillE>(b.e[j]);
     ec_j[j] = ec.j;
     ec_w[j] = ec.w;
-    still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, eye.gaze_moving,
-                               eye.gaze_velocity);
+    still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, tracked);
   }
   const float* band_frequency[kBlock];
   for (std::uint32_t j = 0; j < n; ++j)
