@@ -1366,10 +1366,18 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(cand[j]);
     }
   }
+  // The objects left for passes 4 to 6, listed without branches (which ones remain is unpredictable).
+  static_assert(kBlock <= 256, "left[] holds block indices in bytes");
+  std::uint8_t left[kBlock];
+  std::uint32_t left_count = 0;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    left[left_count] = static_cast<std::uint8_t>(j);
+    left_count += todo[j];
+  }
   // Pass 4: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
-  for (std::uint32_t j = 0; j < n; ++j) {
-    if (!todo[j]) continue;
+  for (std::uint32_t i = 0; i < left_count; ++i) {
+    const std::uint32_t j = left[i];
     const ObjectId id = first + j;
     const ProfileCache& pc = profiles_[profile_of_[id]];
     const Profile& p = pc.profile;
@@ -1398,9 +1406,10 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   }
   // Pass 5: moving objects whose slow bound (read a pass after its prefetch) does not pass the coarsest
   // level: their grid cells, and the moving tables' rows they read prefetched (most never read them).
-  for (std::uint32_t j = 0; j < n; ++j) {
+  for (std::uint32_t i = 0; i < left_count; ++i) {
+    const std::uint32_t j = left[i];
     Probe& o = probe[j];
-    if (!todo[j] || !o.moving) continue;
+    if (!o.moving) continue;
     const ProfileCache& pc = profiles_[profile_of_[first + j]];
     const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
                         L = pc.profile.meta.level_count - 1;
@@ -1416,8 +1425,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     }
   }
   // Pass 6: the decisions through the objects' views.
-  for (std::uint32_t j = 0; j < n; ++j) {
-    if (!todo[j]) continue;
+  for (std::uint32_t i = 0; i < left_count; ++i) {
+    const std::uint32_t j = left[i];
     const ObjectId id = first + j;
     out[j] = table_choice(profiles_[profile_of_[id]], b.e[j], probe[j], scores ? scores[j] : nullptr);
     out[j].flags |= gaze_flag;
