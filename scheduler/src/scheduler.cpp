@@ -339,13 +339,15 @@ struct Scheduler::Precomputed {
     return f >= vt.peak ? -vt.a_term - 2.0f * (daly.ln_2pi_c1 + ln_f) + (vt.b + a) * f
                         : -vt.ln_s_peak + a * f;
   }
+  // The Default model's terms of retinal speed v [deg/s], still or moving (for ln_ct()).
+  VelocityTerms own_terms(float v, bool moving) const { return moving ? terms_at(v) : static_terms; }
   // One component's ln CT at ln f [cpd], eccentricity e [deg], retinal speed v [deg/s], still or moving,
-  // ignoring the display: what the exact path computes per band, for the tables' curves.
-  float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving) const {
+  // ignoring the display: what the exact path computes per band, for the tables' curves. `own` is
+  // own_terms(v, moving), computed once for the many frequencies of one speed.
+  float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving, const VelocityTerms& own) const {
     const float f = std::exp(ln_f);
     if (c.model != ThresholdModel::Default)
       return log_threshold(f, e, moving ? v : floor_velocity, c.model, c.params);
-    const VelocityTerms own = moving ? terms_at(v) : static_terms;
     return default_ln_ct(band_terms(own, v, ln_f, moving), ln_f, f, ecc_slope * e);
   }
 };
@@ -366,8 +368,9 @@ struct Scheduler::Curves {
   // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
   static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving,
                      float* out) {
+    const VelocityTerms own = pre.own_terms(v, moving);
     for (int i = 0; i < kCurveSamples; ++i)
-      out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving);
+      out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving, own);
     for (int i = kCurveSamples - 2; i >= 0; --i) out[i] = std::min(out[i], out[i + 1]);
   }
   // ln of the largest angular diameter [ln deg] at which a component of band ln_band [ln cpod] with
@@ -415,9 +418,10 @@ struct Scheduler::Curves {
   static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band,
                       float e, float v, bool moving) {
     float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
-    for (int i = 0; i < 6; ++i) {
+    const VelocityTerms own = pre.own_terms(v, moving);
+    for (int i = 0; i < 4; ++i) {  // to 1/16 of a sample step: a third of the tables' 1/1024 ln deg
       const float mid = 0.5f * (ulo + uhi);
-      (pre.ln_ct(c, mid, e, v, moving) >= y ? uhi : ulo) = mid;
+      (pre.ln_ct(c, mid, e, v, moving, own) >= y ? uhi : ulo) = mid;
     }
     return ln_band - uhi;
   }
