@@ -344,7 +344,8 @@ struct Scheduler::Precomputed {
   // One component's ln CT at ln f [cpd], eccentricity e [deg], retinal speed v [deg/s], still or moving,
   // ignoring the display: what the exact path computes per band, for the tables' curves. `own` is
   // own_terms(v, moving), computed once for the many frequencies of one speed.
-  float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving, const VelocityTerms& own) const {
+  float ln_ct(const SchedulerConfig& c, float ln_f, float e, float v, bool moving,
+              const VelocityTerms& own) const {
     const float f = std::exp(ln_f);
     if (c.model != ThresholdModel::Default)
       return log_threshold(f, e, moving ? v : floor_velocity, c.model, c.params);
