@@ -56,6 +56,14 @@ def main():
             else:
                 cells.append(f"{t:.3f} ms ({t / base:.0f}×)")
         print(f"| {label} | " + " | ".join(cells) + " |")
+    scaling = []
+    for label, one in (("still", "BM_scheduler/perceptual_static"), ("all moving", "BM_scheduler/perceptual_all_moving")):
+        two = one.replace("BM_scheduler/", "BM_scheduler_2threads/")
+        at = [f"{ms[(one, n)] / ms[(two, n)]:.1f}× at {n:,}" for n in SIZES if (one, n) in ms and (two, n) in ms]
+        if at:
+            scaling.append(f"{label} " + ", ".join(at))
+    if scaling:
+        print("\ntwo threads' speed over one thread's (this run): " + "; ".join(scaling))
     if "tabulated" in setup and "exact" in setup:
         (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
         print(f"\nadd_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
