@@ -228,7 +228,8 @@ struct Cell {
 // same floats as e_node()), so a loop over objects vectorises without gathers.
 template <std::uint32_t n>
 [[gnu::always_inline]] inline Cell e_cell(float e) {
-  const float x = std::min(std::sqrt(e * (1.0f / kTableMaxE)), 1.0f) * float(n - 1);
+  const float r = std::sqrt(e * (1.0f / kTableMaxE));
+  const float x = (r < 1.0f ? r : 1.0f) * float(n - 1);  // NaN: the last cell (no NaN reaches the cast)
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
   const float t0 = float(j) / float(n - 1), t1 = float(j + 1) / float(n - 1);
   const float lower = kTableMaxE * t0 * t0, upper = kTableMaxE * t1 * t1;
