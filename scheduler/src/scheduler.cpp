@@ -224,15 +224,14 @@ struct Cell {
   std::uint32_t j;
   float w;
 };
-// The cell of eccentricity e [deg] on an n-node axis. The nodes are computed, not looked up (the
-// same floats as e_node()), so a loop over objects vectorises without gathers.
+// The cell of eccentricity e [deg] on an n-node axis. The nodes come from e_node(), not from a table,
+// so a loop over objects vectorises without gathers.
 template <std::uint32_t n>
 [[gnu::always_inline]] inline Cell e_cell(float e) {
   const float r = std::sqrt(e * (1.0f / kTableMaxE));
   const float x = (r < 1.0f ? r : 1.0f) * float(n - 1);  // NaN: the last cell (no NaN reaches the cast)
   const std::uint32_t j = std::min(static_cast<std::uint32_t>(x), n - 2);
-  const float t0 = float(j) / float(n - 1), t1 = float(j + 1) / float(n - 1);
-  const float lower = kTableMaxE * t0 * t0, upper = kTableMaxE * t1 * t1;
+  const float lower = e_node(j, n), upper = e_node(j + 1, n);
   return {j, std::clamp((e - lower) * (1.0f / (upper - lower)), 0.0f, 1.0f)};
 }
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
@@ -1378,7 +1377,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   std::uint32_t left_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     left[left_count] = static_cast<std::uint8_t>(j);
-    left_count += todo[j];
+    left_count += todo[j] != 0;
   }
   // Pass 4: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
