@@ -420,7 +420,7 @@ struct Scheduler::Curves {
                       float e, float v, bool moving) {
     float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
     const VelocityTerms own = pre.own_terms(v, moving);
-    for (int i = 0; i < 4; ++i) {  // to 1/16 of a sample step: a third of the tables' 1/1024 ln deg
+    for (int i = 0; i < 6; ++i) {
       const float mid = 0.5f * (ulo + uhi);
       (pre.ln_ct(c, mid, e, v, moving, own) >= y ? uhi : ulo) = mid;
     }
