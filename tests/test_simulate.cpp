@@ -369,12 +369,40 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
   EXPECT_DOUBLE_EQ(r.oracle.ratio(), chosen / best);
   EXPECT_EQ(r.oracle.same, same);
   EXPECT_EQ(r.oracle.same + r.oracle.finer + r.oracle.coarser, judged.size());
+  // The ungated rule against the oracle, recounted.
+  const RuleRun& ungated = sim.rule("ungated");
+  double ungated_chosen = 0;
+  for (const Judged& j : judged) {
+    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+    ungated_chosen += p.levels[ungated.levels[std::size_t(j.frame) * objects + j.object]].triangles;
+  }
+  EXPECT_DOUBLE_EQ(r.ungated.ratio(), ungated_chosen / best);
+  // 20 decisions allow no loss at 1%: the least any rule draws is the cheapest invisible level of each
+  // (here the oracle's: the chains' triangles fall with the level).
+  EXPECT_EQ(r.one_percent_losses, 0u);
+  EXPECT_DOUBLE_EQ(r.least_at_one_percent, best);
+  // Screen-size at 1% over the judged decisions lies between its bracketing entries' there.
+  if (r.one_percent_screen_size.kind == Match::Kind::Interpolated) {
+    auto over_judged = [&](int rule) {
+      double sum = 0;
+      for (const Judged& j : judged) {
+        const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+        sum += p.levels[rules[std::size_t(rule)].levels[std::size_t(j.frame) * objects + j.object]].triangles;
+      }
+      return sum;
+    };
+    const double safe = over_judged(r.one_percent_screen_size.rule);
+    const double risky =
+        r.one_percent_screen_size.riskier >= 0 ? over_judged(r.one_percent_screen_size.riskier) : safe;
+    EXPECT_LE(r.screen_size_judged_at_one_percent, std::max(safe, risky) * (1 + 1e-12));
+    EXPECT_GE(r.screen_size_judged_at_one_percent, std::min(safe, risky) * (1 - 1e-12));
+  }
   // No third-party assets named: the group is empty and the summary has no such table.
   EXPECT_EQ(r.third_party.objects, 0u);
   EXPECT_EQ(summary_text(sim, r).find("Third-party"), std::string::npos);
   // The summary names every main rule with its losses out of the judged decisions.
   const std::string text = summary_text(sim, r);
-  for (const char* name : {"perceptual", "reddy", "distance", "screen-size"}) {
+  for (const char* name : {"perceptual", "reddy", "distance", "screen-size", "ungated"}) {
     const std::size_t i = std::size_t(&sim.rule(name) - rules.data());
     EXPECT_NE(text.find("(" + std::to_string(r.visible_losses[i]) + "/20)"), std::string::npos)
         << name << "\n"
@@ -384,6 +412,42 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
   const Results none = analyse(sim, {});
   EXPECT_EQ(none.fraction(std::size_t(none.perceptual)), 0.0);
   EXPECT_EQ(summary_text(sim, none).find("visible"), std::string::npos);
+}
+
+// Walking backwards away from the field for 3 s (to 600 m), then standing: objects coarsen. The ungated rule
+// (the perceptual rule switching at once) is never finer than the perceptual rule; each time the
+// perceptual rule coarsens an object, after calm frames and a saccade, the ungated rule was coarser
+// before it; and it switches at least as often.
+TEST(Simulate, UngatedRuleCoarsensAtOnceWhereThePerceptualRuleWaits) {
+  const SceneAssets& scene = small_scene();
+  std::string head = "t,x,y,z,qx,qy,qz,qw\n";
+  for (int i = 0; i <= 60; ++i)
+    head += std::to_string(0.1 * i) + ",0,1.6," + std::to_string(20.0 * std::min(i, 30)) + ",0,0,0,1\n";
+  write(scratch("retreat.csv"), head);
+  SimulationOptions o = small_options("");
+  o.seconds = 6;
+  o.movers = 0;
+  o.head_file = scratch("retreat.csv").string();
+  o.validate = 0;
+  Simulation sim(scene, o);
+  sim.run();
+  const RuleRun &gated = sim.rule("perceptual"), &ungated = sim.rule("ungated");
+  const std::size_t objects = scene.instances.size();
+  std::size_t coarsened = 0, coarser = 0;
+  for (std::size_t f = 0; f < sim.frame_count(); ++f)
+    for (std::size_t i = 0; i < objects; ++i) {
+      const std::size_t at = f * objects + i;
+      ASSERT_GE(ungated.levels[at], gated.levels[at]) << "frame " << f << " object " << i;
+      coarser += ungated.levels[at] > gated.levels[at];
+      if (f > 0 && gated.levels[at] > gated.levels[at - objects]) {
+        ++coarsened;
+        EXPECT_GT(ungated.levels[at - objects], gated.levels[at - objects]) << "frame " << f << " object " << i;
+      }
+    }
+  ASSERT_GT(coarsened, 0u);  // the walk exercises coarsening
+  EXPECT_GT(coarser, coarsened);
+  EXPECT_LT(ungated.triangles, gated.triangles);
+  EXPECT_GE(ungated.switches, gated.switches);
 }
 
 TEST(Simulate, ThirdPartyAssetsAreReportedApart) {
@@ -492,6 +556,17 @@ TEST(Oracle, CoarsestInvisibleLevelAndTriangleRatio) {
   EXPECT_EQ(o.same, 1u);
   EXPECT_EQ(o.finer, 1u);
   EXPECT_EQ(o.coarser, 1u);
+}
+
+// The least triangles with losses allowed, on constructed decisions: cheapest invisible 100, 50, 30
+// and cheapest at all 10, 40, 30 save 90, 10, 0 by losing; one loss allowed takes the 90.
+TEST(Oracle, LeastTrianglesSpendsTheAllowedLossesWhereTheySaveMost) {
+  const std::vector<double> invisible = {100, 50, 30}, any = {10, 40, 30};
+  EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 0), 180);
+  EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 1), 90);
+  EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 2), 80);
+  EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 99), 80);  // more losses than decisions
+  EXPECT_DOUBLE_EQ(least_triangles({}, {}, 1), 0);
 }
 
 TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {

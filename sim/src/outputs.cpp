@@ -121,6 +121,13 @@ std::string summary_json(const Simulation& sim, const Results& r) {
                        {"same", r.oracle.same},
                        {"finer", r.oracle.finer},
                        {"coarser", r.oracle.coarser}};
+  summary["oracle_ungated"] = {{"ratio", r.ungated.ratio()},
+                               {"same", r.ungated.same},
+                               {"finer", r.ungated.finer},
+                               {"coarser", r.ungated.coarser}};
+  summary["one_percent_bound"] = {{"losses_allowed", r.one_percent_losses},
+                                  {"least_triangles", r.least_at_one_percent},
+                                  {"screen_size_triangles", r.screen_size_judged_at_one_percent}};
   for (const Results::QualityPoint& q : r.quality_sweep) {
     const RuleRun& run = rules[std::size_t(q.rule)];
     summary["quality_sweep"].push_back({{"quality", run.parameter},

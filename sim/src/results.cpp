@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "text.hpp"
@@ -32,6 +33,48 @@ Match tuned(const Simulation& sim, const Results& r, const std::string& name, do
   if (m.riskier >= 0) m.riskier = index[std::size_t(m.riskier)];
   if (m.kind != Match::Kind::None && triangles > 0) m.ratio = m.triangles / triangles;
   return m;
+}
+
+// Triangles over the judged decisions of the levels `run` chose.
+double judged_triangles(const Simulation& sim, const RuleRun& run, const std::vector<Judged>& judged) {
+  const SceneAssets& scene = sim.scene();
+  double sum = 0;
+  for (const Judged& j : judged) {
+    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+    sum += p.levels[run.levels[std::size_t(j.frame) * scene.instances.size() + j.object]].triangles;
+  }
+  return sum;
+}
+
+// A Match's triangles over the judged decisions: its entries' there, interpolated as the Match
+// interpolates per frame (log triangles, by the same fraction); 0 unless interpolated or exact.
+double judged_triangles(const Simulation& sim, const Match& m, const std::vector<Judged>& judged) {
+  if (m.kind != Match::Kind::Interpolated) return 0;
+  const RuleRun& a = sim.rules()[std::size_t(m.rule)];
+  const double at_a = judged_triangles(sim, a, judged);
+  if (m.riskier < 0) return at_a;
+  const RuleRun& b = sim.rules()[std::size_t(m.riskier)];
+  const double frames = double(sim.frame_index());
+  const double span = std::log(b.triangles / a.triangles);
+  const double t = span != 0 ? std::log(m.triangles * frames / a.triangles) / span : 0.0;
+  return at_a * std::exp(t * std::log(judged_triangles(sim, b, judged) / at_a));
+}
+
+// least_triangles over the judged decisions, `losses` of them allowed visible.
+double least_judged_triangles(const Simulation& sim, const std::vector<Judged>& judged, std::size_t losses) {
+  const SceneAssets& scene = sim.scene();
+  std::vector<double> invisible, any;
+  for (const Judged& j : judged) {
+    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
+    double cheapest = p.levels[0].triangles, cheapest_invisible = cheapest;  // level 0 loses nothing
+    for (std::uint32_t k = 1; k < std::min<std::uint32_t>(p.meta.level_count, kMaxLevels); ++k) {
+      cheapest = std::min(cheapest, double(p.levels[k].triangles));
+      if (j.scores[k] <= 1.0f) cheapest_invisible = std::min(cheapest_invisible, double(p.levels[k].triangles));
+    }
+    invisible.push_back(cheapest_invisible);
+    any.push_back(cheapest);
+  }
+  return least_triangles(invisible, any, losses);
 }
 
 // The rule's levels on the judged decisions against the oracle's.
@@ -140,6 +183,20 @@ double Oracle::ratio() const {
   return oracle_triangles > 0 ? rule_triangles / oracle_triangles : std::numeric_limits<double>::quiet_NaN();
 }
 
+double least_triangles(const std::vector<double>& invisible, const std::vector<double>& any,
+                       std::size_t losses) {
+  double sum = 0;
+  std::vector<double> savings;
+  for (std::size_t i = 0; i < invisible.size(); ++i) {
+    sum += invisible[i];
+    savings.push_back(std::max(0.0, invisible[i] - any[i]));
+  }
+  losses = std::min(losses, savings.size());
+  std::partial_sort(savings.begin(), savings.begin() + std::ptrdiff_t(losses), savings.end(), std::greater<>());
+  for (std::size_t i = 0; i < losses; ++i) sum -= savings[i];
+  return sum;
+}
+
 int oracle_level(const Judged& judged, std::uint32_t levels) {
   int best = 0;
   for (std::uint32_t k = 1; k < std::min<std::uint32_t>(levels, kMaxLevels); ++k)
@@ -162,6 +219,7 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   r.screen_size = tuned(sim, r, "screen-size", rate, perceptual->triangles * per_frame);
   r.distance = tuned(sim, r, "distance", rate, perceptual->triangles * per_frame);
   r.oracle = against_oracle(sim, *perceptual, judged);
+  r.ungated = against_oracle(sim, sim.rule("ungated"), judged);
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].sweep && rules[i].name == "perceptual")
       r.quality_sweep.push_back({int(i),
@@ -172,6 +230,9 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
       r.one_percent_perceptual.kind == Match::Kind::Interpolated ? r.one_percent_perceptual.triangles : 0;
   r.one_percent_screen_size = tuned(sim, r, "screen-size", 0.01, at_one);
   r.one_percent_distance = tuned(sim, r, "distance", 0.01, at_one);
+  r.one_percent_losses = judged.size() / 100;
+  r.least_at_one_percent = least_judged_triangles(sim, judged, r.one_percent_losses);
+  r.screen_size_judged_at_one_percent = judged_triangles(sim, r.one_percent_screen_size, judged);
   r.third_party = third_party(sim, judged, r.frames);
   return r;
 }
@@ -242,6 +303,11 @@ std::string summary_text(const Simulation& sim, const Results& r) {
       appendf(&out, " %10.1f%% (%u/%zu)", 100.0 * r.fraction(i), r.visible_losses[i], r.judged);
     appendf(&out, "\n");
   }
+  const SchedulerConfig& gated = perceptual.scheduler->config();
+  appendf(&out,
+          "(ungated: the perceptual rule switching at once; every other rule coarsens after %u calm frames "
+          "at a score <= %.2g, in a saccade or after %u frames)\n",
+          gated.hysteresis_frames, 1.0 - double(gated.hysteresis_margin), gated.max_coarsen_wait);
   const Results::Group& g = r.third_party;
   if (g.objects > 0) {
     appendf(&out, "\nThird-party assets (");
@@ -287,6 +353,18 @@ std::string summary_text(const Simulation& sim, const Results& r) {
       "  the perceptual rule draws %.2fx the oracle's triangles over the judged decisions; it picks the "
       "oracle's level in %.1f%%, a finer one in %.1f%%, a coarser one in %.1f%%\n",
       oracle.ratio(), 100.0 * oracle.same / n, 100.0 * oracle.finer / n, 100.0 * oracle.coarser / n);
+  const Oracle& ungated = r.ungated;
+  appendf(&out,
+          "  switching at once (ungated), its choices draw %.2fx: the oracle's level in %.1f%%, a finer one "
+          "in %.1f%%, a coarser one in %.1f%%; the rest is the cost of waiting to coarsen\n",
+          ungated.ratio(), 100.0 * ungated.same / n, 100.0 * ungated.finer / n, 100.0 * ungated.coarser / n);
+  if (r.screen_size_judged_at_one_percent > 0 && r.least_at_one_percent > 0)
+    appendf(&out,
+            "  allowing %zu of the %zu decisions (1%%) a visible loss, no rule can draw fewer than %.0f triangles "
+            "over them\n  (the oracle, at the coarsest level where that saves most); screen-size at 1%% draws "
+            "%.0f, %.2fx that:\n  no rule as safe saves more over screen-size on this field\n",
+            r.one_percent_losses, r.judged, r.least_at_one_percent, r.screen_size_judged_at_one_percent,
+            r.screen_size_judged_at_one_percent / r.least_at_one_percent);
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
   appendf(&out, "  %6s %16s %15s %10s %32s\n", "q", "triangles/frame", "visible losses", "of oracle",
           "screen-size at that rate: ratio");

@@ -97,8 +97,11 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
         finest_[f] += scene.assets[std::size_t(in.asset)].profile.levels[0].triangles;
     }
 
-  // Rules: the four, then sweeps in quarter octaves: the perceptual rule's quality q 0.35..1.4, the
-  // baselines' screen-size 1/32..8 px and distance scale 1/4..32.
+  // Rules: the four, the perceptual rule ungated, then sweeps in quarter octaves: the perceptual
+  // rule's quality q 0.35..1.4, the baselines' screen-size 1/32..8 px and distance scale 1/4..32.
+  // Every rule but "ungated" coarsens after 3 calm frames at a score <= 0.9 (its hysteresis) and in a
+  // saccade or after the scheduler's max_coarsen_wait frames; "ungated" takes its own choice at once
+  // (a saccade still counts as fixation), showing what that switching policy costs.
   auto add = [&](const std::string& name, SelectionRule rule, double parameter, bool sweep) {
     RuleRun r;
     r.name = name;
@@ -112,6 +115,11 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     c2.hysteresis_frames = 3;
     c2.saccade_speed = o.saccade_speed;
     c2.evaluation = o.evaluation;
+    if (name == "ungated") {
+      c2.hysteresis_margin = 0;
+      c2.hysteresis_frames = 0;
+      c2.max_coarsen_wait = 0;
+    }
     if (rule == SelectionRule::Perceptual) c2.quality = float(parameter);
     if (rule == SelectionRule::ScreenSize) c2.pixel_error = float(parameter);
     if (rule == SelectionRule::Distance) c2.distance_scale = float(parameter);
@@ -125,6 +133,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
   add("reddy", SelectionRule::Reddy, 0, false);
   add("distance", SelectionRule::Distance, 1, false);
   add("screen-size", SelectionRule::ScreenSize, 1, false);
+  add("ungated", SelectionRule::Perceptual, 1, false);
   for (int i = -6; i <= 2; ++i) add("perceptual", SelectionRule::Perceptual, std::exp2(0.25 * i), true);
   for (int i = -20; i <= 12; ++i) add("screen-size", SelectionRule::ScreenSize, std::exp2(0.25 * i), true);
   for (int i = -8; i <= 20; ++i) add("distance", SelectionRule::Distance, std::exp2(0.25 * i), true);

@@ -37,7 +37,7 @@ def test_simulate_is_the_commands_run(scene, tmp_path):
     assert r["summary"] and r["summary"] in c.stdout  # the very text the command prints
     assert r["frames"] == 60 and r["objects"] == 1 and r["judged"] == 6
     names = [x["name"] for x in r["rules"] if not x["sweep"]]
-    assert names == ["perceptual", "reddy", "distance", "screen-size"]
+    assert names == ["perceptual", "reddy", "distance", "screen-size", "ungated"]
     for rule in r["rules"]:
         assert 0 <= rule["triangles_per_frame"] <= r["all_finest"] + 1e-6
         assert 0 <= rule["visible_losses"] <= r["judged"]

@@ -46,6 +46,12 @@ struct Oracle {
 // The coarsest of the first `levels` levels (at most kMaxLevels) whose score is <= 1; 0 when none is.
 int oracle_level(const Judged& judged, std::uint32_t levels);
 
+// The least triangles any rule can draw over decisions when at most `losses` of them may be visible:
+// per decision, `invisible` is its cheapest level scoring <= 1 and `any` its cheapest level; the sum
+// of `invisible` less the `losses` largest savings any - invisible. Same-sized vectors.
+double least_triangles(const std::vector<double>& invisible, const std::vector<double>& any,
+                       std::size_t losses);
+
 struct Results {
   std::size_t frames = 0, objects = 0, judged = 0;
   double all_finest = 0;                      // triangles per frame, every object in view at level 0
@@ -54,6 +60,7 @@ struct Results {
   int perceptual = 0;                         // index of the main perceptual rule
   Match screen_size, distance;                // the baselines' sweeps at the perceptual rule's rate
   Oracle oracle;                              // the perceptual rule against the oracle
+  Oracle ungated;                             // the "ungated" rule against the oracle
   struct QualityPoint {
     int rule = 0;       // a perceptual sweep entry (quality q)
     Match screen_size;  // the screen-size sweep at its rate
@@ -63,6 +70,11 @@ struct Results {
   // At a 1% rate of visible losses: the perceptual, screen-size and distance sweeps (ratios over
   // the perceptual sweep's triangles there).
   Match one_percent_perceptual, one_percent_screen_size, one_percent_distance;
+  // Over the judged decisions, with 1% of them (rounded down) allowed to be visible losses: the least
+  // triangles any rule can draw (least_triangles), and screen-size's at 1% (its sweep interpolated as
+  // above; 0 unless interpolated or exactly at 1%).
+  std::size_t one_percent_losses = 0;
+  double least_at_one_percent = 0, screen_size_judged_at_one_percent = 0;
   // The instances of SimulationOptions::third_party's assets.
   struct Group {
     std::size_t objects = 0, judged = 0;
