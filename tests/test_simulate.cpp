@@ -441,7 +441,8 @@ TEST(Simulate, UngatedRuleCoarsensAtOnceWhereThePerceptualRuleWaits) {
       coarser += ungated.levels[at] > gated.levels[at];
       if (f > 0 && gated.levels[at] > gated.levels[at - objects]) {
         ++coarsened;
-        EXPECT_GT(ungated.levels[at - objects], gated.levels[at - objects]) << "frame " << f << " object " << i;
+        EXPECT_GT(ungated.levels[at - objects], gated.levels[at - objects])
+            << "frame " << f << " object " << i;
       }
     }
   ASSERT_GT(coarsened, 0u);  // the walk exercises coarsening

@@ -69,7 +69,8 @@ double least_judged_triangles(const Simulation& sim, const std::vector<Judged>& 
     double cheapest = p.levels[0].triangles, cheapest_invisible = cheapest;  // level 0 loses nothing
     for (std::uint32_t k = 1; k < std::min<std::uint32_t>(p.meta.level_count, kMaxLevels); ++k) {
       cheapest = std::min(cheapest, double(p.levels[k].triangles));
-      if (j.scores[k] <= 1.0f) cheapest_invisible = std::min(cheapest_invisible, double(p.levels[k].triangles));
+      if (j.scores[k] <= 1.0f)
+        cheapest_invisible = std::min(cheapest_invisible, double(p.levels[k].triangles));
     }
     invisible.push_back(cheapest_invisible);
     any.push_back(cheapest);
@@ -192,7 +193,8 @@ double least_triangles(const std::vector<double>& invisible, const std::vector<d
     savings.push_back(std::max(0.0, invisible[i] - any[i]));
   }
   losses = std::min(losses, savings.size());
-  std::partial_sort(savings.begin(), savings.begin() + std::ptrdiff_t(losses), savings.end(), std::greater<>());
+  std::partial_sort(savings.begin(), savings.begin() + std::ptrdiff_t(losses), savings.end(),
+                    std::greater<>());
   for (std::size_t i = 0; i < losses; ++i) sum -= savings[i];
   return sum;
 }
@@ -359,12 +361,14 @@ std::string summary_text(const Simulation& sim, const Results& r) {
           "in %.1f%%, a coarser one in %.1f%%; the rest is the cost of waiting to coarsen\n",
           ungated.ratio(), 100.0 * ungated.same / n, 100.0 * ungated.finer / n, 100.0 * ungated.coarser / n);
   if (r.screen_size_judged_at_one_percent > 0 && r.least_at_one_percent > 0)
-    appendf(&out,
-            "  allowing %zu of the %zu decisions (1%%) a visible loss, no rule can draw fewer than %.0f triangles "
-            "over them\n  (the oracle, at the coarsest level where that saves most); screen-size at 1%% draws "
-            "%.0f, %.2fx that:\n  no rule as safe saves more over screen-size on this field\n",
-            r.one_percent_losses, r.judged, r.least_at_one_percent, r.screen_size_judged_at_one_percent,
-            r.screen_size_judged_at_one_percent / r.least_at_one_percent);
+    appendf(
+        &out,
+        "  allowing %zu of the %zu decisions (1%%) a visible loss, no rule can draw fewer than %.0f "
+        "triangles "
+        "over them\n  (the oracle, at the coarsest level where that saves most); screen-size at 1%% draws "
+        "%.0f, %.2fx that:\n  no rule as safe saves more over screen-size on this field\n",
+        r.one_percent_losses, r.judged, r.least_at_one_percent, r.screen_size_judged_at_one_percent,
+        r.screen_size_judged_at_one_percent / r.least_at_one_percent);
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");
   appendf(&out, "  %6s %16s %15s %10s %32s\n", "q", "triangles/frame", "visible losses", "of oracle",
           "screen-size at that rate: ratio");
