@@ -171,7 +171,7 @@ std::string explain_text(const Simulation& sim, std::uint32_t object) {
   add("  chosen: level %u (perceptual: the coarsest with score <= 1, after hysteresis and saccade gating)\n",
       s.level(object));
   add("  other rules this frame:");
-  for (const char* name : {"reddy", "distance", "screen-size"})
+  for (const char* name : {"reddy", "distance", "screen-size", "ungated"})
     add(" %s %u", name, sim.rule(name).scheduler->level(object));
   add("\n");
   return out;
