@@ -414,10 +414,10 @@ TEST(Simulate, AnalyseCountsLossesAndTunesBaselinesAsDefined) {
   EXPECT_EQ(summary_text(sim, none).find("visible"), std::string::npos);
 }
 
-// Walking backwards away from the field for 3 s (to 600 m), then standing: objects coarsen. The ungated rule
-// (the perceptual rule switching at once) is never finer than the perceptual rule; each time the
-// perceptual rule coarsens an object, after calm frames and a saccade, the ungated rule was coarser
-// before it; and it switches at least as often.
+// Walking backwards away from the field for 3 s (to 600 m), then standing: objects coarsen. The
+// ungated rule (the perceptual rule switching at once) is never finer than the perceptual rule; each
+// time the perceptual rule coarsens an object, after calm frames and a saccade, the ungated rule was
+// coarser the frame before; and it switches at least as often.
 TEST(Simulate, UngatedRuleCoarsensAtOnceWhereThePerceptualRuleWaits) {
   const SceneAssets& scene = small_scene();
   std::string head = "t,x,y,z,qx,qy,qz,qw\n";

@@ -365,8 +365,10 @@ std::string summary_text(const Simulation& sim, const Results& r) {
         &out,
         "  allowing %zu of the %zu decisions (1%%) a visible loss, no rule can draw fewer than %.0f "
         "triangles "
-        "over them\n  (the oracle, at the coarsest level where that saves most); screen-size at 1%% draws "
-        "%.0f, %.2fx that:\n  no rule as safe saves more over screen-size on this field\n",
+        "over them\n"
+        "  (the oracle, at the coarsest level where that saves most); screen-size at 1%% draws %.0f, %.2fx "
+        "that:\n"
+        "  no rule as safe saves more over screen-size on this field\n",
         r.one_percent_losses, r.judged, r.least_at_one_percent, r.screen_size_judged_at_one_percent,
         r.screen_size_judged_at_one_percent / r.least_at_one_percent);
   appendf(&out, "\nAlong the perceptual rule's quality q (invisible when lost contrast <= q x threshold):\n");

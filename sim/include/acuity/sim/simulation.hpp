@@ -2,8 +2,8 @@
 // The simulation behind `acuity simulate`: a scene, a head path and a gaze trace, run frame by
 // frame through four rules (perceptual, Reddy, distance, screen-size), the perceptual rule once more
 // switching at once ("ungated": no hysteresis, no wait for a saccade), and the perceptual rule and
-// the two baselines at a sweep of their tuning, with the chosen levels judged afterwards by rendering both levels at the
-// exact view. What a run means is computed by analyse() (acuity/sim/results.hpp).
+// the two baselines at a sweep of their tuning, with the chosen levels judged afterwards by
+// rendering both levels at the exact view. What a run means is computed by analyse() (acuity/sim/results.hpp).
 //
 // Conventions as in acuity/scheduler.hpp: metres, degrees, seconds; the head (camera) looks along
 // its local -Z with +Y up; gaze directions are unit vectors in head space (both eyes share the
