@@ -47,17 +47,20 @@ double judged_triangles(const Simulation& sim, const RuleRun& run, const std::ve
 }
 
 // A Match's triangles over the judged decisions: its entries' there, interpolated as the Match
-// interpolates per frame (log triangles, by the same fraction); 0 unless interpolated or exact.
+// interpolates per frame (log triangles, by the same fraction); 0 unless interpolated or exact, or
+// when an entry draws no triangles (no logarithm).
 double judged_triangles(const Simulation& sim, const Match& m, const std::vector<Judged>& judged) {
   if (m.kind != Match::Kind::Interpolated) return 0;
   const RuleRun& a = sim.rules()[std::size_t(m.rule)];
   const double at_a = judged_triangles(sim, a, judged);
   if (m.riskier < 0) return at_a;
   const RuleRun& b = sim.rules()[std::size_t(m.riskier)];
+  const double at_b = judged_triangles(sim, b, judged);
+  if (!(at_a > 0 && at_b > 0 && a.triangles > 0 && b.triangles > 0 && m.triangles > 0)) return 0;
   const double frames = double(sim.frame_index());
   const double span = std::log(b.triangles / a.triangles);
   const double t = span != 0 ? std::log(m.triangles * frames / a.triangles) / span : 0.0;
-  return at_a * std::exp(t * std::log(judged_triangles(sim, b, judged) / at_a));
+  return at_a * std::exp(t * std::log(at_b / at_a));
 }
 
 // least_triangles over the judged decisions, `losses` of them allowed visible.
