@@ -104,8 +104,8 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
 
 void add_simulate_commands(CLI::App& app) {
   auto o = std::make_shared<SimulateOptions>();
-  CLI::App* cmd =
-      app.add_subcommand("simulate", "Run a scene along a head path and gaze trace through four LOD rules");
+  CLI::App* cmd = app.add_subcommand(
+      "simulate", "Run a scene along a head path and gaze trace through four LOD rules (and ungated)");
   add_scene_options(cmd, o.get());
   cmd->add_option("-o,--output", o->sim.output, "Directory for CSV, JSON and frame images")
       ->capture_default_str();
