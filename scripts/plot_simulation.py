@@ -4,7 +4,7 @@
 Reads frames.csv and sweep.csv from OUTPUT_DIR and writes:
   triangles.png  triangles drawn per frame by each rule, saccades and blinks shaded;
   sweep.png      triangles per frame against the fraction of visible-loss decisions for the
-                 baselines at each tuning, with the perceptual and Reddy rules as points.
+                 baselines at each tuning, with the perceptual, ungated and Reddy rules as points.
 Needs Debian's python3-matplotlib (no display: the Agg backend).
 """
 import csv
@@ -16,8 +16,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-RULES = ["perceptual", "reddy", "distance", "screen-size"]
-COLOURS = {"perceptual": "tab:blue", "reddy": "tab:purple", "distance": "tab:green", "screen-size": "tab:orange"}
+# The main rules of frames.csv; "ungated" is the perceptual rule switching at once (no hysteresis).
+RULES = ["perceptual", "ungated", "reddy", "distance", "screen-size"]
+COLOURS = {"perceptual": "tab:blue", "ungated": "tab:cyan", "reddy": "tab:purple", "distance": "tab:green",
+           "screen-size": "tab:orange"}
+POINT_LABELS = {"perceptual": "perceptual (q = 1)", "ungated": "ungated (q = 1, switching at once)", "reddy": "reddy"}
 
 
 def read(path):
@@ -70,9 +73,9 @@ def plot_sweep(out, sweep):
         label = "perceptual (quality q swept)" if rule == "perceptual" else f"{rule} (sweep of its tuning)"
         ax.plot(x, y, marker, color=COLOURS[rule], ms=4, label=label)
     for r in sweep:
-        if r["sweep"] == "0" and r["rule"] in ("perceptual", "reddy"):
+        if r["sweep"] == "0" and r["rule"] in POINT_LABELS:
             ax.plot(100.0 * int(r["visible_losses"]) / judged, float(r["triangles_per_frame"]), "*", ms=14,
-                    color=COLOURS[r["rule"]], label=r["rule"] + (" (q = 1)" if r["rule"] == "perceptual" else ""))
+                    color=COLOURS[r["rule"]], label=POINT_LABELS[r["rule"]])
     ax.set_xlabel(f"visible-loss decisions [% of {judged} judged by render-and-analyze]")
     ax.set_ylabel("triangles per frame (objects in view)")
     ax.set_yscale("log")
