@@ -910,6 +910,33 @@ struct Agreement {
   int shortcut_differs = 0;  // tabulated levels that change when every level's score is kept
 };
 
+// A random object ahead of an eye at the origin: 0.3-40 deg across, random pose; moving (in
+// moving_percent of them) at up to 300 deg/s of image motion.
+struct RandomObject {
+  ObjectTransform t;
+  float v[3] = {0, 0, 0};  // [m/s]
+};
+RandomObject random_object(Rng& rng, int moving_percent) {
+  RandomObject o;
+  float q[4];
+  rng.quaternion(q);
+  const float scale = rng.uniform(0.2f, 3.0f);
+  const float diameter = std::exp(rng.uniform(std::log(0.3f), std::log(40.0f)));  // [deg]
+  const double d = scale / std::sin(0.5 * diameter * kPi / 180);
+  const float yaw = rng.uniform(-50, 50) * float(kPi / 180), pitch = rng.uniform(-40, 40) * float(kPi / 180);
+  o.t = at(d * std::sin(yaw) * std::cos(pitch) - 0.1, d * std::sin(pitch) - 0.2,
+           -d * std::cos(yaw) * std::cos(pitch) + 0.1, q, scale);
+  if (int(rng.uniform(0, 100)) < moving_percent) {
+    const float speed =
+        std::exp(rng.uniform(std::log(0.05f), std::log(300.0f))) * float(kPi / 180) * float(d);
+    float dir[4];
+    rng.quaternion(dir);
+    for (int k = 0; k < 3; ++k)
+      o.v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  }
+  return o;
+}
+
 // Random objects (0.3-40 deg across, up to 300 deg/s of image motion, random poses) seen by the same
 // frames through both evaluations; hysteresis off, so every level is that frame's choice. A third
 // scheduler keeps every level's score, which reads each object's own view's tables: the bounds over
@@ -929,28 +956,12 @@ Agreement compare_paths(const TestProfile& tp, SchedulerConfig c, unsigned seed,
   Agreement a;
   for (int f = 0; f < frames; ++f) {
     for (int i = 0; i < objects; ++i) {
-      float q[4];
-      rng.quaternion(q);
-      const float scale = rng.uniform(0.2f, 3.0f);
-      const float diameter = std::exp(rng.uniform(std::log(0.3f), std::log(40.0f)));  // [deg]
-      const double d = scale / std::sin(0.5 * diameter * kPi / 180);
-      const float yaw = rng.uniform(-50, 50) * float(kPi / 180),
-                  pitch = rng.uniform(-40, 40) * float(kPi / 180);
-      const ObjectTransform t = at(d * std::sin(yaw) * std::cos(pitch) - 0.1, d * std::sin(pitch) - 0.2,
-                                   -d * std::cos(yaw) * std::cos(pitch) + 0.1, q, scale);
-      float v[3] = {0, 0, 0};
-      if (int(rng.uniform(0, 100)) < moving_percent) {
-        const float speed =
-            std::exp(rng.uniform(std::log(0.05f), std::log(300.0f))) * float(kPi / 180) * float(d);
-        float dir[4];
-        rng.quaternion(dir);
-        for (int k = 0; k < 3; ++k)
-          v[k] = speed * dir[k] / std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-      }
-      const ObjectId it = tab.add_object(pt, t), ie = exact.add_object(pe, t), is = scored.add_object(ps, t);
-      tab.set_velocity(it, v);
-      exact.set_velocity(ie, v);
-      scored.set_velocity(is, v);
+      const RandomObject o = random_object(rng, moving_percent);
+      const ObjectId it = tab.add_object(pt, o.t), ie = exact.add_object(pe, o.t),
+                     is = scored.add_object(ps, o.t);
+      tab.set_velocity(it, o.v);
+      exact.set_velocity(ie, o.v);
+      scored.set_velocity(is, o.v);
     }
     Frame fr = looking_forward();
     fr.eye_count = two_eyes ? 2 : 1;
@@ -1016,6 +1027,74 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     EXPECT_EQ(a.shortcut_differs, 0) << k.name;
     EXPECT_LE(a.differ * 1000, a.total * 5) << k.name << ": " << a.differ << " of " << a.total << " differ";
     std::printf("%-24s %5d of %d differ (%.2f%%)\n", k.name, a.differ, a.total, 100.0 * a.differ / a.total);
+  }
+}
+
+// Per-object bias through the tables. With q = 1 an object's ln(q x b) is ln b to the bit, so an
+// object whose bias b is tabulated reads the very tables of a scheduler of quality b: the same levels.
+// An object of any other bias takes the exact path. The quality-b schedulers' levels differ from
+// exact ones on some objects, so agreeing with them shows the tables were read; with a hysteresis
+// margin the margin's tables are read too.
+TEST(SchedulerTabulated, ABiasDecidesThroughTheTablesOfItsQuality) {
+  const TestProfile tp;
+  const float bias[] = {1.0f, 0.5f, 2.0f, 0.7f, 1.3f, 3.0f};
+  const float quality[] = {1.0f, 0.5f, 2.0f};  // the first three biases, tabulated
+  const int objects = 600, frames = 20;
+  for (const float margin : {0.0f, 0.3f}) {
+    SchedulerConfig c;
+    c.max_objects = objects;
+    c.hysteresis_margin = margin;
+    SchedulerConfig exact_config = c;
+    exact_config.evaluation = Evaluation::Exact;
+    SchedulerConfig biased_config = c;
+    biased_config.tabulated_biases[0] = 0.5f;
+    biased_config.tabulated_biases[1] = 2.0f;
+    biased_config.tabulated_biases[2] = 2.0f;   // listed twice: tables once
+    std::vector<std::unique_ptr<Scheduler>> s;  // biased, exact, then one per quality
+    s.push_back(std::make_unique<Scheduler>(biased_config));
+    s.push_back(std::make_unique<Scheduler>(exact_config));
+    for (const float q : quality) {
+      c.quality = q;
+      s.push_back(std::make_unique<Scheduler>(c));
+    }
+    for (auto& one : s) one->add_profile(tp.profile);
+    const Scheduler &biased = *s[0], &exact = *s[1];
+    EXPECT_EQ(biased.table_bytes(0), 3 * s[2]->table_bytes(0));
+    EXPECT_EQ(biased.table_bytes(0), Scheduler::table_bytes(tp.profile.meta, biased_config));
+    Rng rng(margin > 0 ? 31 : 30);
+    int coarser = 0, differ_listed = 0, listed = 0, differ_from_quality = 0;
+    for (int f = 0; f < frames; ++f) {
+      for (int i = 0; i < objects; ++i) {
+        const RandomObject o = random_object(rng, 50);
+        for (std::size_t k = 0; k < s.size(); ++k) {
+          const ObjectId id = s[k]->add_object(0, o.t);
+          s[k]->set_velocity(id, o.v);
+          if (k < 2) s[k]->set_bias(id, bias[id % 6]);  // ids are reused in any order
+        }
+      }
+      Frame fr = looking_forward();
+      gaze_at(fr, rng.uniform(-0.6f, 0.6f), rng.uniform(-0.4f, 0.4f), -1);
+      for (auto& one : s) one->run_frame(fr);
+      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
+        const std::uint8_t level = biased.level(id), exact_level = exact.level(id);
+        coarser += level > exact_level;
+        if (id % 6 >= 3) {
+          EXPECT_EQ(level, exact_level) << "bias " << bias[id % 6];
+          continue;
+        }
+        differ_from_quality += level != s[2 + id % 6]->level(id);
+        ++listed;
+        differ_listed += level != exact_level;
+      }
+      for (auto& one : s)
+        for (ObjectId id = 0; id < ObjectId(objects); ++id) one->remove_object(id);
+    }
+    EXPECT_EQ(differ_from_quality, 0) << "margin " << margin;
+    EXPECT_EQ(coarser, 0) << "margin " << margin;
+    EXPECT_GT(differ_listed, 0) << "margin " << margin << ": no decision shows the tables were read";
+    EXPECT_LE(differ_listed * 1000, listed * 5) << "margin " << margin;
+    std::printf("bias, margin %.1f: %d of %d decisions at tabulated biases differ from exact (%.2f%%)\n",
+                double(margin), differ_listed, listed, 100.0 * differ_listed / listed);
   }
 }
 

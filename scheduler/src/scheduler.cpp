@@ -187,6 +187,18 @@ constexpr float kNever = -1e30f;  // a table entry no size passes
 // The moving tables' cells are checked at their centres only; this much more [ln deg] covers what
 // the bilinear surface can still cut above the truth between centre and edges (measured: < 0.003).
 constexpr float kBilinearMargin = 0.001f;
+// Table sets per profile: [2 i + 0] score <= 1, [2 i + 1] score <= 1 - margin, at the i-th bias with
+// tables (Scheduler::table_bias_); an object whose bias has none takes the exact path.
+constexpr std::uint32_t kTableSets = 2 * (1 + kMaxTabulatedBiases);
+constexpr std::uint8_t kExactBias = 255;
+// The biases with tables: 1, then each distinct finite entry > 0 of the configuration's. Returns the count.
+std::uint32_t table_biases(const SchedulerConfig& c, float* out) {
+  std::uint32_t n = 0;
+  out[n++] = 1.0f;
+  for (const float b : c.tabulated_biases)
+    if (std::isfinite(b) && b > 0 && std::find(out, out + n, b) == out + n) out[n++] = b;
+  return n;
+}
 
 // Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at +-32
 // (e^32 deg: every size passes; e^-32: none does).
@@ -275,14 +287,15 @@ struct Scheduler::ProfileCache {
   // object (the floor's terms) and one moving no faster than the floor (the velocity envelope) --
   // a bound for every moving object, since thresholds never fall with speed;
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
-  // [0]: score <= 1; [1]: score <= 1 - margin (empty when the margin is 0).
-  std::vector<std::int16_t> still[2], slow[2], moving[2];  // encode_size(): 1/1024 ln deg, rounded down
+  // [2 i]: score <= 1, [2 i + 1]: score <= 1 - margin (empty when the margin is 0), at bias
+  // table_bias_[i] (kTableSets). Entries: encode_size(), 1/1024 ln deg, rounded down.
+  std::vector<std::int16_t> still[kTableSets], slow[kTableSets], moving[kTableSets];
   // The same bounds taken over every view and over each eccentricity cell, so that most objects are
   // decided before their view is looked up: any_view [B][kStillE - 1][2 (K-1) + 1], per band count
   // and cell the least and the most over the views and the cell's two nodes of the still table, then
   // the least over the views and nodes of the still and slow tables at the coarsest level (every
   // object whose image moves is bounded by one of them).
-  std::vector<std::int16_t> any_view[2];
+  std::vector<std::int16_t> any_view[kTableSets];
 };
 
 // Everything that depends only on the configuration, computed once at creation.
@@ -486,6 +499,8 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   }
   scale_.assign(n, 1.0f);
   bias_.assign(n, 1.0f);
+  bias_tables_.assign(n, 0);
+  table_bias_count_ = table_biases(config_, table_bias_);
   explicit_velocity_.assign(n, 0);
   fresh_.assign(n, 0);
   min_level_.assign(n, 0);
@@ -576,9 +591,12 @@ void Scheduler::build_tables(ProfileCache& c) const {
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
                       B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
-  const float ln_q[2] = {pre.ln_quality, pre.ln_quality + pre.ln_margin};
-  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;
-  for (int set = 0; set < sets; ++set) {
+  const std::uint32_t margins = config_.hysteresis_margin > 0 ? 2 : 1;
+  for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set) {
+    if (set % 2 >= margins) continue;
+    // As the exact path computes an object's ln q (bias 1 adds nothing), then the margin.
+    const float ln_bias_q = pre.ln_quality + (set >= 2 ? std::log(table_bias_[set / 2]) : 0.0f);
+    const float ln_q = set % 2 ? ln_bias_q + pre.ln_margin : ln_bias_q;
     std::vector<std::int16_t>& still = c.still[set];
     std::vector<std::int16_t>& moving = c.moving[set];
     still.assign(std::size_t(V) * L * B * kStillE, 0);
@@ -602,7 +620,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
             float prefix = -kNever, mid_prefix = -kNever;
             for (std::uint32_t b = 0; b < B; ++b) {
-              const float y = c.ln_lost_any[kv * B + b] - ln_q[set];
+              const float y = c.ln_lost_any[kv * B + b] - ln_q;
               prefix =
                   std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
                                                         pre.floor_velocity, slow, &hint[b]));
@@ -634,7 +652,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
         // Moving: per orientation, every band.
         for (std::uint32_t t = 0; t < T; ++t) {
           float y[kMaxBands];
-          for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q[set];
+          for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
           int hint[kMaxBands], centre_hint[kMaxBands];  // each band's bracket at the previous node
           std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
           std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
@@ -699,14 +717,16 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& 
       std::size_t(m.view_count) * (m.level_count - 1) *
       (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
   const std::size_t any_view = std::size_t(m.band_count) * (kStillE - 1) * (2 * (m.level_count - 1) + 1);
-  return (per_set + any_view) * (config.hysteresis_margin > 0 ? 2 : 1) * sizeof(std::int16_t);
+  float biases[1 + kMaxTabulatedBiases];
+  return (per_set + any_view) * (config.hysteresis_margin > 0 ? 2 : 1) * table_biases(config, biases) *
+         sizeof(std::int16_t);
 }
 
 std::size_t Scheduler::table_bytes(int profile) const {
   if (profile < 0 || profile >= static_cast<int>(profile_count_)) return 0;
   const ProfileCache& c = profiles_[profile];
   std::size_t n = 0;
-  for (int set = 0; set < 2; ++set)
+  for (std::uint32_t set = 0; set < kTableSets; ++set)
     n += c.still[set].size() + c.slow[set].size() + c.moving[set].size() + c.any_view[set].size();
   return n * sizeof(std::int16_t);
 }
@@ -772,6 +792,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   min_level_[id] = 0;
   max_level_[id] = static_cast<std::uint8_t>(level_count_[profile] - 1);
   bias_[id] = 1.0f;
+  bias_tables_[id] = 0;
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   flags_[id] = 0;
@@ -808,7 +829,14 @@ void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max
 }
 
 void Scheduler::set_bias(ObjectId id, float quality_bias) {
-  if (alive(id)) bias_[id] = quality_bias;
+  if (!alive(id)) return;
+  bias_[id] = quality_bias;
+  // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
+  // would drop what the engine asked for).
+  const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, quality_bias);
+  bias_tables_[id] = tabulated == table_bias_ + table_bias_count_
+                         ? kExactBias
+                         : static_cast<std::uint8_t>(tabulated - table_bias_);
 }
 
 const float* Scheduler::scores(ObjectId id) const {
@@ -1221,6 +1249,7 @@ void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Bloc
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Probe {
   float x;                                 // ln angular diameter [ln deg]
+  std::uint8_t tables;                     // the object's bias's first table set (kTableSets)
   float vx, vy;                            // retinal slip in the view's image axes [deg/s]
   Cell ec;                                 // eccentricity cell of the still grid
   std::uint32_t bands;                     // the lowest bands the display shows (0: none)
@@ -1275,13 +1304,14 @@ struct Scheduler::Probe {
 // cache misses overlap: the inputs of the bounds over every view (pass 1), the objects
 // decided without tables and the any-view rows of the rest (2), the any-view decisions (3); for the
 // objects they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
-// whose bias is not 1 is evaluated exactly (the tables are built for q). Writes out[j], and with
+// whose bias has no tables (not a tabulated bias) is evaluated exactly. Writes out[j], and with
 // `scores` (kMaxLevels per object) each level's score.
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Choice* out, float (*scores)[kMaxLevels]) const {
   const std::uint16_t* cand[kBlock];
   Probe probe[kBlock];
-  std::uint8_t todo[kBlock];  // 2: the bounds over every view first; 1: through the object's view
+  std::uint8_t todo[kBlock];    // 2: the bounds over every view first; 1: through the object's view
+  std::uint8_t tables[kBlock];  // the object's bias's first table set (kTableSets)
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   // The lookup cells of the directions to the eye, as vectors (cube_cell has no branches).
   std::uint32_t resolution[kBlock], cell[kBlock];
@@ -1320,7 +1350,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
     bands[j] = shown;
   }
-  // Pass 2: objects not seen, with a bias or nothing to choose; the any-view rows of the rest prefetched.
+  // Pass 2: objects not seen, with a bias that has no tables or nothing to choose; the any-view rows of the rest prefetched.
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
@@ -1328,7 +1358,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     todo[j] = 0;
     if (p < 0) continue;
     const Look look = b.state(j);
-    if (look != Look::Ok || bias_[id] != 1.0f) {
+    if (look != Look::Ok || bias_tables_[id] == kExactBias) {
       Sight s;
       if (look == Look::Ok) {
         sight(id, eye, b, j, &s);
@@ -1346,10 +1376,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       continue;
     }
     todo[j] = 1;
+    tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
     if (scores) continue;  // every level's score: the view's tables
     todo[j] = 2;
     for (int set = 0; set < sets; ++set) {
-      const std::int16_t* row = any_view_row(pc, bands[j], ec_j[j], set);
+      const std::int16_t* row = any_view_row(pc, bands[j], ec_j[j], tables[j] + set);
       ACUITY_PREFETCH(row);
       ACUITY_PREFETCH(row + 2 * L);
     }
@@ -1359,9 +1390,10 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     if (!todo[j]) continue;
     const ProfileCache& pc = profiles_[profile_of_[first + j]];
     if (todo[j] == 2) {
-      const int fine = any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 0);
-      const int coarse =
-          sets > 1 && fine >= 0 ? any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], 1) : fine;
+      const int fine = any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], tables[j]);
+      const int coarse = sets > 1 && fine >= 0
+                             ? any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], tables[j] + 1)
+                             : fine;
       todo[j] = coarse < 0;
       if (coarse >= 0)
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
@@ -1389,6 +1421,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const std::uint32_t B = p.meta.band_count, L = p.meta.level_count - 1;
     Probe& o = probe[j];
     o.x = b.ln_diam[j];
+    o.tables = tables[j];
     o.bands = bands[j];
     o.ec = {ec_j[j], ec_w[j]};
     const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
@@ -1403,7 +1436,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
-        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][o.still_row(c, B, L)];
+        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[o.tables + set][o.still_row(c, B, L)];
         ACUITY_PREFETCH(row);
         ACUITY_PREFETCH(row + 2 * L - 1);
       }
@@ -1419,11 +1452,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
                         L = pc.profile.meta.level_count - 1;
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::int16_t* slow = &pc.slow[0][o.still_row(c, B, L) + (L - 1)];  // the coarsest level
+      const std::int16_t* slow = &pc.slow[o.tables][o.still_row(c, B, L) + (L - 1)];  // the coarsest level
       if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
       if (!o.cells) speed_cells(pc, b.e[j], &o);
       for (std::uint32_t t = 0; t < T; ++t) {
-        const std::int16_t* r0 = &pc.moving[0][o.moving_row(c, t, T, L)];
+        const std::int16_t* r0 = &pc.moving[o.tables][o.moving_row(c, t, T, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
@@ -1469,7 +1502,7 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
   float bound[2][kLookupCandidates][kMaxLevels], size[2][kMaxLevels];
   for (int set = 0; set < sets; ++set)
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[set][o.still_row(c, B, L)];
+      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[o.tables + set][o.still_row(c, B, L)];
       for (std::uint32_t k = 1; k <= L; ++k) {
         bound[set][c][k] = between(row[k - 1], row[L + k - 1], ec.w);
         size[set][k] = c == 0 ? bound[set][c][k] : std::min(size[set][k], bound[set][c][k]);
@@ -1492,7 +1525,7 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
           }
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 = &pc.moving[set][o.moving_row(c, t, T, L) + (k - 1)];
+            const std::int16_t* r0 = &pc.moving[o.tables + set][o.moving_row(c, t, T, L) + (k - 1)];
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
             const float lo = between(r0[0], r0[L], em.w), hi = between(r1[0], r1[L], em.w);
             m = std::min(m, lo + o.speed_w[t] * (hi - lo));

@@ -55,6 +55,9 @@ enum ObjectFlag : std::uint8_t {
   kFlagHeld = 1 << 5,          // a coarser level was allowed but hysteresis or saccade gating held it
 };
 
+// Per-object biases besides 1 that the tabulated path keeps tables of their own for.
+inline constexpr std::uint32_t kMaxTabulatedBiases = 3;
+
 struct SchedulerConfig {
   std::uint32_t max_objects = 4096;  // capacity, fixed at creation
   std::uint32_t max_profiles = 256;  // capacity, fixed at creation
@@ -65,6 +68,11 @@ struct SchedulerConfig {
   ViewBlend view_blend = ViewBlend::Nearest;  // lowest measured error (docs/spectra.md); Max3 errs safe
   float quality = 1.0f;                       // q: invisible when lost <= q CT (q < 1 is more conservative)
   std::uint8_t fallback_level = 0;            // level for invalid input (finest by default)
+  // Per-object biases (set_bias) the tabulated path keeps tables for beside bias 1's: each finite
+  // entry > 0 and != 1 (others unused; 0 by default) adds bias 1's table memory again per profile.
+  // An object whose bias is one of them (or 1) is decided through that bias's tables, as a
+  // configuration of quality q x bias decides it; one of any other bias by the exact path.
+  float tabulated_biases[kMaxTabulatedBiases] = {0, 0, 0};
 
   // Gaze
   float min_gaze_confidence = 0.5f;   // below it (or when invalid or non-finite) there is no gaze
@@ -178,8 +186,8 @@ struct FrameStats {
 // radius with per-level thresholds set at begin_frame and compute no angles; velocities are derived from
 // positions only in blocks holding an object without a given velocity. Tables cover the smooth
 // low-pass models, Default and GeislerPerry; KellyDaly (its band-pass CSF rises with speed at low
-// frequencies) and the Reddy step model evaluate exactly, as does an object whose bias is not 1
-// (tables are built for q).
+// frequencies) and the Reddy step model evaluate exactly. Tables are built for q, q x margin and each
+// of SchedulerConfig::tabulated_biases; an object of any other bias evaluates exactly.
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
 class Scheduler {
  public:
@@ -192,7 +200,7 @@ class Scheduler {
   int add_profile(const Profile& profile);
 
   // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
-  // level; bias multiplies q for this object.
+  // level; bias multiplies q for this object (see SchedulerConfig::tabulated_biases).
   ObjectId add_object(int profile, const ObjectTransform& transform);
   void remove_object(ObjectId id);
   void set_transform(ObjectId id, const ObjectTransform& transform);
@@ -304,12 +312,15 @@ class Scheduler {
   std::vector<std::uint8_t> next_;                // this frame's level after the budget
   std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
   std::vector<std::uint32_t> calm_frames_, wait_frames_;
+  std::vector<std::uint8_t> bias_tables_;  // tabulated path: index into table_bias_, or kExactBias
   std::vector<float> fade_, scores_;
   std::vector<std::uint32_t> free_list_;
   std::vector<std::uint32_t> heap_;  // budget pass
   // Frame state.
-  std::unique_ptr<Precomputed> pre_;  // model constants and the velocity envelope
-  std::unique_ptr<Curves> curves_;    // tabulated path: threshold curves on the table grid
+  std::unique_ptr<Precomputed> pre_;                    // model constants and the velocity envelope
+  std::unique_ptr<Curves> curves_;                      // tabulated path: threshold curves on the table grid
+  float table_bias_[1 + kMaxTabulatedBiases] = {1.0f};  // the biases with tables: 1, then the config's
+  std::uint32_t table_bias_count_ = 1;
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
