@@ -60,7 +60,9 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   acuity_config_default(&c);
   const SchedulerConfig d;
   EXPECT_EQ(c.struct_size, sizeof(acuity_config));
-  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V3);
+  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V4);
+  for (std::uint32_t i = 0; i < kMaxTabulatedBiases; ++i)
+    EXPECT_EQ(c.tabulated_biases[i], d.tabulated_biases[i]);
   EXPECT_EQ(c.evaluation, uint32_t(ACUITY_EVALUATION_TABULATED));
   EXPECT_EQ(c.max_objects, d.max_objects);
   EXPECT_EQ(c.fallback_level, d.fallback_level);
@@ -73,7 +75,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 3);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 4);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -120,58 +122,121 @@ TEST(CAbi, StructSizeGrowthRule) {
   EXPECT_EQ(acuity_create(nullptr, &s), ACUITY_INVALID_ARGUMENT);
 }
 
-// The version-3 field: evaluation reaches the scheduler, a version-2 caller (struct_size 160) gets the
-// tabulated default, an unknown value is refused. Seen where the two evaluations choose differently.
-TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
-  Fixture f;
-  const uint32_t n = 3000;
-  std::vector<int32_t> profiles(n, 0);
+// n objects on a spiral 0.5 .. 150 m away, 0..40 deg off axis, seen by a default eye with gaze;
+// levels() runs one frame of a scheduler created from c (every object's bias set to `bias`).
+struct Spiral {
+  const Fixture& f;
+  uint32_t n;
+  std::vector<int32_t> profiles;
   std::vector<double> positions;
-  std::vector<float> rotations, scales(n);
-  std::vector<uint32_t> ids(n);
-  for (uint32_t i = 0; i < n; ++i) {  // a spiral of objects 0.5 .. 150 m away, 0..40 deg off axis
-    const double z = 0.5 * std::pow(300.0, double(i) / n), a = 0.05 * i;
-    positions.insert(positions.end(),
-                     {std::sin(a) * 0.7 * z * (i % 7) / 7.0, std::cos(a) * 0.5 * z * (i % 5) / 5.0, -z});
-    rotations.insert(rotations.end(), {0, 0, 0, 1});
-    scales[i] = 0.1f + 0.4f * float(i % 11) / 11.0f;
+  std::vector<float> rotations, scales;
+  explicit Spiral(const Fixture& fixture, uint32_t count)
+      : f(fixture), n(count), profiles(count, 0), scales(count) {
+    for (uint32_t i = 0; i < n; ++i) {
+      const double z = 0.5 * std::pow(300.0, double(i) / n), a = 0.05 * i;
+      positions.insert(positions.end(),
+                       {std::sin(a) * 0.7 * z * (i % 7) / 7.0, std::cos(a) * 0.5 * z * (i % 5) / 5.0, -z});
+      rotations.insert(rotations.end(), {0, 0, 0, 1});
+      scales[i] = 0.1f + 0.4f * float(i % 11) / 11.0f;
+    }
   }
-  acuity_eye eye;
-  acuity_eye_default(&eye);
-  eye.gaze_valid = 1;
-  auto levels = [&](uint32_t evaluation, uint32_t struct_size) {
-    acuity_config c;
-    acuity_config_default(&c);
+  std::vector<uint8_t> levels(acuity_config c, float bias = 1.0f) const {
     c.max_objects = n;
-    c.evaluation = evaluation;
-    c.struct_size = struct_size;
     acuity_scheduler* s = create(c, f);
+    std::vector<uint32_t> ids(n);
     EXPECT_EQ(acuity_add_objects(s, n, profiles.data(), positions.data(), 0, rotations.data(), 0,
                                  scales.data(), ids.data()),
               ACUITY_OK);
+    const std::vector<float> biases(n, bias);
+    EXPECT_EQ(acuity_set_bias(s, n, ids.data(), biases.data()), ACUITY_OK);
+    acuity_eye eye;
+    acuity_eye_default(&eye);
+    eye.gaze_valid = 1;
     EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
     std::vector<uint8_t> out(n);
     EXPECT_EQ(acuity_get_levels(s, n, ids.data(), out.data(), nullptr), ACUITY_OK);
     acuity_destroy(s);
     return out;
-  };
-  const auto tabulated = levels(ACUITY_EVALUATION_TABULATED, ACUITY_CONFIG_SIZE_V3);
-  const auto exact = levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V3);
-  const auto v2 =
-      levels(ACUITY_EVALUATION_EXACT, ACUITY_CONFIG_SIZE_V2);  // the field lies past a V2 caller's struct
-  int differ = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    EXPECT_LE(tabulated[i], exact[i]);
-    differ += tabulated[i] != exact[i];
   }
-  ASSERT_GT(differ, 0) << "no object tells the two evaluations apart";
-  EXPECT_EQ(v2, tabulated);
+};
+
+// Never coarser, and different somewhere (so the two runs tell the paths apart).
+void expect_finer_somewhere(const std::vector<uint8_t>& finer, const std::vector<uint8_t>& than) {
+  int differ = 0;
+  for (std::size_t i = 0; i < finer.size(); ++i) {
+    EXPECT_LE(finer[i], than[i]);
+    differ += finer[i] != than[i];
+  }
+  EXPECT_GT(differ, 0) << "no object tells the two evaluations apart";
+}
+
+// The version-3 field: evaluation reaches the scheduler, a version-2 caller (struct_size 160) gets the
+// tabulated default, an unknown value is refused. Seen where the two evaluations choose differently.
+TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
+  Fixture f;
+  const Spiral spiral(f, 3000);
   acuity_config c;
+  acuity_config_default(&c);
+  c.evaluation = ACUITY_EVALUATION_TABULATED;
+  const auto tabulated = spiral.levels(c);
+  c.evaluation = ACUITY_EVALUATION_EXACT;
+  const auto exact = spiral.levels(c);
+  c.struct_size = ACUITY_CONFIG_SIZE_V2;  // the field lies past a V2 caller's struct
+  const auto v2 = spiral.levels(c);
+  expect_finer_somewhere(tabulated, exact);
+  EXPECT_EQ(v2, tabulated);
   acuity_config_default(&c);
   c.evaluation = 2;
   acuity_scheduler* s = nullptr;
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
   EXPECT_EQ(s, nullptr);
+}
+
+// The version-4 field: objects of a tabulated bias read its tables, as a C++ scheduler configured the
+// same way does (never coarser than exact, and not the exact path); a version-3 caller (struct_size
+// 168) gets no such tables, so its bias-2 objects take the exact path. Bad entries are refused.
+TEST(CAbi, TabulatedBiasesReachTheSchedulerAndV3CallersGetNone) {
+  Fixture f;
+  const Spiral spiral(f, 3000);
+  acuity_config c;
+  acuity_config_default(&c);
+  c.tabulated_biases[0] = 2.0f;
+  const auto tables = spiral.levels(c, 2.0f);
+  c.struct_size = ACUITY_CONFIG_SIZE_V3;
+  const auto v3 = spiral.levels(c, 2.0f);
+  acuity_config_default(&c);
+  c.evaluation = ACUITY_EVALUATION_EXACT;
+  const auto exact = spiral.levels(c, 2.0f);
+  expect_finer_somewhere(tables, exact);
+  EXPECT_EQ(v3, exact);
+  SchedulerConfig sc;
+  sc.max_objects = spiral.n;
+  sc.tabulated_biases[0] = 2.0f;
+  Scheduler ref(sc);
+  ASSERT_EQ(ref.add_profile(f.profile), 0);
+  for (uint32_t i = 0; i < spiral.n; ++i) {
+    ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = spiral.positions[3 * i + k];
+    t.scale = spiral.scales[i];
+    ref.set_bias(ref.add_object(0, t), 2.0f);
+  }
+  Frame fr;
+  fr.gaze[0].valid = true;
+  fr.dt = 1 / 90.0f;
+  ref.run_frame(fr);
+  for (uint32_t i = 0; i < spiral.n; ++i) EXPECT_EQ(tables[i], ref.level(i)) << i;
+  for (const float bad :
+       {-1.0f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    acuity_config_default(&c);
+    c.tabulated_biases[2] = bad;
+    acuity_scheduler* s = nullptr;
+    EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT) << bad;
+    EXPECT_NE(std::strstr(acuity_last_error(), "tabulated_biases"), nullptr);
+  }
+  acuity_config_default(&c);
+  c.reserved4 = 1;
+  acuity_scheduler* s = nullptr;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
 }
 
 // Every config field reaches the C++ scheduler: the C scheduler and a C++ one configured the same

@@ -33,8 +33,9 @@ extern "C" {
 
 /* Version 2 added: acuity_config.struct_size and every SchedulerConfig field, acuity_set_bias,
  * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls.
- * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner. */
-#define ACUITY_C_API_VERSION 3
+ * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner.
+ * Version 4 appended acuity_config.tabulated_biases. */
+#define ACUITY_C_API_VERSION 4
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -130,11 +131,16 @@ typedef struct acuity_config {
   /* version 3 (appended): */
   uint32_t evaluation; /* ACUITY_EVALUATION_*; a version-2 caller gets TABULATED */
   uint32_t reserved3;  /* must be 0 */
+  /* version 4 (appended): */
+  float tabulated_biases[3]; /* per-object biases (acuity_set_bias) with tables of their own besides 1:
+                                each 0 (unused) or finite > 0; see SchedulerConfig::tabulated_biases */
+  uint32_t reserved4;        /* must be 0 */
 } acuity_config;
 /* The sizes of the version-2 layout (everything up to params: the smallest struct_size
- * acuity_create accepts) and of the version-3 layout above. */
+ * acuity_create accepts), of the version-3 one and of the version-4 layout above. */
 #define ACUITY_CONFIG_SIZE_V2 160u
 #define ACUITY_CONFIG_SIZE_V3 168u
+#define ACUITY_CONFIG_SIZE_V4 184u
 
 typedef struct acuity_eye {
   double position[3];             /* world [m] */
@@ -186,6 +192,7 @@ void acuity_eye_default(acuity_eye* eye); /* origin, identity, 90 deg, 1920 px, 
 /* Creates a scheduler; *out receives it (the caller owns it: acuity_destroy).
  * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
  * unknown rule/model/view_blend/csf_fit/evaluation, reserved fields not 0, quality not finite and > 0,
+ * a tabulated_biases entry neither 0 nor finite and > 0,
  * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds negative or not finite. *out is unchanged
  * on failure. */
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);

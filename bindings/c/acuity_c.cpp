@@ -48,7 +48,10 @@ static_assert(ACUITY_MAX_LEVELS == acuity::kMaxLevels);
 static_assert(ACUITY_EVALUATION_TABULATED == int(acuity::Evaluation::Tabulated) &&
               ACUITY_EVALUATION_EXACT == int(acuity::Evaluation::Exact));
 static_assert(offsetof(acuity_config, evaluation) == ACUITY_CONFIG_SIZE_V2, "version 3 appends to version 2");
-static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V3 && sizeof(acuity_config) % 8 == 0,
+static_assert(offsetof(acuity_config, tabulated_biases) == ACUITY_CONFIG_SIZE_V3,
+              "version 4 appends to version 3");
+static_assert(std::size(acuity_config{}.tabulated_biases) == acuity::kMaxTabulatedBiases);
+static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V4 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
 // The eye and explain structs are copied field by field, so only their field types must agree.
@@ -158,12 +161,16 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
       return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: bad ") + e.name + " " +
                                                std::to_string(e.value) + " (0.." + std::to_string(e.largest) +
                                                ")");
-  if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0)
+  if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0 || k.reserved4 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
   if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS ||
       !std::isfinite(k.transition_seconds) || k.transition_seconds < 0)
     return fail(ACUITY_INVALID_ARGUMENT,
                 "acuity_create: quality, fallback_level or transition_seconds out of range");
+  for (const float b : k.tabulated_biases)
+    if (b != 0 && !finite_positive(b))
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_create: a tabulated_biases entry is neither 0 nor finite and > 0");
   acuity::SchedulerConfig& sc = *out;
   sc.max_objects = k.max_objects;
   sc.max_profiles = k.max_profiles;
@@ -185,6 +192,7 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   sc.distance_scale = k.distance_scale;
   sc.pixel_error = k.pixel_error;
   sc.keep_scores = k.keep_scores != 0;
+  std::copy(std::begin(k.tabulated_biases), std::end(k.tabulated_biases), sc.tabulated_biases);
   const acuity_model_params& p = k.params;
   sc.params.ct0 = p.ct0;
   sc.params.alpha = p.alpha;
@@ -229,6 +237,7 @@ void acuity_config_default(acuity_config* c) {
   c->distance_scale = d.distance_scale;
   c->pixel_error = d.pixel_error;
   c->keep_scores = d.keep_scores ? 1u : 0u;
+  std::copy(std::begin(d.tabulated_biases), std::end(d.tabulated_biases), c->tabulated_biases);
   c->params.ct0 = d.params.ct0;
   c->params.alpha = d.params.alpha;
   c->params.e2 = d.params.e2;

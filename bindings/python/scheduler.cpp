@@ -278,6 +278,8 @@ void bind_scheduler(py::module_ m) {
       .def_readwrite("view_blend", &SchedulerConfig::view_blend)
       .def_readwrite("quality", &SchedulerConfig::quality)
       .def_readwrite("fallback_level", &SchedulerConfig::fallback_level)
+      .ACUITY_ARRAY_PROPERTY(SchedulerConfig, tabulated_biases, float, kMaxTabulatedBiases,
+                             "per-object biases with tables of their own besides 1 (0: unused)")
       .def_readwrite("min_gaze_confidence", &SchedulerConfig::min_gaze_confidence)
       .def_readwrite("gaze_uncertainty_deg", &SchedulerConfig::gaze_uncertainty_deg)
       .def_readwrite("no_gaze_radius_deg", &SchedulerConfig::no_gaze_radius_deg)

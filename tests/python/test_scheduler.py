@@ -103,3 +103,32 @@ def test_tabulated_is_the_default_and_never_coarser_than_exact():
     assert np.all(tab <= exact)                      # conservative
     assert np.mean(tab != exact) <= 0.02             # and close (the C++ test pins 0.5% on 100 000 decisions)
     assert len(set(exact)) >= 3                      # the scene spans several levels
+
+
+def test_a_tabulated_bias_decides_as_that_quality():
+    """Objects of bias 2 listed in tabulated_biases read the tables a quality-2 scheduler reads."""
+    rng = np.random.default_rng(5)
+    n = 300
+    z = -np.geomspace(1.5, 400, n)
+    pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
+    rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)
+    assert list(acuity.SchedulerConfig().tabulated_biases) == [0, 0, 0]
+
+    def levels(quality=1.0, bias=1.0, tabulated=(0, 0, 0), evaluation=acuity.Evaluation.tabulated):
+        config = acuity.SchedulerConfig()
+        config.max_objects = n
+        config.quality = quality
+        config.tabulated_biases = list(tabulated)
+        config.evaluation = evaluation
+        s = acuity.Scheduler(config)
+        pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+        ids = s.add_objects(np.full(n, pid), pos, rot, np.ones(n))
+        for i in ids:
+            s.set_bias(int(i), bias)
+        s.run_frame(frame_looking_forward())
+        return s.levels(ids).astype(int)
+
+    biased = levels(bias=2.0, tabulated=(2.0, 0, 0))
+    assert np.array_equal(biased, levels(quality=2.0))
+    assert np.all(biased <= levels(bias=2.0, evaluation=acuity.Evaluation.exact))
+    assert np.any(biased > levels())  # the bias did coarsen
