@@ -59,18 +59,28 @@ const Library& library() {
   return lib;
 }
 
+// Per-object biases: none; a third each at 0.5, 1 and 2, listed in tabulated_biases (tables of
+// their own) or not (the exact path for the biased two thirds).
+enum class Biases { None, Listed, Unlisted };
+
 // A field of objects 2..200 m ahead, the gaze sweeping; `moving` of them with velocities.
 struct Scene {
   std::unique_ptr<Scheduler> scheduler;
   Frame frame;
   std::vector<double> x, y, z;  // for the baseline loops
   std::vector<int> profile_of;
-  Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated) {
+  Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated,
+        Biases biases = Biases::None) {
     SchedulerConfig c;
     c.max_objects = n;
     c.max_profiles = kProfiles;
     c.rule = rule;
     c.evaluation = evaluation;
+    const float bias_of[3] = {0.5f, 1.0f, 2.0f};
+    if (biases == Biases::Listed) {
+      c.tabulated_biases[0] = bias_of[0];
+      c.tabulated_biases[1] = bias_of[2];
+    }
     scheduler = std::make_unique<Scheduler>(c);
     for (const Profile& p : library().profiles) scheduler->add_profile(p);
     std::mt19937 rng(2);
@@ -87,6 +97,7 @@ struct Scene {
       const ObjectId id = scheduler->add_object(p, t);
       const float v[3] = {u(rng) < moving ? (u(rng) - 0.5f) * 20 : 0.0f, 0, 0};
       scheduler->set_velocity(id, v);
+      if (biases != Biases::None) scheduler->set_bias(id, bias_of[i % 3]);
       x.push_back(t.position[0]);
       y.push_back(t.position[1]);
       z.push_back(t.position[2]);
@@ -100,8 +111,9 @@ struct Scene {
 };
 
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
-                  Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0) {
-  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation);
+                  Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
+                  Biases biases = Biases::None) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
@@ -231,6 +243,15 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptu
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_exact, SelectionRule::Perceptual, 1.0f,
                   Evaluation::Exact)
     ->Apply(sizes);
+// Two thirds of the objects biased (0.5 or 2): through their own tables, or, not listed, exactly.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_biased_listed, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::Listed)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_biased_unlisted, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::Unlisted)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_static, 0.0f)->Apply(sizes)->UseRealTime();
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_all_moving, 1.0f)->Apply(sizes)->UseRealTime();
 BENCHMARK_CAPTURE(BM_scheduler, reddy_static, SelectionRule::Reddy, 0.0f)->Apply(sizes);

@@ -287,15 +287,18 @@ struct Scheduler::ProfileCache {
   // object (the floor's terms) and one moving no faster than the floor (the velocity envelope) --
   // a bound for every moving object, since thresholds never fall with speed;
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
-  // [2 i]: score <= 1, [2 i + 1]: score <= 1 - margin (empty when the margin is 0), at bias
-  // table_bias_[i] (kTableSets). Entries: encode_size(), 1/1024 ln deg, rounded down.
-  std::vector<std::int16_t> still[kTableSets], slow[kTableSets], moving[kTableSets];
+  // Entries: encode_size(), 1/1024 ln deg, rounded down.
   // The same bounds taken over every view and over each eccentricity cell, so that most objects are
   // decided before their view is looked up: any_view [B][kStillE - 1][2 (K-1) + 1], per band count
   // and cell the least and the most over the views and the cell's two nodes of the still table, then
   // the least over the views and nodes of the still and slow tables at the coarsest level (every
   // object whose image moves is bounded by one of them).
-  std::vector<std::int16_t> any_view[kTableSets];
+  struct Tables {
+    std::vector<std::int16_t> still, slow, moving, any_view;
+  };
+  // [2 i]: score <= 1, [2 i + 1]: score <= 1 - margin (empty when the margin is 0), at bias
+  // table_bias_[i] (kTableSets). One set's four side by side: an object reads one set.
+  Tables sets[kTableSets];
 };
 
 // Everything that depends only on the configuration, computed once at creation.
@@ -597,10 +600,10 @@ void Scheduler::build_tables(ProfileCache& c) const {
     // As the exact path computes an object's ln q (bias 1 adds nothing), then the margin.
     const float ln_bias_q = pre.ln_quality + (set >= 2 ? std::log(table_bias_[set / 2]) : 0.0f);
     const float ln_q = set % 2 ? ln_bias_q + pre.ln_margin : ln_bias_q;
-    std::vector<std::int16_t>& still = c.still[set];
-    std::vector<std::int16_t>& moving = c.moving[set];
+    std::vector<std::int16_t>& still = c.sets[set].still;
+    std::vector<std::int16_t>& moving = c.sets[set].moving;
     still.assign(std::size_t(V) * L * B * kStillE, 0);
-    c.slow[set].assign(std::size_t(V) * L * B * kStillE, 0);
+    c.sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
     moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
       for (std::uint32_t k = 1; k < K; ++k) {
@@ -643,7 +646,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 lower[j + 1][b] = std::max(lower[j + 1][b], excess);
               }
             }
-          std::vector<std::int16_t>& table = slow ? c.slow[set] : still;
+          std::vector<std::int16_t>& table = slow ? c.sets[set].slow : still;
           for (std::uint32_t j = 0; j < kStillE; ++j)
             for (std::uint32_t b = 0; b < B; ++b)
               table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] =
@@ -687,7 +690,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
                 encode_size(node[i] - lower[i] - kBilinearMargin);
         }
       }
-    std::vector<std::int16_t>& any = c.any_view[set];
+    std::vector<std::int16_t>& any = c.sets[set].any_view;
     const std::size_t width = 2 * std::size_t(L) + 1;
     any.assign(L > 0 ? std::size_t(B) * (kStillE - 1) * width : 0, 0);
     for (std::uint32_t n = 0; n < B && L > 0; ++n)
@@ -702,7 +705,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
               const std::size_t at = ((std::size_t(w) * B + n) * kStillE + node) * L + k;
               row[k] = std::min(row[k], still[at]);
               row[L + k] = std::max(row[L + k], still[at]);
-              if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.slow[set][at]});
+              if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.sets[set].slow[at]});
             }
       }
   }
@@ -727,7 +730,8 @@ std::size_t Scheduler::table_bytes(int profile) const {
   const ProfileCache& c = profiles_[profile];
   std::size_t n = 0;
   for (std::uint32_t set = 0; set < kTableSets; ++set)
-    n += c.still[set].size() + c.slow[set].size() + c.moving[set].size() + c.any_view[set].size();
+    n += c.sets[set].still.size() + c.sets[set].slow.size() + c.sets[set].moving.size() +
+         c.sets[set].any_view.size();
   return n * sizeof(std::int16_t);
 }
 
@@ -1283,7 +1287,7 @@ struct Scheduler::Probe {
                                                                           std::uint32_t bands,
                                                                           std::uint32_t ec, int set) {
   const std::uint32_t L = pc.profile.meta.level_count - 1;
-  return &pc.any_view[set][((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
+  return &pc.sets[set].any_view[((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
 }
 // x: the object's ln angular diameter rounded up to the tables' step [1/1024 ln deg].
 [[gnu::always_inline]] inline int Scheduler::any_view_level(const ProfileCache& pc, std::uint32_t bands,
@@ -1436,7 +1440,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
-        const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[o.tables + set][o.still_row(c, B, L)];
+        const ProfileCache::Tables& ts = pc.sets[o.tables + set];
+        const std::int16_t* row = &(o.moving ? ts.slow : ts.still)[o.still_row(c, B, L)];
         ACUITY_PREFETCH(row);
         ACUITY_PREFETCH(row + 2 * L - 1);
       }
@@ -1452,11 +1457,12 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
                         L = pc.profile.meta.level_count - 1;
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::int16_t* slow = &pc.slow[o.tables][o.still_row(c, B, L) + (L - 1)];  // the coarsest level
+      const std::int16_t* slow =
+          &pc.sets[o.tables].slow[o.still_row(c, B, L) + (L - 1)];  // the coarsest level
       if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
       if (!o.cells) speed_cells(pc, b.e[j], &o);
       for (std::uint32_t t = 0; t < T; ++t) {
-        const std::int16_t* r0 = &pc.moving[o.tables][o.moving_row(c, t, T, L)];
+        const std::int16_t* r0 = &pc.sets[o.tables].moving[o.moving_row(c, t, T, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
@@ -1502,7 +1508,8 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
   float bound[2][kLookupCandidates][kMaxLevels], size[2][kMaxLevels];
   for (int set = 0; set < sets; ++set)
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const std::int16_t* row = &(o.moving ? pc.slow : pc.still)[o.tables + set][o.still_row(c, B, L)];
+      const ProfileCache::Tables& tables = pc.sets[o.tables + set];
+      const std::int16_t* row = &(o.moving ? tables.slow : tables.still)[o.still_row(c, B, L)];
       for (std::uint32_t k = 1; k <= L; ++k) {
         bound[set][c][k] = between(row[k - 1], row[L + k - 1], ec.w);
         size[set][k] = c == 0 ? bound[set][c][k] : std::min(size[set][k], bound[set][c][k]);
@@ -1525,7 +1532,7 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
           }
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 = &pc.moving[o.tables + set][o.moving_row(c, t, T, L) + (k - 1)];
+            const std::int16_t* r0 = &pc.sets[o.tables + set].moving[o.moving_row(c, t, T, L) + (k - 1)];
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
             const float lo = between(r0[0], r0[L], em.w), hi = between(r1[0], r1[L], em.w);
             m = std::min(m, lo + o.speed_w[t] * (hi - lo));
