@@ -325,6 +325,37 @@ TEST(SchedulerHardCases, DefinedLevelAndFlag) {
   EXPECT_EQ(Single(tp, c2).level(at(NAN, 0, -50), nullptr, f), 3);
 }
 
+// Unusable tabulated biases (NaN, infinite, negative, 0, 1, repeats) build no tables of their own,
+// and an object's bad bias is invalid input as without tables.
+TEST(SchedulerHardCases, UnusableTabulatedBiasesBuildNoTables) {
+  const TestProfile tp;
+  SchedulerConfig plain, odd;
+  odd.tabulated_biases[0] = NAN;
+  odd.tabulated_biases[1] = -INFINITY;
+  odd.tabulated_biases[2] = 1.0f;
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), Scheduler::table_bytes(tp.profile.meta, plain));
+  odd.tabulated_biases[0] = INFINITY;
+  odd.tabulated_biases[1] = 0.0f;
+  odd.tabulated_biases[2] = -2.0f;
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), Scheduler::table_bytes(tp.profile.meta, plain));
+  odd.tabulated_biases[0] = 4.0f;
+  odd.tabulated_biases[1] = 4.0f;
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), 2 * Scheduler::table_bytes(tp.profile.meta, plain));
+  odd.max_objects = 1;
+  Scheduler s(odd);
+  const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -50));
+  EXPECT_EQ(s.table_bytes(0), Scheduler::table_bytes(tp.profile.meta, odd));
+  for (const float bad : {NAN, INFINITY, 0.0f, -4.0f}) {
+    s.set_bias(id, bad);
+    s.run_frame(looking_forward());
+    EXPECT_EQ(s.level(id), 0) << bad;
+    EXPECT_TRUE(s.flags(id) & kFlagInvalidInput) << bad;
+  }
+  s.set_bias(id, 4.0f);  // back to a tabulated bias: a valid object again
+  s.run_frame(looking_forward());
+  EXPECT_FALSE(s.flags(id) & kFlagInvalidInput);
+}
+
 TEST(SchedulerHardCases, FarFromTheOriginBehavesLikeTheOrigin) {
   const TestProfile tp;
   const Single one(tp);
