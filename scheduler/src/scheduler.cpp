@@ -1305,11 +1305,12 @@ struct Scheduler::Probe {
 }
 
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
-// cache misses overlap: the inputs of the bounds over every view (pass 1), the objects
-// decided without tables and the any-view rows of the rest (2), the any-view decisions (3); for the
-// objects they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or finest level; an object
-// whose bias has no tables (not a tabulated bias) is evaluated exactly. Writes out[j], and with
-// `scores` (kMaxLevels per object) each level's score.
+// cache misses overlap: the inputs of the bounds over every view (pass 1), the objects decided
+// without tables and the any-view rows of the rest (2), the any-view decisions (3); for the objects
+// they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not
+// seen (invalid input, eye inside) take the fallback or finest level; an object whose bias has no
+// tables (not a tabulated bias) is evaluated exactly. Writes out[j], and with `scores` (kMaxLevels
+// per object) each level's score.
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Choice* out, float (*scores)[kMaxLevels]) const {
   const std::uint16_t* cand[kBlock];
@@ -1354,7 +1355,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
     bands[j] = shown;
   }
-  // Pass 2: objects not seen, with a bias that has no tables or nothing to choose; the any-view rows of the rest prefetched.
+  // Pass 2: objects not seen, of a bias without tables or with nothing to choose; the any-view rows
+  // of the rest prefetched.
   const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
