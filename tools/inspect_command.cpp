@@ -57,8 +57,10 @@ void run(const std::string& path, bool json) {
   std::printf("views     %u (lookup %u x %u per cube face)\n", m.view_count, m.lookup_resolution,
               m.lookup_resolution);
   const std::size_t tables = Scheduler::table_bytes(m, SchedulerConfig{});
-  std::printf("runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile\n",
-              tables, tables + blob.size);
+  std::printf(
+      "runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile;\n"
+      "          as much again per tabulated bias, and all of it twice with a hysteresis margin\n",
+      tables, tables + blob.size);
   std::printf("spectra   %u orientations x %u bands:", m.orientation_count, m.band_count);
   for (std::uint32_t b = 0; b < m.band_count; ++b) std::printf(" %g", p.bands[b]);
   std::printf(" cycles per diameter\n\nlevel  triangles  geom.error  largest loss per band\n");
