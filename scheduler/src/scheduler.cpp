@@ -191,6 +191,8 @@ constexpr float kBilinearMargin = 0.001f;
 // tables (Scheduler::table_bias_); an object whose bias has none takes the exact path.
 constexpr std::uint32_t kTableSets = 2 * (1 + kMaxTabulatedBiases);
 constexpr std::uint8_t kExactBias = 255;
+// Table sets per bias: score <= 1, and score <= 1 - margin where a margin is set.
+inline int margin_sets(const SchedulerConfig& c) { return c.hysteresis_margin > 0 ? 2 : 1; }
 // The biases with tables: 1, then each distinct finite entry > 0 of the configuration's. Returns the count.
 std::uint32_t table_biases(const SchedulerConfig& c, float* out) {
   std::uint32_t n = 0;
@@ -307,6 +309,8 @@ struct Scheduler::Precomputed {
   VelocityTerms static_terms{};  // Default-model terms at the velocity floor
   float floor_velocity = 0;      // [deg/s]
   float ln_quality = 0, ln_margin = 0;
+  // ln(q x bias): what an object of this bias is decided at, by the exact path and by its tables.
+  float ln_quality_at(float bias) const { return ln_quality + (bias != 1.0f ? std::log(bias) : 0.0f); }
   float ecc_slope = 0;           // alpha / e2 [per cpd per deg]
   float distance_per_error = 0;  // Distance rule: distance_scale / tan(1 arcmin)
   float speed_offset = 1;        // tabulated path: v0 = 2 / c2 of the speed grid's weight [deg/s]
@@ -594,11 +598,10 @@ void Scheduler::build_tables(ProfileCache& c) const {
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
                       B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
-  const std::uint32_t margins = config_.hysteresis_margin > 0 ? 2 : 1;
+  const auto margins = static_cast<std::uint32_t>(margin_sets(config_));
   for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set) {
     if (set % 2 >= margins) continue;
-    // As the exact path computes an object's ln q (bias 1 adds nothing), then the margin.
-    const float ln_bias_q = pre.ln_quality + (set >= 2 ? std::log(table_bias_[set / 2]) : 0.0f);
+    const float ln_bias_q = pre.ln_quality_at(table_bias_[set / 2]);
     const float ln_q = set % 2 ? ln_bias_q + pre.ln_margin : ln_bias_q;
     std::vector<std::int16_t>& still = c.sets[set].still;
     std::vector<std::int16_t>& moving = c.sets[set].moving;
@@ -721,7 +724,7 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& 
       (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
   const std::size_t any_view = std::size_t(m.band_count) * (kStillE - 1) * (2 * (m.level_count - 1) + 1);
   float biases[1 + kMaxTabulatedBiases];
-  return (per_set + any_view) * (config.hysteresis_margin > 0 ? 2 : 1) * table_biases(config, biases) *
+  return (per_set + any_view) * std::size_t(margin_sets(config)) * table_biases(config, biases) *
          sizeof(std::int16_t);
 }
 
@@ -1357,7 +1360,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   }
   // Pass 2: objects not seen, of a bias without tables or with nothing to choose; the any-view rows
   // of the rest prefetched.
-  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // the hysteresis margin's tables too
+  const int sets = margin_sets(config_);  // the hysteresis margin's tables too
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
     const int p = profile_of_[id];
@@ -1500,8 +1503,8 @@ ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, 
 Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
-  const std::uint32_t L = K - 1;                           // coarser levels per view
-  const int sets = config_.hysteresis_margin > 0 ? 2 : 1;  // [1]: the hysteresis margin's tables
+  const std::uint32_t L = K - 1;          // coarser levels per view
+  const int sets = margin_sets(config_);  // [1]: the hysteresis margin's tables
   const float x = o.x;
   if (scores) std::fill(scores, scores + K, 0.0f);
   const Cell ec = o.ec;
@@ -1575,7 +1578,7 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
   const float vx = s.vx, vy = s.vy;
   const Precomputed& pre = *pre_;
   const float inv_diam = 1.0f / diameter_deg, ln_diam = s.ln_diam;
-  const float ln_q = pre.ln_quality + (bias_[id] != 1.0f ? std::log(bias_[id]) : 0.0f);
+  const float ln_q = pre.ln_quality_at(bias_[id]);
   const float ln_q_coarse = ln_q + pre.ln_margin;
   const bool all_levels = scores_out || ex;
   const float a = pre.ecc_slope * e;  // ln CT grows by a per cpd with eccentricity
