@@ -380,12 +380,74 @@ struct Scheduler::Curves {
   std::vector<float> moving;  // [kMovingS][kMovingE][kCurveSamples]
   std::vector<float> centre;  // [kMovingS - 1][kMovingE - 1][kCurveSamples]: each moving cell's midpoint
   std::vector<float> still_centre, slow_centre;  // [kStillE - 1][kCurveSamples]: each cell's midpoint
+  // Reddy's cutoff H(v) M(e) is separable and kinked (0.825 deg/s, 5.79 deg; -ln H steep and convex
+  // towards 118 deg/s), so a cell's midpoint does not show how far interpolation rises above the
+  // truth. The largest invisible ln size is ln(band) - ln H(v) - ln M(e) whatever the profile, so how
+  // far each node must come down for its cells to stay below it is known in advance, per axis
+  // (Lift): [kStillE - 1] and [kMovingS - 1], [kMovingE - 1] (empty for the other models).
+  struct Lift {
+    float lower, upper;  // [ln deg] at the cell's lower and upper node
+  };
+  std::vector<Lift> still_lift, speed_lift, moving_e_lift;
   static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
   static float centre_speed(std::uint32_t i, float floor, float v0) {
     return speed_midpoint(speed(i, floor), v0);
   }
   static float centre_e(std::uint32_t j) { return 0.5f * (moving_e_node(j) + moving_e_node(j + 1)); }
   static float still_centre_e(std::uint32_t j) { return 0.5f * (still_e_node(j) + still_e_node(j + 1)); }
+  // The least the ends of a cell must come down (a at w = 0, b at w = 1, both >= 0, a + b least) for
+  // the chord of f to stay at or below f over the cell, at 4096 weights w in [0, 1] mapped to the axis
+  // by x(w): {0, 0} where f is concave.
+  template <class F, class X>
+  static Lift chord_lift(F f, X x) {
+    constexpr int kSteps = 4096;
+    const float f0 = f(x(0.0f)), f1 = f(x(1.0f));
+    float rise[kSteps + 1];
+    float most_a = 0;  // a with b = 0
+    for (int i = 0; i <= kSteps; ++i) {
+      const float w = float(i) / float(kSteps);
+      rise[i] = f0 + w * (f1 - f0) - f(x(w));
+      if (i < kSteps) most_a = std::max(most_a, rise[i] / (1.0f - w));
+    }
+    auto least_b = [&](float a) {  // the least b >= 0 that covers every sample given a
+      float b = 0;
+      for (int i = 1; i <= kSteps; ++i) {
+        const float w = float(i) / float(kSteps);
+        b = std::max(b, (rise[i] - a * (1.0f - w)) / w);
+      }
+      return b;
+    };
+    float lo = 0, hi = most_a;  // a + least_b(a) is convex in a: ternary search
+    for (int it = 0; it < 60; ++it) {
+      const float m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (m1 + least_b(m1) <= m2 + least_b(m2))
+        hi = m2;
+      else
+        lo = m1;
+    }
+    return {hi, least_b(hi)};
+  }
+  // Reddy's lifts (see still_lift): per axis, -ln M(e) and -ln H(v) against the weights the frame
+  // loop interpolates with (e_cell, speed_cell).
+  void reddy_lifts(float floor, float v0) {
+    auto ln_size_e = [](float e) { return -std::log(reddy_eccentricity(e)); };
+    auto ln_size_v = [](float v) { return -std::log(reddy_velocity(v)); };
+    auto e_axis = [](float lower, float upper) {
+      return [=](float w) { return lower + w * (upper - lower); };
+    };
+    for (std::uint32_t j = 0; j + 1 < kStillE; ++j)
+      still_lift.push_back(chord_lift(ln_size_e, e_axis(still_e_node(j), still_e_node(j + 1))));
+    for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
+      moving_e_lift.push_back(chord_lift(ln_size_e, e_axis(moving_e_node(j), moving_e_node(j + 1))));
+    for (std::uint32_t i = 0; i + 1 < kMovingS; ++i) {
+      const float lo = speed(i, floor), inv_g = (3.0f * lo + 2.0f * v0) / lo;
+      // speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo + 2 v0), solved for v.
+      speed_lift.push_back(chord_lift(ln_size_v, [=](float w) {
+        const float g = w / inv_g;
+        return (lo + g * (lo + 2.0f * v0)) / (1.0f - g);
+      }));
+    }
+  }
   // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
   static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving,
                      float* out) {
@@ -583,6 +645,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
       for (std::uint32_t j = 0; j < kMovingE; ++j)
         Curves::sample(pre, config_, moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
                        &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)]);
+    if (config_.model == ThresholdModel::Reddy) curves_->reddy_lifts(pre.floor_velocity, pre.speed_offset);
     curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
     for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
       for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
@@ -643,6 +706,11 @@ void Scheduler::build_tables(ProfileCache& c) const {
           for (std::uint32_t j = 0; j + 1 < kStillE; ++j)
             for (std::uint32_t b = 0; b < B; ++b) {
               if (node[j][b] <= kNever || node[j + 1][b] >= -kNever) continue;
+              if (!curves_->still_lift.empty()) {  // Reddy: known in advance
+                lower[j][b] = std::max(lower[j][b], curves_->still_lift[j].lower);
+                lower[j + 1][b] = std::max(lower[j + 1][b], curves_->still_lift[j].upper);
+                continue;
+              }
               const float excess = 0.5f * (node[j][b] + node[j + 1][b]) - mid[j][b];
               if (excess > 0) {
                 lower[j][b] = std::max(lower[j][b], excess);
@@ -679,6 +747,14 @@ void Scheduler::build_tables(ProfileCache& c) const {
               float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1],
                                   &node[(i + 1) * kMovingE + j], &node[(i + 1) * kMovingE + j + 1]};
               if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
+              if (!curves_->speed_lift.empty()) {  // Reddy: known in advance
+                const Curves::Lift v = curves_->speed_lift[i], e = curves_->moving_e_lift[j];
+                const float lift[4] = {v.lower + e.lower, v.lower + e.upper, v.upper + e.lower,
+                                       v.upper + e.upper};
+                for (int n = 0; n < 4; ++n)
+                  lower[corner[n] - node] = std::max(lower[corner[n] - node], lift[n]);
+                continue;
+              }
               const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
               const float truth =
                   largest(&curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
@@ -715,10 +791,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
 }
 
 std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
-  const bool tables =
-      config.rule == SelectionRule::Perceptual && config.evaluation == Evaluation::Tabulated &&
-      (config.model == ThresholdModel::Default || config.model == ThresholdModel::GeislerPerry);
-  if (!tables || m.level_count < 2) return 0;
+  if (!tabulated(config) || m.level_count < 2) return 0;
   const std::size_t per_set =
       std::size_t(m.view_count) * (m.level_count - 1) *
       (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);

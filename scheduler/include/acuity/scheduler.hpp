@@ -184,9 +184,10 @@ struct FrameStats {
 // bound does not already pass. Every rule reads per-profile counts, triangles and thresholds from
 // small arrays the scheduler owns (not the profile blob); Distance and ScreenSize compare distance /
 // radius with per-level thresholds set at begin_frame and compute no angles; velocities are derived from
-// positions only in blocks holding an object without a given velocity. Tables cover the smooth
-// low-pass models, Default and GeislerPerry; KellyDaly (its band-pass CSF rises with speed at low
-// frequencies) and the Reddy step model evaluate exactly. Tables are built for q, q x margin and each
+// positions only in blocks holding an object without a given velocity. Tables cover the models whose
+// thresholds never fall with speed: Default, GeislerPerry and the Reddy step model (its kinked cutoff
+// lowers the nodes by what interpolation rises above it, known in advance); KellyDaly (its band-pass
+// CSF rises with speed at low frequencies) evaluates exactly. Tables are built for q, q x margin and each
 // of SchedulerConfig::tabulated_biases; an object of any other bias evaluates exactly.
 // Memory: table_bytes(); `acuity inspect` prints it for a profile.
 class Scheduler {
@@ -276,10 +277,14 @@ class Scheduler {
                                           int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
-  bool tabulated() const {  // the smooth low-pass models (see "The tabulated path")
-    return config_.rule == SelectionRule::Perceptual && config_.evaluation == Evaluation::Tabulated &&
-           (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry);
+  // Whether a configuration's perceptual rule reads tables: the models whose thresholds never fall
+  // with speed (see "The tabulated path").
+  static bool tabulated(const SchedulerConfig& c) {
+    return c.rule == SelectionRule::Perceptual && c.evaluation == Evaluation::Tabulated &&
+           (c.model == ThresholdModel::Default || c.model == ThresholdModel::GeislerPerry ||
+            c.model == ThresholdModel::Reddy);
   }
+  bool tabulated() const { return tabulated(config_); }
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
   struct Decisions;                            // one block's choices, both eyes combined
   void derive_velocities(std::uint32_t first, std::uint32_t count);
