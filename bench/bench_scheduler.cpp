@@ -70,8 +70,9 @@ struct Scene {
   std::vector<double> x, y, z;  // for the baseline loops
   std::vector<int> profile_of;
   Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated,
-        Biases biases = Biases::None) {
+        Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default) {
     SchedulerConfig c;
+    c.model = model;
     c.max_objects = n;
     c.max_profiles = kProfiles;
     c.rule = rule;
@@ -112,8 +113,8 @@ struct Scene {
 
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
-                  Biases biases = Biases::None) {
-  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases);
+                  Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
@@ -250,6 +251,23 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_biased_listed, SelectionRule::Percept
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_biased_unlisted, SelectionRule::Perceptual, 0.0f,
                   Evaluation::Tabulated, 0.0f, Biases::Unlisted)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+// The perceptual rule with the Reddy step model, through its tables and exactly.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_static, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Reddy)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_all_moving, SelectionRule::Perceptual, 1.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Reddy)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_static_exact, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Exact, 0.0f, Biases::None, ThresholdModel::Reddy)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_all_moving_exact, SelectionRule::Perceptual, 1.0f,
+                  Evaluation::Exact, 0.0f, Biases::None, ThresholdModel::Reddy)
     ->Arg(100000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_static, 0.0f)->Apply(sizes)->UseRealTime();
