@@ -1032,6 +1032,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     int moving;
     bool gaze, two_eyes;
     float margin = 0;
+    double drift = ModelParams{}.drift;
   };
   const Case cases[] = {
       {"default still gaze", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 0, true, false},
@@ -1053,6 +1054,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
       {"reddy q 0.5 max3", ThresholdModel::Reddy, 0.5f, ViewBlend::Max3, 50, true, false},
       {"reddy q 2", ThresholdModel::Reddy, 2.0f, ViewBlend::Nearest, 50, false, false},
       {"reddy margin", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 50, false, false, 0.3f},
+      {"reddy drift 0", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 50, true, false, 0, 0.0},
   };
   unsigned seed = 100;
   for (const Case& k : cases) {
@@ -1061,6 +1063,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
     c.quality = k.q;
     c.view_blend = k.blend;
     c.hysteresis_margin = k.margin;
+    c.params.drift = k.drift;
     const Agreement a = compare_paths(tp, c, ++seed, 1000, 10, k.moving, k.gaze, k.two_eyes);
     EXPECT_EQ(a.coarser, 0) << k.name;
     EXPECT_EQ(a.shortcut_differs, 0) << k.name;

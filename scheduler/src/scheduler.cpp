@@ -599,6 +599,11 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   const bool daly_model =
       config_.model == ThresholdModel::Default || config_.model == ThresholdModel::KellyDaly;
   pre.floor_velocity = daly_model ? pre.daly.v_floor : static_cast<float>(config_.params.drift);
+  // Reddy's H(v) is flat up to 0.825 deg/s, so its speed grid may start at the default drift whatever
+  // the configured one (a floor near 0 would crowd the grid's octaves below 1 deg/s); the exact
+  // path's speeds are floored there too, which changes no threshold, H being flat there.
+  if (config_.model == ThresholdModel::Reddy)
+    pre.floor_velocity = std::max(pre.floor_velocity, static_cast<float>(ModelParams{}.drift));
   pre.static_terms = velocity_terms(std::max(pre.floor_velocity, 1e-3f), pre.daly);
   pre.ln_quality = std::log(config_.quality);
   pre.ln_margin = std::log(std::max(1e-6f, 1.0f - config_.hysteresis_margin));
