@@ -631,14 +631,6 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     curves_ = std::make_unique<Curves>();
     curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
     curves_->slow.resize(std::size_t(kStillE) * kCurveSamples);
-    curves_->still_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
-    curves_->slow_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
-    for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
-      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false,
-                     &curves_->still_centre[j * std::size_t(kCurveSamples)]);
-      Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true,
-                     &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
-    }
     for (std::uint32_t j = 0; j < kStillE; ++j) {
       Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, false,
                      &curves_->still[j * std::size_t(kCurveSamples)]);
@@ -650,13 +642,26 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
       for (std::uint32_t j = 0; j < kMovingE; ++j)
         Curves::sample(pre, config_, moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
                        &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)]);
-    if (config_.model == ThresholdModel::Reddy) curves_->reddy_lifts(pre.floor_velocity, pre.speed_offset);
-    curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
-    for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
-      for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
-        Curves::sample(pre, config_, Curves::centre_e(j),
-                       Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
-                       &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)]);
+    // Each cell's interpolation is checked against the truth: Reddy's per axis in advance, the other
+    // models' at the cell's midpoint (curves there).
+    if (config_.model == ThresholdModel::Reddy) {
+      curves_->reddy_lifts(pre.floor_velocity, pre.speed_offset);
+    } else {
+      curves_->still_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
+      curves_->slow_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
+      for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
+        Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false,
+                       &curves_->still_centre[j * std::size_t(kCurveSamples)]);
+        Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true,
+                       &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
+      }
+      curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
+      for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+        for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
+          Curves::sample(pre, config_, Curves::centre_e(j),
+                         Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
+                         &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)]);
+    }
   }
 }
 
@@ -667,6 +672,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
                       B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
   const auto margins = static_cast<std::uint32_t>(margin_sets(config_));
+  const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set) {
     if (set % 2 >= margins) continue;
     const float ln_bias_q = pre.ln_quality_at(table_bias_[set / 2]);
@@ -690,8 +696,6 @@ void Scheduler::build_tables(ProfileCache& c) const {
           std::fill(mid_hint, mid_hint + kMaxBands, kCurveSamples / 2);
           for (std::uint32_t j = 0; j < kStillE; ++j) {
             const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
-            const float* centre =
-                &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
             float prefix = -kNever, mid_prefix = -kNever;
             for (std::uint32_t b = 0; b < B; ++b) {
               const float y = c.ln_lost_any[kv * B + b] - ln_q;
@@ -699,11 +703,14 @@ void Scheduler::build_tables(ProfileCache& c) const {
                   std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
                                                         pre.floor_velocity, slow, &hint[b]));
               node[j][b] = prefix;
-              if (j + 1 < kStillE)
+              if (j + 1 < kStillE && midpoints) {
+                const float* centre =
+                    &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
                 mid_prefix =
                     std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b],
                                                               Curves::still_centre_e(j), pre.floor_velocity,
                                                               slow, &mid_hint[b]));
+              }
               mid[j][b] = mid_prefix;
             }
           }
@@ -711,7 +718,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
           for (std::uint32_t j = 0; j + 1 < kStillE; ++j)
             for (std::uint32_t b = 0; b < B; ++b) {
               if (node[j][b] <= kNever || node[j + 1][b] >= -kNever) continue;
-              if (!curves_->still_lift.empty()) {  // Reddy: known in advance
+              if (!midpoints) {  // Reddy: known in advance
                 lower[j][b] = std::max(lower[j][b], curves_->still_lift[j].lower);
                 lower[j + 1][b] = std::max(lower[j + 1][b], curves_->still_lift[j].upper);
                 continue;
@@ -752,7 +759,7 @@ void Scheduler::build_tables(ProfileCache& c) const {
               float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1],
                                   &node[(i + 1) * kMovingE + j], &node[(i + 1) * kMovingE + j + 1]};
               if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
-              if (!curves_->speed_lift.empty()) {  // Reddy: known in advance
+              if (!midpoints) {  // Reddy: known in advance
                 const Curves::Lift v = curves_->speed_lift[i], e = curves_->moving_e_lift[j];
                 const float lift[4] = {v.lower + e.lower, v.lower + e.upper, v.upper + e.lower,
                                        v.upper + e.upper};
