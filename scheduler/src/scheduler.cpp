@@ -1377,12 +1377,10 @@ struct Scheduler::Probe {
   const std::uint32_t L = pc.profile.meta.level_count - 1;
   return &pc.sets[set].any_view[((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
 }
-// x: the object's ln angular diameter rounded up to the tables' step [1/1024 ln deg].
-[[gnu::always_inline]] inline int Scheduler::any_view_level(const ProfileCache& pc, std::uint32_t bands,
-                                                            std::uint32_t ec, std::int32_t x, bool still,
-                                                            int set) {
-  const std::uint32_t L = pc.profile.meta.level_count - 1;
-  const std::int16_t* row = any_view_row(pc, bands, ec, set);
+// row: any_view_row()'s, for a profile of L coarser levels; x: the object's ln angular diameter
+// rounded up to the tables' step [1/1024 ln deg].
+[[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
+                                                            std::int32_t x, bool still) {
   if (!still) return x <= row[2 * L] ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
@@ -1444,8 +1442,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     bands[j] = shown;
   }
   // Pass 2: objects not seen, of a bias without tables or with nothing to choose; the any-view rows
-  // of the rest prefetched.
+  // of the rest found (per table set) and prefetched, so that pass 3 reads no profile.
   const int sets = margin_sets(config_);  // the hysteresis margin's tables too
+  const std::int16_t* rows[2][kBlock];
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
     const int p = profile_of_[id];
@@ -1475,6 +1474,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     todo[j] = 2;
     for (int set = 0; set < sets; ++set) {
       const std::int16_t* row = any_view_row(pc, bands[j], ec_j[j], tables[j] + set);
+      rows[set][j] = row;
       ACUITY_PREFETCH(row);
       ACUITY_PREFETCH(row + 2 * L);
     }
@@ -1482,18 +1482,16 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   // Pass 3: the any-view decisions; the rest have their lookup cell's candidates prefetched.
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
-    const ProfileCache& pc = profiles_[profile_of_[first + j]];
     if (todo[j] == 2) {
-      const int fine = any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], tables[j]);
-      const int coarse = sets > 1 && fine >= 0
-                             ? any_view_level(pc, bands[j], ec_j[j], x_step[j], still[j], tables[j] + 1)
-                             : fine;
+      const std::uint32_t L = level_count_[profile_of_[first + j]] - 1u;
+      const int fine = any_view_level(rows[0][j], L, x_step[j], still[j]);
+      const int coarse = sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j]) : fine;
       todo[j] = coarse < 0;
       if (coarse >= 0)
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
     }
     if (todo[j]) {
-      cand[j] = pc.profile.lookup + cell[j] * kLookupCandidates;
+      cand[j] = profiles_[profile_of_[first + j]].profile.lookup + cell[j] * kLookupCandidates;
       ACUITY_PREFETCH(cand[j]);
     }
   }
