@@ -1372,12 +1372,12 @@ struct Scheduler::Probe {
 // the least still and slow bound passes the coarsest level. Integers: x [ln deg] rounded up to the
 // tables' step passes an entry exactly where x does.
 [[gnu::always_inline]] inline const std::int16_t* Scheduler::any_view_row(const ProfileCache& pc,
+                                                                          std::uint32_t L,
                                                                           std::uint32_t bands,
                                                                           std::uint32_t ec, int set) {
-  const std::uint32_t L = pc.profile.meta.level_count - 1;
   return &pc.sets[set].any_view[((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
 }
-// row: any_view_row()'s, for a profile of L coarser levels; x: the object's ln angular diameter
+// row: any_view_row()'s for a profile of L coarser levels; x: the object's ln angular diameter
 // rounded up to the tables' step [1/1024 ln deg].
 [[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
                                                             std::int32_t x, bool still) {
@@ -1442,7 +1442,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     bands[j] = shown;
   }
   // Pass 2: objects not seen, of a bias without tables or with nothing to choose; the any-view rows
-  // of the rest found (per table set) and prefetched, so that pass 3 reads no profile.
+  // of the rest found (per table set) and prefetched, so that pass 3 decides without reading a profile.
   const int sets = margin_sets(config_);  // the hysteresis margin's tables too
   const std::int16_t* rows[2][kBlock];
   for (std::uint32_t j = 0; j < n; ++j) {
@@ -1473,7 +1473,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     if (scores) continue;  // every level's score: the view's tables
     todo[j] = 2;
     for (int set = 0; set < sets; ++set) {
-      const std::int16_t* row = any_view_row(pc, bands[j], ec_j[j], tables[j] + set);
+      const std::int16_t* row = any_view_row(pc, L, bands[j], ec_j[j], tables[j] + set);
       rows[set][j] = row;
       ACUITY_PREFETCH(row);
       ACUITY_PREFETCH(row + 2 * L);

@@ -272,8 +272,8 @@ class Scheduler {
                 float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still);
-  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t bands, std::uint32_t ec,
-                                          int set);
+  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
+                                          std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_tables(ProfileCache& c) const;
   // Whether a configuration's perceptual rule reads tables: the models whose thresholds never fall
