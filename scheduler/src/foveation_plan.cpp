@@ -5,6 +5,8 @@
 #include <cstring>
 #include <numbers>
 
+#include "vectorize.hpp"
+
 namespace acuity {
 namespace {
 constexpr double kPi = std::numbers::pi;
@@ -16,7 +18,7 @@ constexpr float kSineScale = kFoveationSineSteps;
 bool finite3(const float* v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
 // log2(x) for finite x > 0, rounded down to the table's mantissa step (at most 0.0057 low).
-float floor_log2(float x, const float* mantissa_table) {
+inline float floor_log2(float x, const float* mantissa_table) {
   std::uint32_t bits;
   std::memcpy(&bits, &x, sizeof bits);
   const int exponent = static_cast<int>((bits >> 23) & 0xffu) - 127;
@@ -66,30 +68,42 @@ bool projection(const Eye& eye, Projection* p) {
   return true;
 }
 
-// Per column (or row) of tiles: the centre's tangent and the tile's nearest and farthest squared
-// tangents from the view axis.
+// One column (or row) of tiles: its centre's tangent and its nearest and farthest squared tangents
+// from the view axis.
+struct Band {
+  float centre, near2, far2;
+  std::uint32_t extent;  // covered pixels
+  float inv_sqrt;        // 1 / sqrt(1 + near2)
+};
+// Tile i of an axis of `pixels` pixels starting at tangent t0, f pixels per unit tangent; sign: +1
+// when the tangent grows with the pixel index (x), -1 when it falls (y, row 0 at the top).
+Band band(std::uint32_t i, std::uint32_t tile, std::uint32_t pixels, double t0, double f, double sign) {
+  const double p0 = double(i) * tile, p1 = std::min<double>(double(i + 1) * tile, pixels);
+  const double x0 = t0 + sign * p0 / f, x1 = t0 + sign * p1 / f;
+  const double lo = std::min(x0, x1), hi = std::max(x0, x1);
+  const double nearest = lo > 0 ? lo : (hi < 0 ? -hi : 0.0);
+  const double farthest = std::max(std::abs(lo), std::abs(hi));
+  return {static_cast<float>(0.5 * (x0 + x1)), static_cast<float>(nearest * nearest),
+          static_cast<float>(farthest * farthest), static_cast<std::uint32_t>(p1 - p0),
+          static_cast<float>(1.0 / std::sqrt(1.0 + nearest * nearest))};
+}
+
+// The columns, as arrays (the row loops read them).
 struct Axis {
   float centre[kMaxFoveationTiles];
   float near2[kMaxFoveationTiles];
   float far2[kMaxFoveationTiles];
-  float extent[kMaxFoveationTiles];    // covered pixels
-  float inv_sqrt[kMaxFoveationTiles];  // 1 / sqrt(1 + near2)
+  std::uint32_t extent[kMaxFoveationTiles];
+  float inv_sqrt[kMaxFoveationTiles];
 };
-
-// sign: +1 when the tangent grows with the pixel index (x), -1 when it falls (y, row 0 at the top).
-void fill_axis(Axis* a, std::uint32_t n, std::uint32_t tile, std::uint32_t pixels, double t0, double f,
-               double sign) {
+void fill_axis(Axis* a, std::uint32_t n, std::uint32_t tile, std::uint32_t pixels, double t0, double f) {
   for (std::uint32_t i = 0; i < n; ++i) {
-    const double p0 = double(i) * tile, p1 = std::min<double>(double(i + 1) * tile, pixels);
-    const double x0 = t0 + sign * p0 / f, x1 = t0 + sign * p1 / f;
-    const double lo = std::min(x0, x1), hi = std::max(x0, x1);
-    const double nearest = lo > 0 ? lo : (hi < 0 ? -hi : 0.0);
-    const double farthest = std::max(std::abs(lo), std::abs(hi));
-    a->centre[i] = static_cast<float>(0.5 * (x0 + x1));
-    a->near2[i] = static_cast<float>(nearest * nearest);
-    a->far2[i] = static_cast<float>(farthest * farthest);
-    a->extent[i] = static_cast<float>(p1 - p0);
-    a->inv_sqrt[i] = static_cast<float>(1.0 / std::sqrt(1.0 + nearest * nearest));
+    const Band b = band(i, tile, pixels, t0, f, 1.0);
+    a->centre[i] = b.centre;
+    a->near2[i] = b.near2;
+    a->far2[i] = b.far2;
+    a->extent[i] = b.extent;
+    a->inv_sqrt[i] = b.inv_sqrt;
   }
 }
 
@@ -97,9 +111,121 @@ void fill_axis(Axis* a, std::uint32_t n, std::uint32_t tile, std::uint32_t pixel
 // rate is for (its least value over the tile), w the other's, in [w_lo, w_hi]. Pixels per degree
 // along x at tangents (u, v) are fx (1 + u^2 + v^2) / sqrt(1 + v^2) pi / 180; it grows with u^2 and,
 // in w = v^2, falls until w = u^2 - 1 and grows after.
-float ppd_factor(float s, float w_lo, float w_hi) {
+inline float ppd_factor(float s, float w_lo, float w_hi) {
   const float w = std::clamp(s - 1.0f, w_lo, w_hi);
   return (1.0f + s + w) / std::sqrt(1.0f + w);
+}
+
+// What every row's tiles read: per column and per frame.
+struct RowTables {
+  const float* ox_u;            // [cols] gaze x times the column's centre tangent
+  const float* u2;              // [cols] the column's squared centre tangent
+  const std::int32_t* step_of;  // sine bin -> 0 (full rate) or 1 + eccentricity step
+  const float* need_of;         // [1 + steps]: 2 f, index 0 unreachable (1e30): rates 1, bias 0
+  const float* log2_need_of;    // and its log2
+  const float* mantissa;        // floor_log2()'s table
+  const Axis* columns;
+  float kx, ky;  // px per deg on the axis
+  int max_rate;
+};
+// Per tile of a row: pixels per shade in x and y, and the mip bias.
+struct Tiles {
+  int* x;
+  int* y;
+  float* b;
+};
+// The tiles of the row at tangent v (num_v = O_y v - O_z, den_v = 1 + v^2; squared tangents
+// v_near2..v_far2 over the row, v_inv_sqrt = 1 / sqrt(1 + v_near2)): each one's own rates and bias,
+// before the outward minima, into `out`. Plain arithmetic, selects and table reads (gathers under
+// AVX2), so the loops vectorise; the same bits in every clone.
+ACUITY_SIMD_CLONES void own_tiles(const RowTables& t, std::uint32_t n, float num_v, float den_v,
+                                  float v_near2, float v_far2, float v_inv_sqrt, Tiles out) {
+  int *out_x = out.x, *out_y = out.y;
+  float* out_b = out.b;
+  const std::int32_t* step_of = t.step_of;
+  const float *ox_u = t.ox_u, *u2 = t.u2, *need_of = t.need_of, *log2_need_of = t.log2_need_of,
+              *mantissa = t.mantissa;
+  const float *u_near2s = t.columns->near2, *u_far2s = t.columns->far2, *u_inv_sqrts = t.columns->inv_sqrt;
+  const float kx = t.kx, ky = t.ky;
+  const int max_rate = t.max_rate;
+  // Squared sine of the angle from the origin to each tile centre: 1 - (O.P)^2 / |P|^2 with
+  // P = (u, v, -1); 1 (90 deg, the table's end) at or beyond 90 deg. The table bin, one lower than
+  // the float value gives (rounding never raises the eccentricity); s <= 1, so the bin is at most
+  // kFoveationSineSteps - 1. A loop of its own: it vectorises without gathers.
+  int bins[kMaxFoveationTiles];
+  for (std::uint32_t c = 0; c < n; ++c) {
+    const float dot = std::max(ox_u[c] + num_v, 0.0f);
+    const float s = 1.0f - dot * dot / (den_v + u2[c]);
+    bins[c] = std::max(static_cast<int>(s * kSineScale) - 1, 0);
+  }
+  ACUITY_NO_ALIAS
+  for (std::uint32_t c = 0; c < n; ++c) {
+    const int j = step_of[bins[c]];
+    const float need = need_of[j];
+    const float u_near2 = u_near2s[c];
+    // ppd_factor(), with the usual case (the clamp at the near end) from the precomputed roots.
+    const float sum = 1.0f + u_near2 + v_near2;
+    const float hx = u_near2 - 1.0f <= v_near2 ? sum * v_inv_sqrt : ppd_factor(u_near2, v_near2, v_far2);
+    const float hy =
+        v_near2 - 1.0f <= u_near2 ? sum * u_inv_sqrts[c] : ppd_factor(v_near2, u_near2, u_far2s[c]);
+    const float ppd_x = kx * hx, ppd_y = ky * hy;
+    const int rx = 1 + int(ppd_x >= 2.0f * need) + 2 * int(ppd_x >= 4.0f * need);
+    const int ry = 1 + int(ppd_y >= 2.0f * need) + 2 * int(ppd_y >= 4.0f * need);
+    const float b = floor_log2(std::min(ppd_x, ppd_y), mantissa) - log2_need_of[j] - kBiasMargin;
+    out_x[c] = std::min(rx, max_rate);
+    out_y[c] = std::min(ry, max_rate);
+    out_b[c] = std::max(0.0f, std::min(b, kMaxBias));
+  }
+}
+
+// Tiles take the minimum of their values and their outer neighbours' in y (`outer`, and for the
+// origin's row `other`; neutral at an edge).
+ACUITY_SIMD_CLONES void fold_outer(std::uint32_t n, Tiles outer, Tiles other, Tiles tiles) {
+  ACUITY_NO_ALIAS
+  for (std::uint32_t c = 0; c < n; ++c) {
+    tiles.x[c] = std::min(tiles.x[c], std::min(outer.x[c], other.x[c]));
+    tiles.y[c] = std::min(tiles.y[c], std::min(outer.y[c], other.y[c]));
+    tiles.b[c] = std::min(tiles.b[c], std::min(outer.b[c], other.b[c]));
+  }
+}
+
+// Running minima along a row.
+struct Running {
+  int x = 4, y = 4;
+  float b = kMaxBias;
+};
+
+// Tiles from, from + step, ... (count of them) each take the running minimum of their values (`own`)
+// and the tiles' before them, into `out`.
+void scan_row(Tiles own, Tiles out, std::uint32_t from, int step, std::uint32_t count, Running* m) {
+  int x = m->x, y = m->y;
+  float b = m->b;
+  for (std::uint32_t i = 0, c = from; i < count; ++i, c += step) {
+    x = out.x[c] = std::min(x, own.x[c]);
+    y = out.y[c] = std::min(y, own.y[c]);
+    b = out.b[c] = std::min(b, own.b[c]);
+  }
+  *m = {x, y, b};
+}
+
+// Writes a row's final values to the maps and returns its shading work in sixteenths of a pixel
+// (16 / (rate_x rate_y) = 16 >> (log2 rate_x + log2 rate_y) per covered pixel, at most 2^20 a row):
+// integers, so the sums are exact and need no chain of floating-point adds.
+ACUITY_SIMD_CLONES std::uint32_t write_row(std::uint32_t n, Tiles tiles, const std::uint32_t* extent,
+                                           std::uint8_t* rate, float* bias) {
+  std::uint32_t work = 0;
+  ACUITY_NO_ALIAS
+  for (std::uint32_t c = 0; c < n; ++c) {
+    const std::uint32_t x = tiles.x[c], y = tiles.y[c];  // 1, 2 or 4: log2 is x >> 1
+    work += extent[c] * (16u >> ((x >> 1) + (y >> 1)));
+  }
+  ACUITY_NO_ALIAS
+  for (std::uint32_t c = 0; c < n; ++c) {
+    rate[2 * c] = static_cast<std::uint8_t>(tiles.x[c]);
+    rate[2 * c + 1] = static_cast<std::uint8_t>(tiles.y[c]);
+    bias[c] = tiles.b[c];
+  }
+  return work;
 }
 
 void fill_full(FoveationMaps* m, std::size_t n) {
@@ -295,18 +421,16 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
               ky = static_cast<float>(pr.fy / kDegD);  // px per deg on axis
   const int max_rate = cfg.max_rate;
 
-  Axis cx, cy;
-  fill_axis(&cx, cols, T, W, pr.tan_l, pr.fx, 1.0);
-  fill_axis(&cy, rows, T, H, pr.tan_u, pr.fy, -1.0);
+  Axis cx;
+  fill_axis(&cx, cols, T, W, pr.tan_l, pr.fx);
   const float ox = static_cast<float>(O[0]), oy = static_cast<float>(O[1]), oz = static_cast<float>(O[2]);
 
   // Per column: the gaze term of the cosine and the squared tangent at the centre.
-  float ox_u[kMaxFoveationTiles + 8], u2[kMaxFoveationTiles + 8];
+  float ox_u[kMaxFoveationTiles], u2[kMaxFoveationTiles];
   for (std::uint32_t c = 0; c < cols; ++c) {
     ox_u[c] = ox * cx.centre[c];
     u2[c] = cx.centre[c] * cx.centre[c];
   }
-  const float* log2_mantissa = planner.log2_mantissa;
   // This frame's cutoff per sine bin: index 0 is full rate (an unreachable Nyquist: rate 1, bias
   // 0), else 1 + the eccentricity step at or below the bin's eccentricity. Built once per frame so
   // each tile needs one table read instead of the angle arithmetic.
@@ -317,19 +441,38 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     need_of[j + 1] = nyq[j];
     log2_need_of[j + 1] = log2_nyq[j];
   }
-  std::int16_t step_of[kFoveationSineSteps];
+  std::int32_t step_of[kFoveationSineSteps];  // 32-bit: a vector gather's index
   for (int i = 0; i < kFoveationSineSteps; ++i) {
     const float e = planner.sine_angle[i] - e_offset;
-    step_of[i] = static_cast<std::int16_t>(
-        e <= fovea ? 0
-                   : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1));
+    step_of[i] = e <= fovea
+                     ? 0
+                     : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1);
   }
-  // Columns padded to a multiple of 8 so the first loop below needs no scalar tail.
-  const std::uint32_t padded = (cols + 7u) & ~7u;
-  for (std::uint32_t c = cols; c < padded; ++c) ox_u[c] = u2[c] = 0.0f;
-  int bins[kMaxFoveationTiles + 8];
-  float own_b[kMaxFoveationTiles];
+  const RowTables tables{.ox_u = ox_u,
+                         .u2 = u2,
+                         .step_of = step_of,
+                         .need_of = need_of,
+                         .log2_need_of = log2_need_of,
+                         .mantissa = planner.log2_mantissa,
+                         .columns = &cx,
+                         .kx = kx,
+                         .ky = ky,
+                         .max_rate = max_rate};
+  // The final values of the last row planned below the origin's row and above it, as the next row's
+  // outer neighbours; none yet (neutral: 4, 4, kMaxBias).
+  int below_x[kMaxFoveationTiles], below_y[kMaxFoveationTiles], above_x[kMaxFoveationTiles],
+      above_y[kMaxFoveationTiles];
+  float below_b[kMaxFoveationTiles], above_b[kMaxFoveationTiles];
+  std::fill(below_x, below_x + cols, 4);
+  std::fill(below_y, below_y + cols, 4);
+  std::fill(below_b, below_b + cols, kMaxBias);
+  std::copy(below_x, below_x + cols, above_x);
+  std::copy(below_y, below_y + cols, above_y);
+  std::copy(below_b, below_b + cols, above_b);
+  const Tiles below{below_x, below_y, below_b}, above{above_x, above_y, above_b};
   int own_x[kMaxFoveationTiles], own_y[kMaxFoveationTiles];
+  float own_b[kMaxFoveationTiles];
+  const Tiles own{own_x, own_y, own_b};
 
   // Never finer, never less bias, farther out along a ray from the origin: a ray from the origin
   // crosses from a tile only into a neighbour away from the origin (in x, in y, or through the
@@ -343,114 +486,28 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   };
   const std::uint32_t oc = clamp_tile(maps->origin_px[0], T, cols),
                       orow = clamp_tile(maps->origin_px[1], T, rows);
-  constexpr float inverse[17] = {0, 1, 0.5f, 0, 0.25f, 0, 0, 0, 0.125f, 0, 0, 0, 0, 0, 0, 0, 0.0625f};
-  double shaded = 0;
+  std::uint64_t shaded16 = 0;  // shading work [1/16 px]
 
-  const auto plan_row = [&](std::uint32_t r, std::uint32_t outer_a, std::uint32_t outer_b) {
-    // Local copies of what the tile loop reads: the int and float stores into own_* below could
-    // otherwise alias the captured references and force a reload on every tile.
-    const float kx_ = kx, ky_ = ky;
-    const int max_rate_ = max_rate;
-    const float* const mantissa = log2_mantissa;
-    const std::int16_t* const steps = step_of;
-    const float* const needs = need_of;
-    const float* const log2_needs = log2_need_of;
-    const float* const u_near2s = cx.near2;
-    const float* const u_far2s = cx.far2;
-    const float* const u_inv_sqrts = cx.inv_sqrt;
-    const int* const sines = bins;
-    const std::uint32_t n_cols = cols;
-    int* const out_x = own_x;
-    int* const out_y = own_y;
-    float* const out_b = own_b;
-    const float v = cy.centre[r], v_near2 = cy.near2[r], v_far2 = cy.far2[r], v_inv_sqrt = cy.inv_sqrt[r];
-    const float den_v = 1.0f + v * v, num_v = oy * v - oz;
-    std::uint8_t* rate = maps->shading_rate + 2 * std::size_t(r) * cols;
-    float* bias = maps->mip_bias + std::size_t(r) * cols;
-    // Rows already final on the side away from the origin (the origin's row has two; none at an edge).
-    const std::uint8_t* rate_a =
-        outer_a < rows ? maps->shading_rate + 2 * std::size_t(outer_a) * cols : nullptr;
-    const std::uint8_t* rate_b =
-        outer_b < rows ? maps->shading_rate + 2 * std::size_t(outer_b) * cols : nullptr;
-    const float* bias_a = outer_a < rows ? maps->mip_bias + std::size_t(outer_a) * cols : nullptr;
-    const float* bias_b = outer_b < rows ? maps->mip_bias + std::size_t(outer_b) * cols : nullptr;
-    const std::uint8_t* const outer_rate_a = rate_a;
-    const std::uint8_t* const outer_rate_b = rate_b;
-    const float* const outer_bias_a = bias_a;
-    const float* const outer_bias_b = bias_b;
-    // Squared sine of the angle from the origin to each tile centre: 1 - (O.P)^2 / |P|^2 with
-    // P = (u, v, -1); 1 (90 deg, the table's end) at or beyond 90 deg.
-    // The table bin, one lower than the float value gives (rounding never raises the eccentricity);
-    // s <= 1, so the bin is at most kFoveationSineSteps - 1.
-    for (std::uint32_t c = 0; c < padded; ++c) {
-      const float dot = std::max(ox_u[c] + num_v, 0.0f);  // at or beyond 90 deg: s = 1
-      const float s = 1.0f - dot * dot / (den_v + u2[c]);
-      bins[c] = std::max(static_cast<int>(s * kSineScale) - 1, 0);
-    }
-    // Each tile's own rates and bias (plain locals and int/float arrays: nothing here aliases the
-    // byte stores below).
-    for (std::uint32_t c = 0; c < n_cols; ++c) {
-      const int j = steps[sines[c]];
-      if (j == 0) {  // full rate: nothing coarser to take from the outer rows either
-        out_x[c] = out_y[c] = 1;
-        out_b[c] = 0.0f;
-        continue;
-      }
-      const float need = needs[j];
-      const float u_near2 = u_near2s[c];
-      // ppd_factor(), with the usual case (the clamp at the near end) from the precomputed roots.
-      const float sum = 1.0f + u_near2 + v_near2;
-      const float hx = u_near2 - 1.0f <= v_near2 ? sum * v_inv_sqrt : ppd_factor(u_near2, v_near2, v_far2);
-      const float hy =
-          v_near2 - 1.0f <= u_near2 ? sum * u_inv_sqrts[c] : ppd_factor(v_near2, u_near2, u_far2s[c]);
-      const float ppd_x = kx_ * hx, ppd_y = ky_ * hy;
-      const int rx = 1 + int(ppd_x >= 2.0f * need) + 2 * int(ppd_x >= 4.0f * need);
-      const int ry = 1 + int(ppd_y >= 2.0f * need) + 2 * int(ppd_y >= 4.0f * need);
-      const float b = floor_log2(std::min(ppd_x, ppd_y), mantissa) - log2_needs[j] - kBiasMargin;
-      int x = std::min(rx, max_rate_), y = std::min(ry, max_rate_);
-      float bb = std::max(0.0f, std::min(b, kMaxBias));
-      if (outer_rate_a) {  // the same every tile of the row: well predicted
-        x = std::min<int>(x, outer_rate_a[2 * c]);
-        y = std::min<int>(y, outer_rate_a[2 * c + 1]);
-        bb = std::min(bb, outer_bias_a[c]);
-      }
-      if (outer_rate_b) {
-        x = std::min<int>(x, outer_rate_b[2 * c]);
-        y = std::min<int>(y, outer_rate_b[2 * c + 1]);
-        bb = std::min(bb, outer_bias_b[c]);
-      }
-      out_x[c] = x;
-      out_y[c] = y;
-      out_b[c] = bb;
-    }
-    // Then along the row toward the origin's column, from each side: running minima.
-    double row_work = 0;
-    struct Running {
-      int x = 4, y = 4;
-      float b = kMaxBias;
-    };
-    // Tile c takes the running minima with its own values, and counts its shading work.
-    auto take = [&](std::uint32_t c, Running& m) {
-      m.x = std::min(m.x, own_x[c]);
-      m.y = std::min(m.y, own_y[c]);
-      m.b = std::min(m.b, own_b[c]);
-      rate[2 * c] = static_cast<std::uint8_t>(m.x);
-      rate[2 * c + 1] = static_cast<std::uint8_t>(m.y);
-      bias[c] = m.b;
-      row_work += double(cx.extent[c] * inverse[m.x * m.y]);
-    };
-    Running right, left;
-    for (std::uint32_t c = cols; c-- > oc + 1;) take(c, right);
-    for (std::uint32_t c = 0; c < oc; ++c) take(c, left);
+  // Row r, its outer neighbours' final values in `outer` (and `other`), left there replaced by its own.
+  const auto plan_row = [&](std::uint32_t r, Tiles outer, Tiles other) {
+    const Band row = band(r, T, H, pr.tan_u, pr.fy, -1.0);
+    const float v = row.centre;
+    own_tiles(tables, cols, oy * v - oz, 1.0f + v * v, row.near2, row.far2, row.inv_sqrt, own);
+    fold_outer(cols, outer, other, own);
+    Running right, left;  // toward the origin's column from each side
+    scan_row(own, outer, cols - 1, -1, cols - 1 - oc, &right);
+    scan_row(own, outer, 0, 1, oc, &left);
     Running both{std::min(right.x, left.x), std::min(right.y, left.y), std::min(right.b, left.b)};
-    take(oc, both);  // the origin's column: both sides
-    shaded += row_work * cy.extent[r];
+    scan_row(own, outer, oc, 1, 1, &both);  // the origin's column: both sides
+    shaded16 +=
+        std::uint64_t(write_row(cols, outer, cx.extent, maps->shading_rate + 2 * std::size_t(r) * cols,
+                                maps->mip_bias + std::size_t(r) * cols)) *
+        row.extent;
   };
-  const std::uint32_t none = rows;
-  for (std::uint32_t r = rows; r-- > orow + 1;) plan_row(r, r + 1, none);  // below the origin, upward
-  for (std::uint32_t r = 0; r < orow; ++r) plan_row(r, r - 1, none);  // above it, downward (r - 1 wraps at 0)
-  plan_row(orow, orow + 1, orow - 1);                                 // the origin's row: both sides
-  maps->shaded = shaded;
+  for (std::uint32_t r = rows; r-- > orow + 1;) plan_row(r, below, below);  // below the origin, upward
+  for (std::uint32_t r = 0; r < orow; ++r) plan_row(r, above, above);       // above it, downward
+  plan_row(orow, below, above);                                             // the origin's row: both sides
+  maps->shaded = double(shaded16) / 16.0;
   return has_gaze ? FoveationStatus::Ok : FoveationStatus::NoGaze;
 }
 

@@ -104,7 +104,9 @@ struct FoveationMaps {
 // is not 8, 16 or 32, the viewport is empty or the grid exceeds kMaxFoveationTiles per axis.
 bool foveation_map_size(const Eye& eye, std::uint32_t tile_px, std::uint32_t* cols, std::uint32_t* rows);
 
-// One eye, one frame. Writes cols x rows entries of both maps. Allocation-free, deterministic.
+// One eye, one frame. Writes cols x rows entries of both maps. Allocation-free (its scratch, sized for
+// kMaxFoveationTiles columns, is about 165 KB of the calling thread's stack), deterministic: the
+// same bits on every CPU. Thread-safe for distinct maps (the planner is only read).
 FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze,
                                FoveationMaps* maps);
 
