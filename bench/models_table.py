@@ -5,9 +5,7 @@ Geisler-Perry's closed form measured in the same run; then the inverse, max_visi
 
     /usr/bin/python3 bench/models_table.py build/bench/bench_models [--min-time 0.3]
 """
-import argparse
-import json
-import subprocess
+import google_benchmark
 
 ORDER = [("geisler-perry", "geisler-perry (baseline)"), ("reddy", "reddy (step)"),
          ("default", "default (low-pass Daly × GP eccentricity)"), ("kelly-daly", "kelly-daly (band-pass)")]
@@ -16,14 +14,9 @@ COLUMNS = [("BM_threshold_scalar<double>", "double, scalar"), ("BM_threshold_sca
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("bench", help="path to bench_models")
-    parser.add_argument("--min-time", default="0.3")
-    args = parser.parse_args()
-    out = subprocess.run([args.bench, "--benchmark_min_time=" + args.min_time, "--benchmark_format=json"],
-                         check=True, capture_output=True, text=True).stdout
+    args = google_benchmark.arguments(__doc__, "bench_models")
     rate = {}  # (benchmark, model) -> evaluations per second
-    for b in json.loads(out)["benchmarks"]:
+    for b in google_benchmark.run(args.bench, args.min_time):
         rate[(b["run_name"].rsplit("/", 1)[0], b["label"])] = b["items_per_second"]
     print("| model | " + " | ".join(label for _, label in COLUMNS) + " | ns/eval (double) | vs. baseline |")
     print("|---|" + "---|" * (len(COLUMNS) + 2))

@@ -4,9 +4,7 @@ objects for each case, beside the plain distance loop of the same run, and the r
 
     /usr/bin/python3 bench/scheduler_table.py build/bench/bench_scheduler [--min-time 0.2]
 """
-import argparse
-import json
-import subprocess
+import google_benchmark
 import sys
 
 CASES = [  # (benchmark name prefix, label)
@@ -24,16 +22,11 @@ SIZES = [1000, 10000, 100000, 1000000]
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("bench", help="path to bench_scheduler")
-    parser.add_argument("--min-time", default="0.2")
-    args = parser.parse_args()
+    args = google_benchmark.arguments(__doc__, "bench_scheduler", min_time="0.2")
     pattern = "^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?|BM_add_profile/.*)$"
-    out = subprocess.run([args.bench, "--benchmark_filter=" + pattern, "--benchmark_min_time=" + args.min_time,
-                          "--benchmark_format=json"], check=True, capture_output=True, text=True).stdout
     ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
     setup = {}  # "tabulated" / "exact" -> (CPU ms per add_profile, table bytes)
-    for b in json.loads(out)["benchmarks"]:
+    for b in google_benchmark.run(args.bench, args.min_time, pattern):
         name = b["run_name"].removesuffix("/real_time")
         if name.startswith("BM_add_profile/"):
             scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
