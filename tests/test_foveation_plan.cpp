@@ -448,6 +448,29 @@ TEST(FoveationPlan, HeadRotationLowersTheCutoff) {
   EXPECT_EQ(plan(planner_for(off), turning, gaze_at(0, 0)).rate, a.rate);
 }
 
+// The shading work counts each tile's covered pixels, the last column's and row's partial ones too,
+// over its rates: summed here from the maps, for grids whose edges cut tiles, at every tile size.
+TEST(FoveationPlan, ShadingWorkCountsPartialTiles) {
+  const FoveationPlanner& planner = planner_for();
+  for (std::uint32_t tile : {8u, 16u, 32u})
+    for (const Gaze& gaze : {gaze_at(0, 0), gaze_at(25, -10), Gaze{}}) {
+      const Eye eye = make_eye(1001, 707, 55, 40);
+      const Plan p = plan(planner, eye, gaze, tile);
+      ASSERT_NE(eye.viewport[0] % tile, 0u);
+      double work = 0;
+      for (std::uint32_t r = 0; r < p.maps.rows; ++r)
+        for (std::uint32_t c = 0; c < p.maps.cols; ++c) {
+          const double w = std::min(tile, eye.viewport[0] - c * tile),
+                       h = std::min(tile, eye.viewport[1] - r * tile);
+          work += w * h / (p.rx(c, r) * p.ry(c, r));
+        }
+      EXPECT_DOUBLE_EQ(p.maps.shaded, work) << "tile " << tile;
+      if (gaze.valid) {  // some tiles coarser: less than every pixel (without gaze all are full rate)
+        EXPECT_LT(p.maps.shaded, p.maps.pixels);
+      }
+    }
+}
+
 TEST(FoveationPlan, SavesMoreThanHalfCentredOn2000At100Degrees) {
   const Plan p = plan(planner_for(), make_eye(2000, 2000, 50, 50), gaze_at(0, 0));
   EXPECT_GT(p.saved(), 0.5);
