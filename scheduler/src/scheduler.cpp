@@ -1388,17 +1388,6 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   std::uint8_t todo[kBlock];    // 2: the bounds over every view first; 1: through the object's view
   std::uint8_t tables[kBlock];  // the object's bias's first table set (kTableSets)
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
-  // The lookup cells of the directions to the eye, as vectors (cube_cell has no branches).
-  std::uint32_t resolution[kBlock], cell[kBlock];
-  for (std::uint32_t j = 0; j < n; ++j) {
-    const int p = profile_of_[first + j];
-    resolution[j] = p >= 0 ? profiles_[p].profile.meta.lookup_resolution : 1u;
-  }
-  ACUITY_NO_ALIAS
-  for (std::uint32_t j = 0; j < n; ++j) {
-    const float dir[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-    cell[j] = cube_cell(dir, resolution[j]);
-  }
   // Pass 1, branch-free: the tables' x and eccentricity cell and whether the image is still on the
   // retina (as retinal_slip() finds it), as vectors; then the bands the display shows (the lowest n:
   // the rest are invisible whatever the eye). With these the bounds over every view decide most objects.
@@ -1463,7 +1452,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 2 * L);
     }
   }
-  // Pass 3: the any-view decisions; the rest have their lookup cell's candidates prefetched.
+  // Pass 3: the any-view decisions; the rest have their lookup cell (of the direction to the eye)
+  // found and its candidates prefetched.
   for (std::uint32_t j = 0; j < n; ++j) {
     if (!todo[j]) continue;
     if (todo[j] == 2) {
@@ -1475,7 +1465,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
     }
     if (todo[j]) {
-      cand[j] = profiles_[profile_of_[first + j]].profile.lookup + cell[j] * kLookupCandidates;
+      const Profile& p = profiles_[profile_of_[first + j]].profile;
+      const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+      cand[j] = p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
       ACUITY_PREFETCH(cand[j]);
     }
   }

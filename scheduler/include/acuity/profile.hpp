@@ -160,7 +160,7 @@ void cube_cell_center(std::uint32_t cell, std::uint32_t resolution, float direct
 
 // ---- inline definitions ----
 [[gnu::always_inline]] inline std::uint32_t cube_cell(const float d[3], std::uint32_t r) {
-  // Selects only, no branches: the scheduler's frame loop runs it over a block of objects as vectors.
+  // Selects only, no branches: a loop over many directions vectorises.
   const float x = d[0], y = d[1], z = d[2];
   const float ax = x < 0 ? -x : x, ay = y < 0 ? -y : y, az = z < 0 ? -z : z;
   const bool on_x = ax >= ay && ax >= az, on_y = !on_x && ay >= az;  // else on z
