@@ -1,8 +1,8 @@
 // Scheduler::update throughput for 1k .. 1M objects sharing 100 profiles (6 levels, 8 orientations,
-// 8 bands), beside the plain loops an engine would write for distance LOD and screen-size LOD, in
-// the same run: the tabulated and the exact perceptual path, one thread and two threads on disjoint
-// ranges (this thread and a persistent worker released per frame by a barrier, as a host job system
-// would split a frame). Run:
+// 8 bands; in the *_one_mesh cases every object is an instance of the first), beside the plain loops
+// an engine would write for distance LOD and screen-size LOD, in the same run: the tabulated and the
+// exact perceptual path, one thread and two threads on disjoint ranges (this thread and a persistent
+// worker released per frame by a barrier, as a host job system would split a frame). Run:
 //   build/bench/bench_scheduler --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
@@ -70,7 +70,8 @@ struct Scene {
   std::vector<double> x, y, z;  // for the baseline loops
   std::vector<int> profile_of;
   Scene(std::uint32_t n, SelectionRule rule, float moving, Evaluation evaluation = Evaluation::Tabulated,
-        Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default) {
+        Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
+        int meshes = kProfiles) {
     SchedulerConfig c;
     c.model = model;
     c.max_objects = n;
@@ -94,7 +95,7 @@ struct Scene {
       float q[4] = {u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f};
       const float len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
       for (int k = 0; k < 4; ++k) t.rotation[k] = q[k] / len;
-      const int p = static_cast<int>(i % kProfiles);
+      const int p = static_cast<int>(i % std::uint32_t(meshes));
       const ObjectId id = scheduler->add_object(p, t);
       const float v[3] = {u(rng) < moving ? (u(rng) - 0.5f) * 20 : 0.0f, 0, 0};
       scheduler->set_velocity(id, v);
@@ -113,8 +114,9 @@ struct Scene {
 
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
-                  Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default) {
-  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model);
+                  Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
+                  int meshes = kProfiles) {
+  Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model, meshes);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   for (auto _ : state) {
     scene.scheduler->run_frame(scene.frame);
@@ -268,6 +270,15 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_static_exact, SelectionRu
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_all_moving_exact, SelectionRule::Perceptual, 1.0f,
                   Evaluation::Exact, 0.0f, Biases::None, ThresholdModel::Reddy)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+// Every object an instance of one mesh (foliage, rocks): one profile's tables instead of 100 profiles'.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_one_mesh, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, 1)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving_one_mesh, SelectionRule::Perceptual, 1.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, 1)
     ->Arg(100000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler_2threads, perceptual_static, 0.0f)->Apply(sizes)->UseRealTime();
