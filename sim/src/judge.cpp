@@ -1,4 +1,5 @@
-// Ground truth for the simulation's decisions, and the explanation of one decision.
+// Ground truth: the exact-view check of decisions (a run's, or sampled ones), and the explanation of
+// one decision.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,45 +11,29 @@
 
 #include "acuity/sim/simulation.hpp"
 #include "acuity/spectra/profile_writer.hpp"
+#include "exact_view.hpp"
 #include "geometry.hpp"
 
 namespace acuity::sim {
 
-std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, unsigned seed) {
-  const SceneAssets& scene = sim.scene();
-  const std::size_t objects = scene.instances.size(), frames = sim.frame_index();
-  std::vector<std::uint64_t> candidates;
-  for (std::size_t f = 0; f < frames; ++f)
-    for (std::uint32_t i = 0; i < objects; ++i)
-      if (sim.in_view(i, f)) candidates.push_back(f * objects + i);
-  std::mt19937 rng(seed * 31u + 5u);
-  std::shuffle(candidates.begin(), candidates.end(), rng);
-  candidates.resize(std::min<std::size_t>(count, candidates.size()));
-  std::sort(candidates.begin(), candidates.end());
-
-  // The exact view from the eyes' midpoint, and the display's pixels across the object there.
+std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
+                                           const SchedulerConfig& perceptual, double ppd) {
+  // The exact view's direction and up in object space, and the snapshot's pixels.
   struct Task {
-    Judged j;
     ProfileView view;
-    int asset;
+    std::uint32_t pixels;
   };
   std::vector<Task> tasks;
-  const SimulationOptions& o = sim.options();
-  const double ppd =
-      double(o.viewport) / (2 * std::tan(0.5 * double(o.fov_deg) / kDeg)) / kDeg;  // at the centre
-  for (std::uint64_t c : candidates) {
+  for (const ExactView& v : views) {
     Task t{};
-    t.j.frame = std::uint32_t(c / objects);
-    t.j.object = std::uint32_t(c % objects);
-    const Instance& in = scene.instances[t.j.object];
-    t.asset = in.asset;
-    const Frame& fr = sim.frame(t.j.frame);
-    const glm::dvec3 eye =
-        0.5 * (glm::dvec3(fr.eyes[0].position[0], fr.eyes[0].position[1], fr.eyes[0].position[2]) +
-               glm::dvec3(fr.eyes[1].position[0], fr.eyes[1].position[1], fr.eyes[1].position[2]));
-    const ObjectTransform tr = sim.transform(t.j.object, t.j.frame);
+    const Frame& fr = *v.frame;
+    glm::dvec3 eye(0.0);
+    for (std::uint32_t e = 0; e < fr.eye_count; ++e)
+      eye += glm::dvec3(fr.eyes[e].position[0], fr.eyes[e].position[1], fr.eyes[e].position[2]) /
+             double(fr.eye_count);
+    const ObjectTransform& tr = v.transform;
     const glm::dquat q(tr.rotation[3], tr.rotation[0], tr.rotation[1], tr.rotation[2]);
-    const glm::dvec3 centre = world_centre(scene.assets[std::size_t(in.asset)], tr);
+    const glm::dvec3 centre = world_centre(scene.assets[std::size_t(v.asset)], tr);
     const glm::dvec3 d = glm::inverse(q) * (eye - centre);
     const glm::dquat head(fr.eyes[0].orientation[3], fr.eyes[0].orientation[0], fr.eyes[0].orientation[1],
                           fr.eyes[0].orientation[2]);
@@ -65,44 +50,43 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
       }
     }
     const double distance = glm::length(eye - centre);
-    const double theta = distance > in.radius ? 2 * std::asin(in.radius / distance) * kDeg : 180.0;
-    std::uint32_t px = 64;
-    while (px < 512 && double(px) < 2 * theta * ppd)
-      px *= 2;  // bands up to px / 4 reach the display's Nyquist
-    t.j.pixels = px;
+    const double theta = distance > v.radius ? 2 * std::asin(v.radius / distance) * kDeg : 180.0;
+    t.pixels = 64;
+    while (t.pixels < 512 && double(t.pixels) < 2 * theta * ppd)
+      t.pixels *= 2;  // bands up to px / 4 reach the display's Nyquist
     tasks.push_back(t);
   }
 
   // One measurer per asset and resolution (FFTW plans are made here, serially), then the views in parallel.
   std::map<std::pair<int, std::uint32_t>, std::unique_ptr<spectra::ProfileMeasurer>> measurers;
   std::vector<std::vector<spectra::LevelInput>> inputs(scene.assets.size());
-  for (std::size_t a = 0; a < scene.assets.size(); ++a)
-    inputs[a] = bake::spectra_levels(scene.assets[a].chain);
-  for (const Task& t : tasks) {
-    auto& m = measurers[{t.asset, t.j.pixels}];
-    if (!m) {
-      spectra::ProfileSettings ps;
-      ps.render.pixels = t.j.pixels;
-      m = std::make_unique<spectra::ProfileMeasurer>(inputs[std::size_t(t.asset)],
-                                                     scene.assets[std::size_t(t.asset)].material, ps);
-    }
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const int a = views[i].asset;
+    auto& m = measurers[{a, tasks[i].pixels}];
+    if (m) continue;
+    if (inputs[std::size_t(a)].empty())
+      inputs[std::size_t(a)] = bake::spectra_levels(scene.assets[std::size_t(a)].chain);
+    spectra::ProfileSettings ps;
+    ps.render.pixels = tasks[i].pixels;
+    m = std::make_unique<spectra::ProfileMeasurer>(inputs[std::size_t(a)],
+                                                   scene.assets[std::size_t(a)].material, ps);
   }
   std::vector<spectra::ViewMeasurement> measured(tasks.size());
   tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t i) {
-    measured[i] = measurers.at({tasks[i].asset, tasks[i].j.pixels})->measure(tasks[i].view);
+    measured[i] = measurers.at({views[i].asset, tasks[i].pixels})->measure(tasks[i].view);
   });
 
   // Score every level with the perceptual rule's thresholds on a one-view profile of that exact view.
-  std::vector<Judged> out;
+  std::vector<ExactScores> out;
   for (std::size_t i = 0; i < tasks.size(); ++i) {
-    Task& t = tasks[i];
-    const Asset& a = scene.assets[std::size_t(t.asset)];
-    const spectra::ProfileMeasurer& m = *measurers.at({t.asset, t.j.pixels});
+    const ExactView& v = views[i];
+    const Asset& a = scene.assets[std::size_t(v.asset)];
+    const spectra::ProfileMeasurer& m = *measurers.at({v.asset, tasks[i].pixels});
     spectra::ProfileData d;
     std::copy(m.sphere(), m.sphere() + 4, d.sphere);
-    d.snapshot_pixels = t.j.pixels;
+    d.snapshot_pixels = tasks[i].pixels;
     d.levels.assign(a.profile.levels, a.profile.levels + a.profile.meta.level_count);
-    d.views = {t.view};
+    d.views = {tasks[i].view};
     d.orientations = spectra::orientation_angles(spectra::AnalysisSettings{});
     d.bands = m.analyzer().bands();
     d.lost = measured[i].lost;
@@ -111,7 +95,7 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     Profile p;
     if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok)
       throw std::logic_error("ground-truth profile does not open");
-    SchedulerConfig c = sim.rule("perceptual").scheduler->config();
+    SchedulerConfig c = perceptual;
     c.max_objects = 1;
     c.max_profiles = 1;
     c.hysteresis_margin = 0;
@@ -120,15 +104,50 @@ std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, 
     c.keep_scores = true;
     Scheduler s(c);
     s.add_profile(p);
-    const ObjectId id = s.add_object(0, sim.transform(t.j.object, t.j.frame));
-    const glm::dvec3 v = sim.velocity(t.j.object, t.j.frame);
-    const float vf[3] = {float(v.x), float(v.y), float(v.z)};
+    const ObjectId id = s.add_object(0, v.transform);
+    const float vf[3] = {float(v.velocity.x), float(v.velocity.y), float(v.velocity.z)};
     s.set_velocity(id, vf);
-    s.run_frame(sim.frame(t.j.frame));
-    t.j.scores.fill(0);
+    s.run_frame(*v.frame);
+    ExactScores e;
+    e.pixels = tasks[i].pixels;
     const float* scores = s.scores(id);
-    for (std::uint32_t k = 0; k < p.meta.level_count; ++k) t.j.scores[k] = scores[k];
-    out.push_back(t.j);
+    for (std::uint32_t k = 0; k < p.meta.level_count; ++k) e.scores[k] = scores[k];
+    out.push_back(e);
+  }
+  return out;
+}
+
+std::vector<Judged> judge_decisions(const Simulation& sim, std::uint32_t count, unsigned seed) {
+  const SceneAssets& scene = sim.scene();
+  const std::size_t objects = scene.instances.size(), frames = sim.frame_index();
+  std::vector<std::uint64_t> candidates;
+  for (std::size_t f = 0; f < frames; ++f)
+    for (std::uint32_t i = 0; i < objects; ++i)
+      if (sim.in_view(i, f)) candidates.push_back(f * objects + i);
+  std::mt19937 rng(seed * 31u + 5u);
+  std::shuffle(candidates.begin(), candidates.end(), rng);
+  candidates.resize(std::min<std::size_t>(count, candidates.size()));
+  std::sort(candidates.begin(), candidates.end());
+
+  // Each decision at the exact view of its frame, at the display's pixels per degree (its centre's).
+  const SimulationOptions& o = sim.options();
+  const double ppd = double(o.viewport) / (2 * std::tan(0.5 * double(o.fov_deg) / kDeg)) / kDeg;
+  std::vector<ExactView> views;
+  std::vector<Judged> out;
+  for (std::uint64_t c : candidates) {
+    Judged j{};
+    j.frame = std::uint32_t(c / objects);
+    j.object = std::uint32_t(c % objects);
+    const Instance& in = scene.instances[j.object];
+    views.push_back({in.asset, sim.transform(j.object, j.frame), sim.velocity(j.object, j.frame), in.radius,
+                     &sim.frame(j.frame)});
+    out.push_back(j);
+  }
+  const std::vector<ExactScores> scored =
+      judge_exact_views(scene, views, sim.rule("perceptual").scheduler->config(), ppd);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].pixels = scored[i].pixels;
+    out[i].scores = scored[i].scores;
   }
   return out;
 }

@@ -17,22 +17,15 @@ std::uint32_t visible_losses(const RuleRun& r, const std::vector<Judged>& judged
   return n;
 }
 
-// The sweep entries of rule `name` at `rate` (losses over judged), their triangles per frame compared
-// with `triangles` (per frame). Match's indices are into sim.rules().
-Match tuned(const Simulation& sim, const Results& r, const std::string& name, double rate, double triangles) {
-  const std::vector<RuleRun>& rules = sim.rules();
-  std::vector<int> index;
-  std::vector<SweepPoint> points;
-  for (std::size_t i = 0; i < rules.size(); ++i)
-    if (rules[i].sweep && rules[i].name == name) {
-      index.push_back(int(i));
-      points.push_back({r.fraction(i), rules[i].triangles / double(r.frames), rules[i].parameter});
-    }
-  Match m = at_equal_loss(points, rate);
-  if (m.rule >= 0) m.rule = index[std::size_t(m.rule)];
-  if (m.riskier >= 0) m.riskier = index[std::size_t(m.riskier)];
-  if (m.kind != Match::Kind::None && triangles > 0) m.ratio = m.triangles / triangles;
-  return m;
+// Every rule run of the simulation as the comparisons read it (indices as sim.rules()).
+std::vector<RuleEntry> rule_entries(const Simulation& sim, const Results& r) {
+  std::vector<RuleEntry> entries;
+  for (std::size_t i = 0; i < sim.rules().size(); ++i) {
+    const RuleRun& run = sim.rules()[i];
+    entries.push_back(
+        {run.name, run.sweep, {r.fraction(i), run.triangles / double(r.frames), run.parameter}});
+  }
+  return entries;
 }
 
 // Triangles over the judged decisions of the levels `run` chose.
@@ -66,19 +59,10 @@ double judged_triangles(const Simulation& sim, const Match& m, const std::vector
 // least_triangles over the judged decisions, `losses` of them allowed visible.
 double least_judged_triangles(const Simulation& sim, const std::vector<Judged>& judged, std::size_t losses) {
   const SceneAssets& scene = sim.scene();
-  std::vector<double> invisible, any;
-  for (const Judged& j : judged) {
-    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
-    double cheapest = p.levels[0].triangles, cheapest_invisible = cheapest;  // level 0 loses nothing
-    for (std::uint32_t k = 1; k < std::min<std::uint32_t>(p.meta.level_count, kMaxLevels); ++k) {
-      cheapest = std::min(cheapest, double(p.levels[k].triangles));
-      if (j.scores[k] <= 1.0f)
-        cheapest_invisible = std::min(cheapest_invisible, double(p.levels[k].triangles));
-    }
-    invisible.push_back(cheapest_invisible);
-    any.push_back(cheapest);
-  }
-  return least_triangles(invisible, any, losses);
+  std::vector<const Profile*> profiles;
+  for (const Judged& j : judged)
+    profiles.push_back(&scene.assets[std::size_t(scene.instances[j.object].asset)].profile);
+  return least_triangles_over(profiles, judged, losses);
 }
 
 // The rule's levels on the judged decisions against the oracle's.
@@ -128,6 +112,47 @@ Results::Group third_party(const Simulation& sim, const std::vector<Judged>& jud
 }
 
 }  // namespace
+
+Match tuned(const std::vector<RuleEntry>& entries, const std::string& name, double rate, double triangles) {
+  std::vector<int> index;
+  std::vector<SweepPoint> points;
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    if (entries[i].sweep && entries[i].name == name) {
+      index.push_back(int(i));
+      points.push_back(entries[i].point);
+    }
+  Match m = at_equal_loss(points, rate);
+  if (m.rule >= 0) m.rule = index[std::size_t(m.rule)];
+  if (m.riskier >= 0) m.riskier = index[std::size_t(m.riskier)];
+  if (m.kind != Match::Kind::None && triangles > 0) m.ratio = m.triangles / triangles;
+  return m;
+}
+
+std::string match_text(const std::vector<RuleEntry>& entries, const Match& m, const char* tuning,
+                       const char* of, const char* unit) {
+  if (m.kind == Match::Kind::None) return "no tuning in the sweep";
+  const bool at_least = m.kind == Match::Kind::AtLeast, at_most = m.kind == Match::Kind::AtMost;
+  const char* bound = at_least ? "at least " : at_most ? "at most " : "";
+  std::string out;
+  appendf(&out, "%s%.0f %s", bound, m.triangles, unit);
+  if (m.ratio > 0) appendf(&out, " = %s%.2fx %s", bound, m.ratio, of);
+  auto entry = [&](int i) {  // "0.0312 at 0.5%"
+    std::string e;
+    const SweepPoint& p = entries[std::size_t(i)].point;
+    appendf(&e, "%.3g at %.1f%%", p.parameter, 100.0 * p.rate);
+    return e;
+  };
+  if (at_least)
+    appendf(&out, " (no tuning is that safe; the safest: %s %s visible)", tuning, entry(m.riskier).c_str());
+  else if (at_most)
+    appendf(&out, " (every tuning is safer; the cheapest: %s %s visible)", tuning, entry(m.rule).c_str());
+  else if (m.riskier < 0)
+    appendf(&out, " (%s %s visible)", tuning, entry(m.rule).c_str());
+  else
+    appendf(&out, " (%s ~%.3g, between %s and %s visible)", tuning, m.parameter, entry(m.rule).c_str(),
+            entry(m.riskier).c_str());
+  return out;
+}
 
 Match at_equal_loss(const std::vector<SweepPoint>& sweep, double rate) {
   Match m;
@@ -202,6 +227,23 @@ double least_triangles(const std::vector<double>& invisible, const std::vector<d
   return sum;
 }
 
+double least_triangles_over(const std::vector<const Profile*>& profiles, const std::vector<Judged>& judged,
+                            std::size_t losses) {
+  std::vector<double> invisible, any;
+  for (std::size_t i = 0; i < judged.size(); ++i) {
+    const Profile& p = *profiles[i];
+    double cheapest = p.levels[0].triangles, cheapest_invisible = cheapest;  // level 0 loses nothing
+    for (std::uint32_t k = 1; k < std::min<std::uint32_t>(p.meta.level_count, kMaxLevels); ++k) {
+      cheapest = std::min(cheapest, double(p.levels[k].triangles));
+      if (judged[i].scores[k] <= 1.0f)
+        cheapest_invisible = std::min(cheapest_invisible, double(p.levels[k].triangles));
+    }
+    invisible.push_back(cheapest_invisible);
+    any.push_back(cheapest);
+  }
+  return least_triangles(invisible, any, losses);
+}
+
 int oracle_level(const Judged& judged, std::uint32_t levels) {
   int best = 0;
   for (std::uint32_t k = 1; k < std::min<std::uint32_t>(levels, kMaxLevels); ++k)
@@ -221,20 +263,21 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   r.perceptual = int(perceptual - rules.data());
   const double per_frame = 1.0 / double(r.frames);
   const double rate = r.fraction(std::size_t(r.perceptual));
-  r.screen_size = tuned(sim, r, "screen-size", rate, perceptual->triangles * per_frame);
-  r.distance = tuned(sim, r, "distance", rate, perceptual->triangles * per_frame);
+  const std::vector<RuleEntry> entries = rule_entries(sim, r);
+  r.screen_size = tuned(entries, "screen-size", rate, perceptual->triangles * per_frame);
+  r.distance = tuned(entries, "distance", rate, perceptual->triangles * per_frame);
   r.oracle = against_oracle(sim, *perceptual, judged);
   r.ungated = against_oracle(sim, sim.rule("ungated"), judged);
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].sweep && rules[i].name == "perceptual")
       r.quality_sweep.push_back({int(i),
-                                 tuned(sim, r, "screen-size", r.fraction(i), rules[i].triangles * per_frame),
+                                 tuned(entries, "screen-size", r.fraction(i), rules[i].triangles * per_frame),
                                  against_oracle(sim, rules[i], judged)});
-  r.one_percent_perceptual = tuned(sim, r, "perceptual", 0.01, 0);
+  r.one_percent_perceptual = tuned(entries, "perceptual", 0.01, 0);
   const double at_one =
       r.one_percent_perceptual.kind == Match::Kind::Interpolated ? r.one_percent_perceptual.triangles : 0;
-  r.one_percent_screen_size = tuned(sim, r, "screen-size", 0.01, at_one);
-  r.one_percent_distance = tuned(sim, r, "distance", 0.01, at_one);
+  r.one_percent_screen_size = tuned(entries, "screen-size", 0.01, at_one);
+  r.one_percent_distance = tuned(entries, "distance", 0.01, at_one);
   r.one_percent_losses = judged.size() / 100;
   r.least_at_one_percent = least_judged_triangles(sim, judged, r.one_percent_losses);
   r.screen_size_judged_at_one_percent = judged_triangles(sim, r.one_percent_screen_size, judged);
@@ -243,32 +286,6 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
 }
 
 namespace {
-
-// A Match in words: triangles per frame, ratio over `of`, and the tuning (named `tuning`).
-std::string match_text(const Simulation& sim, const Results& r, const Match& m, const char* tuning,
-                       const char* of) {
-  if (m.kind == Match::Kind::None) return "no tuning in the sweep";
-  const bool at_least = m.kind == Match::Kind::AtLeast, at_most = m.kind == Match::Kind::AtMost;
-  const char* bound = at_least ? "at least " : at_most ? "at most " : "";
-  std::string out;
-  appendf(&out, "%s%.0f triangles/frame", bound, m.triangles);
-  if (m.ratio > 0) appendf(&out, " = %s%.2fx %s", bound, m.ratio, of);
-  auto entry = [&](int i) {  // "0.0312 at 0.5%"
-    std::string e;
-    appendf(&e, "%.3g at %.1f%%", sim.rules()[std::size_t(i)].parameter, 100.0 * r.fraction(std::size_t(i)));
-    return e;
-  };
-  if (at_least)
-    appendf(&out, " (no tuning is that safe; the safest: %s %s visible)", tuning, entry(m.riskier).c_str());
-  else if (at_most)
-    appendf(&out, " (every tuning is safer; the cheapest: %s %s visible)", tuning, entry(m.rule).c_str());
-  else if (m.riskier < 0)
-    appendf(&out, " (%s %s visible)", tuning, entry(m.rule).c_str());
-  else
-    appendf(&out, " (%s ~%.3g, between %s and %s visible)", tuning, m.parameter, entry(m.rule).c_str(),
-            entry(m.riskier).c_str());
-  return out;
-}
 
 // The same in a table cell: "0.0312 px: 1.45x", "~0.041 px: 1.30x", "< 0.0312 px: >= 1.45x".
 std::string match_cell(const Match& m, const char* unit) {
@@ -290,6 +307,7 @@ std::string summary_text(const Simulation& sim, const Results& r) {
   const std::vector<RuleRun>& rules = sim.rules();
   const RuleRun& perceptual = rules[std::size_t(r.perceptual)];
   const double per_frame = 1.0 / double(r.frames);
+  const std::vector<RuleEntry> entries = rule_entries(sim, r);
   std::string out;
   appendf(&out,
           "\n%zu frames at %.0f Hz (%.1f s), two eyes, %zu objects; all in-view objects at their finest: "
@@ -338,18 +356,23 @@ std::string summary_text(const Simulation& sim, const Results& r) {
           "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering "
           "both levels at the exact view; the baselines' sweeps interpolated):\n",
           100.0 * r.fraction(std::size_t(r.perceptual)), r.judged);
-  appendf(&out, "  %-12s %s\n", "screen-size",
-          match_text(sim, r, r.screen_size, "pixel error", "the perceptual rule's").c_str());
-  appendf(&out, "  %-12s %s\n", "distance",
-          match_text(sim, r, r.distance, "distance scale", "the perceptual rule's").c_str());
-  appendf(&out, "At a 1%% rate of visible losses (every sweep interpolated):\n");
-  appendf(&out, "  %-12s %s\n", "perceptual", match_text(sim, r, r.one_percent_perceptual, "q", "").c_str());
   appendf(
       &out, "  %-12s %s\n", "screen-size",
-      match_text(sim, r, r.one_percent_screen_size, "pixel error", "the perceptual rule's at 1%").c_str());
+      match_text(entries, r.screen_size, "pixel error", "the perceptual rule's", "triangles/frame").c_str());
   appendf(
       &out, "  %-12s %s\n", "distance",
-      match_text(sim, r, r.one_percent_distance, "distance scale", "the perceptual rule's at 1%").c_str());
+      match_text(entries, r.distance, "distance scale", "the perceptual rule's", "triangles/frame").c_str());
+  appendf(&out, "At a 1%% rate of visible losses (every sweep interpolated):\n");
+  appendf(&out, "  %-12s %s\n", "perceptual",
+          match_text(entries, r.one_percent_perceptual, "q", "", "triangles/frame").c_str());
+  appendf(&out, "  %-12s %s\n", "screen-size",
+          match_text(entries, r.one_percent_screen_size, "pixel error", "the perceptual rule's at 1%",
+                     "triangles/frame")
+              .c_str());
+  appendf(&out, "  %-12s %s\n", "distance",
+          match_text(entries, r.one_percent_distance, "distance scale", "the perceptual rule's at 1%",
+                     "triangles/frame")
+              .c_str());
   const Oracle& oracle = r.oracle;
   const double n = double(oracle.same + oracle.finer + oracle.coarser);
   appendf(

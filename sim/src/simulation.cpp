@@ -8,6 +8,23 @@
 
 namespace acuity::sim {
 
+std::vector<Tuning> swept_tunings(int wider) {
+  std::vector<Tuning> out;
+  for (int i = -6; i <= 2 + wider; ++i)
+    out.push_back({"perceptual", SelectionRule::Perceptual, std::exp2(0.25 * i)});
+  for (int i = -20 - wider; i <= 12; ++i)
+    out.push_back({"screen-size", SelectionRule::ScreenSize, std::exp2(0.25 * i)});
+  for (int i = -8; i <= 20; ++i) out.push_back({"distance", SelectionRule::Distance, std::exp2(0.25 * i)});
+  return out;
+}
+
+void tune(SchedulerConfig* c, SelectionRule rule, double parameter) {
+  c->rule = rule;
+  if (rule == SelectionRule::Perceptual) c->quality = float(parameter);
+  if (rule == SelectionRule::ScreenSize) c->pixel_error = float(parameter);
+  if (rule == SelectionRule::Distance) c->distance_scale = float(parameter);
+}
+
 Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : scene_(scene), options_(o) {
   if (!(o.fps > 0) || !(o.seconds > 0))
     throw std::runtime_error("simulate: seconds and fps must be positive");
@@ -120,9 +137,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
       c2.hysteresis_frames = 0;
       c2.max_coarsen_wait = 0;
     }
-    if (rule == SelectionRule::Perceptual) c2.quality = float(parameter);
-    if (rule == SelectionRule::ScreenSize) c2.pixel_error = float(parameter);
-    if (rule == SelectionRule::Distance) c2.distance_scale = float(parameter);
+    tune(&c2, rule, parameter);
     r.scheduler = std::make_unique<Scheduler>(c2);
     for (const Asset& a : scene.assets) r.scheduler->add_profile(a.profile);
     for (const Instance& in : scene.instances) r.scheduler->add_object(in.asset, in.transform);
@@ -134,9 +149,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
   add("distance", SelectionRule::Distance, 1, false);
   add("screen-size", SelectionRule::ScreenSize, 1, false);
   add("ungated", SelectionRule::Perceptual, 1, false);
-  for (int i = -6; i <= 2; ++i) add("perceptual", SelectionRule::Perceptual, std::exp2(0.25 * i), true);
-  for (int i = -20; i <= 12; ++i) add("screen-size", SelectionRule::ScreenSize, std::exp2(0.25 * i), true);
-  for (int i = -8; i <= 20; ++i) add("distance", SelectionRule::Distance, std::exp2(0.25 * i), true);
+  for (const Tuning& t : swept_tunings()) add(t.name, t.rule, t.parameter, true);
 }
 
 Simulation::~Simulation() = default;

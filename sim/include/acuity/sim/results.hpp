@@ -35,6 +35,21 @@ struct Match {
 // are not positive, are ignored.
 Match at_equal_loss(const std::vector<SweepPoint>& sweep, double rate);
 
+// A rule at one tuning as the comparisons read it: its name, whether it is a sweep entry, and its
+// rate of visible losses, triangles and tuning.
+struct RuleEntry {
+  std::string name;
+  bool sweep = false;
+  SweepPoint point;
+};
+// at_equal_loss over the sweep entries named `name`; the Match's indices index `entries`, its ratio
+// is its triangles over `triangles` (none when that is 0).
+Match tuned(const std::vector<RuleEntry>& entries, const std::string& name, double rate, double triangles);
+// A Match in words: "<triangles> <unit> = <ratio>x <of> (<tuning> ...)", naming the sweep entries
+// it lies between (their tuning and rate).
+std::string match_text(const std::vector<RuleEntry>& entries, const Match& m, const char* tuning,
+                       const char* of, const char* unit);
+
 // A rule against the oracle over judged decisions: per decision, the oracle's level is the
 // coarsest the exact-view check finds invisible (score <= 1; level 0 loses nothing).
 struct Oracle {
@@ -51,6 +66,9 @@ int oracle_level(const Judged& judged, std::uint32_t levels);
 // of `invisible` less the `losses` largest savings any - invisible. Same-sized vectors.
 double least_triangles(const std::vector<double>& invisible, const std::vector<double>& any,
                        std::size_t losses);
+// The same over judged decisions, decision i of an object with profile `profiles[i]`.
+double least_triangles_over(const std::vector<const Profile*>& profiles, const std::vector<Judged>& judged,
+                            std::size_t losses);
 
 struct Results {
   std::size_t frames = 0, objects = 0, judged = 0;

@@ -49,6 +49,18 @@ struct RuleRun {
   std::uint64_t switches = 0, switches_outside_saccades = 0;
 };
 
+// The tunings the comparisons sweep, in quarter octaves: the perceptual rule's quality q 0.35..1.41,
+// screen-size's pixel error 1/32..8 px, distance's scale 1/4..32; `wider` quarter octaves more at the
+// lossy end of q and the safe end of the pixel error (the simulation's sweeps: 0).
+struct Tuning {
+  const char* name;  // "perceptual", "screen-size", "distance"
+  SelectionRule rule;
+  double parameter;
+};
+std::vector<Tuning> swept_tunings(int wider = 0);
+// `c` set to `rule` at tuning `parameter` (quality, pixel error or distance scale; else unused).
+void tune(SchedulerConfig* c, SelectionRule rule, double parameter);
+
 class Simulation {
  public:
   Simulation(const SceneAssets& scene, const SimulationOptions& options);

@@ -1,0 +1,37 @@
+#pragma once
+// The exact-view check both judges share (private to sim/): judge_decisions() for a run's
+// decisions, run_sampled() for sampled ones.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "acuity/scheduler.hpp"
+#include "acuity/sim/scene.hpp"
+
+namespace acuity::sim {
+
+// An object where it stands: an asset of the scene, its pose, world velocity [m/s] and bounding
+// radius [m], seen in `frame` (from its eyes' midpoint, with the first eye's up).
+struct ExactView {
+  int asset = 0;
+  ObjectTransform transform{};
+  glm::dvec3 velocity{0.0};
+  double radius = 0;
+  const Frame* frame = nullptr;
+};
+
+struct ExactScores {
+  std::uint32_t pixels = 0;                // the snapshot's size
+  std::array<float, kMaxLevels> scores{};  // per level; level 0 is 0
+};
+
+// Each view rendered at the display's resolution (2 x its angular diameter x `ppd` px/deg, a power
+// of two from 64 to 512), every level against level 0, the lost contrast scored by the thresholds
+// of `perceptual` (its quality, model and display; no hysteresis) in that frame. Views are measured
+// in parallel; the result is in their order and does not depend on the thread count.
+std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
+                                           const SchedulerConfig& perceptual, double ppd);
+
+}  // namespace acuity::sim
