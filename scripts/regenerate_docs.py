@@ -2,7 +2,7 @@
 """Regenerates every figure in docs/ from the command that produces it, or checks them.
 
   python3 scripts/regenerate_docs.py [--build build]              the quick figures (the demo's summary, images)
-  python3 scripts/regenerate_docs.py --all [--build build]        also the slow ones: the 600-decision demo and every
+  python3 scripts/regenerate_docs.py --all [--build build]        also the slow ones: the 600-decision and sampled demos, every
                                                                   benchmark table (an idle machine: ~50 min)
   python3 scripts/regenerate_docs.py --only NAME [NAME ...]       just these figures (--list names them)
   python3 scripts/regenerate_docs.py --check [NAME ...]           fail when a deterministic figure differs from its command
@@ -61,6 +61,16 @@ def demo_summary(stdout):
     return "\n".join(lines[start:end]).strip("\n")
 
 
+def sampled_summary(stdout):
+    """The sampled decisions' block in a demo's output: from 'N decisions sampled' up to 'acuity demo finished'."""
+    lines = stdout.splitlines()
+    start = next((i for i, l in enumerate(lines) if " decisions sampled (seed " in l), None)
+    if start is None:
+        sys.exit("the demo printed no sampled decisions ('N decisions sampled ...'):\n" + stdout)
+    end = next((i for i in range(start, len(lines)) if lines[i].startswith("acuity demo finished")), len(lines))
+    return "\n".join(lines[start:end]).strip("\n")
+
+
 def meshes(b):
     return os.path.join(b, "cgal-data", "data", "meshes")
 
@@ -77,6 +87,9 @@ FIGURES = [
            lambda b: [acuity(b), "demo", "--cache", os.path.join(b, "demo"), "--validate", "600", "-o",
                       os.path.join(b, "demo", "validate600")],
            measured=False, fenced=True, extract=demo_summary, slow=True),
+    Figure("demo-sampled", "demo.md",
+           lambda b: [acuity(b), "demo", "--cache", os.path.join(b, "demo"), "--sampled", "400"],
+           measured=False, fenced=True, extract=sampled_summary, slow=True),
     Figure("foveation-table", "foveation.md", lambda b: [acuity(b), "plan", "--table"], measured=False),
     Figure("foveation-speed", "foveation.md",
            lambda b: [PY, os.path.join(ROOT, "bench", "foveation_table.py"), os.path.join(b, "bench", "bench_foveation")],

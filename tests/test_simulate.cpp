@@ -18,6 +18,7 @@
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/results.hpp"
+#include "acuity/sim/sampled.hpp"
 #include "mesh_fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -568,6 +569,99 @@ TEST(Oracle, LeastTrianglesSpendsTheAllowedLossesWhereTheySaveMost) {
   EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 2), 80);
   EXPECT_DOUBLE_EQ(least_triangles(invisible, any, 99), 80);  // more losses than decisions
   EXPECT_DOUBLE_EQ(least_triangles({}, {}, 1), 0);
+}
+
+// Sampled decisions: each where its sample puts it (diameter, eccentricity, retinal speed across the
+// line of sight, computed back from the pose), judged like the simulation's decisions, and every
+// rule's losses and triangles counted from its levels; the sweeps monotone in their tuning.
+TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
+  const SceneAssets& scene = small_scene();
+  SampleOptions o;
+  o.count = std::getenv("ACUITY_QUICK_TESTS") ? 6 : 16;
+  o.max_diameter_deg = 3;  // snapshots of at most 128 px: a quick judge
+  o.moving = 0.5;
+  const SampledRun run = run_sampled(scene, o);
+  ASSERT_EQ(run.decisions.size(), o.count);
+  ASSERT_EQ(run.judged.size(), o.count);
+  std::uint32_t moving = 0;
+  for (std::uint32_t i = 0; i < o.count; ++i) {
+    const SampledDecision& d = run.decisions[i];
+    const Profile& p = scene.assets[std::size_t(d.asset)].profile;
+    EXPECT_TRUE(d.diameter_deg >= 1 && d.diameter_deg <= 3) << d.diameter_deg;
+    EXPECT_TRUE(d.eccentricity_deg >= 0 && d.eccentricity_deg <= 40) << d.eccentricity_deg;
+    // The sphere's centre from the pose: its diameter and angle from the gaze (0, 0, -1).
+    const double len = std::sqrt(double(d.transform.rotation[0]) * d.transform.rotation[0] +
+                                 double(d.transform.rotation[1]) * d.transform.rotation[1] +
+                                 double(d.transform.rotation[2]) * d.transform.rotation[2] +
+                                 double(d.transform.rotation[3]) * d.transform.rotation[3]);
+    EXPECT_NEAR(len, 1.0, 1e-6);
+    const double x = d.transform.rotation[0], y = d.transform.rotation[1], z = d.transform.rotation[2],
+                 w = d.transform.rotation[3];
+    const double c[3] = {p.meta.sphere[0], p.meta.sphere[1], p.meta.sphere[2]};
+    // q c q*, written out.
+    const double t[3] = {2 * (y * c[2] - z * c[1]), 2 * (z * c[0] - x * c[2]), 2 * (x * c[1] - y * c[0])};
+    const double centre[3] = {d.transform.position[0] + c[0] + w * t[0] + (y * t[2] - z * t[1]),
+                              d.transform.position[1] + c[1] + w * t[1] + (z * t[0] - x * t[2]),
+                              d.transform.position[2] + c[2] + w * t[2] + (x * t[1] - y * t[0])};
+    const double dist = std::sqrt(centre[0] * centre[0] + centre[1] * centre[1] + centre[2] * centre[2]);
+    EXPECT_NEAR(2 * std::asin(p.meta.sphere[3] / dist) * 180 / kPi, d.diameter_deg, 1e-6 * d.diameter_deg);
+    EXPECT_NEAR(std::acos(-centre[2] / dist) * 180 / kPi, d.eccentricity_deg, 1e-5);
+    // The velocity across the line of sight, at the sampled angular speed.
+    const double along =
+        (d.velocity[0] * centre[0] + d.velocity[1] * centre[1] + d.velocity[2] * centre[2]) / dist;
+    const double speed =
+        std::sqrt(double(d.velocity[0]) * d.velocity[0] + double(d.velocity[1]) * d.velocity[1] +
+                  double(d.velocity[2]) * d.velocity[2]);
+    EXPECT_NEAR(along, 0.0, 1e-5 * (1 + speed));
+    EXPECT_NEAR(speed / dist * 180 / kPi, d.speed_deg_s, 1e-5 * (1 + d.speed_deg_s));
+    moving += d.speed_deg_s > 0;
+    if (d.speed_deg_s > 0) { EXPECT_TRUE(d.speed_deg_s >= 1 && d.speed_deg_s <= 30) << d.speed_deg_s; }
+    EXPECT_EQ(run.judged[i].object, i);
+    EXPECT_EQ(run.judged[i].scores[0], 0.0f);  // the finest level loses nothing
+    EXPECT_TRUE(run.judged[i].pixels >= 64 && run.judged[i].pixels <= 128) << run.judged[i].pixels;
+  }
+  EXPECT_GT(moving, 0u);
+  EXPECT_LT(moving, o.count);
+  // Every rule's rate and triangles from its levels; the main perceptual rule is its q = 1 sweep entry.
+  const SweepPoint* previous_q = nullptr;
+  const SweepPoint* previous_px = nullptr;
+  for (std::size_t r = 0; r < run.rules.size(); ++r) {
+    double triangles = 0;
+    std::uint32_t losses = 0;
+    for (std::uint32_t i = 0; i < o.count; ++i) {
+      const std::uint8_t level = run.levels[r][i];
+      triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[level].triangles;
+      losses += run.judged[i].scores[level] > 1.0f;
+    }
+    const RuleEntry& e = run.rules[r];
+    EXPECT_DOUBLE_EQ(e.point.triangles, triangles) << e.name;
+    EXPECT_EQ(run.visible[r], losses) << e.name;
+    EXPECT_DOUBLE_EQ(e.point.rate, double(losses) / o.count) << e.name;
+    if (e.sweep && e.name == "perceptual") {
+      if (e.point.parameter == 1.0) { EXPECT_EQ(run.levels[r], run.levels[0]); }
+      if (previous_q) { EXPECT_LE(e.point.triangles, previous_q->triangles); }  // a larger q never finer
+      previous_q = &e.point;
+    }
+    if (e.sweep && e.name == "screen-size") {
+      if (previous_px) { EXPECT_LE(e.point.triangles, previous_px->triangles); }
+      previous_px = &e.point;
+    }
+  }
+  EXPECT_EQ(run.rules[0].name, "perceptual");
+  EXPECT_FALSE(run.rules[0].sweep);
+  const std::string text = sampled_text(scene, run);
+  EXPECT_NE(text.find(std::to_string(o.count) + " decisions sampled"), std::string::npos) << text;
+  EXPECT_NE(text.find("Against the oracle"), std::string::npos) << text;
+  // Bad options are named.
+  SampleOptions bad = o;
+  bad.count = 0;
+  EXPECT_NE(error_of([&] { run_sampled(scene, bad); }).find("count"), std::string::npos);
+  bad = o;
+  bad.min_diameter_deg = 5;  // above the maximum
+  EXPECT_NE(error_of([&] { run_sampled(scene, bad); }).find("diameters"), std::string::npos);
+  bad = o;
+  bad.moving = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(error_of([&] { run_sampled(scene, bad); }).find("moving"), std::string::npos);
 }
 
 TEST(FrameImage, ObjectsTakeTheirLevelColourAndTheGazeIsMarked) {

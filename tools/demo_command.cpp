@@ -13,6 +13,7 @@
 #include "acuity/bake/chains.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/generators.hpp"
+#include "acuity/sim/sampled.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -25,6 +26,7 @@ struct DemoOptions {
   std::string meshes = ACUITY_DEMO_MESHES, cache = ACUITY_DEMO_CACHE;
   SimulationOptions sim;
   std::uint32_t pixels = 256;
+  std::uint32_t sampled = 0;  // > 0: that many sampled decisions instead of the fly-through
 };
 
 // lodgen's chain of one demo mesh (5 levels), or the one an earlier run cached as <cache>/<name>.glb.
@@ -70,6 +72,16 @@ void run(const DemoOptions& o) {
   ao.profiles = (fs::path(o.cache) / "profiles").string();
   ao.profile_pixels = o.pixels;
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(scene_path, ao);
+  if (o.sampled > 0) {
+    sim::SampleOptions sampled;
+    sampled.count = o.sampled;
+    sampled.seed = o.sim.seed;
+    std::printf("\nsampled decisions: %u, judged by rendering each at its exact view\n", o.sampled);
+    const sim::SampledRun run = sim::run_sampled(*scene, sampled);
+    std::printf("\n%s\nacuity demo finished in %.1f s.\n", sim::sampled_text(*scene, run).c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return;
+  }
   std::printf("\nsimulate: %.0f s at %.0f Hz, fixations, saccades, pursuit of %u moving objects, blinks\n",
               o.sim.seconds, o.sim.fps, o.sim.movers);
   const RunResult result = run_simulation(*scene, so, true);
@@ -102,6 +114,10 @@ void add_demo_command(CLI::App& app) {
   cmd->add_option("--seed", o->sim.seed, "Layout and gaze seed")->capture_default_str();
   cmd->add_option("--validate", o->sim.validate, "Decisions judged by render-and-analyze")
       ->capture_default_str();
+  cmd->add_option("--sampled", o->sampled,
+                  "Instead of the fly-through, this many decisions sampled over size, eccentricity and "
+                  "retinal speed (docs/demo.md), each judged")
+      ->check(CLI::Range(1u, 100000u));
   cmd->add_option("--res", o->pixels, "Snapshot pixels of the profiles")->capture_default_str();
   cmd->callback([o] { run(*o); });
 }
