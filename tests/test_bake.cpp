@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -399,4 +400,59 @@ TEST(Bake, CacheFolderIsClearedOfWhatAnotherVersionOrSettingMade) {
   // A new folder is made.
   EXPECT_FALSE(bake::refresh_cache((dir / "new" / "deeper").string(), {"ball"}, ""));
   EXPECT_TRUE(fs::exists(dir / "new" / "deeper" / "cache-stamp"));
+}
+
+// cached_chain builds with the options it is given and reads the cached file back: with creases at
+// 0 degrees every level is flat-shaded (each corner's normal its triangle's), with the default 45
+// degrees a ball stays smooth (corners share vertices and normals differ across a triangle).
+TEST(Bake, CachedChainBuildsWithItsOptionsAndReadsTheCacheBack) {
+  const fs::path dir = scratch("cached_chain");
+  write_off(dir / "ball.off", 3, 1, 1, 1);
+  auto flat_corners = [](const lodgen::Mesh& m) {  // corners whose normal is their triangle's
+    std::size_t n = 0;
+    for (std::size_t t = 0; t < m.indices.size(); t += 3) {
+      const float* p[3];
+      const float* nn[3];
+      for (int k = 0; k < 3; ++k) {
+        p[k] = &m.positions[3 * std::size_t(m.indices[t + k])];
+        nn[k] = &m.normals[3 * std::size_t(m.indices[t + k])];
+      }
+      const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+      const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+      double f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                     e1[0] * e2[1] - e1[1] * e2[0]};
+      const double len = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      for (int k = 0; k < 3; ++k) {
+        const double dot = (f[0] * nn[k][0] + f[1] * nn[k][1] + f[2] * nn[k][2]) / len;
+        n += dot > 0.9999;
+      }
+    }
+    return n;
+  };
+  lodgen::ChainOptions flat;
+  flat.levels = 3;
+  flat.decimate.crease_degrees = 0;
+  bool cached = true;
+  const lodgen::LodObject built =
+      bake::cached_chain((dir / "ball.off").string(), (dir / "flat.glb").string(), flat, &cached);
+  EXPECT_FALSE(cached);
+  ASSERT_EQ(built.chain.levels.size(), 3u);
+  for (const lodgen::Level& l : built.chain.levels) {
+    ASSERT_EQ(l.mesh.normals.size(), l.mesh.positions.size());
+    EXPECT_EQ(flat_corners(l.mesh), l.mesh.indices.size());
+  }
+  const lodgen::LodObject again =
+      bake::cached_chain((dir / "ball.off").string(), (dir / "flat.glb").string(), flat, &cached);
+  EXPECT_TRUE(cached);
+  ASSERT_EQ(again.chain.levels.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k)
+    EXPECT_EQ(again.chain.levels[k].mesh.triangle_count(), built.chain.levels[k].mesh.triangle_count());
+  lodgen::ChainOptions smooth;
+  smooth.levels = 3;
+  const lodgen::LodObject round =
+      bake::cached_chain((dir / "ball.off").string(), (dir / "smooth.glb").string(), smooth, &cached);
+  EXPECT_FALSE(cached);
+  const lodgen::Mesh& top = round.chain.levels[0].mesh;
+  EXPECT_LT(top.vertex_count(), top.indices.size() / 2);  // shared corners
+  EXPECT_LT(flat_corners(top), top.indices.size() / 10);
 }

@@ -27,14 +27,23 @@ struct DemoOptions {
   SimulationOptions sim;
   std::uint32_t pixels = 256;
   std::uint32_t sampled = 0;  // > 0: that many sampled decisions instead of the fly-through
+  bool flat = false;          // every level flat-shaded (every edge a crease), as a faceted engine draws
 };
+
+// lodgen's options for the demo's chains: 5 levels, creases at 45 degrees (or every edge, flat).
+lodgen::ChainOptions chain_options(const DemoOptions& o) {
+  lodgen::ChainOptions c;
+  c.levels = 5;
+  if (o.flat) c.decimate.crease_degrees = 0;
+  return c;
+}
 
 // lodgen's chain of one demo mesh (5 levels), or the one an earlier run cached as <cache>/<name>.glb.
 lodgen::LodObject chain_for(const sim::DemoMesh& mesh, const DemoOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const fs::path glb = fs::path(o.cache) / (mesh.name + ".glb");
   bool cached = false;
-  lodgen::LodObject obj = bake::cached_chain(mesh.path, glb.string(), 5, &cached);
+  lodgen::LodObject obj = bake::cached_chain(mesh.path, glb.string(), chain_options(o), &cached);
   obj.name = mesh.name;
   if (cached) {
     std::printf("  %-15s LOD chain cached in %s\n", mesh.name.c_str(), glb.string().c_str());
@@ -52,13 +61,15 @@ void run(const DemoOptions& o) {
       sim::demo_meshes(o.meshes, ACUITY_DEMO_ASSIMP_MODELS, ACUITY_DEMO_WEBXR_PROFILES);
   std::vector<std::string> names;
   for (const sim::DemoMesh& m : meshes) names.push_back(m.name);
-  if (!bake::refresh_cache(o.cache, names, "profile pixels " + std::to_string(o.pixels)))
+  const std::string settings = "profile pixels " + std::to_string(o.pixels) + (o.flat ? ", flat-shaded" : "");
+  if (!bake::refresh_cache(o.cache, names, settings))
     std::printf("(%s: cached chains and profiles of another version or settings removed)\n", o.cache.c_str());
   SimulationOptions so = o.sim;
   if (so.output.empty()) so.output = (fs::path(o.cache) / "simulate").string();
   const auto start = std::chrono::steady_clock::now();
   std::printf(
-      "acuity demo: seven real meshes, a field of 64 objects, an eye-tracked fly-through\n\nlodgen:\n");
+      "acuity demo: seven real meshes%s, a field of 64 objects, an eye-tracked fly-through\n\nlodgen:\n",
+      o.flat ? " flat-shaded" : "");
   std::vector<lodgen::LodObject> objects;
   for (const sim::DemoMesh& m : meshes) {
     objects.push_back(chain_for(m, o));
@@ -118,6 +129,9 @@ void add_demo_command(CLI::App& app) {
                   "Instead of the fly-through, this many decisions sampled over size, eccentricity and "
                   "retinal speed (docs/demo.md), each judged")
       ->check(CLI::Range(1u, 100000u));
+  cmd->add_flag("--flat", o->flat,
+                "Flat-shaded chains and profiles (every edge a crease), as an engine drawing faceted "
+                "meshes shows them; use a --cache of their own");
   cmd->add_option("--res", o->pixels, "Snapshot pixels of the profiles")->capture_default_str();
   cmd->callback([o] { run(*o); });
 }

@@ -116,8 +116,8 @@ ChainFile read_chain_file(const std::string& path, const std::string& asset_root
   throw lodgen::InputError(path + ": no node with MSFT_lod levels");
 }
 
-lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb, std::size_t levels,
-                               bool* cached) {
+lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb,
+                               const lodgen::ChainOptions& options, bool* cached) {
   lodgen::LodObject obj;
   *cached = std::filesystem::exists(cache_glb);
   if (*cached) {
@@ -126,7 +126,7 @@ lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache
   }
   ChainRequest request;
   request.input = mesh;
-  request.chain.levels = levels;
+  request.chain = options;
   obj = std::move(build_scene_chains(request).objects.at(0));
   lodgen::write_lod_gltf(cache_glb, {obj}, {});
   return obj;

@@ -70,11 +70,11 @@ struct ChainFile {
 // Throws lodgen::InputError naming the file when it has no node with MSFT_lod levels.
 ChainFile read_chain_file(const std::string& path, const std::string& asset_root = {});
 
-// The chain of the mesh file `mesh` in `levels` levels (lodgen's defaults otherwise), written to
-// `cache_glb`; or, when `cache_glb` exists, the chain read back from it (*cached set true). The
-// object is unnamed and at the origin.
-lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb, std::size_t levels,
-                               bool* cached);
+// The chain of the mesh file `mesh` built with `options`, written to `cache_glb`; or, when
+// `cache_glb` exists, the chain read back from it (*cached set true: the caller keeps the cache true
+// to its options, refresh_cache). The object is unnamed and at the origin.
+lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb,
+                               const lodgen::ChainOptions& options, bool* cached);
 
 // Keeps a folder of cached chains (<dir>/<name>.glb, as cached_chain writes them) and profiles
 // (<dir>/profiles/<name>.acuity) true to the code and settings that made them: its stamp
