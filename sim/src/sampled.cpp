@@ -109,7 +109,7 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
     c.hysteresis_margin = 0;
     c.hysteresis_frames = 0;
     tune(&c, t.rule, t.parameter);
-    if (run.levels.empty()) perceptual = c;
+    if (run.levels.empty()) perceptual = c;  // the first, q = 1: its thresholds judge
     Scheduler s(c);
     for (const Asset& a : scene.assets) s.add_profile(a.profile);
     for (const SampledDecision& d : run.decisions)
