@@ -117,7 +117,9 @@ void add_demo_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("demo", "The whole system on its embedded default scene (the README's main job)");
   cmd->add_option("--meshes", o->meshes, "Directory of libcgal-demo meshes")->capture_default_str();
-  cmd->add_option("--cache", o->cache, "Where LOD chains and profiles are kept between runs")
+  cmd->add_option("--cache", o->cache,
+                  "Where LOD chains and profiles are kept between runs (with --flat and no --cache: this "
+                  "folder's name + '-flat')")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->sim.output,
                   "Directory for CSV, plots and frame images (default: CACHE/simulate)");
@@ -131,9 +133,12 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::Range(1u, 100000u));
   cmd->add_flag("--flat", o->flat,
                 "Flat-shaded chains and profiles (every edge a crease), as an engine drawing faceted "
-                "meshes shows them; use a --cache of their own");
+                "meshes shows them, kept apart from the smooth ones");
   cmd->add_option("--res", o->pixels, "Snapshot pixels of the profiles")->capture_default_str();
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o, cmd] {
+    if (o->flat && cmd->count("--cache") == 0) o->cache += "-flat";  // never over the smooth cache
+    run(*o);
+  });
 }
 
 }  // namespace acuity::tools
