@@ -239,8 +239,10 @@ def main():
         chosen = [f for f in FIGURES if a.all or not f.slow]
     for fig in chosen:
         print(f"{fig.name}: {shown(fig.argv(build), build)}", flush=True)
-        path, text, old = documented(fig)
-        write_atomically(path, text.replace(old, produce(fig, build)).encode("utf-8"))
+        documented(fig)  # the block exists, before a long run
+        new = produce(fig, build)
+        path, text, old = documented(fig)  # read after the run: edits made meanwhile are kept
+        write_atomically(path, text.replace(old, new).encode("utf-8"))
     if not a.only:
         images(build, a.no_osg, a.no_web)
     print("regenerated", ", ".join(f.name for f in chosen), "from", build)
