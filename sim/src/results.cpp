@@ -56,26 +56,21 @@ double judged_triangles(const Simulation& sim, const Match& m, const std::vector
   return at_a * std::exp(t * std::log(at_b / at_a));
 }
 
-// least_triangles over the judged decisions, `losses` of them allowed visible.
-double least_judged_triangles(const Simulation& sim, const std::vector<Judged>& judged, std::size_t losses) {
+// Each judged decision's profile (its object's asset's).
+std::vector<const Profile*> judged_profiles(const Simulation& sim, const std::vector<Judged>& judged) {
   const SceneAssets& scene = sim.scene();
   std::vector<const Profile*> profiles;
   for (const Judged& j : judged)
     profiles.push_back(&scene.assets[std::size_t(scene.instances[j.object].asset)].profile);
-  return least_triangles_over(profiles, judged, losses);
+  return profiles;
 }
 
 // The rule's levels on the judged decisions against the oracle's.
 Oracle against_oracle(const Simulation& sim, const RuleRun& run, const std::vector<Judged>& judged) {
-  const SceneAssets& scene = sim.scene();
-  Oracle o;
-  for (const Judged& j : judged) {
-    const Profile& p = scene.assets[std::size_t(scene.instances[j.object].asset)].profile;
-    const int best = oracle_level(j, p.meta.level_count);
-    const int level = run.levels[std::size_t(j.frame) * scene.instances.size() + j.object];
-    o.add(level, best, p.levels[level].triangles, p.levels[best].triangles);
-  }
-  return o;
+  std::vector<std::uint8_t> levels;
+  for (const Judged& j : judged)
+    levels.push_back(run.levels[std::size_t(j.frame) * sim.scene().instances.size() + j.object]);
+  return against_oracle(judged_profiles(sim, judged), levels, judged);
 }
 
 // Every rule on the instances of options().third_party's assets.
@@ -244,6 +239,17 @@ double least_triangles_over(const std::vector<const Profile*>& profiles, const s
   return least_triangles(invisible, any, losses);
 }
 
+Oracle against_oracle(const std::vector<const Profile*>& profiles, const std::vector<std::uint8_t>& levels,
+                      const std::vector<Judged>& judged) {
+  Oracle o;
+  for (std::size_t i = 0; i < judged.size(); ++i) {
+    const Profile& p = *profiles[i];
+    const int best = oracle_level(judged[i], p.meta.level_count);
+    o.add(levels[i], best, p.levels[levels[i]].triangles, p.levels[best].triangles);
+  }
+  return o;
+}
+
 int oracle_level(const Judged& judged, std::uint32_t levels) {
   int best = 0;
   for (std::uint32_t k = 1; k < std::min<std::uint32_t>(levels, kMaxLevels); ++k)
@@ -279,7 +285,7 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   r.one_percent_screen_size = tuned(entries, "screen-size", 0.01, at_one);
   r.one_percent_distance = tuned(entries, "distance", 0.01, at_one);
   r.one_percent_losses = judged.size() / 100;
-  r.least_at_one_percent = least_judged_triangles(sim, judged, r.one_percent_losses);
+  r.least_at_one_percent = least_triangles_over(judged_profiles(sim, judged), judged, r.one_percent_losses);
   r.screen_size_judged_at_one_percent = judged_triangles(sim, r.one_percent_screen_size, judged);
   r.third_party = third_party(sim, judged, r.frames);
   return r;

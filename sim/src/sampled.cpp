@@ -193,15 +193,10 @@ std::string sampled_text(const SceneAssets& scene, const SampledRun& run) {
           match_text(run.rules, tuned(run.rules, "distance", 0.01, perceptual_at_one), "distance scale",
                      "the perceptual rule's at 1%", "triangles")
               .c_str());
-  Oracle oracle;
   std::vector<const Profile*> profiles;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Profile& p = scene.assets[std::size_t(run.decisions[i].asset)].profile;
-    profiles.push_back(&p);
-    const int best = oracle_level(run.judged[i], p.meta.level_count);
-    const int level = run.levels[0][i];
-    oracle.add(level, best, p.levels[level].triangles, p.levels[best].triangles);
-  }
+  for (const SampledDecision& d : run.decisions)
+    profiles.push_back(&scene.assets[std::size_t(d.asset)].profile);
+  const Oracle oracle = against_oracle(profiles, run.levels[0], run.judged);
   appendf(
       &out,
       "Against the oracle (per decision, the coarsest level the exact-view check finds invisible):\n"

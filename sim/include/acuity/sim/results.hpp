@@ -58,6 +58,10 @@ struct Oracle {
   void add(int level, int oracle, double level_triangles, double oracle_level_triangles);
   double ratio() const;  // rule_triangles / oracle_triangles; NaN when that is 0
 };
+// A rule's `levels` on judged decisions against the oracle's, decision i of an object with profile
+// `profiles[i]` (same-sized vectors).
+Oracle against_oracle(const std::vector<const Profile*>& profiles, const std::vector<std::uint8_t>& levels,
+                      const std::vector<Judged>& judged);
 // The coarsest of the first `levels` levels (at most kMaxLevels) whose score is <= 1; 0 when none is.
 int oracle_level(const Judged& judged, std::uint32_t levels);
 
