@@ -65,12 +65,13 @@ std::vector<const Profile*> judged_profiles(const Simulation& sim, const std::ve
   return profiles;
 }
 
-// The rule's levels on the judged decisions against the oracle's.
-Oracle against_oracle(const Simulation& sim, const RuleRun& run, const std::vector<Judged>& judged) {
+// The rule's level at each judged decision.
+std::vector<std::uint8_t> judged_levels(const Simulation& sim, const RuleRun& run,
+                                        const std::vector<Judged>& judged) {
   std::vector<std::uint8_t> levels;
   for (const Judged& j : judged)
     levels.push_back(run.levels[std::size_t(j.frame) * sim.scene().instances.size() + j.object]);
-  return against_oracle(judged_profiles(sim, judged), levels, judged);
+  return levels;
 }
 
 // Every rule on the instances of options().third_party's assets.
@@ -272,20 +273,21 @@ Results analyse(const Simulation& sim, const std::vector<Judged>& judged) {
   const std::vector<RuleEntry> entries = rule_entries(sim, r);
   r.screen_size = tuned(entries, "screen-size", rate, perceptual->triangles * per_frame);
   r.distance = tuned(entries, "distance", rate, perceptual->triangles * per_frame);
-  r.oracle = against_oracle(sim, *perceptual, judged);
-  r.ungated = against_oracle(sim, sim.rule("ungated"), judged);
+  const std::vector<const Profile*> profiles = judged_profiles(sim, judged);
+  r.oracle = against_oracle(profiles, judged_levels(sim, *perceptual, judged), judged);
+  r.ungated = against_oracle(profiles, judged_levels(sim, sim.rule("ungated"), judged), judged);
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (rules[i].sweep && rules[i].name == "perceptual")
       r.quality_sweep.push_back({int(i),
                                  tuned(entries, "screen-size", r.fraction(i), rules[i].triangles * per_frame),
-                                 against_oracle(sim, rules[i], judged)});
+                                 against_oracle(profiles, judged_levels(sim, rules[i], judged), judged)});
   r.one_percent_perceptual = tuned(entries, "perceptual", 0.01, 0);
   const double at_one =
       r.one_percent_perceptual.kind == Match::Kind::Interpolated ? r.one_percent_perceptual.triangles : 0;
   r.one_percent_screen_size = tuned(entries, "screen-size", 0.01, at_one);
   r.one_percent_distance = tuned(entries, "distance", 0.01, at_one);
   r.one_percent_losses = judged.size() / 100;
-  r.least_at_one_percent = least_triangles_over(judged_profiles(sim, judged), judged, r.one_percent_losses);
+  r.least_at_one_percent = least_triangles_over(profiles, judged, r.one_percent_losses);
   r.screen_size_judged_at_one_percent = judged_triangles(sim, r.one_percent_screen_size, judged);
   r.third_party = third_party(sim, judged, r.frames);
   return r;
