@@ -1170,6 +1170,93 @@ TEST(SchedulerTabulated, ABiasDecidesThroughTheTablesOfItsQuality) {
   }
 }
 
+// A decision over every view is remembered per object and eye with the inputs it stands under, and
+// reused while they hold. Objects that stay, approach or recede (their size and bands shown change,
+// their velocity given as 0), drift sideways and stop, or start moving; an eye
+// that shifts by millimetres and a gaze that wanders; biases and eye counts that change; slots reused
+// by another profile: each frame's levels must be those of a scheduler that keeps every level's score
+// (which decides through each object's own view, remembering nothing), with the hysteresis margin's
+// tables too. (Checked to fail when the memo ignores any input it stands under.)
+TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
+  const TestProfile six, four(4, 8, 6);
+  struct Case {
+    const char* name;
+    ThresholdModel model;
+    ViewBlend blend;
+    float margin;
+  };
+  const Case cases[] = {{"default", ThresholdModel::Default, ViewBlend::Nearest, 0.0f},
+                        {"default margin max3", ThresholdModel::Default, ViewBlend::Max3, 0.25f},
+                        {"reddy margin", ThresholdModel::Reddy, ViewBlend::Nearest, 0.25f}};
+  const int objects = 400, frames = 60;
+  for (const Case& k : cases) {
+    SchedulerConfig c;
+    c.model = k.model;
+    c.view_blend = k.blend;
+    c.hysteresis_margin = k.margin;
+    c.max_objects = objects;
+    c.tabulated_biases[0] = 2.0f;
+    SchedulerConfig scored_config = c;
+    scored_config.keep_scores = true;
+    Scheduler remembering(c), scored(scored_config);
+    for (Scheduler* s : {&remembering, &scored}) {
+      s->add_profile(six.profile);
+      s->add_profile(four.profile);
+    }
+    Rng rng(7);
+    std::vector<RandomObject> scene;
+    std::vector<float> step;  // per object: radial [fraction of the distance per frame] or sideways [m]
+    for (int i = 0; i < objects; ++i) {
+      scene.push_back(random_object(rng, 0));
+      step.push_back(i % 5 == 0   ? rng.uniform(-0.03f, 0.03f)
+                     : i % 5 == 1 ? rng.uniform(-0.02f, 0.02f)
+                                  : 0.0f);
+      for (Scheduler* s : {&remembering, &scored}) {
+        EXPECT_EQ(s->add_object(i % 2, scene[i].t), ObjectId(i));
+        if (i % 5 == 0) s->set_velocity(ObjectId(i), scene[i].v);  // given as 0: its image stays still
+      }
+    }
+    Frame fr = looking_forward();
+    gaze_at(fr, 0.1, 0.05, -1);
+    int compared = 0, differ = 0;
+    for (int f = 0; f < frames; ++f) {
+      if (f % 7 == 3) fr.eyes[0].position[0] += rng.uniform(-0.003f, 0.003f);
+      if (f % 5 == 1) gaze_at(fr, rng.uniform(-0.3f, 0.3f), rng.uniform(-0.2f, 0.2f), -1);
+      fr.gaze[0].valid = f % 11 != 10;
+      fr.eye_count = f >= 50 ? 2 : 1;
+      fr.eyes[1] = fr.eyes[0];
+      fr.eyes[1].position[0] += 0.064;
+      fr.gaze[1] = fr.gaze[0];
+      for (int i = 0; i < objects; ++i) {
+        double* x = scene[i].t.position;
+        if (i % 5 == 0)  // along the line of sight from the origin
+          for (int a = 0; a < 3; ++a) x[a] *= 1.0 + double(step[i]);
+        if (i % 5 == 1 && f < 30) x[0] += double(step[i]);  // sideways, then still
+        for (Scheduler* s : {&remembering, &scored}) {
+          s->set_transform(ObjectId(i), scene[i].t);
+          if (i % 5 == 2 && f == 45) {  // starts moving where it stands: its image slips at once
+            const float v[3] = {0.5f * float(-x[2]), 0.0f, 0.5f * float(x[0])};
+            s->set_velocity(ObjectId(i), v);
+          }
+          if (f % 13 == 6 && i % 3 == 0) s->set_bias(ObjectId(i), (f / 13) % 2 ? 2.0f : 1.0f);
+          if (f % 17 == 8 && i % 37 == 0) s->set_bias(ObjectId(i), 0.7f);  // no tables: exact
+          if (f == 20 && i % 9 == 0) {  // the slot reused by the other profile
+            s->remove_object(ObjectId(i));
+            EXPECT_EQ(s->add_object((i + 1) % 2, scene[i].t), ObjectId(i));
+          }
+        }
+      }
+      remembering.run_frame(fr);
+      scored.run_frame(fr);
+      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
+        ++compared;
+        differ += remembering.level(id) != scored.level(id);
+      }
+    }
+    EXPECT_EQ(differ, 0) << k.name << ": " << differ << " of " << compared << " levels differ";
+  }
+}
+
 // Extreme but valid profiles: loss near 0 or enormous, a tiny object, one level. Tables stay finite
 // (decisions defined, never coarser than exact), and invalid input still falls back with a flag.
 TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {

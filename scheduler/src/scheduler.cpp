@@ -536,6 +536,27 @@ struct Scheduler::EyeCache {
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
+// Per eye and object, the last decision the bounds over every view made (tabulate()'s pass 3), with
+// the inputs under which it stands: the same key (eccentricity cell, still or not, table set), the
+// same bands shown (f_lo * inv_diam <= Nyquist < f_hi * inv_diam: the lowest shown band and the next
+// one, +inf past the profile's) and x in (lo, hi], where no entry it compared against lies. Tables
+// never change once built, so within these the decision is the one the rows would give again: an
+// object kept still, or moving slowly, is decided from its own memo without reading a table. Object
+// slots start (add_object) with no memo.
+struct Scheduler::Memo {
+  static constexpr std::uint32_t kNone = ~0u;  // a key no object has
+  static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t tables) {
+    return ec | still << 5 | tables << 6;
+  }
+  std::vector<std::uint32_t> key;
+  std::vector<std::int32_t> lo, hi;  // x [1/1024 ln deg]
+  std::vector<float> f_lo, f_hi;     // band centres [cpod]
+  std::vector<std::uint8_t> fine, coarse;
+  explicit Memo(std::size_t n = 0)
+      : key(n, kNone), lo(n, 0), hi(n, 0), f_lo(n, kInf), f_hi(n, kInf), fine(n, 0), coarse(n, 0) {}
+};
+static_assert(kStillE - 1 <= 32 && kTableSets <= (1u << 26), "Memo::key's fields fit");
+
 Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
   const std::size_t n = config_.max_objects;
@@ -612,6 +633,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
     previous = next;
   }
   if (tabulated()) {
+    memos_ = std::unique_ptr<Memo[]>(new Memo[2]{Memo(n), Memo(n)});
     curves_ = std::make_unique<Curves>();
     curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
     curves_->slow.resize(std::size_t(kStillE) * kCurveSamples);
@@ -874,6 +896,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   flags_[id] = 0;
   calm_frames_[id] = wait_frames_[id] = 0;
   fade_[id] = 1.0f;
+  if (memos_) memos_[0].key[id] = memos_[1].key[id] = Memo::kNone;  // another profile's, maybe
   return id;
 }
 
@@ -1348,6 +1371,17 @@ struct Scheduler::Probe {
   }
 };
 
+// The interval of x where the comparisons with `count` entries of `row` keep their outcome (x <= r
+// for each): (lo, hi], lo the largest entry below x, hi the least at or above it (narrowed in place).
+[[gnu::always_inline]] inline void keep_outcome(const std::int16_t* row, std::uint32_t count, std::int32_t x,
+                                                std::int32_t* lo, std::int32_t* hi) {
+  for (std::uint32_t k = 0; k < count; ++k) {
+    const std::int32_t r = row[k];
+    *lo = r < x ? std::max(*lo, r) : *lo;
+    *hi = r < x ? *hi : std::min(*hi, r);
+  }
+}
+
 // The level the bounds over every view decide for one object (set 0: score <= 1, set 1: <= 1 - margin),
 // or -1 where its view would matter. A view's bound between its cell's two nodes lies between the
 // least and the most of them, so for a still object the coarsest level passing the least bound
@@ -1375,53 +1409,74 @@ struct Scheduler::Probe {
 }
 
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
-// cache misses overlap: the inputs of the bounds over every view (pass 1), the objects decided
-// without tables and the any-view rows of the rest (2), the any-view decisions (3); for the objects
-// they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not
-// seen (invalid input, eye inside) take the fallback or finest level; an object whose bias has no
-// tables (not a tabulated bias) is evaluated exactly. Writes out[j], and with `scores` (kMaxLevels
-// per object) each level's score.
+// cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
+// (pass 1), the objects decided without tables and the any-view rows of the rest (2), the any-view
+// decisions, memorised (3); for the objects they leave, the view, slip and grid cell (4), the moving
+// rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or
+// finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
+// Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                         Choice* out, float (*scores)[kMaxLevels]) const {
+                         Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
   const std::uint16_t* cand[kBlock];
   Probe probe[kBlock];
   std::uint8_t todo[kBlock];    // 2: the bounds over every view first; 1: through the object's view
   std::uint8_t tables[kBlock];  // the object's bias's first table set (kTableSets)
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   // Pass 1, branch-free: the tables' x and eccentricity cell and whether the image is still on the
-  // retina (as retinal_slip() finds it), as vectors; then the bands the display shows (the lowest n:
-  // the rest are invisible whatever the eye). With these the bounds over every view decide most objects.
+  // retina (as retinal_slip() finds it), as vectors; with these, whether the object's memo stands.
   std::int32_t x_step[kBlock];
   std::uint32_t ec_j[kBlock], bands[kBlock];
-  float ec_w[kBlock];
-  std::uint32_t still[kBlock];  // 0 or 1, as wide as the loop's floats (so it vectorises)
+  float ec_w[kBlock], inv_diam[kBlock];
+  std::uint32_t still[kBlock];     // 0 or 1, as wide as the loop's floats (so it vectorises)
+  std::uint32_t memo_hit[kBlock];  // 0 or 1
   const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
+  const std::uint32_t* memo_key = &memo.key[first];
+  const std::int32_t *memo_lo = &memo.lo[first], *memo_hi = &memo.hi[first];
+  const float *f_lo = &memo.f_lo[first], *f_hi = &memo.f_hi[first];
+  const std::uint8_t* bias_tables = &bias_tables_[first];
+  const std::uint32_t use_memo = scores == nullptr;
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
-    x_step[j] = size_steps_above(b.ln_diam[j]);
+    const std::int32_t x = size_steps_above(b.ln_diam[j]);
+    x_step[j] = x;
     const Cell ec = e_cell<kStillE>(b.e[j]);
     ec_j[j] = ec.j;
     ec_w[j] = ec.w;
     still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, tracked);
+    inv_diam[j] = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    const std::uint32_t seen = (b.test[j] == 0.0f) & (b.d[j] > b.r[j]);
+    const std::uint32_t same_bands =
+        (f_lo[j] * inv_diam[j] <= b.nyquist[j]) & !(f_hi[j] * inv_diam[j] <= b.nyquist[j]);
+    memo_hit[j] = use_memo & seen & (memo_key[j] == Memo::key_of(ec.j, still[j], bias_tables[j])) &
+                  same_bands & (memo_lo[j] < x) & (x <= memo_hi[j]);
   }
-  const float* band_frequency[kBlock];
-  for (std::uint32_t j = 0; j < n; ++j)
-    band_frequency[j] = &band_frequency_[std::size_t(std::max(profile_of_[first + j], 0)) * kMaxBands];
+  // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
+  std::uint8_t miss[kBlock];
+  std::uint32_t miss_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
-    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    miss[miss_count] = static_cast<std::uint8_t>(j);
+    miss_count += memo_hit[j] ^ 1u;
+  }
+  for (std::uint32_t i = 0; i < miss_count; ++i) {
+    const std::uint32_t j = miss[i];
+    const float* frequency = &band_frequency_[std::size_t(std::max(profile_of_[first + j], 0)) * kMaxBands];
     std::uint32_t shown = 0;
-    for (std::uint32_t k = 0; k < max_band_count_; ++k)
-      shown += band_frequency[j][k] * inv_diam <= b.nyquist[j];
+    for (std::uint32_t k = 0; k < max_band_count_; ++k) shown += frequency[k] * inv_diam[j] <= b.nyquist[j];
     bands[j] = shown;
   }
-  // Pass 2: objects not seen, of a bias without tables or with nothing to choose; the any-view rows
-  // of the rest found (per table set) and prefetched, so that pass 3 decides without reading a profile.
+  // Pass 2: objects decided by their memo, not seen, of a bias without tables or with nothing to
+  // choose; the any-view rows of the rest found (per table set) and prefetched, so that pass 3
+  // decides without reading a profile.
   const int sets = margin_sets(config_);  // the hysteresis margin's tables too
   const std::int16_t* rows[2][kBlock];
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
-    const int p = profile_of_[id];
     todo[j] = 0;
+    if (memo_hit[j]) {
+      out[j] = {memo.fine[id], memo.coarse[id], gaze_flag};
+      continue;
+    }
+    const int p = profile_of_[id];
     if (p < 0) continue;
     const Look look = b.state(j);
     if (look != Look::Ok || bias_tables_[id] == kExactBias) {
@@ -1452,20 +1507,36 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 2 * L);
     }
   }
-  // Pass 3: the any-view decisions; the rest have their lookup cell (of the direction to the eye)
-  // found and its candidates prefetched.
-  for (std::uint32_t j = 0; j < n; ++j) {
+  // Pass 3: the any-view decisions, each memorised with the interval of x it stands in; the rest
+  // have their lookup cell (of the direction to the eye) found and its candidates prefetched.
+  for (std::uint32_t i = 0; i < miss_count; ++i) {
+    const std::uint32_t j = miss[i];
     if (!todo[j]) continue;
+    const ObjectId id = first + j;
     if (todo[j] == 2) {
-      const std::uint32_t L = level_count_[profile_of_[first + j]] - 1u;
+      const std::uint32_t L = level_count_[profile_of_[id]] - 1u;
       const int fine = any_view_level(rows[0][j], L, x_step[j], still[j]);
       const int coarse = sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j]) : fine;
       todo[j] = coarse < 0;
-      if (coarse >= 0)
+      if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
+        std::int32_t lo = std::numeric_limits<std::int32_t>::min(),
+                     hi = std::numeric_limits<std::int32_t>::max();
+        for (int set = 0; set < sets; ++set)  // the entries any_view_level() compared x with
+          keep_outcome(still[j] ? rows[set][j] : rows[set][j] + 2 * L, still[j] ? 2 * L : 1, x_step[j], &lo,
+                       &hi);
+        const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];
+        memo.key[id] = Memo::key_of(ec_j[j], still[j], bias_tables_[id]);
+        memo.lo[id] = lo;
+        memo.hi[id] = hi;
+        memo.f_lo[id] = frequency[bands[j] - 1];
+        memo.f_hi[id] = bands[j] < kMaxBands ? frequency[bands[j]] : kInf;
+        memo.fine[id] = static_cast<std::uint8_t>(fine);
+        memo.coarse[id] = static_cast<std::uint8_t>(coarse);
+      }
     }
     if (todo[j]) {
-      const Profile& p = profiles_[profile_of_[first + j]].profile;
+      const Profile& p = profiles_[profile_of_[id]].profile;
       const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
       cand[j] = p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
       ACUITY_PREFETCH(cand[j]);
@@ -1790,7 +1861,7 @@ void Scheduler::choose_tabulated(std::uint32_t first, std::uint32_t n, const Blo
                    ? reinterpret_cast<float(*)[kMaxLevels]>(&scores_[std::size_t(first) * kMaxLevels])
                    : nullptr;
   for (std::uint32_t i = 0; i < eye_count_; ++i)
-    tabulate(eyes_[i], first, n, blocks[i], eye_choice[i], kept && i > 0 ? eye_scores : kept);
+    tabulate(eyes_[i], first, n, blocks[i], memos_[i], eye_choice[i], kept && i > 0 ? eye_scores : kept);
   for (std::uint32_t j = 0; j < n; ++j) {
     const int p = profile_of_[first + j];
     if (p < 0) continue;

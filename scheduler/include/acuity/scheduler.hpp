@@ -172,7 +172,10 @@ struct FrameStats {
 // still and slow ones): most objects are decided from those before their view is looked up, exactly
 // as their own view's tables would decide. Per object and frame the work is the geometry, then one
 // table read (decided over every view), or one per level (still) or per level and orientation
-// (moving) through the object's view. Tables are
+// (moving) through the object's view. A decision over every view is kept per object and eye (22
+// bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
+// still or moving image and bands shown, and a size between the entries it was compared with. While
+// those hold, the next frames take it without reading a table: the same decision, bit for bit. Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
@@ -268,8 +271,9 @@ class Scheduler {
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   struct Probe;                                       // tabulated path: one object's table position
-  void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Choice* out,
-                float (*scores)[kMaxLevels]) const;
+  struct Memo;  // tabulated path: per eye, each object's last decision by the bounds over every view
+  void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
+                Choice* out, float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
@@ -323,6 +327,7 @@ class Scheduler {
   // Frame state.
   std::unique_ptr<Precomputed> pre_;                    // model constants and the velocity envelope
   std::unique_ptr<Curves> curves_;                      // tabulated path: threshold curves on the table grid
+  std::unique_ptr<Memo[]> memos_;                       // tabulated path: [2], one per eye
   float table_bias_[1 + kMaxTabulatedBiases] = {1.0f};  // the biases with tables: 1, then the config's
   std::uint32_t table_bias_count_ = 1;
   std::vector<EyeCache> eyes_;
