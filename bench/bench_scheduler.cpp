@@ -115,10 +115,18 @@ struct Scene {
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
                   Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
-                  int meshes = kProfiles) {
+                  int meshes = kProfiles, bool sweep = false) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model, meshes);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
+  float yaw = 0;                                              // [deg]
   for (auto _ : state) {
+    if (sweep) {  // the head yaws back and forth over +-15 deg, frame by frame
+      float& speed = scene.frame.eyes[0].angular_velocity[1];
+      yaw += speed * scene.frame.dt;
+      if (std::abs(yaw) > 15.0f) speed = yaw > 0 ? -head_turn_deg_s : head_turn_deg_s;
+      scene.frame.eyes[0].orientation[1] = std::sin(0.5f * yaw * 3.14159265f / 180.0f);
+      scene.frame.eyes[0].orientation[3] = std::cos(0.5f * yaw * 3.14159265f / 180.0f);
+    }
     scene.scheduler->run_frame(scene.frame);
     benchmark::DoNotOptimize(scene.scheduler->stats().triangles);
   }
@@ -240,6 +248,11 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual
 // Still objects, the head turning at 30 deg/s (a VR head is never quite still): every image moves.
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_turning, SelectionRule::Perceptual, 0.0f,
                   Evaluation::Tabulated, 30.0f)
+    ->Apply(sizes);
+// The same head sweeping +-15 deg at 30 deg/s: each frame its own (the other cases repeat one frame,
+// so every remembered decision stands; here eccentricities change as a real head moves them).
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_sweeping, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 30.0f, Biases::None, ThresholdModel::Default, kProfiles, true)
     ->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)
     ->Apply(sizes);

@@ -13,6 +13,7 @@ CASES = [  # (benchmark name prefix, label)
     ("BM_scheduler/perceptual_static", "perceptual, still, tabulated"),
     ("BM_scheduler/perceptual_all_moving", "perceptual, all moving, tabulated"),
     ("BM_scheduler/perceptual_head_turning", "perceptual, still, head turning 30 deg/s, tabulated"),
+    ("BM_scheduler/perceptual_head_sweeping", "perceptual, still, head sweeping ±15° at 30 deg/s, tabulated"),
     ("BM_scheduler/perceptual_static_exact", "perceptual, still, exact"),
     ("BM_scheduler/perceptual_all_moving_exact", "perceptual, all moving, exact"),
     ("BM_scheduler_2threads/perceptual_static", "perceptual, still, tabulated, 2 threads"),
