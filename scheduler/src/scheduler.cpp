@@ -1371,17 +1371,6 @@ struct Scheduler::Probe {
   }
 };
 
-// The interval of x where the comparisons with `count` entries of `row` keep their outcome (x <= r
-// for each): (lo, hi], lo the largest entry below x, hi the least at or above it (narrowed in place).
-[[gnu::always_inline]] inline void keep_outcome(const std::int16_t* row, std::uint32_t count, std::int32_t x,
-                                                std::int32_t* lo, std::int32_t* hi) {
-  for (std::uint32_t k = 0; k < count; ++k) {
-    const std::int32_t r = row[k];
-    *lo = r < x ? std::max(*lo, r) : *lo;
-    *hi = r < x ? *hi : std::min(*hi, r);
-  }
-}
-
 // The level the bounds over every view decide for one object (set 0: score <= 1, set 1: <= 1 - margin),
 // or -1 where its view would matter. A view's bound between its cell's two nodes lies between the
 // least and the most of them, so for a still object the coarsest level passing the least bound
@@ -1396,14 +1385,23 @@ struct Scheduler::Probe {
   return &pc.sets[set].any_view[((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
 }
 // row: any_view_row()'s for a profile of L coarser levels; x: the object's ln angular diameter
-// rounded up to the tables' step [1/1024 ln deg].
+// rounded up to the tables' step [1/1024 ln deg]. (*lo, *hi] narrows to the x where each entry
+// compared keeps its outcome (lo the largest below x, hi the least at or above it): there the
+// result is the same, so a memo of it stands there.
 [[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
-                                                            std::int32_t x, bool still) {
-  if (!still) return x <= row[2 * L] ? static_cast<int>(L) : -1;
+                                                            std::int32_t x, bool still, std::int32_t* lo,
+                                                            std::int32_t* hi) {
+  const auto passes_entry = [x, lo, hi](std::int32_t entry) {
+    const bool passes = x <= entry;
+    *lo = passes ? *lo : std::max(*lo, entry);
+    *hi = passes ? std::min(*hi, entry) : *hi;
+    return passes;
+  };
+  if (!still) return passes_entry(row[2 * L]) ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = x <= row[k - 1] ? static_cast<int>(k) : passes;
-    may_pass = x <= row[L + k - 1] ? static_cast<int>(k) : may_pass;
+    passes = passes_entry(row[k - 1]) ? static_cast<int>(k) : passes;
+    may_pass = passes_entry(row[L + k - 1]) ? static_cast<int>(k) : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
@@ -1515,16 +1513,14 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const ObjectId id = first + j;
     if (todo[j] == 2) {
       const std::uint32_t L = level_count_[profile_of_[id]] - 1u;
-      const int fine = any_view_level(rows[0][j], L, x_step[j], still[j]);
-      const int coarse = sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j]) : fine;
+      std::int32_t lo = std::numeric_limits<std::int32_t>::min(),
+                   hi = std::numeric_limits<std::int32_t>::max();
+      const int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &lo, &hi);
+      const int coarse =
+          sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j], &lo, &hi) : fine;
       todo[j] = coarse < 0;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
-        std::int32_t lo = std::numeric_limits<std::int32_t>::min(),
-                     hi = std::numeric_limits<std::int32_t>::max();
-        for (int set = 0; set < sets; ++set)  // the entries any_view_level() compared x with
-          keep_outcome(still[j] ? rows[set][j] : rows[set][j] + 2 * L, still[j] ? 2 * L : 1, x_step[j], &lo,
-                       &hi);
         const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];
         memo.key[id] = Memo::key_of(ec_j[j], still[j], bias_tables_[id]);
         memo.lo[id] = lo;

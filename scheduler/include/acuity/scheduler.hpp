@@ -275,7 +275,8 @@ class Scheduler {
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
                 Choice* out, float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
-  static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still);
+  static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
+                            std::int32_t* lo, std::int32_t* hi);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
