@@ -175,7 +175,8 @@ struct FrameStats {
 // (moving) through the object's view. A decision over every view is kept per object and eye (22
 // bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
 // still or moving image and bands shown, and a size between the entries it was compared with. While
-// those hold, the next frames take it without reading a table: the same decision, bit for bit. Tables are
+// those hold, the next frames take it without reading a table: the same decision, bit for bit (with
+// keep_scores, or a triangle budget, every object reads its view's tables and nothing is kept). Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
