@@ -1462,18 +1462,18 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     for (std::uint32_t k = 0; k < max_band_count_; ++k) shown += frequency[k] * inv_diam[j] <= b.nyquist[j];
     bands[j] = shown;
   }
-  // Pass 2: objects decided by their memo, not seen, of a bias without tables or with nothing to
-  // choose; the any-view rows of the rest found (per table set) and prefetched, so that pass 3
-  // decides without reading a profile.
+  // Pass 2: objects decided by their memo; of the rest, those not seen, of a bias without tables or
+  // with nothing to choose; the any-view rows of the others found (per table set) and prefetched, so
+  // that pass 3 decides without reading a profile.
   const int sets = margin_sets(config_);  // the hysteresis margin's tables too
   const std::int16_t* rows[2][kBlock];
-  for (std::uint32_t j = 0; j < n; ++j) {
-    const ObjectId id = first + j;
+  for (std::uint32_t j = 0; j < n; ++j) {  // the memo's decision for every object: misses overwrite it
     todo[j] = 0;
-    if (memo_hit[j]) {
-      out[j] = {memo.fine[id], memo.coarse[id], gaze_flag};
-      continue;
-    }
+    out[j] = {memo.fine[first + j], memo.coarse[first + j], gaze_flag};
+  }
+  for (std::uint32_t i = 0; i < miss_count; ++i) {
+    const std::uint32_t j = miss[i];
+    const ObjectId id = first + j;
     const int p = profile_of_[id];
     if (p < 0) continue;
     const Look look = b.state(j);
