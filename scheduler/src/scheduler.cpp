@@ -275,10 +275,10 @@ struct Scheduler::ProfileCache {
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
   // Entries: encode_size(), 1/1024 ln deg, rounded down.
   // The same bounds taken over every view and over each eccentricity cell, so that most objects are
-  // decided before their view is looked up: any_view [B][kStillE - 1][2 (K-1) + 1], per band count
-  // and cell the least and the most over the views and the cell's two nodes of the still table, then
-  // the least over the views and nodes of the still and slow tables at the coarsest level (every
-  // object whose image moves is bounded by one of them).
+  // decided before their view is looked up: any_view [B][kStillE][2 (K-1) + 1], per band count
+  // and eccentricity node the least and the most over the views of the still table, then the least
+  // over the views of the still and slow tables at the coarsest level (every object whose image
+  // moves is bounded by one of them).
   struct Tables {
     std::vector<std::int16_t> still, slow, moving, any_view;
   };
@@ -789,21 +789,20 @@ void Scheduler::build_tables(ProfileCache& c) const {
       }
     std::vector<std::int16_t>& any = c.sets[set].any_view;
     const std::size_t width = 2 * std::size_t(L) + 1;
-    any.assign(L > 0 ? std::size_t(B) * (kStillE - 1) * width : 0, 0);
+    any.assign(L > 0 ? std::size_t(B) * kStillE * width : 0, 0);
     for (std::uint32_t n = 0; n < B && L > 0; ++n)
-      for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
-        std::int16_t* row = &any[(std::size_t(n) * (kStillE - 1) + j) * width];
+      for (std::uint32_t j = 0; j < kStillE; ++j) {
+        std::int16_t* row = &any[(std::size_t(n) * kStillE + j) * width];
         std::fill(row, row + L, std::numeric_limits<std::int16_t>::max());
         std::fill(row + L, row + 2 * L, std::numeric_limits<std::int16_t>::min());
         row[2 * L] = std::numeric_limits<std::int16_t>::max();
         for (std::uint32_t w = 0; w < V; ++w)
-          for (std::uint32_t node = j; node <= j + 1; ++node)
-            for (std::uint32_t k = 0; k < L; ++k) {
-              const std::size_t at = ((std::size_t(w) * B + n) * kStillE + node) * L + k;
-              row[k] = std::min(row[k], still[at]);
-              row[L + k] = std::max(row[L + k], still[at]);
-              if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.sets[set].slow[at]});
-            }
+          for (std::uint32_t k = 0; k < L; ++k) {
+            const std::size_t at = ((std::size_t(w) * B + n) * kStillE + j) * L + k;
+            row[k] = std::min(row[k], still[at]);
+            row[L + k] = std::max(row[L + k], still[at]);
+            if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.sets[set].slow[at]});
+          }
       }
   }
 }
@@ -813,7 +812,7 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& 
   const std::size_t per_set =
       std::size_t(m.view_count) * (m.level_count - 1) *
       (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
-  const std::size_t any_view = std::size_t(m.band_count) * (kStillE - 1) * (2 * (m.level_count - 1) + 1);
+  const std::size_t any_view = std::size_t(m.band_count) * kStillE * (2 * (m.level_count - 1) + 1);
   float biases[1 + kMaxTabulatedBiases];
   return (per_set + any_view) * std::size_t(margin_sets(config)) * table_biases(config, biases) *
          sizeof(std::int16_t);
@@ -1378,30 +1377,53 @@ struct Scheduler::Probe {
 // that is the level. A moving one (or one whose view's image axes see no slip) is decided only where
 // the least still and slow bound passes the coarsest level. Integers: x [ln deg] rounded up to the
 // tables' step passes an entry exactly where x does.
+// The row of the cell's lower node (the upper node's follows it).
 [[gnu::always_inline]] inline const std::int16_t* Scheduler::any_view_row(const ProfileCache& pc,
                                                                           std::uint32_t L,
                                                                           std::uint32_t bands,
                                                                           std::uint32_t ec, int set) {
-  return &pc.sets[set].any_view[((std::size_t(bands) - 1) * (kStillE - 1) + ec) * (2 * std::size_t(L) + 1)];
+  return &pc.sets[set].any_view[((std::size_t(bands) - 1) * kStillE + ec) * (2 * std::size_t(L) + 1)];
 }
 // row: any_view_row()'s for a profile of L coarser levels; x: the object's ln angular diameter
-// rounded up to the tables' step [1/1024 ln deg]. (*lo, *hi] narrows to the x where each entry
-// compared keeps its outcome (lo the largest below x, hi the least at or above it): there the
-// result is the same, so a memo of it stands there.
+// rounded up to the tables' step [1/1024 ln deg]. Over the whole cell: each entry the least (or most)
+// of its two nodes'. (*lo, *hi] narrows to the x where each entry compared keeps its outcome (lo the
+// largest below x, hi the least at or above it): there the result is the same, so a memo of it
+// stands there.
 [[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
                                                             std::int32_t x, bool still, std::int32_t* lo,
                                                             std::int32_t* hi) {
+  const std::int16_t* upper = row + 2 * L + 1;
   const auto passes_entry = [x, lo, hi](std::int32_t entry) {
     const bool passes = x <= entry;
     *lo = passes ? *lo : std::max(*lo, entry);
     *hi = passes ? std::min(*hi, entry) : *hi;
     return passes;
   };
-  if (!still) return passes_entry(row[2 * L]) ? static_cast<int>(L) : -1;
+  if (!still) return passes_entry(std::min(row[2 * L], upper[2 * L])) ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = passes_entry(row[k - 1]) ? static_cast<int>(k) : passes;
-    may_pass = passes_entry(row[L + k - 1]) ? static_cast<int>(k) : may_pass;
+    passes = passes_entry(std::min(row[k - 1], upper[k - 1])) ? static_cast<int>(k) : passes;
+    may_pass = passes_entry(std::max(row[L + k - 1], upper[L + k - 1])) ? static_cast<int>(k) : may_pass;
+  }
+  return passes == may_pass ? passes : -1;
+}
+// The same at the object's place in the cell: the nodes' least (and most) interpolated at the upper
+// node's weight w, as each view's bound is. Each view's bound is linear in w between its nodes, so
+// the least (most) over the views is at least (at most) the line between the nodes' least (most):
+// still a bound over every view, and a closer one. x: the object's ln angular diameter [ln deg].
+// Decides more objects than any_view_level(), but for this eccentricity only (nothing to memorise).
+[[gnu::always_inline]] inline int Scheduler::any_view_level_at(const std::int16_t* row, std::uint32_t L,
+                                                               float x, float w, bool still) {
+  const std::int16_t* upper = row + 2 * L + 1;
+  // between() rounds: a few float steps at |bound| <= 32 ln deg; this much more keeps the bounds'
+  // sides (the views' own bounds are rounded too).
+  constexpr float kRounding = 1.0f / 4096;
+  const auto least = [&](std::uint32_t i) { return between(row[i], upper[i], w) - kRounding; };
+  if (!still) return x <= least(2 * L) ? static_cast<int>(L) : -1;
+  int passes = 0, may_pass = 0;
+  for (std::uint32_t k = 1; k <= L; ++k) {
+    passes = x <= least(k - 1) ? static_cast<int>(k) : passes;
+    may_pass = x <= between(row[L + k - 1], upper[L + k - 1], w) + kRounding ? static_cast<int>(k) : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
@@ -1502,7 +1524,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       const std::int16_t* row = any_view_row(pc, L, bands[j], ec_j[j], tables[j] + set);
       rows[set][j] = row;
       ACUITY_PREFETCH(row);
-      ACUITY_PREFETCH(row + 2 * L);
+      ACUITY_PREFETCH(row + 4 * L + 1);  // the upper node's row ends here
     }
   }
   // Pass 3: the any-view decisions, each memorised with the interval of x it stands in; the rest
@@ -1519,6 +1541,15 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       const int coarse =
           sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j], &lo, &hi) : fine;
       todo[j] = coarse < 0;
+      if (coarse < 0) {  // not over the whole cell: at the object's place in it
+        const float x = b.ln_diam[j], w = ec_w[j];
+        const int fine_at = any_view_level_at(rows[0][j], L, x, w, still[j]);
+        const int coarse_at =
+            sets > 1 && fine_at >= 0 ? any_view_level_at(rows[1][j], L, x, w, still[j]) : fine_at;
+        todo[j] = coarse_at < 0;
+        if (coarse_at >= 0)
+          out[j] = {static_cast<std::uint8_t>(fine_at), static_cast<std::uint8_t>(coarse_at), gaze_flag};
+      }
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];

@@ -168,9 +168,10 @@ struct FrameStats {
 // q x threshold: still objects on a grid over eccentricity (one table per number of bands the display
 // can show: the display's Nyquist limit is exact up to 3 bands cut), moving objects per orientation on
 // a grid over eccentricity and that orientation's retinal speed. Beside them, per band count and
-// eccentricity cell, the least and the most of the still tables over every view (and the least of the
-// still and slow ones): most objects are decided from those before their view is looked up, exactly
-// as their own view's tables would decide. Per object and frame the work is the geometry, then one
+// eccentricity node, the least and the most of the still tables over every view (and the least of the
+// still and slow ones): most objects are decided from those (over their eccentricity cell, else
+// interpolated at their eccentricity) before their view is looked up, exactly as their own view's
+// tables would decide. Per object and frame the work is the geometry, then one
 // table read (decided over every view), or one per level (still) or per level and orientation
 // (moving) through the object's view. A decision over every view is kept per object and eye (22
 // bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
@@ -278,6 +279,7 @@ class Scheduler {
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
                             std::int32_t* lo, std::int32_t* hi);
+  static int any_view_level_at(const std::int16_t* row, std::uint32_t L, float x, float w, bool still);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
