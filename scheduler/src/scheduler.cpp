@@ -274,7 +274,7 @@ struct Scheduler::ProfileCache {
   // a bound for every moving object, since thresholds never fall with speed;
   // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
   // Entries: encode_size(), 1/1024 ln deg, rounded down.
-  // The same bounds taken over every view and over each eccentricity cell, so that most objects are
+  // The same bounds taken over every view at each eccentricity node, so that most objects are
   // decided before their view is looked up: any_view [B][kStillE][2 (K-1) + 1], per band count
   // and eccentricity node the least and the most over the views of the still table, then the least
   // over the views of the still and slow tables at the coarsest level (every object whose image
@@ -1418,12 +1418,12 @@ struct Scheduler::Probe {
   // between() rounds: a few float steps at |bound| <= 32 ln deg; this much more keeps the bounds'
   // sides (the views' own bounds are rounded too).
   constexpr float kRounding = 1.0f / 4096;
-  const auto least = [&](std::uint32_t i) { return between(row[i], upper[i], w) - kRounding; };
-  if (!still) return x <= least(2 * L) ? static_cast<int>(L) : -1;
+  const auto at = [&](std::uint32_t i) { return between(row[i], upper[i], w); };
+  if (!still) return x <= at(2 * L) - kRounding ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = x <= least(k - 1) ? static_cast<int>(k) : passes;
-    may_pass = x <= between(row[L + k - 1], upper[L + k - 1], w) + kRounding ? static_cast<int>(k) : may_pass;
+    passes = x <= at(k - 1) - kRounding ? static_cast<int>(k) : passes;
+    may_pass = x <= at(L + k - 1) + kRounding ? static_cast<int>(k) : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
@@ -1431,7 +1431,7 @@ struct Scheduler::Probe {
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1), the objects decided without tables and the any-view rows of the rest (2), the any-view
-// decisions, memorised (3); for the objects they leave, the view, slip and grid cell (4), the moving
+// decisions, memorised where they hold over the whole cell (3); for the objects they leave, the view, slip and grid cell (4), the moving
 // rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or
 // finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
 // Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
@@ -1527,8 +1527,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 4 * L + 1);  // the upper node's row ends here
     }
   }
-  // Pass 3: the any-view decisions, each memorised with the interval of x it stands in; the rest
-  // have their lookup cell (of the direction to the eye) found and its candidates prefetched.
+  // Pass 3: the any-view decisions, over the cell memorised with the interval of x they stand in,
+  // else at the object's eccentricity (not memorised); the rest have their lookup cell (of the direction to the eye) found and its candidates prefetched.
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
     if (!todo[j]) continue;
