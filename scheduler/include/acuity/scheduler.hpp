@@ -295,6 +295,7 @@ class Scheduler {
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
   struct Decisions;                            // one block's choices, both eyes combined
   void derive_velocities(std::uint32_t first, std::uint32_t count);
+  void prefetch_objects(std::uint32_t first) const;  // a block's per-object arrays, ahead of its turn
   void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
                          const Sight (*sights)[kBlock], Decisions* out);
   void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
