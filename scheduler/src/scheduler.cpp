@@ -1077,8 +1077,8 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
 
 // The per-object arrays a frame reads, for the kBlock objects from `first`, asked for two blocks
 // ahead. A frame reads some thirty of them side by side: more streams than the hardware prefetcher
-// follows, so without this every block began with misses in each (still 100k objects: 6.4-7.5 ->
-// 4.2-6.1 ms, see docs/benchmarks.md). Hints only: nothing here changes a result.
+// follows, so without this every block began with misses in each (measured in docs/benchmarks.md).
+// An array the frame loop starts to read belongs here too. Hints only: nothing here changes a result.
 void Scheduler::prefetch_objects(std::uint32_t first) const {
   constexpr std::uint32_t n = Block::kSize, kLine = 64;
   const auto lines = [](const void* p, std::size_t bytes) {
