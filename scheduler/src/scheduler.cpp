@@ -202,14 +202,10 @@ inline std::int16_t encode_size(float ln_size) {
   return truncated + (float(truncated) < scaled);
 }
 // Between two table entries (a cell's lower and upper node) at the upper one's weight w [ln deg].
-// It rounds: a few float steps at |bound| <= 32 ln deg; kBetweenRounding more keeps a bound's side
-// where two computations of it are compared (the views' own bounds are rounded too).
 [[gnu::always_inline]] inline float between(std::int16_t lower, std::int16_t upper, float w) {
   const float a = decode_size(lower);
   return a + w * (decode_size(upper) - a);
 }
-
-constexpr float kBetweenRounding = 1.0f / 4096;
 
 constexpr float e_node(std::uint32_t j, std::uint32_t n) {
   const float t = float(j) / float(n - 1);
@@ -236,13 +232,6 @@ template <std::uint32_t n>
   const float lower = e_node(j, n), upper = e_node(j + 1, n);
   return {j, std::clamp((e - lower) * (1.0f / (upper - lower)), 0.0f, 1.0f)};
 }
-// An eccentricity cell's equal parts in the upper node's weight: where a decision over the whole
-// cell fails, one over the part an object is in often holds (and is remembered as long).
-constexpr std::uint32_t kSubCells = 16;  // a power of two: the parts' ends are exact
-[[gnu::always_inline]] inline std::uint32_t sub_cell(float w) {
-  return std::min(static_cast<std::uint32_t>(w * float(kSubCells)), kSubCells - 1);
-}
-
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
 // fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
@@ -556,10 +545,8 @@ struct Scheduler::EyeCache {
 // slots start (add_object) with no memo.
 struct Scheduler::Memo {
   static constexpr std::uint32_t kNone = ~0u;  // a key no object has
-  // sub: 0 where the decision holds over the whole eccentricity cell, else 1 + the sub-cell's index.
-  static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t sub,
-                              std::uint32_t tables) {
-    return ec | still << 5 | sub << 6 | tables << 11;
+  static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t tables) {
+    return ec | still << 5 | tables << 6;
   }
   std::vector<std::uint32_t> key;
   std::vector<std::int32_t> lo, hi;  // x [1/1024 ln deg]
@@ -568,7 +555,7 @@ struct Scheduler::Memo {
   explicit Memo(std::size_t n = 0)
       : key(n, kNone), lo(n, 0), hi(n, 0), f_lo(n, kInf), f_hi(n, kInf), fine(n, 0), coarse(n, 0) {}
 };
-static_assert(kStillE - 1 < 32 && kSubCells < 32 && kTableSets <= (1u << 21), "Memo::key's fields fit");
+static_assert(kStillE - 1 <= 32 && kTableSets <= (1u << 26), "Memo::key's fields fit");
 
 Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
@@ -1432,10 +1419,10 @@ struct Scheduler::Probe {
 // of its two nodes'. (*lo, *hi] narrows to the x where each entry compared keeps its outcome (lo the
 // largest below x, hi the least at or above it): there the result is the same, so a memo of it
 // stands there.
-template <class Entry>
-[[gnu::always_inline]] inline int Scheduler::any_view_level(const Entry* row, std::uint32_t L, std::int32_t x,
-                                                            bool still, std::int32_t* lo, std::int32_t* hi) {
-  const Entry* upper = row + 2 * L + 1;
+[[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
+                                                            std::int32_t x, bool still, std::int32_t* lo,
+                                                            std::int32_t* hi) {
+  const std::int16_t* upper = row + 2 * L + 1;
   const auto passes_entry = [x, lo, hi](std::int32_t entry) {
     const bool passes = x <= entry;
     *lo = passes ? *lo : std::max(*lo, entry);
@@ -1450,22 +1437,6 @@ template <class Entry>
   }
   return passes == may_pass ? passes : -1;
 }
-// any_view_row() `row` over sub-cell `sub` of its cell, as a row any_view_level() reads (2 (2L + 1)
-// entries [1/1024 ln deg], its two nodes alike): each view's bound is linear in w, so over the part
-// the least (most) over the views is at least the least (at most the most) of the line between the
-// nodes' least (most) at the part's ends; rounded outward as any_view_level_at() rounds, and to
-// whole steps outward (x in steps rounded up passes an entry rounded down only where x passes).
-void Scheduler::sub_cell_row(const std::int16_t* row, std::uint32_t L, std::uint32_t sub, std::int32_t* out) {
-  const std::int16_t* upper = row + 2 * L + 1;
-  const float wa = float(sub) * (1.0f / kSubCells), wb = float(sub + 1) * (1.0f / kSubCells);
-  for (std::uint32_t i = 0; i <= 2 * L; ++i) {
-    const float a = between(row[i], upper[i], wa), b = between(row[i], upper[i], wb);
-    const bool most = i >= L && i < 2 * L;
-    const float steps =
-        (most ? std::max(a, b) + kBetweenRounding : std::min(a, b) - kBetweenRounding) * kSizeSteps;
-    out[i] = out[i + 2 * L + 1] = static_cast<std::int32_t>(most ? std::ceil(steps) : std::floor(steps));
-  }
-}
 // The same at the object's place in the cell: the nodes' least (and most) interpolated at the upper
 // node's weight w, as each view's bound is. Each view's bound is linear in w between its nodes, so
 // the least (most) over the views is at least (at most) the line between the nodes' least (most):
@@ -1474,12 +1445,15 @@ void Scheduler::sub_cell_row(const std::int16_t* row, std::uint32_t L, std::uint
 [[gnu::always_inline]] inline int Scheduler::any_view_level_at(const std::int16_t* row, std::uint32_t L,
                                                                float x, float w, bool still) {
   const std::int16_t* upper = row + 2 * L + 1;
+  // between() rounds: a few float steps at |bound| <= 32 ln deg; this much more keeps the bounds'
+  // sides (the views' own bounds are rounded too).
+  constexpr float kRounding = 1.0f / 4096;
   const auto at = [&](std::uint32_t i) { return between(row[i], upper[i], w); };
-  if (!still) return x <= at(2 * L) - kBetweenRounding ? static_cast<int>(L) : -1;
+  if (!still) return x <= at(2 * L) - kRounding ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = x <= at(k - 1) - kBetweenRounding ? static_cast<int>(k) : passes;
-    may_pass = x <= at(L + k - 1) + kBetweenRounding ? static_cast<int>(k) : may_pass;
+    passes = x <= at(k - 1) - kRounding ? static_cast<int>(k) : passes;
+    may_pass = x <= at(L + k - 1) + kRounding ? static_cast<int>(k) : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
@@ -1487,8 +1461,8 @@ void Scheduler::sub_cell_row(const std::int16_t* row, std::uint32_t L, std::uint
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1), the objects decided without tables and the any-view rows of the rest (2), the any-view
-// decisions, memorised where they hold over the whole cell or the part the object is in (3); for the
-// objects they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or
+// decisions, memorised where they hold over the whole cell (3); for the objects they leave, the view, slip and grid cell (4), the moving
+// rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or
 // finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
 // Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
@@ -1501,7 +1475,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   // Pass 1, branch-free: the tables' x and eccentricity cell and whether the image is still on the
   // retina (as retinal_slip() finds it), as vectors; with these, whether the object's memo stands.
   std::int32_t x_step[kBlock];
-  std::uint32_t ec_j[kBlock], sub[kBlock], bands[kBlock];
+  std::uint32_t ec_j[kBlock], bands[kBlock];
   float ec_w[kBlock], inv_diam[kBlock];
   std::uint32_t still[kBlock];     // 0 or 1, as wide as the loop's floats (so it vectorises)
   std::uint32_t memo_hit[kBlock];  // 0 or 1
@@ -1518,17 +1492,13 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const Cell ec = e_cell<kStillE>(b.e[j]);
     ec_j[j] = ec.j;
     ec_w[j] = ec.w;
-    sub[j] = sub_cell(ec.w);
     still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, tracked);
     inv_diam[j] = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
     const std::uint32_t seen = (b.test[j] == 0.0f) & (b.d[j] > b.r[j]);
     const std::uint32_t same_bands =
         (f_lo[j] * inv_diam[j] <= b.nyquist[j]) & !(f_hi[j] * inv_diam[j] <= b.nyquist[j]);
-    const std::uint32_t key = memo_key[j];
-    const std::uint32_t over_cell = key == Memo::key_of(ec.j, still[j], 0, bias_tables[j]);
-    const std::uint32_t over_part = key == Memo::key_of(ec.j, still[j], sub[j] + 1, bias_tables[j]);
-    const std::uint32_t same_key = over_cell | over_part;
-    memo_hit[j] = use_memo & seen & same_key & same_bands & (memo_lo[j] < x) & (x <= memo_hi[j]);
+    memo_hit[j] = use_memo & seen & (memo_key[j] == Memo::key_of(ec.j, still[j], bias_tables[j])) &
+                  same_bands & (memo_lo[j] < x) & (x <= memo_hi[j]);
   }
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
   std::uint8_t miss[kBlock];
@@ -1587,10 +1557,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 4 * L + 1);  // the upper node's row ends here
     }
   }
-  // Pass 3: the any-view decisions, over the cell or else over the sixteenth of it the object is in
-  // (memorised with the interval of x they stand in), else at the object's eccentricity (not
-  // memorised); the rest have their lookup cell (of the direction to the eye) found and its
-  // candidates prefetched.
+  // Pass 3: the any-view decisions, over the cell memorised with the interval of x they stand in,
+  // else at the object's eccentricity (not memorised); the rest have their lookup cell (of the direction to the eye) found and its candidates prefetched.
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
     if (!todo[j]) continue;
@@ -1599,26 +1567,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       const std::uint32_t L = level_count_[profile_of_[id]] - 1u;
       std::int32_t lo = std::numeric_limits<std::int32_t>::min(),
                    hi = std::numeric_limits<std::int32_t>::max();
-      int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &lo, &hi);
-      int coarse =
+      const int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &lo, &hi);
+      const int coarse =
           sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j], &lo, &hi) : fine;
-      std::uint32_t part = 0;  // the memo key's sub-cell: 0, the whole cell
-      if (coarse < 0) {        // not over the whole cell: over the part of it the object is in
-        part = sub[j] + 1;
-        lo = std::numeric_limits<std::int32_t>::min();
-        hi = std::numeric_limits<std::int32_t>::max();
-        std::int32_t row[2 * (2 * kMaxLevels + 1)];
-        sub_cell_row(rows[0][j], L, sub[j], row);
-        fine = any_view_level(row, L, x_step[j], still[j], &lo, &hi);
-        if (sets > 1 && fine >= 0) {
-          sub_cell_row(rows[1][j], L, sub[j], row);
-          coarse = any_view_level(row, L, x_step[j], still[j], &lo, &hi);
-        } else {
-          coarse = fine;
-        }
-      }
       todo[j] = coarse < 0;
-      if (coarse < 0) {  // not over its part of the cell: at the object's place in it
+      if (coarse < 0) {  // not over the whole cell: at the object's place in it
         const float x = b.ln_diam[j], w = ec_w[j];
         const int fine_at = any_view_level_at(rows[0][j], L, x, w, still[j]);
         const int coarse_at =
@@ -1630,7 +1583,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];
-        memo.key[id] = Memo::key_of(ec_j[j], still[j], part, bias_tables_[id]);
+        memo.key[id] = Memo::key_of(ec_j[j], still[j], bias_tables_[id]);
         memo.lo[id] = lo;
         memo.hi[id] = hi;
         memo.f_lo[id] = frequency[bands[j] - 1];

@@ -169,16 +169,15 @@ struct FrameStats {
 // can show: the display's Nyquist limit is exact up to 3 bands cut), moving objects per orientation on
 // a grid over eccentricity and that orientation's retinal speed. Beside them, per band count and
 // eccentricity node, the least and the most of the still tables over every view (and the least of the
-// still and slow ones): most objects are decided from those (over their eccentricity cell, else over
-// the sixteenth of it they are in, else interpolated at their eccentricity) before their view is
-// looked up, exactly as their own view's tables would decide. Per object and frame the work is the
-// geometry, then one table read (decided over every view), or one per level (still) or per level and
-// orientation (moving) through the object's view. A decision over every view is kept per object and
-// eye (22 bytes each, allocated at creation) with what it stands under: the same eccentricity cell
-// (or sixteenth of it), table set, still or moving image and bands shown, and a size between the
-// entries it was compared with. While those hold, the next frames take it without reading a table:
-// the same decision, bit for bit (with keep_scores, or a triangle budget, every object reads its
-// view's tables and nothing is kept). Tables are
+// still and slow ones): most objects are decided from those (over their eccentricity cell, else
+// interpolated at their eccentricity) before their view is looked up, exactly as their own view's
+// tables would decide. Per object and frame the work is the geometry, then one
+// table read (decided over every view), or one per level (still) or per level and orientation
+// (moving) through the object's view. A decision over every view is kept per object and eye (22
+// bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
+// still or moving image and bands shown, and a size between the entries it was compared with. While
+// those hold, the next frames take it without reading a table: the same decision, bit for bit (with
+// keep_scores, or a triangle budget, every object reads its view's tables and nothing is kept). Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
@@ -278,10 +277,8 @@ class Scheduler {
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
                 Choice* out, float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
-  template <class Entry>
-  static int any_view_level(const Entry* row, std::uint32_t L, std::int32_t x, bool still, std::int32_t* lo,
-                            std::int32_t* hi);
-  static void sub_cell_row(const std::int16_t* row, std::uint32_t L, std::uint32_t sub, std::int32_t* out);
+  static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
+                            std::int32_t* lo, std::int32_t* hi);
   static int any_view_level_at(const std::int16_t* row, std::uint32_t L, float x, float w, bool still);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
