@@ -1458,6 +1458,45 @@ struct Scheduler::Probe {
   return passes == may_pass ? passes : -1;
 }
 
+// The inputs of the tables for a block's objects (tabulate()'s pass 1), branch-free so that it
+// vectorises: the tables' x and eccentricity cell and whether the image is still on the retina (as
+// retinal_slip() finds it); with these, whether each object's memo stands (never with use_memo false).
+struct Scheduler::Inputs {
+  std::int32_t x_step[kBlock];  // ln angular diameter in table steps, rounded up
+  std::uint32_t ec_j[kBlock];
+  float ec_w[kBlock], inv_diam[kBlock];
+  std::uint32_t still[kBlock];     // 0 or 1, as wide as the loop's floats (so it vectorises)
+  std::uint32_t memo_hit[kBlock];  // 0 or 1
+};
+ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
+                                                const Block& b, const Memo& memo, bool use_memo,
+                                                Inputs* out) const {
+  const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
+  const std::uint32_t* memo_key = &memo.key[first];
+  const std::int32_t *memo_lo = &memo.lo[first], *memo_hi = &memo.hi[first];
+  const float *f_lo = &memo.f_lo[first], *f_hi = &memo.f_hi[first];
+  const std::uint8_t* bias_tables = &bias_tables_[first];
+  const std::uint32_t check = use_memo;
+  Inputs& o = *out;
+  ACUITY_NO_ALIAS
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const std::int32_t x = size_steps_above(b.ln_diam[j]);
+    o.x_step[j] = x;
+    const Cell ec = e_cell<kStillE>(b.e[j]);
+    o.ec_j[j] = ec.j;
+    o.ec_w[j] = ec.w;
+    const std::uint32_t still = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, tracked);
+    o.still[j] = still;
+    const float inv_diam = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
+    o.inv_diam[j] = inv_diam;
+    const std::uint32_t seen = (b.test[j] == 0.0f) & (b.d[j] > b.r[j]);
+    const std::uint32_t same_bands =
+        (f_lo[j] * inv_diam <= b.nyquist[j]) & !(f_hi[j] * inv_diam <= b.nyquist[j]);
+    o.memo_hit[j] = check & seen & (memo_key[j] == Memo::key_of(ec.j, still, bias_tables[j])) & same_bands &
+                    (memo_lo[j] < x) & (x <= memo_hi[j]);
+  }
+}
+
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1), the objects decided without tables and the any-view rows of the rest (2), the any-view
@@ -1472,34 +1511,13 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   std::uint8_t todo[kBlock];    // 2: the bounds over every view first; 1: through the object's view
   std::uint8_t tables[kBlock];  // the object's bias's first table set (kTableSets)
   const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
-  // Pass 1, branch-free: the tables' x and eccentricity cell and whether the image is still on the
-  // retina (as retinal_slip() finds it), as vectors; with these, whether the object's memo stands.
-  std::int32_t x_step[kBlock];
-  std::uint32_t ec_j[kBlock], bands[kBlock];
-  float ec_w[kBlock], inv_diam[kBlock];
-  std::uint32_t still[kBlock];     // 0 or 1, as wide as the loop's floats (so it vectorises)
-  std::uint32_t memo_hit[kBlock];  // 0 or 1
-  const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
-  const std::uint32_t* memo_key = &memo.key[first];
-  const std::int32_t *memo_lo = &memo.lo[first], *memo_hi = &memo.hi[first];
-  const float *f_lo = &memo.f_lo[first], *f_hi = &memo.f_hi[first];
-  const std::uint8_t* bias_tables = &bias_tables_[first];
-  const std::uint32_t use_memo = scores == nullptr;
-  ACUITY_NO_ALIAS
-  for (std::uint32_t j = 0; j < n; ++j) {
-    const std::int32_t x = size_steps_above(b.ln_diam[j]);
-    x_step[j] = x;
-    const Cell ec = e_cell<kStillE>(b.e[j]);
-    ec_j[j] = ec.j;
-    ec_w[j] = ec.w;
-    still[j] = no_retinal_slip(Vec3{b.image[0][j], b.image[1][j], b.image[2][j]}, tracked);
-    inv_diam[j] = 1.0f / (2.0f * b.radius_deg[j]);  // as the exact path computes each frequency
-    const std::uint32_t seen = (b.test[j] == 0.0f) & (b.d[j] > b.r[j]);
-    const std::uint32_t same_bands =
-        (f_lo[j] * inv_diam[j] <= b.nyquist[j]) & !(f_hi[j] * inv_diam[j] <= b.nyquist[j]);
-    memo_hit[j] = use_memo & seen & (memo_key[j] == Memo::key_of(ec.j, still[j], bias_tables[j])) &
-                  same_bands & (memo_lo[j] < x) & (x <= memo_hi[j]);
-  }
+  // Pass 1: the tables' x and eccentricity cell, still or moving, whether the memo stands.
+  Inputs in;
+  table_inputs(eye, first, n, b, memo, scores == nullptr, &in);
+  const std::int32_t* x_step = in.x_step;
+  const std::uint32_t *ec_j = in.ec_j, *still = in.still, *memo_hit = in.memo_hit;
+  const float *ec_w = in.ec_w, *inv_diam = in.inv_diam;
+  std::uint32_t bands[kBlock];
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
   std::uint8_t miss[kBlock];
   std::uint32_t miss_count = 0;

@@ -273,7 +273,10 @@ class Scheduler {
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   struct Probe;                                       // tabulated path: one object's table position
-  struct Memo;  // tabulated path: per eye, each object's last decision by the bounds over every view
+  struct Memo;    // tabulated path: per eye, each object's last decision by the bounds over every view
+  struct Inputs;  // tabulated path: a block's table positions and memo hits
+  void table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                    const Memo& memo, bool use_memo, Inputs* out) const;
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
                 Choice* out, float (*scores)[kMaxLevels]) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
