@@ -1499,10 +1499,11 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
-// (pass 1), the objects decided without tables and the any-view rows of the rest (2), the any-view
-// decisions, memorised where they hold over the whole cell (3); for the objects they leave, the view, slip and grid cell (4), the moving
-// rows (5) and the decision (6). Objects not seen (invalid input, eye inside) take the fallback or
-// finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
+// (pass 1, table_inputs()), the objects decided without tables and the any-view rows of the rest
+// (2), the any-view decisions, memorised where they hold over the whole cell (3); for the objects
+// they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not
+// seen (invalid input, eye inside) take the fallback or finest level; an object whose bias has no
+// tables (not a tabulated bias) is evaluated exactly.
 // Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
