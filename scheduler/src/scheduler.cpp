@@ -187,19 +187,22 @@ std::uint32_t table_biases(const SchedulerConfig& c, float* out) {
 }
 
 // Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at +-32
-// (e^32 deg: every size passes; e^-32: none does).
+// (e^32 deg: every size passes; e^-32: none does), so from kLeastEntry to kMostEntry.
 constexpr float kSizeSteps = 1024.0f;  // per ln deg (a power of two: scaling is exact)
+constexpr std::int32_t kLeastEntry = -32768, kMostEntry = 32757;
 inline std::int16_t encode_size(float ln_size) {
   const float x = std::floor(std::clamp(ln_size, -32.0f, 31.99f) * kSizeSteps);
   return static_cast<std::int16_t>(x);
 }
 [[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / kSizeSteps); }
 // An object's ln size [ln deg] in table steps, rounded up (NaN: -64 ln deg): it is at most an entry
-// exactly where the size is at most that entry's decoded value. Branch-free, so a loop vectorises.
+// exactly where the size is at most that entry's decoded value. Every size at most kLeastEntry is at
+// most every entry and every size above kMostEntry is above all, so the steps are clamped to
+// [kLeastEntry, kMostEntry + 1] (the same comparisons; an int16). Branch-free, so a loop vectorises.
 [[gnu::always_inline]] inline std::int32_t size_steps_above(float ln_size) {
   const float scaled = (ln_size > -64.0f ? std::min(ln_size, 64.0f) : -64.0f) * kSizeSteps;
   const auto truncated = static_cast<std::int32_t>(scaled);
-  return truncated + (float(truncated) < scaled);
+  return std::clamp(truncated + (float(truncated) < scaled), kLeastEntry, kMostEntry + 1);
 }
 // Between two table entries (a cell's lower and upper node) at the upper one's weight w [ln deg].
 [[gnu::always_inline]] inline float between(std::int16_t lower, std::int16_t upper, float w) {
@@ -544,18 +547,24 @@ struct Scheduler::EyeCache {
 // object kept still, or moving slowly, is decided from its own memo without reading a table. Object
 // slots start (add_object) with no memo.
 struct Scheduler::Memo {
-  static constexpr std::uint32_t kNone = ~0u;  // a key no object has
+  static constexpr std::uint16_t kNone = 0xffff;  // a key no object has
   static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t tables) {
     return ec | still << 5 | tables << 6;
   }
-  std::vector<std::uint32_t> key;
-  std::vector<std::int32_t> lo, hi;  // x [1/1024 ln deg]
-  std::vector<float> f_lo, f_hi;     // band centres [cpod]
+  static_assert(kStillE - 1 < 32 && ((kStillE - 1) | 1 << 5 | 255 << 6) < kNone,
+                "the key's fields (bias_tables_ is a byte) fit under kNone");
+  // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (any_view_level()'s (lo, hi]). Where
+  // there is no end, lo and hi start just past the entries (size_steps_above()'s range).
+  static constexpr std::int32_t kNoLow = kLeastEntry - 1, kNoHigh = kMostEntry + 1;
+  static_assert(kNoLow + 1 >= INT16_MIN && kNoHigh <= INT16_MAX, "x_from and x_to fit an int16");
+  // Sixteen bits where they fit: a frame reads every object's memo.
+  std::vector<std::uint16_t> key;
+  std::vector<std::int16_t> x_from, x_to;
+  std::vector<float> f_lo, f_hi;  // band centres [cpod]
   std::vector<std::uint8_t> fine, coarse;
   explicit Memo(std::size_t n = 0)
-      : key(n, kNone), lo(n, 0), hi(n, 0), f_lo(n, kInf), f_hi(n, kInf), fine(n, 0), coarse(n, 0) {}
+      : key(n, kNone), x_from(n, 0), x_to(n, 0), f_lo(n, kInf), f_hi(n, kInf), fine(n, 0), coarse(n, 0) {}
 };
-static_assert(kStillE - 1 <= 32 && kTableSets <= (1u << 26), "Memo::key's fields fit");
 
 Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
@@ -569,7 +578,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   }
   for (int k = 0; k < 4; ++k) {
     rotation_[k].assign(n, k == 3 ? 1.0f : 0.0f);
-    sphere_[k].assign(n, 0.0f);
+    sphere_[k].assign(std::size_t(config_.max_profiles) + 1, 0.0f);
   }
   scale_.assign(n, 1.0f);
   bias_.assign(n, 1.0f);
@@ -863,6 +872,7 @@ int Scheduler::add_profile(const Profile& p) {
   }
   if (curves_) build_tables(c);
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
+  for (int k = 0; k < 4; ++k) sphere_[k][profile_count_ + 1] = p.meta.sphere[k];
   std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
   max_band_count_ = std::max(max_band_count_, B);
   max_level_count_ = std::max(max_level_count_, K);
@@ -883,7 +893,6 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
     previous_position_[k][id] = t.position[k];
     velocity_[k][id] = 0;
   }
-  for (int k = 0; k < 4; ++k) sphere_[k][id] = profiles_[profile].profile.meta.sphere[k];
   explicit_velocity_[id] = 0;
   fresh_[id] = 1;
   min_level_[id] = 0;
@@ -901,8 +910,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
 
 void Scheduler::remove_object(ObjectId id) {
   if (!alive(id)) return;
-  profile_of_[id] = -1;
-  sphere_[3][id] = 0.0f;  // a free slot looks invalid to the frame loop
+  profile_of_[id] = -1;  // sphere_[3][0] is 0: a free slot looks invalid to the frame loop
   free_list_.push_back(id);
 }
 
@@ -1087,7 +1095,6 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
   for (int k = 0; k < 3; ++k) lines(&position_[k][first], sizeof(double) * n);
   for (int k = 0; k < 3; ++k) lines(&velocity_[k][first], sizeof(float) * n);
   for (int k = 0; k < 4; ++k) lines(&rotation_[k][first], sizeof(float) * n);
-  for (int k = 0; k < 4; ++k) lines(&sphere_[k][first], sizeof(float) * n);
   for (const auto* a : {&scale_, &bias_}) lines(&(*a)[first], sizeof(float) * n);
   lines(&profile_of_[first], sizeof(int) * n);
   for (const auto* a : {&calm_frames_, &wait_frames_}) lines(&(*a)[first], sizeof(std::uint32_t) * n);
@@ -1097,8 +1104,8 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
   if (!curves_) return;
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
-    lines(&m.key[first], sizeof(std::uint32_t) * n);
-    for (const auto* a : {&m.lo, &m.hi}) lines(&(*a)[first], sizeof(std::int32_t) * n);
+    for (const auto* a : {&m.x_from, &m.x_to}) lines(&(*a)[first], sizeof(std::int16_t) * n);
+    lines(&m.key[first], sizeof(std::uint16_t) * n);
     for (const auto* a : {&m.f_lo, &m.f_hi}) lines(&(*a)[first], sizeof(float) * n);
     for (const auto* a : {&m.fine, &m.coarse}) lines(&(*a)[first], n);
   }
@@ -1139,10 +1146,11 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   const float* vx = &velocity_[0][first];
   const float* vy = &velocity_[1][first];
   const float* vz = &velocity_[2][first];
-  const float* sx = &sphere_[0][first];
-  const float* sy = &sphere_[1][first];
-  const float* sz = &sphere_[2][first];
-  const float* sr = &sphere_[3][first];
+  const int* profile = &profile_of_[first];
+  const float* sx = sphere_[0].data();  // indexed by profile + 1
+  const float* sy = sphere_[1].data();
+  const float* sz = sphere_[2].data();
+  const float* sr = sphere_[3].data();
   const float* scale = &scale_[first];
   const float* bias = &bias_[first];
   const double ex = eye.position[0], ey = eye.position[1], ez = eye.position[2];
@@ -1163,9 +1171,10 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < count; ++j) {
     const float s = scale[j];
-    const Vec3 centre = rotate(qx[j], qy[j], qz[j], qw[j], Vec3{s * sx[j], s * sy[j], s * sz[j]});
+    const int slot = profile[j] + 1;
+    const Vec3 centre = rotate(qx[j], qy[j], qz[j], qw[j], Vec3{s * sx[slot], s * sy[slot], s * sz[slot]});
     const Vec3 rel{rx[j] + centre.x, ry[j] + centre.y, rz[j] + centre.z};
-    const float r = s * sr[j];
+    const float r = s * sr[slot];
     const float qn = qx[j] * qx[j] + qy[j] * qy[j] + qz[j] * qz[j] + qw[j] * qw[j];
     const float q_object = quality * bias[j];
     // x - x is 0 for a finite x, NaN otherwise; one sum tests them all.
@@ -1472,8 +1481,8 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
                                                 const Block& b, const Memo& memo, bool use_memo,
                                                 Inputs* out) const {
   const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
-  const std::uint32_t* memo_key = &memo.key[first];
-  const std::int32_t *memo_lo = &memo.lo[first], *memo_hi = &memo.hi[first];
+  const std::uint16_t* memo_key = &memo.key[first];
+  const std::int16_t *x_from = &memo.x_from[first], *x_to = &memo.x_to[first];
   const float *f_lo = &memo.f_lo[first], *f_hi = &memo.f_hi[first];
   const std::uint8_t* bias_tables = &bias_tables_[first];
   const std::uint32_t check = use_memo;
@@ -1493,7 +1502,7 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
     const std::uint32_t same_bands =
         (f_lo[j] * inv_diam <= b.nyquist[j]) & !(f_hi[j] * inv_diam <= b.nyquist[j]);
     o.memo_hit[j] = check & seen & (memo_key[j] == Memo::key_of(ec.j, still, bias_tables[j])) & same_bands &
-                    (memo_lo[j] < x) & (x <= memo_hi[j]);
+                    (x_from[j] <= x) & (x <= x_to[j]);
   }
 }
 
@@ -1584,8 +1593,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const ObjectId id = first + j;
     if (todo[j] == 2) {
       const std::uint32_t L = level_count_[profile_of_[id]] - 1u;
-      std::int32_t lo = std::numeric_limits<std::int32_t>::min(),
-                   hi = std::numeric_limits<std::int32_t>::max();
+      std::int32_t lo = Memo::kNoLow, hi = Memo::kNoHigh;
       const int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &lo, &hi);
       const int coarse =
           sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j], &lo, &hi) : fine;
@@ -1602,9 +1610,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];
-        memo.key[id] = Memo::key_of(ec_j[j], still[j], bias_tables_[id]);
-        memo.lo[id] = lo;
-        memo.hi[id] = hi;
+        memo.key[id] = static_cast<std::uint16_t>(Memo::key_of(ec_j[j], still[j], bias_tables_[id]));
+        memo.x_from[id] = static_cast<std::int16_t>(lo + 1);
+        memo.x_to[id] = static_cast<std::int16_t>(hi);
         memo.f_lo[id] = frequency[bands[j] - 1];
         memo.f_hi[id] = bands[j] < kMaxBands ? frequency[bands[j]] : kInf;
         memo.fine[id] = static_cast<std::uint8_t>(fine);
