@@ -2013,17 +2013,16 @@ void Scheduler::end_frame() {
   FrameStats& st = stats_;
   st.triangles = 0;
   st.changed = st.invalid = st.budget_forced = 0;
+  const bool fades = config_.transition_seconds > 0;  // else every fade_ stays 1 (not read)
   for (std::uint32_t id = 0; id < config_.max_objects; ++id) {
     if (profile_of_[id] < 0) continue;
     if (next_[id] != level_[id]) {  // a change event; the cross-fade starts from the drawn level
       from_level_[id] = level_[id];
-      fade_[id] = config_.transition_seconds > 0 ? 0.0f : 1.0f;
+      fade_[id] = fades ? 0.0f : 1.0f;
       flags_[id] |= kFlagChanged;
       level_[id] = next_[id];
-    } else if (fade_[id] < 1.0f) {
-      fade_[id] = config_.transition_seconds > 0
-                      ? std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds)
-                      : 1.0f;
+    } else if (fades && fade_[id] < 1.0f) {
+      fade_[id] = std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds);
     }
     st.triangles += triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
     st.changed += (flags_[id] & kFlagChanged) != 0;
