@@ -354,6 +354,32 @@ TEST(SchedulerHardCases, UnusableTabulatedBiasesBuildNoTables) {
   s.set_bias(id, 4.0f);  // back to a tabulated bias: a valid object again
   s.run_frame(looking_forward());
   EXPECT_FALSE(s.flags(id) & kFlagInvalidInput);
+  // What is tested is the object's q, quality x bias: finite biases whose product overflows are
+  // invalid too, and an object added to a scheduler of unusable quality is invalid from the start.
+  SchedulerConfig huge;
+  huge.max_objects = 1;
+  huge.quality = 1e30f;
+  for (const Evaluation e : {Evaluation::Tabulated, Evaluation::Exact}) {
+    huge.evaluation = e;
+    Scheduler h(huge);
+    const ObjectId o = h.add_object(h.add_profile(tp.profile), at(0, 0, -50));
+    h.run_frame(looking_forward());
+    EXPECT_FALSE(h.flags(o) & kFlagInvalidInput);
+    h.set_bias(o, 1e10f);  // q = 1e40 is not a float
+    h.run_frame(looking_forward());
+    EXPECT_TRUE(h.flags(o) & kFlagInvalidInput);
+    h.set_bias(o, 1e-10f);
+    h.run_frame(looking_forward());
+    EXPECT_FALSE(h.flags(o) & kFlagInvalidInput);
+  }
+  SchedulerConfig no_quality;
+  no_quality.max_objects = 1;
+  no_quality.quality = NAN;
+  Scheduler n(no_quality);
+  const ObjectId o = n.add_object(n.add_profile(tp.profile), at(0, 0, -50));
+  n.run_frame(looking_forward());
+  EXPECT_TRUE(n.flags(o) & kFlagInvalidInput);
+  EXPECT_EQ(n.level(o), 0);
 }
 
 TEST(SchedulerHardCases, FarFromTheOriginBehavesLikeTheOrigin) {

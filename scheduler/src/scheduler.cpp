@@ -175,6 +175,7 @@ constexpr float kBilinearMargin = 0.001f;
 // tables (Scheduler::table_bias_); an object whose bias has none takes the exact path.
 constexpr std::uint32_t kTableSets = 2 * (1 + kMaxTabulatedBiases);
 constexpr std::uint8_t kExactBias = 255;
+constexpr std::uint8_t kInvalidBias = 254;  // quality x bias not finite and > 0: invalid input
 // Table sets per bias: score <= 1, and score <= 1 - margin where a margin is set.
 inline int margin_sets(const SchedulerConfig& c) { return c.hysteresis_margin > 0 ? 2 : 1; }
 // The biases with tables: 1, then each distinct finite entry > 0 of the configuration's. Returns the count.
@@ -898,7 +899,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   min_level_[id] = 0;
   max_level_[id] = static_cast<std::uint8_t>(level_count_[profile] - 1);
   bias_[id] = 1.0f;
-  bias_tables_[id] = 0;
+  bias_tables_[id] = bias_tables_of(1.0f);
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   flags_[id] = 0;
@@ -937,12 +938,17 @@ void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max
 void Scheduler::set_bias(ObjectId id, float quality_bias) {
   if (!alive(id)) return;
   bias_[id] = quality_bias;
-  // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
-  // would drop what the engine asked for).
-  const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, quality_bias);
-  bias_tables_[id] = tabulated == table_bias_ + table_bias_count_
-                         ? kExactBias
-                         : static_cast<std::uint8_t>(tabulated - table_bias_);
+  bias_tables_[id] = bias_tables_of(quality_bias);
+}
+
+// Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
+// would drop what the engine asked for). The frame loop tests an object's bias here, not bias_.
+std::uint8_t Scheduler::bias_tables_of(float bias) const {
+  const float q = config_.quality * bias;
+  if (!(std::isfinite(q) && q > 0.0f)) return kInvalidBias;
+  const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, bias);
+  return tabulated == table_bias_ + table_bias_count_ ? kExactBias
+                                                      : static_cast<std::uint8_t>(tabulated - table_bias_);
 }
 
 const float* Scheduler::scores(ObjectId id) const {
@@ -1095,7 +1101,7 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
   for (int k = 0; k < 3; ++k) lines(&position_[k][first], sizeof(double) * n);
   for (int k = 0; k < 3; ++k) lines(&velocity_[k][first], sizeof(float) * n);
   for (int k = 0; k < 4; ++k) lines(&rotation_[k][first], sizeof(float) * n);
-  for (const auto* a : {&scale_, &bias_}) lines(&(*a)[first], sizeof(float) * n);
+  lines(&scale_[first], sizeof(float) * n);
   lines(&profile_of_[first], sizeof(int) * n);
   for (const auto* a : {&calm_frames_, &wait_frames_}) lines(&(*a)[first], sizeof(std::uint32_t) * n);
   for (const auto* a :
@@ -1152,10 +1158,9 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   const float* sz = sphere_[2].data();
   const float* sr = sphere_[3].data();
   const float* scale = &scale_[first];
-  const float* bias = &bias_[first];
+  const std::uint8_t* bias_tables = &bias_tables_[first];
   const double ex = eye.position[0], ey = eye.position[1], ez = eye.position[2];
   const float eye_test = eye.valid ? 0.0f : kNaN;  // NaN fails every object
-  const float quality = config_.quality;
   Block& b = *out;
   float* out_d = b.d;
   float* out_r = b.r;
@@ -1176,12 +1181,12 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
     const Vec3 rel{rx[j] + centre.x, ry[j] + centre.y, rz[j] + centre.z};
     const float r = s * sr[slot];
     const float qn = qx[j] * qx[j] + qy[j] * qy[j] + qz[j] * qz[j] + qw[j] * qw[j];
-    const float q_object = quality * bias[j];
+    const float bias_test = bias_tables[j] == kInvalidBias ? kNaN : 0.0f;
     // x - x is 0 for a finite x, NaN otherwise; one sum tests them all.
     const float nan_test = (rel.x - rel.x) + (rel.y - rel.y) + (rel.z - rel.z) + (vx[j] - vx[j]) +
-                           (vy[j] - vy[j]) + (vz[j] - vz[j]) + (r - r) + (q_object - q_object) + eye_test;
-    // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1, q > 0.
-    const float margin = std::min(std::min(r, 1e-3f - std::abs(qn - 1.0f)), q_object);
+                           (vy[j] - vy[j]) + (vz[j] - vz[j]) + (r - r) + bias_test + eye_test;
+    // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1.
+    const float margin = std::min(r, 1e-3f - std::abs(qn - 1.0f));
     const float test = nan_test + (margin > 0.0f ? 0.0f : kNaN);  // 0: valid
     out_d[j] = std::sqrt(dot(rel, rel));
     out_r[j] = r;

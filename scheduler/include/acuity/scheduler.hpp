@@ -305,6 +305,7 @@ class Scheduler {
   void choose_tabulated(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
   void apply_budget();
+  std::uint8_t bias_tables_of(float bias) const;  // bias_tables_ of an object of this bias
 
   SchedulerConfig config_;
   std::vector<ProfileCache> profiles_;
@@ -329,7 +330,7 @@ class Scheduler {
   std::vector<std::uint8_t> next_;                // this frame's level after the budget
   std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
   std::vector<std::uint32_t> calm_frames_, wait_frames_;
-  std::vector<std::uint8_t> bias_tables_;  // tabulated path: index into table_bias_, or kExactBias
+  std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
   std::vector<float> fade_, scores_;
   std::vector<std::uint32_t> free_list_;
   std::vector<std::uint32_t> heap_;  // budget pass
