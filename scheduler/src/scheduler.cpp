@@ -579,9 +579,8 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   }
   for (int k = 0; k < 4; ++k) {
     rotation_[k].assign(n, k == 3 ? 1.0f : 0.0f);
-    sphere_[k].assign(std::size_t(config_.max_profiles) + 1, 0.0f);
+    sphere_[k].assign(n, 0.0f);
   }
-  scale_.assign(n, 1.0f);
   bias_.assign(n, 1.0f);
   bias_tables_.assign(n, 0);
   table_bias_count_ = table_biases(config_, table_bias_);
@@ -873,7 +872,6 @@ int Scheduler::add_profile(const Profile& p) {
   }
   if (curves_) build_tables(c);
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
-  for (int k = 0; k < 4; ++k) sphere_[k][profile_count_ + 1] = p.meta.sphere[k];
   std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
   max_band_count_ = std::max(max_band_count_, B);
   max_level_count_ = std::max(max_level_count_, K);
@@ -911,7 +909,8 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
 
 void Scheduler::remove_object(ObjectId id) {
   if (!alive(id)) return;
-  profile_of_[id] = -1;  // sphere_[3][0] is 0: a free slot looks invalid to the frame loop
+  profile_of_[id] = -1;
+  sphere_[3][id] = 0.0f;  // a free slot looks invalid to the frame loop
   free_list_.push_back(id);
 }
 
@@ -919,7 +918,9 @@ void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
   if (!alive(id)) return;
   for (int k = 0; k < 3; ++k) position_[k][id] = t.position[k];
   for (int k = 0; k < 4; ++k) rotation_[k][id] = t.rotation[k];
-  scale_[id] = t.scale;
+  // The frame reads the sphere scaled (the same products it would form): one array fewer per object.
+  const float* sphere = profiles_[profile_of_[id]].profile.meta.sphere;
+  for (int k = 0; k < 4; ++k) sphere_[k][id] = t.scale * sphere[k];
 }
 
 void Scheduler::set_velocity(ObjectId id, const float v[3]) {
@@ -1101,7 +1102,7 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
   for (int k = 0; k < 3; ++k) lines(&position_[k][first], sizeof(double) * n);
   for (int k = 0; k < 3; ++k) lines(&velocity_[k][first], sizeof(float) * n);
   for (int k = 0; k < 4; ++k) lines(&rotation_[k][first], sizeof(float) * n);
-  lines(&scale_[first], sizeof(float) * n);
+  for (int k = 0; k < 4; ++k) lines(&sphere_[k][first], sizeof(float) * n);
   lines(&profile_of_[first], sizeof(int) * n);
   for (const auto* a : {&calm_frames_, &wait_frames_}) lines(&(*a)[first], sizeof(std::uint32_t) * n);
   for (const auto* a :
@@ -1152,12 +1153,10 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   const float* vx = &velocity_[0][first];
   const float* vy = &velocity_[1][first];
   const float* vz = &velocity_[2][first];
-  const int* profile = &profile_of_[first];
-  const float* sx = sphere_[0].data();  // indexed by profile + 1
-  const float* sy = sphere_[1].data();
-  const float* sz = sphere_[2].data();
-  const float* sr = sphere_[3].data();
-  const float* scale = &scale_[first];
+  const float* sx = &sphere_[0][first];
+  const float* sy = &sphere_[1][first];
+  const float* sz = &sphere_[2][first];
+  const float* sr = &sphere_[3][first];
   const std::uint8_t* bias_tables = &bias_tables_[first];
   const double ex = eye.position[0], ey = eye.position[1], ez = eye.position[2];
   const float eye_test = eye.valid ? 0.0f : kNaN;  // NaN fails every object
@@ -1175,11 +1174,9 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   }
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < count; ++j) {
-    const float s = scale[j];
-    const int slot = profile[j] + 1;
-    const Vec3 centre = rotate(qx[j], qy[j], qz[j], qw[j], Vec3{s * sx[slot], s * sy[slot], s * sz[slot]});
+    const Vec3 centre = rotate(qx[j], qy[j], qz[j], qw[j], Vec3{sx[j], sy[j], sz[j]});
     const Vec3 rel{rx[j] + centre.x, ry[j] + centre.y, rz[j] + centre.z};
-    const float r = s * sr[slot];
+    const float r = sr[j];
     const float qn = qx[j] * qx[j] + qy[j] * qy[j] + qz[j] * qz[j] + qw[j] * qw[j];
     const float bias_test = bias_tables[j] == kInvalidBias ? kNaN : 0.0f;
     // x - x is 0 for a finite x, NaN otherwise; one sum tests them all.

@@ -317,14 +317,13 @@ class Scheduler {
   std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
                                            // radius (Distance, ScreenSize); +inf past K - 1
   std::vector<float> band_frequency_;      // [max_profiles][kMaxBands]: band centres [cpod], +inf past B
-  std::vector<float> sphere_[4];           // [1 + max_profiles]: a free slot's (radius 0), then
-                                           // each profile's bounding sphere [object units]
   std::uint32_t max_level_count_ = 1;      // the largest K added
   std::uint32_t max_band_count_ = 0;       // the largest B added
   // Objects, structure of arrays: one array per component, so the frame loop vectorises.
   std::vector<int> profile_of_;  // -1: free slot
   std::vector<double> position_[3], previous_position_[3];
-  std::vector<float> rotation_[4], velocity_[3], scale_, bias_;
+  std::vector<float> rotation_[4], velocity_[3], bias_;
+  std::vector<float> sphere_[4];  // the profile's bounding sphere (centre, radius) x the object's scale
   std::vector<std::uint8_t> explicit_velocity_, fresh_, min_level_, max_level_, flags_;
   std::vector<std::uint8_t> chosen_;              // perceptual choice after hysteresis (before the budget)
   std::vector<std::uint8_t> next_;                // this frame's level after the budget
