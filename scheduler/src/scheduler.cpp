@@ -187,12 +187,12 @@ std::uint32_t table_biases(const SchedulerConfig& c, float* out) {
   return n;
 }
 
-// Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at +-32
-// (e^32 deg: every size passes; e^-32: none does), so from kLeastEntry to kMostEntry.
+// Table entries: ln deg in steps of 1/1024, rounded down (conservative), saturating at
+// kLeastEntry and kMostEntry (about +-32 ln deg; e^32 deg: every size passes; e^-32: none does).
 constexpr float kSizeSteps = 1024.0f;  // per ln deg (a power of two: scaling is exact)
 constexpr std::int32_t kLeastEntry = -32768, kMostEntry = 32757;
 inline std::int16_t encode_size(float ln_size) {
-  const float x = std::floor(std::clamp(ln_size, -32.0f, 31.99f) * kSizeSteps);
+  const float x = std::clamp(std::floor(ln_size * kSizeSteps), float(kLeastEntry), float(kMostEntry));
   return static_cast<std::int16_t>(x);
 }
 [[gnu::always_inline]] inline float decode_size(std::int16_t q) { return float(q) * (1.0f / kSizeSteps); }
