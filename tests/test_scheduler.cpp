@@ -29,8 +29,9 @@ struct TestProfile {
   spectra::ProfileData data;
   Blob blob;
   Profile profile;
+  // view_spread: views v lose (1 + view_spread (v mod 3)) times as much (0: nearly alike).
   explicit TestProfile(std::uint32_t K = 6, std::uint32_t T = 8, std::uint32_t B = 8,
-                       float orientation_bias = 0.5f) {
+                       float orientation_bias = 0.5f, float view_spread = 0.0f) {
     data.sphere[0] = 0.1f;
     data.sphere[1] = 0.2f;
     data.sphere[2] = -0.1f;
@@ -51,7 +52,8 @@ struct TestProfile {
             const float shape = 1.0f / (1.0f + std::exp(-2.0f * (float(b) - edge)));
             const float angle =
                 1.0f + orientation_bias * std::cos(2.0f * float(t) * 3.14159f / float(T) + 0.3f * float(v));
-            data.lost.push_back(0.25f * shape * angle + 0.0005f * float(k));
+            data.lost.push_back((0.25f * shape * angle + 0.0005f * float(k)) *
+                                (1.0f + view_spread * float(v % 3)));
           }
     for (std::uint32_t k = 0; k < K; ++k)
       for (std::uint32_t v = 0; v < 14; ++v)
@@ -1196,15 +1198,16 @@ TEST(SchedulerTabulated, ABiasDecidesThroughTheTablesOfItsQuality) {
   }
 }
 
-// A decision over every view is remembered per object and eye with the inputs it stands under, and
-// reused while they hold. Objects that stay, approach or recede (their size and bands shown change,
-// their velocity given as 0), drift sideways and stop, or start moving; an eye
-// that shifts by millimetres and a gaze that wanders; biases and eye counts that change; slots reused
-// by another profile: each frame's levels must be those of a scheduler that keeps every level's score
-// (which decides through each object's own view, remembering nothing), with the hysteresis margin's
-// tables too. (Checked to fail when the memo ignores any input it stands under.)
+// A decision over whole cells (over every view, or through the object's view) is remembered per object
+// and eye with the inputs it stands under, and reused while they hold. Objects that stay, approach or
+// recede (their size and bands shown change, their velocity given as 0), drift sideways and stop,
+// start moving, move steadily (their image's speed changes cells as the head turns), or turn in place;
+// an eye that shifts by millimetres and a gaze that wanders; biases and eye counts that change; slots
+// reused by another profile: each frame's levels must be those of a scheduler that keeps every level's
+// score (which decides at each object's place in its view's tables, remembering nothing), with the
+// hysteresis margin's tables too. (Checked to fail when the memo ignores any input it stands under.)
 TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
-  const TestProfile six, four(4, 8, 6);
+  const TestProfile six(6, 8, 8, 0.5f, 0.6f), four(4, 8, 6, 0.5f, 0.6f);  // each view its own decisions
   struct Case {
     const char* name;
     ThresholdModel model;
@@ -1233,13 +1236,13 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
     std::vector<RandomObject> scene;
     std::vector<float> step;  // per object: radial [fraction of the distance per frame] or sideways [m]
     for (int i = 0; i < objects; ++i) {
-      scene.push_back(random_object(rng, 0));
+      scene.push_back(random_object(rng, i % 5 == 3 ? 100 : 0));
       step.push_back(i % 5 == 0   ? rng.uniform(-0.03f, 0.03f)
                      : i % 5 == 1 ? rng.uniform(-0.02f, 0.02f)
                                   : 0.0f);
       for (Scheduler* s : {&remembering, &scored}) {
         EXPECT_EQ(s->add_object(i % 2, scene[i].t), ObjectId(i));
-        if (i % 5 == 0) s->set_velocity(ObjectId(i), scene[i].v);  // given as 0: its image stays still
+        if (i % 5 == 0 || i % 5 == 3) s->set_velocity(ObjectId(i), scene[i].v);  // 0, or steady
       }
     }
     Frame fr = looking_forward();
@@ -1249,6 +1252,8 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
       if (f % 7 == 3) fr.eyes[0].position[0] += rng.uniform(-0.003f, 0.003f);
       if (f % 5 == 1) gaze_at(fr, rng.uniform(-0.3f, 0.3f), rng.uniform(-0.2f, 0.2f), -1);
       fr.gaze[0].valid = f % 11 != 10;
+      const float yaw_speed[4] = {0.0f, 3.0f, 12.0f, 48.0f};  // [deg/s]: each image's speed changes cells
+      fr.eyes[0].angular_velocity[1] = f >= 24 && f < 40 ? yaw_speed[f % 4] : 0.0f;
       fr.eye_count = f >= 50 ? 2 : 1;
       fr.eyes[1] = fr.eyes[0];
       fr.eyes[1].position[0] += 0.064;
@@ -1258,6 +1263,15 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
         if (i % 5 == 0)  // along the line of sight from the origin
           for (int a = 0; a < 3; ++a) x[a] *= 1.0 + double(step[i]);
         if (i % 5 == 1 && f < 30) x[0] += double(step[i]);  // sideways, then still
+        if (i % 5 == 3)
+          for (int a = 0; a < 3; ++a) x[a] += double(scene[i].v[a] * fr.dt);
+        if (i % 5 == 4) {  // turns in place about its own y axis, 3 deg a frame: its view changes
+          float* q = scene[i].t.rotation;
+          const float co = std::cos(1.5f * float(kPi / 180)), sn = std::sin(1.5f * float(kPi / 180));
+          const float turned[4] = {q[0] * co - q[2] * sn, q[1] * co + q[3] * sn, q[2] * co + q[0] * sn,
+                                   q[3] * co - q[1] * sn};
+          std::copy(turned, turned + 4, q);
+        }
         for (Scheduler* s : {&remembering, &scored}) {
           s->set_transform(ObjectId(i), scene[i].t);
           if (i % 5 == 2 && f == 45) {  // starts moving where it stands: its image slips at once

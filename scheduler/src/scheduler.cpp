@@ -540,20 +540,42 @@ struct Scheduler::EyeCache {
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
-// Per eye and object, the last decision the bounds over every view made (tabulate()'s pass 3), with
-// the inputs under which it stands: the same key (eccentricity cell, still or not, table set), the
-// same bands shown (f_lo * inv_diam <= Nyquist < f_hi * inv_diam: the lowest shown band and the next
-// one, +inf past the profile's) and x in (lo, hi], where no entry it compared against lies. Tables
-// never change once built, so within these the decision is the one the rows would give again: an
-// object kept still, or moving slowly, is decided from its own memo without reading a table. Object
-// slots start (add_object) with no memo.
+// Per eye and object, the last decision made over whole cells: by the bounds over every view
+// (tabulate()'s pass 3), or through the object's view (pass 6, kThroughView in the key), with the
+// inputs under which it stands: the same key (eccentricity cell, still or not, table set), the same
+// bands shown (f_lo * inv_diam <= Nyquist < f_hi * inv_diam: the lowest shown band and the next one,
+// +inf past the profile's) and x in (lo, hi], where no entry it compared against lies; through the
+// view also the same view_key and speed_key. Tables never change once built, so within these the
+// decision is the one the rows would give again: an object kept still, or moving steadily, is decided
+// from its own memo without reading a table. Object slots start (add_object) with no memo.
 struct Scheduler::Memo {
   static constexpr std::uint16_t kNone = 0xffff;  // a key no object has
+  static constexpr std::uint16_t kThroughView = 1 << 14;
   static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t tables) {
     return ec | still << 5 | tables << 6;
   }
-  static_assert(kStillE - 1 < 32 && ((kStillE - 1) | 1 << 5 | 255 << 6) < kNone,
-                "the key's fields (bias_tables_ is a byte) fit under kNone");
+  static_assert(kStillE - 1 < 32 && ((kStillE - 1) | 1 << 5 | 255 << 6) < kThroughView,
+                "the key's fields (bias_tables_ is a byte) fit under kThroughView (and so kNone)");
+  // Through the view: the view (Max3: the lookup cell, whose candidates are the views), whether the
+  // image slips in the view's axes, and then its eccentricity cell on the moving grid and each
+  // orientation's speed cell, 4 bits each (profiles of at most kSpeedKeyOrientations orientations:
+  // a moving object of a profile with more is not remembered through its view).
+  static constexpr std::uint32_t kSpeedKeyOrientations = 16;
+  // A decision through the view that the whole cells left open: the object's place decides (its
+  // fine and coarse level in the memo).
+  static constexpr std::uint8_t kAtPlace = 255;
+  static_assert(kMovingE - 2 < 16 && kMovingS - 2 < 16, "cells fit 4 bits");
+  static_assert(6 * kMaxLookupResolution * kMaxLookupResolution < (1u << 27) && kMaxViews < (1u << 27),
+                "view_key's fields fit 32 bits");
+  static bool keyable(bool moving, std::uint32_t T) { return !moving || T <= kSpeedKeyOrientations; }
+  static std::uint32_t view_key_of(std::uint32_t where, bool moving, std::uint32_t em) {
+    return where << 5 | (moving ? em << 1 | 1u : 0u);
+  }
+  static std::uint64_t speed_key_of(bool moving, const std::uint32_t* speed_j, std::uint32_t T) {
+    std::uint64_t k = 0;
+    for (std::uint32_t t = 0; moving && t < T; ++t) k |= std::uint64_t(speed_j[t]) << (4 * t);
+    return k;
+  }
   // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (any_view_level()'s (lo, hi]). Where
   // there is no end, lo and hi start just past the entries (size_steps_above()'s range).
   static constexpr std::int32_t kNoLow = kLeastEntry - 1, kNoHigh = kMostEntry + 1;
@@ -563,8 +585,30 @@ struct Scheduler::Memo {
   std::vector<std::int16_t> x_from, x_to;
   std::vector<float> f_lo, f_hi;  // band centres [cpod]
   std::vector<std::uint8_t> fine, coarse;
+  std::vector<std::uint32_t> view_key;  // read only where the key has kThroughView
+  std::vector<std::uint64_t> speed_key;
   explicit Memo(std::size_t n = 0)
-      : key(n, kNone), x_from(n, 0), x_to(n, 0), f_lo(n, kInf), f_hi(n, kInf), fine(n, 0), coarse(n, 0) {}
+      : key(n, kNone),
+        x_from(n, 0),
+        x_to(n, 0),
+        f_lo(n, kInf),
+        f_hi(n, kInf),
+        fine(n, 0),
+        coarse(n, 0),
+        view_key(n, 0),
+        speed_key(n, 0) {}
+  // Remembers object id's decision (fine, coarse) for x in (lo, hi], with `bands` of the profile's
+  // band centres `frequency` shown.
+  void remember(ObjectId id, std::uint32_t key_, std::int32_t lo, std::int32_t hi, const float* frequency,
+                std::uint32_t bands, int fine_, int coarse_) {
+    key[id] = static_cast<std::uint16_t>(key_);
+    x_from[id] = static_cast<std::int16_t>(lo + 1);
+    x_to[id] = static_cast<std::int16_t>(hi);
+    f_lo[id] = frequency[bands - 1];
+    f_hi[id] = bands < kMaxBands ? frequency[bands] : kInf;
+    fine[id] = static_cast<std::uint8_t>(fine_);
+    coarse[id] = static_cast<std::uint8_t>(coarse_);
+  }
 };
 
 Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
@@ -1394,7 +1438,10 @@ struct Scheduler::Probe {
   std::uint32_t bands;                     // the lowest bands the display shows (0: none)
   std::uint16_t views[kLookupCandidates];  // the views whose tables bound it (one, or Max3's three)
   std::uint8_t view_count;
+  std::uint32_t where;  // the view (Max3: the lookup cell), as the memo keys it
   bool moving;
+  bool decided;                             // by its memo through the view (pass 4)
+  bool at_place;                            // ... which says the whole cells do not decide
   bool cells;                               // moving: em and sc are set (where a slow bound does not pass)
   Cell em;                                  // eccentricity cell of the moving grid
   std::uint32_t speed_j[kMaxOrientations];  // each orientation's speed cell: lower node
@@ -1410,6 +1457,15 @@ struct Scheduler::Probe {
     return (((std::size_t(views[c]) * T + t) * kMovingS + speed_j[t]) * kMovingE + em.j) * L;
   }
 };
+
+// Whether x passes `entry` (x <= entry), narrowing (*lo, *hi] to the x where the outcome is the same.
+[[gnu::always_inline]] inline bool passes_narrowing(std::int32_t x, std::int32_t entry, std::int32_t* lo,
+                                                    std::int32_t* hi) {
+  const bool passes = x <= entry;
+  *lo = passes ? *lo : std::max(*lo, entry);
+  *hi = passes ? std::min(*hi, entry) : *hi;
+  return passes;
+}
 
 // The level the bounds over every view decide for one object (set 0: score <= 1, set 1: <= 1 - margin),
 // or -1 where its view would matter. A view's bound between its cell's two nodes lies between the
@@ -1434,12 +1490,7 @@ struct Scheduler::Probe {
                                                             std::int32_t x, bool still, std::int32_t* lo,
                                                             std::int32_t* hi) {
   const std::int16_t* upper = row + 2 * L + 1;
-  const auto passes_entry = [x, lo, hi](std::int32_t entry) {
-    const bool passes = x <= entry;
-    *lo = passes ? *lo : std::max(*lo, entry);
-    *hi = passes ? std::min(*hi, entry) : *hi;
-    return passes;
-  };
+  const auto passes_entry = [x, lo, hi](std::int32_t entry) { return passes_narrowing(x, entry, lo, hi); };
   if (!still) return passes_entry(std::min(row[2 * L], upper[2 * L])) ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
@@ -1469,6 +1520,49 @@ struct Scheduler::Probe {
   return passes == may_pass ? passes : -1;
 }
 
+// The level that table_choice() would give wherever the object is in its cells (its still or slow
+// cell's two eccentricity nodes and, moving, each orientation's moving cell's four corners) for table
+// set o.tables + set, or -1 where its place in them matters. Each bound table_choice() interpolates
+// lies between its cell's least and most corner (interpolation rounds monotonically), so the
+// coarsest level passing the least passes there too, and none failing the most does. Integers, x
+// and (*lo, *hi] as in any_view_level(). A moving object's cells must be set (o.cells).
+int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
+                               std::int32_t* lo, std::int32_t* hi) {
+  const ProfileMeta& m = pc.profile.meta;
+  const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
+  const ProfileCache::Tables& tables = pc.sets[o.tables + set];
+  const std::vector<std::int16_t>& near = o.moving ? tables.slow : tables.still;
+  for (std::uint32_t k = L; k >= 1; --k) {
+    bool least = true, most = true;  // every view passes its least (most) bound
+    for (std::uint32_t c = 0; c < o.view_count && most; ++c) {
+      const std::int16_t* row = &near[o.still_row(c, B, L) + (k - 1)];
+      bool view_least = passes_narrowing(x, std::min(row[0], row[L]), lo, hi);
+      bool view_most = view_least || passes_narrowing(x, std::max(row[0], row[L]), lo, hi);
+      if (o.moving && !view_least) {  // the moving bound: its least (most) over the orientations
+        bool moving_least = true, moving_most = !view_most;
+        for (std::uint32_t t = 0; t < T && (moving_least || moving_most); ++t) {
+          const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
+          const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
+          const std::int16_t corners[4] = {r0[0], r0[L], r1[0], r1[L]};
+          const std::int32_t least_corner = *std::min_element(corners, corners + 4),
+                             most_corner = *std::max_element(corners, corners + 4);
+          // A step of room: the speed interpolation of two interpolated floats can round an ulp
+          // past its corners (the eccentricity one cannot: its difference of entries is exact).
+          if (moving_least) moving_least = passes_narrowing(x, least_corner - 1, lo, hi);
+          if (moving_most) moving_most = passes_narrowing(x, most_corner + 1, lo, hi);
+        }
+        view_least = moving_least;
+        view_most = view_most || moving_most;
+      }
+      least = least && view_least;
+      most = most && view_most;
+    }
+    if (least) return static_cast<int>(k);
+    if (most) return -1;
+  }
+  return 0;
+}
+
 // The inputs of the tables for a block's objects (tabulate()'s pass 1), branch-free so that it
 // vectorises: the tables' x and eccentricity cell and whether the image is still on the retina (as
 // retinal_slip() finds it); with these, whether each object's memo stands (never with use_memo false).
@@ -1476,8 +1570,9 @@ struct Scheduler::Inputs {
   std::int32_t x_step[kBlock];  // ln angular diameter in table steps, rounded up
   std::uint32_t ec_j[kBlock];
   float ec_w[kBlock], inv_diam[kBlock];
-  std::uint32_t still[kBlock];     // 0 or 1, as wide as the loop's floats (so it vectorises)
-  std::uint32_t memo_hit[kBlock];  // 0 or 1
+  std::uint32_t still[kBlock];      // 0 or 1, as wide as the loop's floats (so it vectorises)
+  std::uint32_t memo_hit[kBlock];   // 0 or 1: decided by its memo
+  std::uint32_t view_memo[kBlock];  // 0 or 1: by its memo if the view and speed cells are the same
 };
 ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
                                                 const Block& b, const Memo& memo, bool use_memo,
@@ -1503,8 +1598,13 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
     const std::uint32_t seen = (b.test[j] == 0.0f) & (b.d[j] > b.r[j]);
     const std::uint32_t same_bands =
         (f_lo[j] * inv_diam <= b.nyquist[j]) & !(f_hi[j] * inv_diam <= b.nyquist[j]);
-    o.memo_hit[j] = check & seen & (memo_key[j] == Memo::key_of(ec.j, still, bias_tables[j])) & same_bands &
-                    (x_from[j] <= x) & (x <= x_to[j]);
+    const std::uint32_t key = memo_key[j], through_view = (key & Memo::kThroughView) != 0;
+    const std::uint32_t stands =
+        check & seen &
+        ((key & ~std::uint32_t(Memo::kThroughView)) == Memo::key_of(ec.j, still, bias_tables[j])) &
+        same_bands & (x_from[j] <= x) & (x <= x_to[j]);
+    o.memo_hit[j] = stands & (through_view ^ 1u);
+    o.view_memo[j] = stands & through_view;
   }
 }
 
@@ -1527,7 +1627,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   Inputs in;
   table_inputs(eye, first, n, b, memo, scores == nullptr, &in);
   const std::int32_t* x_step = in.x_step;
-  const std::uint32_t *ec_j = in.ec_j, *still = in.still, *memo_hit = in.memo_hit;
+  const std::uint32_t *ec_j = in.ec_j, *still = in.still, *memo_hit = in.memo_hit, *view_memo = in.view_memo;
   const float *ec_w = in.ec_w, *inv_diam = in.inv_diam;
   std::uint32_t bands[kBlock];
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
@@ -1579,6 +1679,11 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     todo[j] = 1;
     tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
     if (scores) continue;  // every level's score: the view's tables
+    if (view_memo[j]) {    // its memo through the view decides if the view and cells are the same
+      ACUITY_PREFETCH(&memo.view_key[id]);
+      ACUITY_PREFETCH(&memo.speed_key[id]);
+      continue;
+    }
     todo[j] = 2;
     for (int set = 0; set < sets; ++set) {
       const std::int16_t* row = any_view_row(pc, L, bands[j], ec_j[j], tables[j] + set);
@@ -1611,14 +1716,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       }
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
-        const float* frequency = &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands];
-        memo.key[id] = static_cast<std::uint16_t>(Memo::key_of(ec_j[j], still[j], bias_tables_[id]));
-        memo.x_from[id] = static_cast<std::int16_t>(lo + 1);
-        memo.x_to[id] = static_cast<std::int16_t>(hi);
-        memo.f_lo[id] = frequency[bands[j] - 1];
-        memo.f_hi[id] = bands[j] < kMaxBands ? frequency[bands[j]] : kInf;
-        memo.fine[id] = static_cast<std::uint8_t>(fine);
-        memo.coarse[id] = static_cast<std::uint8_t>(coarse);
+        memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]), lo, hi,
+                      &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], fine, coarse);
       }
     }
     if (todo[j]) {
@@ -1657,7 +1756,19 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
     o.moving = o.vx != 0.0f || o.vy != 0.0f;
     o.cells = false;
+    o.em = {0, 0.0f};
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
+    o.where = max3 ? static_cast<std::uint32_t>((cand[j] - p.lookup) / kLookupCandidates) : view;
+    o.decided = o.at_place = false;
+    const std::uint32_t T = p.meta.orientation_count;
+    if (view_memo[j] && Memo::keyable(o.moving, T)) {  // the same view and cells?
+      if (o.moving) speed_cells(pc, b.e[j], &o);
+      const bool same = memo.view_key[id] == Memo::view_key_of(o.where, o.moving, o.em.j) &&
+                        memo.speed_key[id] == Memo::speed_key_of(o.moving, o.speed_j, T);
+      o.at_place = same && memo.fine[id] == Memo::kAtPlace;
+      o.decided = same && !o.at_place;
+      if (o.decided) continue;  // out[j] holds its memo's decision
+    }
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
@@ -1673,7 +1784,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
     Probe& o = probe[j];
-    if (!o.moving) continue;
+    if (!o.moving || o.decided) continue;
     const ProfileCache& pc = profiles_[profile_of_[first + j]];
     const std::uint32_t B = pc.profile.meta.band_count, T = pc.profile.meta.orientation_count,
                         L = pc.profile.meta.level_count - 1;
@@ -1682,18 +1793,42 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
           &pc.sets[o.tables].slow[o.still_row(c, B, L) + (L - 1)];  // the coarsest level
       if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
       if (!o.cells) speed_cells(pc, b.e[j], &o);
-      for (std::uint32_t t = 0; t < T; ++t) {
+      // At its place, table_choice() mostly decides within the first orientations; over the whole
+      // cells (view_cell_level()), it reads them all.
+      const std::uint32_t read = o.at_place ? std::min(T, 2u) : T;
+      for (std::uint32_t t = 0; t < read; ++t) {
         const std::int16_t* r0 = &pc.sets[o.tables].moving[o.moving_row(c, t, T, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
     }
   }
-  // Pass 6: the decisions through the objects' views.
+  // Pass 6: the decisions through the objects' views: over their whole cells, remembered, where those
+  // decide; else at their place in the cells.
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
+    Probe& o = probe[j];
+    if (o.decided) continue;
     const ObjectId id = first + j;
-    out[j] = table_choice(profiles_[profile_of_[id]], b.e[j], probe[j], scores ? scores[j] : nullptr);
+    const ProfileCache& pc = profiles_[profile_of_[id]];
+    const std::uint32_t T = pc.profile.meta.orientation_count;
+    if (!scores && !o.at_place && Memo::keyable(o.moving, T)) {
+      if (o.moving && !o.cells) speed_cells(pc, b.e[j], &o);
+      std::int32_t lo = Memo::kNoLow, hi = Memo::kNoHigh;
+      const int fine = view_cell_level(pc, o, x_step[j], 0, &lo, &hi);
+      const int coarse = sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, &lo, &hi) : fine;
+      const int kept = coarse >= 0 ? fine : Memo::kAtPlace;  // the whole cells' decision, or none
+      memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, lo, hi,
+                    &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], kept,
+                    coarse >= 0 ? coarse : Memo::kAtPlace);
+      memo.view_key[id] = Memo::view_key_of(o.where, o.moving, o.em.j);
+      memo.speed_key[id] = Memo::speed_key_of(o.moving, o.speed_j, T);
+      if (coarse >= 0) {
+        out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
+        continue;
+      }
+    }
+    out[j] = table_choice(pc, b.e[j], o, scores ? scores[j] : nullptr);
     out[j].flags |= gaze_flag;
   }
 }

@@ -273,7 +273,7 @@ class Scheduler {
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   struct Probe;                                       // tabulated path: one object's table position
-  struct Memo;    // tabulated path: per eye, each object's last decision by the bounds over every view
+  struct Memo;    // tabulated path: per eye, each object's last decision made over whole cells
   struct Inputs;  // tabulated path: a block's table positions and memo hits
   void table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                     const Memo& memo, bool use_memo, Inputs* out) const;
@@ -283,6 +283,8 @@ class Scheduler {
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
                             std::int32_t* lo, std::int32_t* hi);
   static int any_view_level_at(const std::int16_t* row, std::uint32_t L, float x, float w, bool still);
+  static int view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
+                             std::int32_t* lo, std::int32_t* hi);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
