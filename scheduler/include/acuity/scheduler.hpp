@@ -173,11 +173,13 @@ struct FrameStats {
 // interpolated at their eccentricity) before their view is looked up, exactly as their own view's
 // tables would decide. Per object and frame the work is the geometry, then one
 // table read (decided over every view), or one per level (still) or per level and orientation
-// (moving) through the object's view. A decision over every view is kept per object and eye (22
+// (moving) through the object's view. A decision made over whole cells is kept per object and eye (28
 // bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
-// still or moving image and bands shown, and a size between the entries it was compared with. While
-// those hold, the next frames take it without reading a table: the same decision, bit for bit (with
-// keep_scores, or a triangle budget, every object reads its view's tables and nothing is kept). Tables are
+// still or moving image and bands shown, and a size between the entries it was compared with; made
+// through the object's view, also the same view (Max3: lookup cell) and, moving, the same cells of
+// eccentricity and of each orientation's speed (profiles of up to 16 orientations). While those hold,
+// the next frames take it without reading a table: the same decision, bit for bit (with keep_scores,
+// or a triangle budget, every object reads its view's tables and nothing is kept). Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
