@@ -599,15 +599,15 @@ struct Scheduler::Memo {
         speed_key(n, 0) {}
   // Remembers object id's decision (fine, coarse) for x in (lo, hi], with `bands` of the profile's
   // band centres `frequency` shown.
-  void remember(ObjectId id, std::uint32_t key_, std::int32_t lo, std::int32_t hi, const float* frequency,
-                std::uint32_t bands, int fine_, int coarse_) {
-    key[id] = static_cast<std::uint16_t>(key_);
+  void remember(ObjectId id, std::uint32_t key_bits, std::int32_t lo, std::int32_t hi, const float* frequency,
+                std::uint32_t bands, int fine_level, int coarse_level) {
+    key[id] = static_cast<std::uint16_t>(key_bits);
     x_from[id] = static_cast<std::int16_t>(lo + 1);
     x_to[id] = static_cast<std::int16_t>(hi);
     f_lo[id] = frequency[bands - 1];
     f_hi[id] = bands < kMaxBands ? frequency[bands] : kInf;
-    fine[id] = static_cast<std::uint8_t>(fine_);
-    coarse[id] = static_cast<std::uint8_t>(coarse_);
+    fine[id] = static_cast<std::uint8_t>(fine_level);
+    coarse[id] = static_cast<std::uint8_t>(coarse_level);
   }
 };
 
@@ -1817,13 +1817,13 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       std::int32_t lo = Memo::kNoLow, hi = Memo::kNoHigh;
       const int fine = view_cell_level(pc, o, x_step[j], 0, &lo, &hi);
       const int coarse = sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, &lo, &hi) : fine;
-      const int kept = coarse >= 0 ? fine : Memo::kAtPlace;  // the whole cells' decision, or none
+      const bool decides = coarse >= 0;  // else the memo says so: at its place
       memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, lo, hi,
-                    &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], kept,
-                    coarse >= 0 ? coarse : Memo::kAtPlace);
+                    &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j],
+                    decides ? fine : Memo::kAtPlace, decides ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o.where, o.moving, o.em.j);
       memo.speed_key[id] = Memo::speed_key_of(o.moving, o.speed_j, T);
-      if (coarse >= 0) {
+      if (decides) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         continue;
       }
