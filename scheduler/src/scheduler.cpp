@@ -1612,9 +1612,10 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1, table_inputs()), the objects decided without tables and the any-view rows of the rest
 // (2), the any-view decisions, memorised where they hold over the whole cell (3); for the objects
-// they leave, the view, slip and grid cell (4), the moving rows (5) and the decision (6). Objects not
-// seen (invalid input, eye inside) take the fallback or finest level; an object whose bias has no
-// tables (not a tabulated bias) is evaluated exactly.
+// they leave, the view, slip and grid cell, with which a memo made through the view decides (4), the
+// moving rows (5) and the decision, over the whole cells and memorised where they decide, else at the
+// object's place in them (6). Objects not seen (invalid input, eye inside) take the fallback or
+// finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
 // Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
@@ -1735,7 +1736,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     left[left_count] = static_cast<std::uint8_t>(j);
     left_count += todo[j] != 0;
   }
-  // Pass 4: the nearest view, the slip in its image axes, the still (or slow) rows prefetched.
+  // Pass 4: the nearest view, the slip in its image axes; the objects whose memo through the view
+  // stands decided, the still (or slow) rows of the others prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
