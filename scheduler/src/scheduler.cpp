@@ -1490,12 +1490,13 @@ struct Scheduler::Probe {
                                                             std::int32_t x, bool still, std::int32_t* lo,
                                                             std::int32_t* hi) {
   const std::int16_t* upper = row + 2 * L + 1;
-  const auto passes_entry = [x, lo, hi](std::int32_t entry) { return passes_narrowing(x, entry, lo, hi); };
-  if (!still) return passes_entry(std::min(row[2 * L], upper[2 * L])) ? static_cast<int>(L) : -1;
+  if (!still)
+    return passes_narrowing(x, std::min(row[2 * L], upper[2 * L]), lo, hi) ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = passes_entry(std::min(row[k - 1], upper[k - 1])) ? static_cast<int>(k) : passes;
-    may_pass = passes_entry(std::max(row[L + k - 1], upper[L + k - 1])) ? static_cast<int>(k) : may_pass;
+    passes = passes_narrowing(x, std::min(row[k - 1], upper[k - 1]), lo, hi) ? static_cast<int>(k) : passes;
+    may_pass = passes_narrowing(x, std::max(row[L + k - 1], upper[L + k - 1]), lo, hi) ? static_cast<int>(k)
+                                                                                       : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
