@@ -115,11 +115,15 @@ struct Scene {
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
                   Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
-                  int meshes = kProfiles, bool sweep = false) {
+                  int meshes = kProfiles, bool sweep = false, float tremble_m = 0) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model, meshes);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   float yaw = 0;                                              // [deg]
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> tremble(-tremble_m, tremble_m);
   for (auto _ : state) {
+    if (tremble_m > 0)  // the eye's position each frame within +-tremble_m of the origin, per axis
+      for (double& x : scene.frame.eyes[0].position) x = tremble(rng);
     if (sweep) {  // the head yaws back and forth over +-15 deg, frame by frame
       float& speed = scene.frame.eyes[0].angular_velocity[1];
       yaw += speed * scene.frame.dt;
@@ -253,6 +257,11 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_turning, SelectionRule::Perceptu
 // so every remembered decision stands; here eccentricities change as a real head moves them).
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_sweeping, SelectionRule::Perceptual, 0.0f,
                   Evaluation::Tabulated, 30.0f, Biases::None, ThresholdModel::Default, kProfiles, true)
+    ->Apply(sizes);
+// The still scene through a head held still: tracking noise moves the eye within +-0.2 mm a frame
+// (no velocity reported), so sizes and eccentricities change a little every frame.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_trembling, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, kProfiles, false, 2e-4f)
     ->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)
     ->Apply(sizes);
