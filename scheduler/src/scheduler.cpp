@@ -262,6 +262,58 @@ inline float speed_midpoint(float lo, float v0) {
   return (1.0f + half) / (1.0f - half) * (lo + v0) - v0;
 }
 
+// Where a decision stands: x [table steps, as size_steps_above()] in (lo, hi] and the eccentricity
+// cell's upper weight w in [w_from, w_to] / kWeightSteps. Where there is no end, lo and hi start just
+// past the entries (size_steps_above()'s range); a decision over the whole cell stands for every w.
+constexpr float kWeightSteps = 32768.0f;  // a power of two: w * kWeightSteps is exact
+struct Stand {
+  static constexpr std::int32_t kNoLow = kLeastEntry - 1, kNoHigh = kMostEntry + 1;
+  std::int32_t lo = kNoLow, hi = kNoHigh;
+  std::uint16_t w_from = 0, w_to = 0xffff;
+};
+static_assert(Stand::kNoLow + 1 >= INT16_MIN && Stand::kNoHigh <= INT16_MAX, "lo + 1 and hi fit an int16");
+
+// Where a decision made at an object's place in its cell stands. It compared x [ln deg] (x_step: in
+// table steps) against lines between a cell's two entries at the weight w: x <= between(lower, upper,
+// w) + offset, and `lines(f)` calls f(lower, upper, offset) for each. Half the least distance from x
+// to a line goes to x, the rest to w: the box of w in which every line stays that far on its side of
+// x. Then each line at the box's ends, computed as the decision computes it (between() is monotone in
+// w, so its extremes are there), narrows (lo, hi], with a table step of room for rounding. Writes
+// *out and returns true where x_step lies inside; else the decision stands nowhere around x.
+template <class Lines>
+bool stand_at_place(float x, std::int32_t x_step, float w, const Lines& lines, Stand* out) {
+  float slack = kInf;
+  lines([&](std::int16_t lower, std::int16_t upper, float offset) {
+    slack = std::min(slack, std::abs(between(lower, upper, w) + offset - x));
+  });
+  const float half = 0.5f * slack;
+  float w_lo = 0.0f, w_hi = 1.0f;
+  lines([&](std::int16_t lower, std::int16_t upper, float offset) {
+    const float a = decode_size(lower) + offset, d = decode_size(upper) - decode_size(lower);
+    if (d == 0.0f) return;  // level: on its side at every w
+    const bool passes = x <= between(lower, upper, w) + offset;
+    const float near = ((passes ? x + half : x - half) - a) / d;  // the w where it comes that near
+    if (passes == (d > 0.0f))
+      w_lo = std::max(w_lo, near);
+    else
+      w_hi = std::min(w_hi, near);
+  });
+  const float from = std::ceil(w_lo * kWeightSteps), to = std::floor(w_hi * kWeightSteps);
+  if (!(from <= w * kWeightSteps && w * kWeightSteps <= to)) return false;
+  const float end0 = from / kWeightSteps, end1 = to / kWeightSteps;
+  Stand s{Stand::kNoLow, Stand::kNoHigh, static_cast<std::uint16_t>(from), static_cast<std::uint16_t>(to)};
+  lines([&](std::int16_t lower, std::int16_t upper, float offset) {
+    const float b0 = between(lower, upper, end0) + offset, b1 = between(lower, upper, end1) + offset;
+    if (x <= between(lower, upper, w) + offset)
+      s.hi = std::min(s.hi, static_cast<std::int32_t>(std::floor(std::min(b0, b1) * kSizeSteps)) - 1);
+    else
+      s.lo = std::max(s.lo, static_cast<std::int32_t>(std::ceil(std::max(b0, b1) * kSizeSteps)) + 1);
+  });
+  if (!(s.lo < x_step && x_step <= s.hi)) return false;
+  *out = s;
+  return true;
+}
+
 }  // namespace
 
 struct Scheduler::ProfileCache {
@@ -540,12 +592,13 @@ struct Scheduler::EyeCache {
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
-// Per eye and object, the last decision made over whole cells: by the bounds over every view
-// (tabulate()'s pass 3), or through the object's view (pass 6, kThroughView in the key), with the
-// inputs under which it stands: the same key (eccentricity cell, still or not, table set), the same
-// bands shown (f_lo * inv_diam <= Nyquist < f_hi * inv_diam: the lowest shown band and the next one,
-// +inf past the profile's) and x in (lo, hi], where no entry it compared against lies; through the
-// view also the same view_key and speed_key. Tables never change once built, so within these the
+// Per eye and object, the last decision made over whole cells or, for a still image, around its place
+// in the cell: by the bounds over every view (tabulate()'s pass 3), or through the object's view
+// (pass 6, kThroughView in the key), with the inputs under which it stands: the same key
+// (eccentricity cell, still or not, table set), the same bands shown (f_lo * inv_diam <= Nyquist <
+// f_hi * inv_diam: the lowest shown band and the next one, +inf past the profile's), x and the cell's
+// weight in the Stand, where no line it compared against lies; through the view also the same
+// view_key and speed_key. Tables never change once built, so within these the
 // decision is the one the rows would give again: an object kept still, or moving steadily, is decided
 // from its own memo without reading a table. Object slots start (add_object) with no memo.
 struct Scheduler::Memo {
@@ -561,8 +614,8 @@ struct Scheduler::Memo {
   // orientation's speed cell, 4 bits each (profiles of at most kSpeedKeyOrientations orientations:
   // a moving object of a profile with more is not remembered through its view).
   static constexpr std::uint32_t kSpeedKeyOrientations = 16;
-  // A decision through the view that the whole cells left open: the object's place decides (its
-  // fine and coarse level in the memo).
+  // A decision through the view that stands only at the object's place (the whole cells left it
+  // open, and it moves, or no box around its place keeps it): its fine and coarse level in the memo.
   static constexpr std::uint8_t kAtPlace = 255;
   static_assert(kMovingE - 2 < 16 && kMovingS - 2 < 16, "cells fit 4 bits");
   static_assert(6 * kMaxLookupResolution * kMaxLookupResolution < (1u << 27) && kMaxViews < (1u << 27),
@@ -576,13 +629,12 @@ struct Scheduler::Memo {
     for (std::uint32_t t = 0; moving && t < T; ++t) k |= std::uint64_t(speed_j[t]) << (4 * t);
     return k;
   }
-  // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (any_view_level()'s (lo, hi]). Where
-  // there is no end, lo and hi start just past the entries (size_steps_above()'s range).
-  static constexpr std::int32_t kNoLow = kLeastEntry - 1, kNoHigh = kMostEntry + 1;
-  static_assert(kNoLow + 1 >= INT16_MIN && kNoHigh <= INT16_MAX, "x_from and x_to fit an int16");
-  // Sixteen bits where they fit: a frame reads every object's memo.
+  // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (Stand's (lo, hi]) and for the
+  // eccentricity cell's weight w in [w_from, w_to] / kWeightSteps (every w for a decision made over
+  // the whole cell).
   std::vector<std::uint16_t> key;
   std::vector<std::int16_t> x_from, x_to;
+  std::vector<std::uint16_t> w_from, w_to;
   std::vector<float> f_lo, f_hi;  // band centres [cpod]
   std::vector<std::uint8_t> fine, coarse;
   std::vector<std::uint32_t> view_key;  // read only where the key has kThroughView
@@ -591,19 +643,23 @@ struct Scheduler::Memo {
       : key(n, kNone),
         x_from(n, 0),
         x_to(n, 0),
+        w_from(n, 0),
+        w_to(n, 0),
         f_lo(n, kInf),
         f_hi(n, kInf),
         fine(n, 0),
         coarse(n, 0),
         view_key(n, 0),
         speed_key(n, 0) {}
-  // Remembers object id's decision (fine, coarse) for x in (lo, hi], with `bands` of the profile's
+  // Remembers object id's decision (fine, coarse) where it stands, with `bands` of the profile's
   // band centres `frequency` shown.
-  void remember(ObjectId id, std::uint32_t key_bits, std::int32_t lo, std::int32_t hi, const float* frequency,
+  void remember(ObjectId id, std::uint32_t key_bits, const Stand& stand, const float* frequency,
                 std::uint32_t bands, int fine_level, int coarse_level) {
     key[id] = static_cast<std::uint16_t>(key_bits);
-    x_from[id] = static_cast<std::int16_t>(lo + 1);
-    x_to[id] = static_cast<std::int16_t>(hi);
+    x_from[id] = static_cast<std::int16_t>(stand.lo + 1);
+    x_to[id] = static_cast<std::int16_t>(stand.hi);
+    w_from[id] = stand.w_from;
+    w_to[id] = stand.w_to;
     f_lo[id] = frequency[bands - 1];
     f_hi[id] = bands < kMaxBands ? frequency[bands] : kInf;
     fine[id] = static_cast<std::uint8_t>(fine_level);
@@ -1156,7 +1212,7 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
     for (const auto* a : {&m.x_from, &m.x_to}) lines(&(*a)[first], sizeof(std::int16_t) * n);
-    lines(&m.key[first], sizeof(std::uint16_t) * n);
+    for (const auto* a : {&m.key, &m.w_from, &m.w_to}) lines(&(*a)[first], sizeof(std::uint16_t) * n);
     for (const auto* a : {&m.f_lo, &m.f_hi}) lines(&(*a)[first], sizeof(float) * n);
     for (const auto* a : {&m.fine, &m.coarse}) lines(&(*a)[first], n);
   }
@@ -1500,23 +1556,37 @@ struct Scheduler::Probe {
   }
   return passes == may_pass ? passes : -1;
 }
+namespace {
+// between() rounds: a few float steps at |bound| <= 32 ln deg; this much more keeps the bounds' sides
+// at an object's place in the any-view cell (the views' own bounds are rounded too).
+constexpr float kAnyViewRounding = 1.0f / 4096;
+// The lines any_view_level_at() compares x against (stand_at_place()'s `lines`), for a row as there.
+template <class Line>
+void any_view_lines(const std::int16_t* row, std::uint32_t L, bool still, const Line& line) {
+  const std::int16_t* upper = row + 2 * L + 1;
+  if (!still) return line(row[2 * L], upper[2 * L], -kAnyViewRounding);
+  for (std::uint32_t k = 1; k <= L; ++k) {
+    line(row[k - 1], upper[k - 1], -kAnyViewRounding);
+    line(row[L + k - 1], upper[L + k - 1], kAnyViewRounding);
+  }
+}
+}  // namespace
+
 // The same at the object's place in the cell: the nodes' least (and most) interpolated at the upper
 // node's weight w, as each view's bound is. Each view's bound is linear in w between its nodes, so
 // the least (most) over the views is at least (at most) the line between the nodes' least (most):
 // still a bound over every view, and a closer one. x: the object's ln angular diameter [ln deg].
-// Decides more objects than any_view_level(), but for this eccentricity only (nothing to memorise).
+// Decides more objects than any_view_level(), for this eccentricity (stand_at_place() finds how far
+// around it the decision stands).
 [[gnu::always_inline]] inline int Scheduler::any_view_level_at(const std::int16_t* row, std::uint32_t L,
                                                                float x, float w, bool still) {
   const std::int16_t* upper = row + 2 * L + 1;
-  // between() rounds: a few float steps at |bound| <= 32 ln deg; this much more keeps the bounds'
-  // sides (the views' own bounds are rounded too).
-  constexpr float kRounding = 1.0f / 4096;
   const auto at = [&](std::uint32_t i) { return between(row[i], upper[i], w); };
-  if (!still) return x <= at(2 * L) - kRounding ? static_cast<int>(L) : -1;
+  if (!still) return x <= at(2 * L) - kAnyViewRounding ? static_cast<int>(L) : -1;
   int passes = 0, may_pass = 0;
   for (std::uint32_t k = 1; k <= L; ++k) {
-    passes = x <= at(k - 1) - kRounding ? static_cast<int>(k) : passes;
-    may_pass = x <= at(L + k - 1) + kRounding ? static_cast<int>(k) : may_pass;
+    passes = x <= at(k - 1) - kAnyViewRounding ? static_cast<int>(k) : passes;
+    may_pass = x <= at(L + k - 1) + kAnyViewRounding ? static_cast<int>(k) : may_pass;
   }
   return passes == may_pass ? passes : -1;
 }
@@ -1581,6 +1651,7 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
   const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
   const std::uint16_t* memo_key = &memo.key[first];
   const std::int16_t *x_from = &memo.x_from[first], *x_to = &memo.x_to[first];
+  const std::uint16_t *w_from = &memo.w_from[first], *w_to = &memo.w_to[first];
   const float *f_lo = &memo.f_lo[first], *f_hi = &memo.f_hi[first];
   const std::uint8_t* bias_tables = &bias_tables_[first];
   const std::uint32_t check = use_memo;
@@ -1603,7 +1674,8 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
     const std::uint32_t stands =
         check & seen &
         ((key & ~std::uint32_t(Memo::kThroughView)) == Memo::key_of(ec.j, still, bias_tables[j])) &
-        same_bands & (x_from[j] <= x) & (x <= x_to[j]);
+        same_bands & (x_from[j] <= x) & (x <= x_to[j]) & (float(w_from[j]) <= ec.w * kWeightSteps) &
+        (ec.w * kWeightSteps <= float(w_to[j]));
     o.memo_hit[j] = stands & (through_view ^ 1u);
     o.view_memo[j] = stands & through_view;
   }
@@ -1612,10 +1684,10 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1, table_inputs()), the objects decided without tables and the any-view rows of the rest
-// (2), the any-view decisions, memorised where they hold over the whole cell (3); for the objects
-// they leave, the view, slip and grid cell, with which a memo made through the view decides (4), the
-// moving rows (5) and the decision, over the whole cells and memorised where they decide, else at the
-// object's place in them (6). Objects not seen (invalid input, eye inside) take the fallback or
+// (2), the any-view decisions, over the whole cell or at the object's place, remembered where they
+// stand (3); for the objects they leave, the view, slip and grid cell, with which a memo made through
+// the view decides (4), the moving rows (5) and the decision, over the whole cells or at the object's
+// place in them, remembered where it stands (6). Objects not seen (invalid input, eye inside) take the fallback or
 // finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
 // Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
@@ -1694,33 +1766,36 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 4 * L + 1);  // the upper node's row ends here
     }
   }
-  // Pass 3: the any-view decisions, over the cell memorised with the interval of x they stand in,
-  // else at the object's eccentricity (not memorised); the rest have their lookup cell (of the direction to the eye) found and its candidates prefetched.
+  // Pass 3: the any-view decisions, over the cell or else at the object's place in it, remembered with
+  // the x and eccentricity where they stand; the rest have their lookup cell (of the direction to the
+  // eye) found and its candidates prefetched.
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
     if (!todo[j]) continue;
     const ObjectId id = first + j;
     if (todo[j] == 2) {
       const std::uint32_t L = level_count_[profile_of_[id]] - 1u;
-      std::int32_t lo = Memo::kNoLow, hi = Memo::kNoHigh;
-      const int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &lo, &hi);
-      const int coarse =
-          sets > 1 && fine >= 0 ? any_view_level(rows[1][j], L, x_step[j], still[j], &lo, &hi) : fine;
-      todo[j] = coarse < 0;
-      if (coarse < 0) {  // not over the whole cell: at the object's place in it
+      Stand stand;  // the whole cell
+      int fine = any_view_level(rows[0][j], L, x_step[j], still[j], &stand.lo, &stand.hi);
+      int coarse = sets > 1 && fine >= 0
+                       ? any_view_level(rows[1][j], L, x_step[j], still[j], &stand.lo, &stand.hi)
+                       : fine;
+      bool remembered = coarse >= 0;
+      if (coarse < 0) {  // not over the whole cell: at the object's place in it, remembered around it
         const float x = b.ln_diam[j], w = ec_w[j];
-        const int fine_at = any_view_level_at(rows[0][j], L, x, w, still[j]);
-        const int coarse_at =
-            sets > 1 && fine_at >= 0 ? any_view_level_at(rows[1][j], L, x, w, still[j]) : fine_at;
-        todo[j] = coarse_at < 0;
-        if (coarse_at >= 0)
-          out[j] = {static_cast<std::uint8_t>(fine_at), static_cast<std::uint8_t>(coarse_at), gaze_flag};
+        fine = any_view_level_at(rows[0][j], L, x, w, still[j]);
+        coarse = sets > 1 && fine >= 0 ? any_view_level_at(rows[1][j], L, x, w, still[j]) : fine;
+        const auto lines = [&](const auto& line) {
+          for (int set = 0; set < sets; ++set) any_view_lines(rows[set][j], L, still[j], line);
+        };
+        remembered = coarse >= 0 && stand_at_place(x, x_step[j], w, lines, &stand);
       }
-      if (coarse >= 0) {
+      todo[j] = coarse < 0;
+      if (coarse >= 0)
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
-        memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]), lo, hi,
+      if (remembered)
+        memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]), stand,
                       &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], fine, coarse);
-      }
     }
     if (todo[j]) {
       const Profile& p = profiles_[profile_of_[id]].profile;
@@ -1806,8 +1881,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       }
     }
   }
-  // Pass 6: the decisions through the objects' views: over their whole cells, remembered, where those
-  // decide; else at their place in the cells.
+  // Pass 6: the decisions through the objects' views: over their whole cells where those decide, else
+  // at their place in the cells; remembered where they stand (a moving image: over whole cells only).
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
     Probe& o = probe[j];
@@ -1817,16 +1892,31 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const std::uint32_t T = pc.profile.meta.orientation_count;
     if (!scores && !o.at_place && Memo::keyable(o.moving, T)) {
       if (o.moving && !o.cells) speed_cells(pc, b.e[j], &o);
-      std::int32_t lo = Memo::kNoLow, hi = Memo::kNoHigh;
-      const int fine = view_cell_level(pc, o, x_step[j], 0, &lo, &hi);
-      const int coarse = sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, &lo, &hi) : fine;
-      const bool decides = coarse >= 0;  // else the memo says so: at its place
-      memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, lo, hi,
+      Stand stand;  // the whole cells
+      int fine = view_cell_level(pc, o, x_step[j], 0, &stand.lo, &stand.hi);
+      int coarse = sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, &stand.lo, &stand.hi) : fine;
+      bool stands = coarse >= 0;
+      if (!stands && !o.moving) {  // a still image: decided at its place in the cell, remembered around it
+        const Choice at = table_choice(pc, b.e[j], o, nullptr);
+        fine = at.fine;
+        coarse = at.coarse;
+        const std::uint32_t B = pc.profile.meta.band_count, L = pc.profile.meta.level_count - 1;
+        const auto lines = [&](const auto& line) {  // table_choice()'s: each set's, view's and level's
+          for (int set = 0; set < sets; ++set)
+            for (std::uint32_t c = 0; c < o.view_count; ++c) {
+              const std::int16_t* row = &pc.sets[o.tables + set].still[o.still_row(c, B, L)];
+              for (std::uint32_t k = 1; k <= L; ++k) line(row[k - 1], row[L + k - 1], 0.0f);
+            }
+        };
+        stands = stand_at_place(o.x, x_step[j], o.ec.w, lines, &stand);
+      }
+      // Where it stands nowhere, the memo says so: next time at its place.
+      memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, stand,
                     &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j],
-                    decides ? fine : Memo::kAtPlace, decides ? coarse : Memo::kAtPlace);
+                    stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o.where, o.moving, o.em.j);
       memo.speed_key[id] = Memo::speed_key_of(o.moving, o.speed_j, T);
-      if (decides) {
+      if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         continue;
       }

@@ -173,9 +173,10 @@ struct FrameStats {
 // interpolated at their eccentricity) before their view is looked up, exactly as their own view's
 // tables would decide. Per object and frame the work is the geometry, then one
 // table read (decided over every view), or one per level (still) or per level and orientation
-// (moving) through the object's view. A decision made over whole cells is kept per object and eye (28
-// bytes each, allocated at creation) with what it stands under: the same eccentricity cell, table set,
-// still or moving image and bands shown, and a size between the entries it was compared with; made
+// (moving) through the object's view. A decision made over whole cells, or at the object's place in
+// them (through its view: a still image's), is kept per object and eye (32 bytes each, allocated at
+// creation) with what it stands under: the same eccentricity cell, table set, still or moving image
+// and bands shown, and a size (at its place: and an eccentricity) clear of the bounds it compared; made
 // through the object's view, also the same view (Max3: lookup cell) and, moving, the same cells of
 // eccentricity and of each orientation's speed (profiles of up to 16 orientations). While those hold,
 // the next frames take it without reading a table: the same decision, bit for bit (with keep_scores,
