@@ -592,15 +592,15 @@ struct Scheduler::EyeCache {
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
-// Per eye and object, the last decision made over whole cells or, for a still image, around its place
-// in the cell: by the bounds over every view (tabulate()'s pass 3), or through the object's view
-// (pass 6, kThroughView in the key), with the inputs under which it stands: the same key
-// (eccentricity cell, still or not, table set), the same bands shown (f_lo * inv_diam <= Nyquist <
-// f_hi * inv_diam: the lowest shown band and the next one, +inf past the profile's), x and the cell's
-// weight in the Stand, where no line it compared against lies; through the view also the same
-// view_key and speed_key. Tables never change once built, so within these the
-// decision is the one the rows would give again: an object kept still, or moving steadily, is decided
-// from its own memo without reading a table. Object slots start (add_object) with no memo.
+// Per eye and object, the last decision made over whole cells or around the object's place in them:
+// by the bounds over every view (tabulate()'s pass 3), or through the object's view (pass 6,
+// kThroughView in the key; at its place, a still image's), with the inputs under which it stands:
+// the same key (eccentricity cell, still or not, table set), the same bands shown (f_lo * inv_diam
+// <= Nyquist < f_hi * inv_diam: the lowest shown band and the next one, +inf past the profile's), x
+// and the cell's weight in the Stand, where no line it compared against lies; through the view also
+// the same view_key and speed_key. Tables never change once built, so within these the decision is
+// the one the rows would give again: an object kept still, or moving steadily, is decided from its
+// own memo without reading a table. Object slots start (add_object) with no memo.
 struct Scheduler::Memo {
   static constexpr std::uint16_t kNone = 0xffff;  // a key no object has
   static constexpr std::uint16_t kThroughView = 1 << 14;
@@ -1685,11 +1685,12 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1, table_inputs()), the objects decided without tables and the any-view rows of the rest
 // (2), the any-view decisions, over the whole cell or at the object's place, remembered where they
-// stand (3); for the objects they leave, the view, slip and grid cell, with which a memo made through
-// the view decides (4), the moving rows (5) and the decision, over the whole cells or at the object's
-// place in them, remembered where it stands (6). Objects not seen (invalid input, eye inside) take the fallback or
-// finest level; an object whose bias has no tables (not a tabulated bias) is evaluated exactly.
-// Writes out[j], and with `scores` (kMaxLevels per object) each level's score (no memo then).
+// stand (3); for the objects they leave, the view, slip and grid cell, with which a memo made
+// through the view decides (4), the moving rows (5) and the decision, over the whole cells or at
+// the object's place in them, remembered where it stands (6). Objects not seen (invalid input, eye
+// inside) take the fallback or finest level; an object whose bias has no tables (not a tabulated
+// bias) is evaluated exactly. Writes out[j], and with `scores` (kMaxLevels per object) each level's
+// score (no memo then).
 void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                          Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
   const std::uint16_t* cand[kBlock];
