@@ -29,9 +29,10 @@ struct TestProfile {
   spectra::ProfileData data;
   Blob blob;
   Profile profile;
-  // view_spread: views v lose (1 + view_spread (v mod 3)) times as much (0: nearly alike).
+  // view_spread: views v lose (1 + view_spread (v mod 3)) times as much (0: nearly alike);
+  // front_spread: the views from +z lose (1 + front_spread) times as much again (the others alike).
   explicit TestProfile(std::uint32_t K = 6, std::uint32_t T = 8, std::uint32_t B = 8,
-                       float orientation_bias = 0.5f, float view_spread = 0.0f) {
+                       float orientation_bias = 0.5f, float view_spread = 0.0f, float front_spread = 0.0f) {
     data.sphere[0] = 0.1f;
     data.sphere[1] = 0.2f;
     data.sphere[2] = -0.1f;
@@ -53,7 +54,8 @@ struct TestProfile {
             const float angle =
                 1.0f + orientation_bias * std::cos(2.0f * float(t) * 3.14159f / float(T) + 0.3f * float(v));
             data.lost.push_back((0.25f * shape * angle + 0.0005f * float(k)) *
-                                (1.0f + view_spread * float(v % 3)));
+                                (1.0f + view_spread * float(v % 3)) *
+                                (axes[v][2] > 0 ? 1.0f + front_spread : 1.0f));
           }
     for (std::uint32_t k = 0; k < K; ++k)
       for (std::uint32_t v = 0; v < 14; ++v)
@@ -1294,6 +1296,64 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
       }
     }
     EXPECT_EQ(differ, 0) << k.name << ": " << differ << " of " << compared << " levels differ";
+  }
+}
+
+// A memo made through an object's view stands only while that view (Max3: its lookup cell) does.
+// Objects turn in place about their y axis each frame, the eye drifts and the gaze wanders. The
+// views from +z lose twice as much, and each view a little differently, so a turn changes the
+// decision where it crosses into the other half. Each frame's levels must be those of a scheduler
+// that keeps every level's score (no memo), in both view blends, and some levels must change on the
+// way. (Checked to fail, with thousands of levels differing, when the memo ignores the view.)
+TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
+  const TestProfile halves(6, 8, 8, 0.0f, 0.3f, 1.0f);
+  const int objects = 1000, frames = 120;
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    SchedulerConfig c;
+    c.view_blend = blend;
+    c.max_objects = objects;
+    SchedulerConfig scored_config = c;
+    scored_config.keep_scores = true;
+    Scheduler remembering(c), scored(scored_config);
+    remembering.add_profile(halves.profile);
+    scored.add_profile(halves.profile);
+    Rng rng(11);
+    std::vector<RandomObject> scene;
+    std::vector<float> turn;  // [deg a frame]
+    for (int i = 0; i < objects; ++i) {
+      scene.push_back(random_object(rng, 0));
+      turn.push_back(rng.uniform(0.5f, 4.0f));
+      EXPECT_EQ(remembering.add_object(0, scene[i].t), ObjectId(i));
+      EXPECT_EQ(scored.add_object(0, scene[i].t), ObjectId(i));
+    }
+    Frame fr = looking_forward();
+    gaze_at(fr, 0.1, 0.05, -1);
+    int differ = 0, changed = 0;
+    std::vector<std::uint8_t> last(objects, 255);
+    for (int f = 0; f < frames; ++f) {
+      // The eye drifts back and forth and the gaze wanders: sizes and eccentricities cross boxes too.
+      fr.eyes[0].position[2] = 0.5 * std::sin(0.05 * f);
+      gaze_at(fr, 0.1 + 0.1 * std::sin(0.13 * f), 0.05 + 0.05 * std::cos(0.07 * f), -1);
+      for (int i = 0; i < objects; ++i) {
+        float* q = scene[i].t.rotation;
+        const float half = 0.5f * turn[i] * float(kPi / 180), co = std::cos(half), sn = std::sin(half);
+        const float turned[4] = {q[0] * co - q[2] * sn, q[1] * co + q[3] * sn, q[2] * co + q[0] * sn,
+                                 q[3] * co - q[1] * sn};
+        std::copy(turned, turned + 4, q);
+        remembering.set_transform(ObjectId(i), scene[i].t);
+        scored.set_transform(ObjectId(i), scene[i].t);
+      }
+      remembering.run_frame(fr);
+      scored.run_frame(fr);
+      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
+        differ += remembering.level(id) != scored.level(id);
+        changed += f > 0 && scored.level(id) != last[id];
+        last[id] = scored.level(id);
+      }
+    }
+    const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
+    EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
+    EXPECT_GT(changed, objects / 2) << name << ": turning changes only " << changed << " levels";
   }
 }
 
