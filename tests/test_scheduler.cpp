@@ -977,6 +977,14 @@ struct RandomObject {
   ObjectTransform t;
   float v[3] = {0, 0, 0};  // [m/s]
 };
+// Turns an object's rotation q (x, y, z, w) by `deg` more about its own y axis.
+void turn_about_y(float q[4], float deg) {
+  const float half = 0.5f * deg * float(kPi / 180), co = std::cos(half), sn = std::sin(half);
+  const float turned[4] = {q[0] * co - q[2] * sn, q[1] * co + q[3] * sn, q[2] * co + q[0] * sn,
+                           q[3] * co - q[1] * sn};
+  std::copy(turned, turned + 4, q);
+}
+
 RandomObject random_object(Rng& rng, int moving_percent) {
   RandomObject o;
   float q[4];
@@ -1267,13 +1275,7 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
         if (i % 5 == 1 && f < 30) x[0] += double(step[i]);  // sideways, then still
         if (i % 5 == 3)
           for (int a = 0; a < 3; ++a) x[a] += double(scene[i].v[a] * fr.dt);
-        if (i % 5 == 4) {  // turns in place about its own y axis, 3 deg a frame: its view changes
-          float* q = scene[i].t.rotation;
-          const float co = std::cos(1.5f * float(kPi / 180)), sn = std::sin(1.5f * float(kPi / 180));
-          const float turned[4] = {q[0] * co - q[2] * sn, q[1] * co + q[3] * sn, q[2] * co + q[0] * sn,
-                                   q[3] * co - q[1] * sn};
-          std::copy(turned, turned + 4, q);
-        }
+        if (i % 5 == 4) turn_about_y(scene[i].t.rotation, 3.0f);  // turns in place: its view changes
         for (Scheduler* s : {&remembering, &scored}) {
           s->set_transform(ObjectId(i), scene[i].t);
           if (i % 5 == 2 && f == 45) {  // starts moving where it stands: its image slips at once
@@ -1335,11 +1337,7 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
       fr.eyes[0].position[2] = 0.5 * std::sin(0.05 * f);
       gaze_at(fr, 0.1 + 0.1 * std::sin(0.13 * f), 0.05 + 0.05 * std::cos(0.07 * f), -1);
       for (int i = 0; i < objects; ++i) {
-        float* q = scene[i].t.rotation;
-        const float half = 0.5f * turn[i] * float(kPi / 180), co = std::cos(half), sn = std::sin(half);
-        const float turned[4] = {q[0] * co - q[2] * sn, q[1] * co + q[3] * sn, q[2] * co + q[0] * sn,
-                                 q[3] * co - q[1] * sn};
-        std::copy(turned, turned + 4, q);
+        turn_about_y(scene[i].t.rotation, turn[i]);
         remembering.set_transform(ObjectId(i), scene[i].t);
         scored.set_transform(ObjectId(i), scene[i].t);
       }
