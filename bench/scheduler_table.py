@@ -13,6 +13,7 @@ CASES = [  # (benchmark name prefix, label)
     ("BM_scheduler/perceptual_static", "perceptual, still, tabulated"),
     ("BM_scheduler/perceptual_all_moving", "perceptual, all moving, tabulated"),
     ("BM_scheduler/perceptual_static_trembling", "perceptual, still, eye trembling ±0.2 mm, tabulated"),
+    ("BM_scheduler/perceptual_static_restless", "perceptual, still, eye jumping ±0.5 m (no rests), tabulated"),
     ("BM_scheduler/perceptual_head_turning", "perceptual, still, head turning 30 deg/s, tabulated"),
     ("BM_scheduler/perceptual_head_sweeping", "perceptual, still, head sweeping ±15° at 30 deg/s, tabulated"),
     ("BM_scheduler/perceptual_static_exact", "perceptual, still, exact"),

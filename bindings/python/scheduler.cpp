@@ -476,7 +476,7 @@ void bind_scheduler(py::module_ m) {
         const FrameStats& st = s.scheduler.stats();
         return py::dict("triangles"_a = st.triangles, "changed"_a = st.changed,
                         "budget_forced"_a = st.budget_forced, "invalid"_a = st.invalid,
-                        "gaze_used"_a = st.gaze_used);
+                        "gaze_used"_a = st.gaze_used, "at_rest"_a = st.at_rest);
       });
 
   m.attr("FLAG_INVALID_INPUT") = int(kFlagInvalidInput);

@@ -77,6 +77,12 @@ inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
 [[gnu::always_inline]] inline float angle_deg(Vec3 a, Vec3 b) {
   return atan2_deg(length(cross(a, b)), dot(a, b));
 }
+// The angular radius [deg] of a sphere of radius r at distance d from the eye (any finite value where
+// the eye is inside it), as the frame loop computes it.
+[[gnu::always_inline]] inline float angular_radius_deg(float d, float r) {
+  const float sin_radius = d > r ? r / d : 0.5f;
+  return atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
+}
 
 // Per-orientation terms of the Default model's ln S at velocity v (already floored).
 struct VelocityTerms {
@@ -639,6 +645,30 @@ struct Scheduler::Memo {
   std::vector<std::uint8_t> fine, coarse;
   std::vector<std::uint32_t> view_key;  // read only where the key has kThroughView
   std::vector<std::uint64_t> speed_key;
+  // Rests: while the eye stays within rest_m [m] of where it was in frame rest_frame, and its gaze
+  // and head turn at most rest_deg from where they pointed, every input the memo tests stays inside
+  // its box (stands_at_rest()), so the memo decides without the object's geometry. rest_m < 0: none.
+  // A rest lasts fewer than kPoses frames (staggered by id, so they do not all end in one frame). One
+  // the eye left is set again after kLeftRetry frames, and where none could be set, after kRetry (an
+  // eye that keeps moving sets few).
+  static constexpr std::uint32_t kPoses = 256, kLeftRetry = 8, kRetry = 64;
+  static std::uint32_t rest_frames(ObjectId id) { return kPoses / 2 + (id & (kPoses / 2 - 1)); }
+  std::vector<std::uint32_t> rest_frame;
+  std::vector<float> rest_m, rest_deg;
+  // The eye of the last kPoses frames (by frame % kPoses) and how far it is from each now: moved [m]
+  // and turned [deg] (gaze or head, the larger), +inf where either frame could not rest (the eye
+  // moved by a velocity, an image slipped, no valid eye, another gaze state or focal length).
+  struct Pose {
+    double position[3];
+    Vec3 gaze, forward;
+    float focal_px;
+    bool gaze_valid, usable;
+  };
+  Pose pose[kPoses]{};
+  float moved[kPoses], turned[kPoses];
+  float recent_m = 0, recent_deg = 0;  // the most moved and turned over the last 4 frames that could rest
+  bool usable = false;                 // this frame's pose can rest
+  void end_rest(ObjectId id) { rest_m[id] = -1.0f; }
   explicit Memo(std::size_t n = 0)
       : key(n, kNone),
         x_from(n, 0),
@@ -650,12 +680,21 @@ struct Scheduler::Memo {
         fine(n, 0),
         coarse(n, 0),
         view_key(n, 0),
-        speed_key(n, 0) {}
+        speed_key(n, 0),
+        rest_frame(n, 0u - kPoses),
+        rest_m(n, -1.0f),
+        rest_deg(n, -1.0f) {
+    std::fill(moved, moved + kPoses, kInf);
+    std::fill(turned, turned + kPoses, kInf);
+  }
+  // Frame `frame`'s pose of an eye (nullptr: an eye not used this frame).
+  void observe(std::uint32_t frame, const EyeCache* eye);
   // Remembers object id's decision (fine, coarse) where it stands, with `bands` of the profile's
   // band centres `frequency` shown.
   void remember(ObjectId id, std::uint32_t key_bits, const Stand& stand, const float* frequency,
                 std::uint32_t bands, int fine_level, int coarse_level) {
     key[id] = static_cast<std::uint16_t>(key_bits);
+    end_rest(id);  // a rest is set for the decision it stands with
     x_from[id] = static_cast<std::int16_t>(stand.lo + 1);
     x_to[id] = static_cast<std::int16_t>(stand.hi);
     w_from[id] = stand.w_from;
@@ -666,6 +705,91 @@ struct Scheduler::Memo {
     coarse[id] = static_cast<std::uint8_t>(coarse_level);
   }
 };
+
+void Scheduler::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
+  Pose now{};
+  const auto zero = [](Vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; };
+  // A still image stays still only while nothing moves it: no eye or head velocity, no gaze velocity.
+  usable = eye && eye->valid && zero(eye->velocity) && zero(eye->omega) && !eye->gaze_moving;
+  if (usable) {
+    now = {{eye->position[0], eye->position[1], eye->position[2]},
+           eye->gaze_dir,
+           eye->forward,
+           eye->focal_px,
+           eye->gaze,
+           true};
+  }
+  pose[frame % kPoses] = now;
+  const auto turn_deg = [](Vec3 a, Vec3 b) {  // in double: the angle between the floats as they are
+    const double x = double(a.y) * b.z - double(a.z) * b.y, y = double(a.z) * b.x - double(a.x) * b.z,
+                 z = double(a.x) * b.y - double(a.y) * b.x;
+    const double c = double(a.x) * b.x + double(a.y) * b.y + double(a.z) * b.z;
+    return std::atan2(std::sqrt(x * x + y * y + z * z), c) * (180.0 / std::numbers::pi);
+  };
+  recent_m = recent_deg = 0.0f;
+  for (std::uint32_t k = 0; k < kPoses; ++k) {
+    const Pose& p = pose[k];
+    if (!(usable && p.usable && p.gaze_valid == now.gaze_valid && p.focal_px == now.focal_px)) {
+      moved[k] = turned[k] = kInf;
+      continue;
+    }
+    double dd = 0;
+    for (int c = 0; c < 3; ++c) dd += (now.position[c] - p.position[c]) * (now.position[c] - p.position[c]);
+    moved[k] = static_cast<float>(std::sqrt(dd) * (1.0 + 1e-6));
+    turned[k] =
+        static_cast<float>(std::max(turn_deg(now.gaze, p.gaze), turn_deg(now.forward, p.forward)) + 1e-6);
+    if ((frame - k) % kPoses < 4) {  // frame's and the 3 before it
+      recent_m = std::max(recent_m, moved[k]);
+      recent_deg = std::max(recent_deg, turned[k]);
+    }
+  }
+}
+
+// What a rest's check reads of an object and one eye now.
+struct Scheduler::RestProbe {
+  float d, r;                       // distance, radius [m]
+  float gaze_angle, forward_angle;  // from the direction to the object to the gaze's and the head's [deg]
+  float view_margin;                // how far [rad] the direction may turn before its view can change
+  float half_focal, offset;         // as look_block() reads them
+};
+
+// Whether the memo of object id keeps deciding while the eye moves at most m [m] and the gaze and head
+// turn at most t [deg]: each input the memo tests (table_inputs()), computed as the frame loop
+// computes it at the ends of its range, stays inside the memo's box. The direction to the object
+// turns by at most asin(m / d); the angular radius and x are monotone in d (a table step of room for
+// the fast functions' ulps); the eccentricity cell and its weight are monotone in e.
+bool Scheduler::stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m, float t) const {
+  const float room_d = 1e-5f * h.d;  // float error of the distance as computed
+  const float d_near = h.d - m - room_d, d_far = h.d + m + room_d;
+  if (!(d_near > h.r) || !(m + room_d < h.d)) return false;
+  const float alpha = std::asin((m + room_d) / h.d);  // [rad]
+  if (!(alpha + 1e-5f < h.view_margin)) return false;
+  const float radius_near = angular_radius_deg(d_near, h.r), radius_far = angular_radius_deg(d_far, h.r);
+  // x: one table step of room each side (the box's ends past the entries need none).
+  const std::int32_t x_near = size_steps_above(ln_positive(2.0f * radius_near)),
+                     x_far = size_steps_above(ln_positive(2.0f * radius_far));
+  if (!(memo.x_from[id] == kLeastEntry || x_far > memo.x_from[id])) return false;
+  if (!(memo.x_to[id] == Stand::kNoHigh || x_near < memo.x_to[id])) return false;
+  // Eccentricity: max(0, angle to the gaze - radius - offset).
+  const float turn = kDeg * alpha + t;
+  const float room_e = 1e-3f + 1e-5f * (h.gaze_angle + radius_near);
+  const Cell low = e_cell<kStillE>(std::max(0.0f, h.gaze_angle - turn - radius_near - h.offset - room_e));
+  const Cell high = e_cell<kStillE>(std::max(0.0f, h.gaze_angle + turn - radius_far - h.offset + room_e));
+  const std::uint32_t cell = memo.key[id] & 31u;
+  if (low.j != cell || high.j != cell) return false;
+  if (!(float(memo.w_from[id]) <= low.w * kWeightSteps && high.w * kWeightSteps <= float(memo.w_to[id])))
+    return false;
+  // The bands shown: f_lo / diameter <= Nyquist < f_hi / diameter over the range of both.
+  const double phi_low = std::max(0.0, double(h.forward_angle) - turn - 1e-3) * kRad,
+               phi_high = std::min(180.0, double(h.forward_angle) + turn + 1e-3) * kRad;
+  const float cos_most = std::clamp(float(std::cos(phi_low)) + 1e-6f, 0.05f, 1.0f),
+              cos_least = std::clamp(float(std::cos(phi_high)) - 1e-6f, 0.05f, 1.0f);
+  const float nyquist_least = h.half_focal / (cos_most * cos_most) * (1.0f - 1e-5f),
+              nyquist_most = h.half_focal / (cos_least * cos_least) * (1.0f + 1e-5f);
+  const float inv_diam_most = 1.0f / (2.0f * radius_far) * (1.0f + 1e-5f),
+              inv_diam_least = 1.0f / (2.0f * radius_near) * (1.0f - 1e-5f);
+  return memo.f_lo[id] * inv_diam_most <= nyquist_least && memo.f_hi[id] * inv_diam_least > nyquist_most;
+}
 
 Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
@@ -696,6 +820,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   calm_frames_.assign(n, 0);
   wait_frames_.assign(n, 0);
   fade_.assign(n, 1.0f);
+  rest_.assign(n, 0);
   if (config_.keep_scores) scores_.assign(n * kMaxLevels, 0.0f);
   free_list_.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i) free_list_.push_back(static_cast<std::uint32_t>(n - 1 - i));
@@ -1004,6 +1129,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   calm_frames_[id] = wait_frames_[id] = 0;
   fade_[id] = 1.0f;
   if (memos_) memos_[0].key[id] = memos_[1].key[id] = Memo::kNone;  // another profile's, maybe
+  end_rests(id);
   return id;
 }
 
@@ -1011,22 +1137,39 @@ void Scheduler::remove_object(ObjectId id) {
   if (!alive(id)) return;
   profile_of_[id] = -1;
   sphere_[3][id] = 0.0f;  // a free slot looks invalid to the frame loop
+  end_rests(id);
   free_list_.push_back(id);
 }
 
 void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
   if (!alive(id)) return;
-  for (int k = 0; k < 3; ++k) position_[k][id] = t.position[k];
-  for (int k = 0; k < 4; ++k) rotation_[k][id] = t.rotation[k];
   // The frame reads the sphere scaled (the same products it would form): one array fewer per object.
   const float* sphere = profiles_[profile_of_[id]].profile.meta.sphere;
-  for (int k = 0; k < 4; ++k) sphere_[k][id] = t.scale * sphere[k];
+  bool same = true;  // the same bits: an object set where it was keeps its rests
+  for (int k = 0; k < 3; ++k) {
+    same = same && std::memcmp(&position_[k][id], &t.position[k], sizeof(double)) == 0;
+    position_[k][id] = t.position[k];
+  }
+  for (int k = 0; k < 4; ++k) {
+    const float scaled = t.scale * sphere[k];
+    same = same && std::memcmp(&rotation_[k][id], &t.rotation[k], sizeof(float)) == 0 &&
+           std::memcmp(&sphere_[k][id], &scaled, sizeof(float)) == 0;
+    rotation_[k][id] = t.rotation[k];
+    sphere_[k][id] = scaled;
+  }
+  if (!same) end_rests(id);
 }
 
 void Scheduler::set_velocity(ObjectId id, const float v[3]) {
   if (!alive(id)) return;
   for (int k = 0; k < 3; ++k) velocity_[k][id] = v[k];
   explicit_velocity_[id] = 1;
+  end_rests(id);
+}
+
+void Scheduler::end_rests(ObjectId id) {
+  if (memos_)
+    for (int i = 0; i < 2; ++i) memos_[i].end_rest(id);
 }
 
 void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level) {
@@ -1040,6 +1183,7 @@ void Scheduler::set_bias(ObjectId id, float quality_bias) {
   if (!alive(id)) return;
   bias_[id] = quality_bias;
   bias_tables_[id] = bias_tables_of(quality_bias);
+  end_rests(id);
 }
 
 // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
@@ -1109,6 +1253,15 @@ void Scheduler::begin_frame(const Frame& frame) {
           threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], c.focal_px);
     }
   }
+  ++frame_;
+  resting_ = memos_ != nullptr && !config_.keep_scores;
+  // Objects are looked for at rest where an eighth were last frame, and every eighth frame.
+  many_at_rest_ = last_at_rest_ > 0 && last_at_rest_ >= alive_count_ / 8;
+  looking_for_rest_ = resting_ && (many_at_rest_ || frame_ % 8 == 0);
+  for (std::uint32_t i = 0; memos_ && i < 2; ++i) {
+    memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
+    if (i < eye_count_) resting_ = resting_ && memos_[i].usable;
+  }
 }
 
 // One eye's view of one object: everything the rules read.
@@ -1149,6 +1302,83 @@ struct Scheduler::Decisions {
   std::uint8_t fine[kBlock], coarse[kBlock], flags[kBlock];
 };
 
+namespace {
+// How far [rad] a direction d (object space) may turn before it leaves its lookup cell: a cube face's
+// coordinate moves at most sqrt(6) per radian (|grad (v_a / v_major)| <= sqrt(1 + s^2) / |v_major|).
+// With `views` (kLookupCandidates of them), before another of them is nearer than the nearest: a dot
+// product moves at most one per radian.
+float view_margin(const float d[3], std::uint32_t resolution, const float (*views)[3] = nullptr) {
+  const float ax = std::abs(d[0]), ay = std::abs(d[1]), az = std::abs(d[2]);
+  const bool on_x = ax >= ay && ax >= az, on_y = !on_x && ay >= az;  // as cube_cell()
+  const double major = on_x ? ax : on_y ? ay : az;
+  const double u = on_x ? d[1] : on_y ? d[2] : d[0], v = on_x ? d[2] : on_y ? d[0] : d[1];
+  const double half = 0.5 * resolution;
+  double edge = 1.0;  // the least distance to a cell's edge, in cells
+  for (const double s : {u, v}) {
+    const double at = s / major * half + half;
+    edge = std::min({edge, at - std::floor(at), std::floor(at) + 1.0 - at});
+  }
+  double margin = edge / half / std::sqrt(6.0);
+  if (views) {
+    double dots[kLookupCandidates];
+    std::uint32_t best = 0;
+    for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
+      dots[k] = double(d[0]) * views[k][0] + double(d[1]) * views[k][1] + double(d[2]) * views[k][2];
+      if (dots[k] > dots[best]) best = k;
+    }
+    for (std::uint32_t k = 0; k < kLookupCandidates; ++k)  // another view (a candidate may repeat)
+      if (std::memcmp(views[k], views[best], sizeof views[k]) != 0)
+        margin = std::min(margin, 0.5 * (dots[best] - dots[k]));
+  }
+  return static_cast<float>(margin) - 1e-5f;  // the rounding of the direction as the loop computes it
+}
+}  // namespace
+
+// Sets object id's rest for one eye from its geometry now (block b's j-th), where its memo decides it
+// this frame and it does not move: the wider of two tries stands_at_rest() confirms, else none.
+void Scheduler::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b,
+                         std::uint32_t j) const {
+  memo.rest_frame[id] = frame_;
+  memo.end_rest(id);
+  if (velocity_[0][id] != 0.0f || velocity_[1][id] != 0.0f || velocity_[2][id] != 0.0f) return;
+  if (!(memo.recent_m < b.d[j] * (1.0f / 256))) return;  // the eye moves too far: none would last
+  const Vec3 u{b.u[0][j], b.u[1][j], b.u[2][j]};
+  const Vec3 f = eye.forward;
+  const double cos_forward = double(u.x) * f.x + double(u.y) * f.y + double(u.z) * f.z;
+  RestProbe h{b.d[j],
+              b.r[j],
+              angle_deg(u, eye.gaze ? eye.gaze_dir : eye.forward),
+              static_cast<float>(std::acos(std::clamp(cos_forward, -1.0, 1.0)) * (180.0 / std::numbers::pi)),
+              kInf,
+              0.5f * eye.focal_px * kRad,
+              eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg};
+  if (memo.key[id] & Memo::kThroughView) {
+    const Profile& p = profiles_[profile_of_[id]].profile;
+    const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+    float views[kLookupCandidates][3];
+    const std::uint16_t* cand = p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
+    for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
+      std::memcpy(views[k], p.views[cand[k]].direction, sizeof views[k]);
+    h.view_margin = view_margin(to_eye, p.meta.lookup_resolution,
+                                config_.view_blend == ViewBlend::Max3 ? nullptr : views);
+  }
+  // Wide, then narrower, but never narrower than the eye's recent moves (it would leave at once):
+  // four times them, then (the last try) half as much again.
+  float tried = 0.0f;
+  for (const float share : {1.0f / 64, 1.0f / 1024, 1.0f / (1 << 20)}) {
+    const float recent = share < 1.0f / 1024 ? 1.5f : 4.0f;
+    const float m = std::max(share * h.d, recent * memo.recent_m);
+    const float t = std::max(recent * memo.recent_deg, kDeg * m / h.d);
+    if (m == tried) continue;  // the eye's moves, not the share, set it: tried already
+    tried = m;
+    if (stands_at_rest(memo, id, h, m, t)) {
+      memo.rest_m[id] = m;
+      memo.rest_deg[id] = t;
+      return;
+    }
+  }
+}
+
 void Scheduler::update(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t end =
       first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
@@ -1156,9 +1386,28 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
   Sight sights[2][Block::kSize];
   Look looks[2][Block::kSize];
   Decisions decisions{};
+  // At rest: which objects are, two blocks ahead, and the arrays of those that are not prefetched.
+  std::uint32_t at_rest[3][Block::kSize];
+  bool mostly_at_rest[3];
+  const auto look_ahead = [&](std::uint32_t start) {
+    if (!looking_for_rest_ || start >= end) return;
+    const std::uint32_t n = std::min(Block::kSize, end - start), slot = (start - first) / Block::kSize % 3;
+    mostly_at_rest[slot] = rest_mask(start, n, at_rest[slot]);
+    if (mostly_at_rest[slot]) prefetch_restless(start, n, at_rest[slot]);
+  };
+  look_ahead(first);
+  look_ahead(first + Block::kSize);
   for (std::uint32_t start = first; start < end; start += Block::kSize) {
     const std::uint32_t n = std::min(Block::kSize, end - start);
+    look_ahead(start + 2 * Block::kSize);
+    const std::uint32_t slot = (start - first) / Block::kSize % 3;
+    if (looking_for_rest_ && mostly_at_rest[slot]) {
+      decide_at_rest(start, n, at_rest[slot], &decisions);
+      settle(start, n, decisions);
+      continue;
+    }
     if (end - start >= 3 * Block::kSize) prefetch_objects(start + 2 * Block::kSize);
+    std::fill(rest_.begin() + start, rest_.begin() + start + n, std::uint8_t(0));
     derive_velocities(start, n);
     for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
     if (!perceptual()) {
@@ -1187,6 +1436,99 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
           if (looks[i][j] == Look::Ok) aim(start + j, &sights[i][j]);
     choose_perceptual(start, n, looks, sights, &decisions);
     settle(start, n, decisions);
+  }
+}
+
+// A block whose objects are nearly all at rest (the eye within each one's rest, every eye): those
+// decided from their memos, the few runs of others through the frame loop. Returns false, deciding
+// nothing, where more than kMostRuns runs are not at rest (the whole block's passes cost less then).
+bool Scheduler::rest_mask(std::uint32_t first, std::uint32_t n, std::uint32_t* at_rest) const {
+  for (std::uint32_t j = 0; j < n; ++j) at_rest[j] = 1;
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const Memo& m = memos_[i];
+    const std::uint32_t* since = &m.rest_frame[first];
+    const float *rest_m = &m.rest_m[first], *rest_deg = &m.rest_deg[first];
+    const float *moved = m.moved, *turned = m.turned;
+    const std::uint32_t frame = frame_;
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const std::uint32_t pose = since[j] % Memo::kPoses;
+      at_rest[j] &= std::uint32_t(frame - since[j] < Memo::rest_frames(first + j)) &
+                    std::uint32_t(moved[pose] <= rest_m[j]) & std::uint32_t(turned[pose] <= rest_deg[j]);
+    }
+  }
+  std::uint32_t runs = 0, before = 1, restless = 0;  // runs of objects not at rest, and objects
+  for (std::uint32_t j = 0; j < n; ++j) {
+    runs += (at_rest[j] ^ 1u) & before;
+    restless += at_rest[j] ^ 1u;
+    before = at_rest[j];
+  }
+  return runs <= kMostRestlessRuns && restless <= kMostRestless;
+}
+
+// The per-object arrays the frame loop reads of the objects of a block not at rest (rest_mask()).
+void Scheduler::prefetch_restless(std::uint32_t first, std::uint32_t n, const std::uint32_t* at_rest) const {
+  for (std::uint32_t j = 0; j < n; ++j) {
+    if (at_rest[j]) continue;
+    const ObjectId id = first + j;
+    for (int k = 0; k < 3; ++k) {
+      ACUITY_PREFETCH(&position_[k][id]);
+      ACUITY_PREFETCH(&previous_position_[k][id]);
+      ACUITY_PREFETCH(&velocity_[k][id]);
+    }
+    for (int k = 0; k < 4; ++k) {
+      ACUITY_PREFETCH(&rotation_[k][id]);
+      ACUITY_PREFETCH(&sphere_[k][id]);
+    }
+    ACUITY_PREFETCH(&bias_tables_[id]);
+    ACUITY_PREFETCH(&explicit_velocity_[id]);
+    for (std::uint32_t i = 0; i < eye_count_; ++i) {
+      const Memo& m = memos_[i];
+      ACUITY_PREFETCH(&m.key[id]);
+      ACUITY_PREFETCH(&m.x_from[id]);
+      ACUITY_PREFETCH(&m.x_to[id]);
+      ACUITY_PREFETCH(&m.w_from[id]);
+      ACUITY_PREFETCH(&m.w_to[id]);
+      ACUITY_PREFETCH(&m.f_lo[id]);
+      ACUITY_PREFETCH(&m.f_hi[id]);
+      ACUITY_PREFETCH(&m.view_key[id]);
+    }
+  }
+}
+
+void Scheduler::decide_at_rest(std::uint32_t first, std::uint32_t n, const std::uint32_t* at_rest,
+                               Decisions* out) {
+  std::uint8_t* rest = &rest_[first];
+  for (std::uint32_t j = 0; j < n; ++j) rest[j] = static_cast<std::uint8_t>(at_rest[j]);
+  // The memo's decision, both eyes: the finer need wins.
+  std::memcpy(out->fine, &memos_[0].fine[first], n);
+  std::memcpy(out->coarse, &memos_[0].coarse[first], n);
+  for (std::uint32_t i = 1; i < eye_count_; ++i) {
+    const std::uint8_t *fine = &memos_[i].fine[first], *coarse = &memos_[i].coarse[first];
+    for (std::uint32_t j = 0; j < n; ++j) {
+      out->fine[j] = std::min(out->fine[j], fine[j]);
+      out->coarse[j] = std::min(out->coarse[j], coarse[j]);
+    }
+  }
+  std::uint8_t flags = 0;
+  for (std::uint32_t i = 0; i < eye_count_; ++i)
+    flags = static_cast<std::uint8_t>(flags | (eyes_[i].gaze ? 0 : kFlagNoGaze));
+  std::memset(out->flags, flags, n);
+  for (std::uint32_t j = 0; j < n;) {
+    if (at_rest[j]) {
+      ++j;
+      continue;
+    }
+    std::uint32_t k = j;
+    while (k < n && !at_rest[k]) ++k;
+    Block blocks[2];
+    Decisions run{};
+    derive_velocities(first + j, k - j);
+    for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], first + j, k - j, &blocks[i]);
+    choose_tabulated(first + j, k - j, blocks, &run);
+    std::copy(run.fine, run.fine + (k - j), out->fine + j);
+    std::copy(run.coarse, run.coarse + (k - j), out->coarse + j);
+    std::copy(run.flags, run.flags + (k - j), out->flags + j);
+    j = k;
   }
 }
 
@@ -1295,9 +1637,7 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
   if (!perceptual()) return;  // Distance and ScreenSize need no angles
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < count; ++j) {
-    const float d = out_d[j], r = out_r[j];
-    const float sin_radius = d > r ? r / d : 0.5f;  // any finite value where the object is not seen
-    const float radius_deg = atan2_deg(sin_radius, std::sqrt(1.0f - sin_radius * sin_radius));  // asin
+    const float radius_deg = angular_radius_deg(out_d[j], out_r[j]);
     out_radius[j] = radius_deg;
     out_ln[j] = ln_positive(2.0f * radius_deg);
   }
@@ -1724,7 +2064,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   // that pass 3 decides without reading a profile.
   const int sets = margin_sets(config_);  // the hysteresis margin's tables too
   const std::int16_t* rows[2][kBlock];
+  std::uint8_t standing[kBlock];           // decided by a memo that stands now: its rest may be set
   for (std::uint32_t j = 0; j < n; ++j) {  // the memo's decision for every object: misses overwrite it
+    standing[j] = static_cast<std::uint8_t>(memo_hit[j]);
     todo[j] = 0;
     out[j] = {memo.fine[first + j], memo.coarse[first + j], gaze_flag};
   }
@@ -1794,6 +2136,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       todo[j] = coarse < 0;
       if (coarse >= 0)
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
+      standing[j] = remembered;
       if (remembered)
         memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]), stand,
                       &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], fine, coarse);
@@ -1846,6 +2189,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
                         memo.speed_key[id] == Memo::speed_key_of(o.moving, o.speed_j, T);
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
+      standing[j] = o.decided;
       if (o.decided) continue;  // out[j] holds its memo's decision
     }
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
@@ -1917,6 +2261,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o.where, o.moving, o.em.j);
       memo.speed_key[id] = Memo::speed_key_of(o.moving, o.speed_j, T);
+      standing[j] = stands;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
         continue;
@@ -1925,6 +2270,14 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     out[j] = table_choice(pc, b.e[j], o, scores ? scores[j] : nullptr);
     out[j].flags |= gaze_flag;
   }
+  // Rests for the objects a standing memo decided, where the eye can rest (none with scores); where
+  // few objects were at rest last frame, in one block of eight each frame (an eye that keeps moving
+  // leaves them at once: little is spent on them).
+  if (resting_ && !scores && (many_at_rest_ || (first / kBlock + frame_) % 8 == 0))
+    for (std::uint32_t j = 0; j < n; ++j)
+      if (standing[j] && frame_ - memo.rest_frame[first + j] >=
+                             (memo.rest_m[first + j] >= 0 ? Memo::kLeftRetry : Memo::kRetry))
+        set_rest(eye, memo, first + j, b, j);
 }
 
 // A moving object's cells on the moving grid: eccentricity e [deg], each orientation's speed.
@@ -2243,8 +2596,9 @@ void Scheduler::end_frame() {
   if (config_.triangle_budget > 0) apply_budget();
   FrameStats& st = stats_;
   st.triangles = 0;
-  st.changed = st.invalid = st.budget_forced = 0;
+  st.changed = st.invalid = st.budget_forced = st.at_rest = 0;
   const bool fades = config_.transition_seconds > 0;  // else every fade_ stays 1 (not read)
+  std::uint32_t alive = 0;
   for (std::uint32_t id = 0; id < config_.max_objects; ++id) {
     if (profile_of_[id] < 0) continue;
     if (next_[id] != level_[id]) {  // a change event; the cross-fade starts from the drawn level
@@ -2259,7 +2613,11 @@ void Scheduler::end_frame() {
     st.changed += (flags_[id] & kFlagChanged) != 0;
     st.invalid += (flags_[id] & kFlagInvalidInput) != 0;
     st.budget_forced += (flags_[id] & kFlagBudgetForced) != 0;
+    st.at_rest += rest_[id];
+    ++alive;
   }
+  last_at_rest_ = st.at_rest;
+  alive_count_ = alive;
 }
 
 // Funkhouser & Sequin: while over budget, coarsen by one level the object whose next level costs

@@ -160,6 +160,7 @@ struct FrameStats {
   std::uint32_t changed = 0;        // objects whose level changed
   std::uint32_t budget_forced = 0;  // objects the budget pushed past visibility
   std::uint32_t invalid = 0;        // objects with kFlagInvalidInput
+  std::uint32_t at_rest = 0;        // objects decided at rest: from their memos, without their geometry
   bool gaze_used = false;
 };
 
@@ -180,7 +181,14 @@ struct FrameStats {
 // through the object's view, also the same view (Max3: lookup cell) and, moving, the same cells of
 // eccentricity and of each orientation's speed (profiles of up to 16 orientations). While those hold,
 // the next frames take it without reading a table: the same decision, bit for bit (with keep_scores,
-// or a triangle budget, every object reads its view's tables and nothing is kept). Tables are
+// or a triangle budget, every object reads its view's tables and nothing is kept). At rest: while
+// neither the eye (no velocity, angular velocity or gaze velocity reported) nor the object moves
+// (its transform set to other bits, its velocity or bias set), an object whose kept decision stands
+// gets a rest (12 bytes per object and eye): how far the eye may move [m] and the gaze and head turn
+// [deg] before any input the decision stands under could leave its bounds, each input computed as
+// the frame loop computes it at the ends of its range and confirmed inside. Within it, later frames
+// take the kept decision without the object's geometry (FrameStats::at_rest counts them); blocks of
+// 64 in which more than 4 runs of objects are not at rest take the whole loop. Tables are
 // conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
 // and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
 // that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
@@ -309,6 +317,17 @@ class Scheduler {
   void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void choose_tabulated(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
+  // At rest (the tabulated path, a still eye): objects decided from their memos without geometry.
+  struct RestProbe;
+  // A block with more runs of objects not at rest than this, or more such objects, takes the whole
+  // frame loop (rest_mask() returns false).
+  static constexpr std::uint32_t kMostRestlessRuns = 4, kMostRestless = 16;
+  bool rest_mask(std::uint32_t first, std::uint32_t count, std::uint32_t* at_rest) const;
+  void prefetch_restless(std::uint32_t first, std::uint32_t count, const std::uint32_t* at_rest) const;
+  void decide_at_rest(std::uint32_t first, std::uint32_t count, const std::uint32_t* at_rest, Decisions* out);
+  bool stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m, float t) const;
+  void set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b, std::uint32_t j) const;
+  void end_rests(ObjectId id);
   void apply_budget();
   std::uint8_t bias_tables_of(float bias) const;  // bias_tables_ of an object of this bias
 
@@ -336,6 +355,7 @@ class Scheduler {
   std::vector<std::uint32_t> calm_frames_, wait_frames_;
   std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
   std::vector<float> fade_, scores_;
+  std::vector<std::uint8_t> rest_;  // 1: decided at rest this frame
   std::vector<std::uint32_t> free_list_;
   std::vector<std::uint32_t> heap_;  // budget pass
   // Frame state.
@@ -348,6 +368,11 @@ class Scheduler {
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
   bool saccade_ = false;
+  std::uint32_t frame_ = 0;                           // begin_frame's count
+  bool resting_ = false;                              // rests may be set this frame (a still eye)
+  bool many_at_rest_ = false;                         // an eighth of the objects were last frame
+  bool looking_for_rest_ = false;                     // objects are looked for at rest this frame
+  std::uint32_t last_at_rest_ = 0, alive_count_ = 0;  // end_frame's counts
   FrameStats stats_;
 };
 
