@@ -1302,6 +1302,24 @@ TEST(SchedulerTabulated, RememberedDecisionsAreTheTablesDecisions) {
 }
 
 // A memo made through an object's view stands only while that view (Max3: its lookup cell) does.
+// Two schedulers over one profile, alike but that `scored` keeps every level's score (so it remembers
+// nothing and sets no rest): the levels of `fast`, with its memos and rests, must be its levels.
+struct AgainstScored {
+  Scheduler fast, scored;
+  AgainstScored(ViewBlend blend, int objects, const Profile& profile)
+      : fast(config_of(blend, objects, false)), scored(config_of(blend, objects, true)) {
+    fast.add_profile(profile);
+    scored.add_profile(profile);
+  }
+  static SchedulerConfig config_of(ViewBlend blend, int objects, bool keep_scores) {
+    SchedulerConfig c;
+    c.view_blend = blend;
+    c.max_objects = objects;
+    c.keep_scores = keep_scores;
+    return c;
+  }
+};
+
 // Objects turn in place about their y axis each frame, the eye drifts and the gaze wanders. The
 // views from +z lose twice as much, and each view a little differently, so a turn changes the
 // decision where it crosses into the other half. Each frame's levels must be those of a scheduler
@@ -1311,14 +1329,8 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
   const TestProfile halves(6, 8, 8, 0.0f, 0.3f, 1.0f);
   const int objects = 1000, frames = 120;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
-    SchedulerConfig c;
-    c.view_blend = blend;
-    c.max_objects = objects;
-    SchedulerConfig scored_config = c;
-    scored_config.keep_scores = true;
-    Scheduler remembering(c), scored(scored_config);
-    remembering.add_profile(halves.profile);
-    scored.add_profile(halves.profile);
+    AgainstScored pair(blend, objects, halves.profile);
+    Scheduler &remembering = pair.fast, &scored = pair.scored;
     Rng rng(11);
     std::vector<RandomObject> scene;
     std::vector<float> turn;  // [deg a frame]
@@ -1367,14 +1379,8 @@ TEST(SchedulerTabulated, ObjectsAtRestDecideAsTheirGeometryWould) {
   const int objects = 2000, frames = 240;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     SCOPED_TRACE(blend == ViewBlend::Nearest ? "nearest" : "max3");
-    SchedulerConfig c;
-    c.view_blend = blend;
-    c.max_objects = objects;
-    SchedulerConfig scored_config = c;
-    scored_config.keep_scores = true;
-    Scheduler resting(c), scored(scored_config);
-    resting.add_profile(halves.profile);
-    scored.add_profile(halves.profile);
+    AgainstScored pair(blend, objects, halves.profile);
+    Scheduler &resting = pair.fast, &scored = pair.scored;
     Rng rng(17);
     std::vector<RandomObject> scene;
     for (int i = 0; i < objects; ++i) {
@@ -1447,14 +1453,8 @@ TEST(SchedulerTabulated, ObjectsAtRestLeaveTheirRestsInTime) {
     for (const Glance what : {All, Move, Gaze, Head}) {
       SCOPED_TRACE(blend == ViewBlend::Nearest ? "nearest" : "max3");
       SCOPED_TRACE(::testing::Message() << "glance " << int(what));
-      SchedulerConfig c;
-      c.view_blend = blend;
-      c.max_objects = objects;
-      SchedulerConfig scored_config = c;
-      scored_config.keep_scores = true;
-      Scheduler resting(c), scored(scored_config);
-      resting.add_profile(halves.profile);
-      scored.add_profile(halves.profile);
+      AgainstScored pair(blend, objects, halves.profile);
+      Scheduler &resting = pair.fast, &scored = pair.scored;
       Rng rng(23);
       for (int i = 0; i < objects; ++i) {
         const RandomObject o = random_object(rng, 0);
