@@ -1204,6 +1204,8 @@ void Scheduler::begin_frame(const Frame& frame) {
   eye_count_ = std::clamp<std::uint32_t>(frame.eye_count, 1, 2);
   dt_ = std::isfinite(frame.dt) && frame.dt > 0 ? frame.dt : 0.0f;
   saccade_ = false;
+  const std::size_t alive = config_.max_objects - free_list_.size();
+  many_at_rest_ = stats_.at_rest > 0 && stats_.at_rest >= alive / 8;  // last frame's stats
   stats_ = FrameStats{};
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Eye& e = frame.eyes[i];
@@ -1256,7 +1258,6 @@ void Scheduler::begin_frame(const Frame& frame) {
   ++frame_;
   resting_ = memos_ != nullptr && !config_.keep_scores;
   // Objects are looked for at rest where an eighth were last frame, and every eighth frame.
-  many_at_rest_ = last_at_rest_ > 0 && last_at_rest_ >= alive_count_ / 8;
   looking_for_rest_ = resting_ && (many_at_rest_ || frame_ % 8 == 0);
   for (std::uint32_t i = 0; memos_ && i < 2; ++i) {
     memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
@@ -2598,7 +2599,6 @@ void Scheduler::end_frame() {
   st.triangles = 0;
   st.changed = st.invalid = st.budget_forced = st.at_rest = 0;
   const bool fades = config_.transition_seconds > 0;  // else every fade_ stays 1 (not read)
-  std::uint32_t alive = 0;
   for (std::uint32_t id = 0; id < config_.max_objects; ++id) {
     if (profile_of_[id] < 0) continue;
     if (next_[id] != level_[id]) {  // a change event; the cross-fade starts from the drawn level
@@ -2614,10 +2614,7 @@ void Scheduler::end_frame() {
     st.invalid += (flags_[id] & kFlagInvalidInput) != 0;
     st.budget_forced += (flags_[id] & kFlagBudgetForced) != 0;
     st.at_rest += rest_[id];
-    ++alive;
   }
-  last_at_rest_ = st.at_rest;
-  alive_count_ = alive;
 }
 
 // Funkhouser & Sequin: while over budget, coarsen by one level the object whose next level costs

@@ -368,11 +368,10 @@ class Scheduler {
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
   bool saccade_ = false;
-  std::uint32_t frame_ = 0;                           // begin_frame's count
-  bool resting_ = false;                              // rests may be set this frame (a still eye)
-  bool many_at_rest_ = false;                         // an eighth of the objects were last frame
-  bool looking_for_rest_ = false;                     // objects are looked for at rest this frame
-  std::uint32_t last_at_rest_ = 0, alive_count_ = 0;  // end_frame's counts
+  std::uint32_t frame_ = 0;        // begin_frame's count
+  bool resting_ = false;           // rests may be set this frame (a still eye)
+  bool many_at_rest_ = false;      // an eighth of the objects were last frame
+  bool looking_for_rest_ = false;  // objects are looked for at rest this frame
   FrameStats stats_;
 };
 
