@@ -1367,6 +1367,54 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
   }
 }
 
+// Moving images whose speeds swell and fade (each within about +-30% of its own, out of phase), seen
+// by an eye that drifts along z while the gaze wanders: speeds, sizes and eccentricities cross the
+// quarters of their cells, where a moving image's decision through its view may stand (and its
+// cells, and the views). Each frame's levels must be those of a scheduler that keeps every level's
+// score (no memo), in both view blends, and the swells must change levels. (Checked to fail when the
+// speed quarters or the moving eccentricity quarter are left out of the keys, or the still grid's
+// eccentricity weight is not kept in its quarter.)
+TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
+  const TestProfile six(6, 8, 8, 0.5f, 0.6f);
+  const int objects = 1000, frames = 120;
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    AgainstScored pair(blend, objects, six.profile);
+    Scheduler &remembering = pair.fast, &scored = pair.scored;
+    Rng rng(13);
+    std::vector<RandomObject> scene;
+    std::vector<float> phase;
+    for (int i = 0; i < objects; ++i) {
+      scene.push_back(random_object(rng, 100));
+      phase.push_back(rng.uniform(0.0f, 6.3f));
+      EXPECT_EQ(remembering.add_object(0, scene[i].t), ObjectId(i));
+      EXPECT_EQ(scored.add_object(0, scene[i].t), ObjectId(i));
+    }
+    Frame fr = looking_forward();
+    int differ = 0, changed = 0;
+    std::vector<std::uint8_t> last(objects, 255);
+    for (int f = 0; f < frames; ++f) {
+      fr.eyes[0].position[2] = 0.3 * std::sin(0.04 * f);
+      gaze_at(fr, 0.1 + 0.1 * std::sin(0.09 * f), 0.05 + 0.05 * std::cos(0.05 * f), -1);
+      for (int i = 0; i < objects; ++i) {
+        const float swell = std::exp(0.3f * std::sin(0.1f * float(f) + phase[i]));
+        const float v[3] = {swell * scene[i].v[0], swell * scene[i].v[1], swell * scene[i].v[2]};
+        remembering.set_velocity(ObjectId(i), v);
+        scored.set_velocity(ObjectId(i), v);
+      }
+      remembering.run_frame(fr);
+      scored.run_frame(fr);
+      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
+        differ += remembering.level(id) != scored.level(id);
+        changed += f > 0 && scored.level(id) != last[id];
+        last[id] = scored.level(id);
+      }
+    }
+    const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
+    EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
+    EXPECT_GT(changed, objects / 2) << name << ": the swells change only " << changed << " levels";
+  }
+}
+
 // Objects at rest: with a still eye and still objects, an object whose memo stands is decided from it
 // without its geometry while the eye stays within the object's rest. The eye trembles (+-0.2 mm a
 // frame) and walks slowly across the edges of rests, the gaze jitters and is lost for a while, the

@@ -600,7 +600,8 @@ struct Scheduler::EyeCache {
 
 // Per eye and object, the last decision made over whole cells or around the object's place in them:
 // by the bounds over every view (tabulate()'s pass 3), or through the object's view (pass 6,
-// kThroughView in the key; at its place, a still image's), with the inputs under which it stands:
+// kThroughView in the key; at its place, a still image's; over its cells' quarters, a moving one's),
+// with the inputs under which it stands:
 // the same key (eccentricity cell, still or not, table set), the same bands shown (f_lo * inv_diam
 // <= Nyquist < f_hi * inv_diam: the lowest shown band and the next one, +inf past the profile's), x
 // and the cell's weight in the Stand, where no line it compared against lies; through the view also
@@ -618,23 +619,25 @@ struct Scheduler::Memo {
   // Through the view: the view (Max3: the lookup cell, whose candidates are the views), whether the
   // image slips in the view's axes, and then its eccentricity cell on the moving grid and each
   // orientation's speed cell, 4 bits each (profiles of at most kSpeedKeyOrientations orientations:
-  // a moving object of a profile with more is not remembered through its view).
-  static constexpr std::uint32_t kSpeedKeyOrientations = 16;
+  // a moving object of a profile with more is not remembered through its view). A moving image's
+  // decision that its whole cells leave open may stand over the quarters of its cells it lies in
+  // (kQuartered; the eccentricity cell of the still grid too, in w_from and w_to): the keys then
+  // also hold the moving eccentricity cell's quarter and each orientation's speed quarter, 2 bits
+  // each (profiles of at most kQuarterKeyOrientations orientations).
+  static constexpr std::uint32_t kSpeedKeyOrientations = 16, kQuarterKeyOrientations = 10;
+  static constexpr std::uint32_t kQuartered = 1 << 7;
   // A decision through the view that stands only at the object's place (the whole cells left it
   // open, and it moves, or no box around its place keeps it): its fine and coarse level in the memo.
   static constexpr std::uint8_t kAtPlace = 255;
   static_assert(kMovingE - 2 < 16 && kMovingS - 2 < 16, "cells fit 4 bits");
-  static_assert(6 * kMaxLookupResolution * kMaxLookupResolution < (1u << 27) && kMaxViews < (1u << 27),
+  static_assert(6 * kMaxLookupResolution * kMaxLookupResolution < (1u << 24) && kMaxViews < (1u << 24),
                 "view_key's fields fit 32 bits");
+  static_assert(6 * kQuarterKeyOrientations <= 64, "speed_key's cells and quarters fit 64 bits");
   static bool keyable(bool moving, std::uint32_t T) { return !moving || T <= kSpeedKeyOrientations; }
-  static std::uint32_t view_key_of(std::uint32_t where, bool moving, std::uint32_t em) {
-    return where << 5 | (moving ? em << 1 | 1u : 0u);
-  }
-  static std::uint64_t speed_key_of(bool moving, const std::uint32_t* speed_j, std::uint32_t T) {
-    std::uint64_t k = 0;
-    for (std::uint32_t t = 0; moving && t < T; ++t) k |= std::uint64_t(speed_j[t]) << (4 * t);
-    return k;
-  }
+  static bool quarterable(std::uint32_t T) { return T <= kQuarterKeyOrientations; }
+  // The keys of a probe's view and cells (o.cells set where it moves), with the quarters or not.
+  static std::uint32_t view_key_of(const Probe& o, bool quartered);
+  static std::uint64_t speed_key_of(const Probe& o, std::uint32_t T, bool quartered);
   // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (Stand's (lo, hi]) and for the
   // eccentricity cell's weight w in [w_from, w_to] / kWeightSteps (every w for a decision made over
   // the whole cell).
@@ -1342,6 +1345,7 @@ void Scheduler::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Blo
   memo.rest_frame[id] = frame_;
   memo.end_rest(id);
   if (velocity_[0][id] != 0.0f || velocity_[1][id] != 0.0f || velocity_[2][id] != 0.0f) return;
+  if ((memo.key[id] & Memo::kThroughView) && (memo.view_key[id] & 1u)) return;  // a moving image's
   if (!(memo.recent_m < b.d[j] * (1.0f / 256))) return;  // the eye moves too far: none would last
   const Vec3 u{b.u[0][j], b.u[1][j], b.u[2][j]};
   const Vec3 f = eye.forward;
@@ -1855,6 +1859,29 @@ struct Scheduler::Probe {
   }
 };
 
+namespace {
+// The quarter q of a cell a weight w in [0, 1] lies in: w in [q / 4, (q + 1) / 4] (w * 4 is exact).
+constexpr std::uint32_t kQuarters = 4;
+[[gnu::always_inline]] inline std::uint32_t quarter_of(float w) {
+  return std::min(static_cast<std::uint32_t>(w * float(kQuarters)), kQuarters - 1);
+}
+}  // namespace
+
+std::uint32_t Scheduler::Memo::view_key_of(const Probe& o, bool quartered) {
+  if (!o.moving) return o.where << 8;
+  const std::uint32_t quarter = quartered ? kQuartered | quarter_of(o.em.w) << 5 : 0u;
+  return o.where << 8 | quarter | o.em.j << 1 | 1u;
+}
+
+std::uint64_t Scheduler::Memo::speed_key_of(const Probe& o, std::uint32_t T, bool quartered) {
+  std::uint64_t k = 0;
+  for (std::uint32_t t = 0; o.moving && t < T; ++t) {
+    k |= std::uint64_t(o.speed_j[t]) << (4 * t);
+    if (quartered) k |= std::uint64_t(quarter_of(o.speed_w[t])) << (4 * T + 2 * t);
+  }
+  return k;
+}
+
 // Whether x passes `entry` (x <= entry), narrowing (*lo, *hi] to the x where the outcome is the same.
 [[gnu::always_inline]] inline bool passes_narrowing(std::int32_t x, std::int32_t entry, std::int32_t* lo,
                                                     std::int32_t* hi) {
@@ -1934,34 +1961,60 @@ void any_view_lines(const std::int16_t* row, std::uint32_t L, bool still, const 
 
 // The level that table_choice() would give wherever the object is in its cells (its still or slow
 // cell's two eccentricity nodes and, moving, each orientation's moving cell's four corners) for table
-// set o.tables + set, or -1 where its place in them matters. Each bound table_choice() interpolates
-// lies between its cell's least and most corner (interpolation rounds monotonically), so the
-// coarsest level passing the least passes there too, and none failing the most does. Integers, x
-// and (*lo, *hi] as in any_view_level(). A moving object's cells must be set (o.cells).
+// set o.tables + set, or -1 where its place in them matters; `quartered`: wherever it is in the
+// quarters of its cells it lies in (quarter_of() of each weight; a moving object's). Each bound
+// table_choice() interpolates lies between the least and the most of its values at the ends of the
+// weights' ranges (interpolation rounds monotonically), so the coarsest level passing the least
+// passes there too, and none failing the most does. Integers, x and (*lo, *hi] as in
+// any_view_level(): a bound in table steps rounded down for the least, up for the most (entries,
+// the whole cells' corners, are exact). A moving object's cells must be set (o.cells).
 int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
-                               std::int32_t* lo, std::int32_t* hi) {
+                               bool quartered, std::int32_t* lo, std::int32_t* hi) {
   const ProfileMeta& m = pc.profile.meta;
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
   const ProfileCache::Tables& tables = pc.sets[o.tables + set];
   const std::vector<std::int16_t>& near = o.moving ? tables.slow : tables.still;
+  // The ends of a weight's range: its quarter, or the whole cell.
+  const auto ends = [quartered](float w, float* from, float* to) {
+    const float q = quartered ? float(quarter_of(w)) : 0.0f, span = quartered ? 1.0f / kQuarters : 1.0f;
+    *from = q * span;
+    *to = (q + 1.0f) * span;
+  };
+  float ec_from, ec_to, em_from, em_to;
+  ends(o.ec.w, &ec_from, &ec_to);
+  if (o.moving) ends(o.em.w, &em_from, &em_to);
+  // A bound in table steps, rounded down (up).
+  const auto step_below = [](float v) { return std::int32_t(std::floor(v * kSizeSteps)); };
+  const auto step_above = [](float v) { return std::int32_t(std::ceil(v * kSizeSteps)); };
   for (std::uint32_t k = L; k >= 1; --k) {
     bool least = true, most = true;  // every view passes its least (most) bound
     for (std::uint32_t c = 0; c < o.view_count && most; ++c) {
       const std::int16_t* row = &near[o.still_row(c, B, L) + (k - 1)];
-      bool view_least = passes_narrowing(x, std::min(row[0], row[L]), lo, hi);
-      bool view_most = view_least || passes_narrowing(x, std::max(row[0], row[L]), lo, hi);
+      const float near_from = between(row[0], row[L], ec_from), near_to = between(row[0], row[L], ec_to);
+      bool view_least = passes_narrowing(x, step_below(std::min(near_from, near_to)), lo, hi);
+      bool view_most = view_least || passes_narrowing(x, step_above(std::max(near_from, near_to)), lo, hi);
       if (o.moving && !view_least) {  // the moving bound: its least (most) over the orientations
         bool moving_least = true, moving_most = !view_most;
         for (std::uint32_t t = 0; t < T && (moving_least || moving_most); ++t) {
           const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
           const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
-          const std::int16_t corners[4] = {r0[0], r0[L], r1[0], r1[L]};
-          const std::int32_t least_corner = *std::min_element(corners, corners + 4),
-                             most_corner = *std::max_element(corners, corners + 4);
-          // A step of room: the speed interpolation of two interpolated floats can round an ulp
-          // past its corners (the eccentricity one cannot: its difference of entries is exact).
-          if (moving_least) moving_least = passes_narrowing(x, least_corner - 1, lo, hi);
-          if (moving_most) moving_most = passes_narrowing(x, most_corner + 1, lo, hi);
+          float s_from, s_to;
+          ends(o.speed_w[t], &s_from, &s_to);
+          float corners[4];
+          for (int e = 0; e < 2; ++e) {  // at each eccentricity end, the speed interpolation's ends
+            const float w = e ? em_to : em_from;
+            const float slow_node = between(r0[0], r0[L], w), fast_node = between(r1[0], r1[L], w);
+            corners[2 * e] = slow_node + s_from * (fast_node - slow_node);
+            corners[2 * e + 1] = slow_node + s_to * (fast_node - slow_node);
+          }
+          const float least_corner =
+              std::min(std::min(corners[0], corners[1]), std::min(corners[2], corners[3]));
+          const float most_corner =
+              std::max(std::max(corners[0], corners[1]), std::max(corners[2], corners[3]));
+          // A step of room: inside the box, the speed interpolation of two interpolated floats can
+          // round an ulp past its corners.
+          if (moving_least) moving_least = passes_narrowing(x, step_below(least_corner) - 1, lo, hi);
+          if (moving_most) moving_most = passes_narrowing(x, step_above(most_corner) + 1, lo, hi);
         }
         view_least = moving_least;
         view_most = view_most || moving_most;
@@ -2186,8 +2239,9 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     const std::uint32_t T = p.meta.orientation_count;
     if (view_memo[j] && Memo::keyable(o.moving, T)) {  // the same view and cells?
       if (o.moving) speed_cells(pc, b.e[j], &o);
-      const bool same = memo.view_key[id] == Memo::view_key_of(o.where, o.moving, o.em.j) &&
-                        memo.speed_key[id] == Memo::speed_key_of(o.moving, o.speed_j, T);
+      const bool quartered = (memo.view_key[id] & Memo::kQuartered) != 0;
+      const bool same = memo.view_key[id] == Memo::view_key_of(o, quartered) &&
+                        memo.speed_key[id] == Memo::speed_key_of(o, T, quartered);
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
       standing[j] = o.decided;
@@ -2228,7 +2282,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     }
   }
   // Pass 6: the decisions through the objects' views: over their whole cells where those decide, else
-  // at their place in the cells; remembered where they stand (a moving image: over whole cells only).
+  // at their place in the cells; remembered where they stand (a moving image: over whole cells or over
+  // the quarters of its cells it lies in).
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
     Probe& o = probe[j];
@@ -2239,9 +2294,20 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     if (!scores && !o.at_place && Memo::keyable(o.moving, T)) {
       if (o.moving && !o.cells) speed_cells(pc, b.e[j], &o);
       Stand stand;  // the whole cells
-      int fine = view_cell_level(pc, o, x_step[j], 0, &stand.lo, &stand.hi);
-      int coarse = sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, &stand.lo, &stand.hi) : fine;
-      bool stands = coarse >= 0;
+      int fine = view_cell_level(pc, o, x_step[j], 0, false, &stand.lo, &stand.hi);
+      int coarse =
+          sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, false, &stand.lo, &stand.hi) : fine;
+      bool stands = coarse >= 0, quartered = false;
+      if (!stands && o.moving && Memo::quarterable(T)) {  // a moving image: over its cells' quarters
+        stand = Stand{};
+        const std::uint32_t quarter = quarter_of(o.ec.w), span = std::uint32_t(kWeightSteps) / kQuarters;
+        stand.w_from = static_cast<std::uint16_t>(quarter * span);
+        stand.w_to = static_cast<std::uint16_t>((quarter + 1) * span);
+        fine = view_cell_level(pc, o, x_step[j], 0, true, &stand.lo, &stand.hi);
+        coarse =
+            sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, true, &stand.lo, &stand.hi) : fine;
+        stands = quartered = coarse >= 0;
+      }
       if (!stands && !o.moving) {  // a still image: decided at its place in the cell, remembered around it
         const Choice at = table_choice(pc, b.e[j], o, nullptr);
         fine = at.fine;
@@ -2260,8 +2326,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, stand,
                     &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j],
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
-      memo.view_key[id] = Memo::view_key_of(o.where, o.moving, o.em.j);
-      memo.speed_key[id] = Memo::speed_key_of(o.moving, o.speed_j, T);
+      memo.view_key[id] = Memo::view_key_of(o, quartered);
+      memo.speed_key[id] = Memo::speed_key_of(o, T, quartered);
       standing[j] = stands;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
