@@ -1376,7 +1376,7 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
 // eccentricity weight is not kept in its quarter.)
 TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
   const TestProfile six(6, 8, 8, 0.5f, 0.6f);
-  const int objects = 1000, frames = 120;
+  const int objects = 3000, frames = 160;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, six.profile);
     Scheduler &remembering = pair.fast, &scored = pair.scored;
@@ -1396,10 +1396,15 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
       fr.eyes[0].position[2] = 0.3 * std::sin(0.04 * f);
       gaze_at(fr, 0.1 + 0.1 * std::sin(0.09 * f), 0.05 + 0.05 * std::cos(0.05 * f), -1);
       for (int i = 0; i < objects; ++i) {
-        const float swell = std::exp(0.3f * std::sin(0.1f * float(f) + phase[i]));
+        const float swell = std::exp(0.3f * std::sin(0.25f * float(f) + phase[i]));
         const float v[3] = {swell * scene[i].v[0], swell * scene[i].v[1], swell * scene[i].v[2]};
         remembering.set_velocity(ObjectId(i), v);
         scored.set_velocity(ObjectId(i), v);
+        if (i % 4 == 0) {  // a quarter of them also turn in place: the view's axes turn under the slip
+          turn_about_y(scene[i].t.rotation, 2.0f);
+          remembering.set_transform(ObjectId(i), scene[i].t);
+          scored.set_transform(ObjectId(i), scene[i].t);
+        }
       }
       remembering.run_frame(fr);
       scored.run_frame(fr);

@@ -648,6 +648,19 @@ struct Scheduler::Memo {
   std::vector<std::uint8_t> fine, coarse;
   std::vector<std::uint32_t> view_key;  // read only where the key has kThroughView
   std::vector<std::uint64_t> speed_key;
+  // Where a decision through the view (not kAtPlace) keeps its view_key and speed_key, so that the
+  // frame loop need not find the view and the slip in its axes again: while the direction from the
+  // object to the eye (object space) stays within `turn` [chord of unit vectors] of `direction`, the
+  // retinal slip [deg/s] within `reach` of `slip`, and the eccentricity [deg] in [e_from, e_to], and
+  // the object's rotation is the same (set_transform ends it otherwise). turn < 0: none.
+  struct Hold {
+    float direction[3];
+    float turn;
+    float slip[3];
+    float reach;
+    float e_from, e_to;
+  };
+  std::vector<Hold> hold;
   // Rests: while the eye stays within rest_m [m] of where it was in frame rest_frame, and its gaze
   // and head turn at most rest_deg from where they pointed, every input the memo tests stays inside
   // its box (stands_at_rest()), so the memo decides without the object's geometry. rest_m < 0: none.
@@ -672,6 +685,7 @@ struct Scheduler::Memo {
   float recent_m = 0, recent_deg = 0;  // the most moved and turned over the last 4 frames that could rest
   bool usable = false;                 // this frame's pose can rest
   void end_rest(ObjectId id) { rest_m[id] = -1.0f; }
+  void end_hold(ObjectId id) { hold[id].turn = -1.0f; }
   explicit Memo(std::size_t n = 0)
       : key(n, kNone),
         x_from(n, 0),
@@ -684,6 +698,7 @@ struct Scheduler::Memo {
         coarse(n, 0),
         view_key(n, 0),
         speed_key(n, 0),
+        hold(n, Hold{{0, 0, 0}, -1.0f, {0, 0, 0}, 0.0f, 0.0f, 0.0f}),
         rest_frame(n, 0u - kPoses),
         rest_m(n, -1.0f),
         rest_deg(n, -1.0f) {
@@ -697,7 +712,8 @@ struct Scheduler::Memo {
   void remember(ObjectId id, std::uint32_t key_bits, const Stand& stand, const float* frequency,
                 std::uint32_t bands, int fine_level, int coarse_level) {
     key[id] = static_cast<std::uint16_t>(key_bits);
-    end_rest(id);  // a rest is set for the decision it stands with
+    end_rest(id);  // a rest and a hold are set for the decision they stand with
+    end_hold(id);
     x_from[id] = static_cast<std::int16_t>(stand.lo + 1);
     x_to[id] = static_cast<std::int16_t>(stand.hi);
     w_from[id] = stand.w_from;
@@ -1153,14 +1169,17 @@ void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
     same = same && std::memcmp(&position_[k][id], &t.position[k], sizeof(double)) == 0;
     position_[k][id] = t.position[k];
   }
+  bool same_rotation = true;  // and one not turned, its holds
   for (int k = 0; k < 4; ++k) {
     const float scaled = t.scale * sphere[k];
-    same = same && std::memcmp(&rotation_[k][id], &t.rotation[k], sizeof(float)) == 0 &&
-           std::memcmp(&sphere_[k][id], &scaled, sizeof(float)) == 0;
+    same_rotation = same_rotation && std::memcmp(&rotation_[k][id], &t.rotation[k], sizeof(float)) == 0;
+    same = same && std::memcmp(&sphere_[k][id], &scaled, sizeof(float)) == 0;
     rotation_[k][id] = t.rotation[k];
     sphere_[k][id] = scaled;
   }
-  if (!same) end_rests(id);
+  if (!same || !same_rotation) end_rests(id);
+  if (!same_rotation && memos_)
+    for (int i = 0; i < 2; ++i) memos_[i].end_hold(id);
 }
 
 void Scheduler::set_velocity(ObjectId id, const float v[3]) {
@@ -1299,6 +1318,7 @@ struct Scheduler::Block {
   Look state(std::uint32_t j) const {
     return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok;
   }
+  Vec3 to_eye_at(std::uint32_t j) const { return {to_eye[0][j], to_eye[1][j], to_eye[2][j]}; }
 };
 
 // One block's choices, both eyes combined (the finer need wins), before clamps and hysteresis.
@@ -1562,6 +1582,7 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
     for (const auto* a : {&m.key, &m.w_from, &m.w_to}) lines(&(*a)[first], sizeof(std::uint16_t) * n);
     for (const auto* a : {&m.f_lo, &m.f_hi}) lines(&(*a)[first], sizeof(float) * n);
     for (const auto* a : {&m.fine, &m.coarse}) lines(&(*a)[first], n);
+    lines(&m.hold[first], sizeof(Memo::Hold) * n);
   }
 }
 
@@ -1839,7 +1860,9 @@ struct Scheduler::Probe {
   std::uint32_t bands;                     // the lowest bands the display shows (0: none)
   std::uint16_t views[kLookupCandidates];  // the views whose tables bound it (one, or Max3's three)
   std::uint8_t view_count;
-  std::uint32_t where;  // the view (Max3: the lookup cell), as the memo keys it
+  std::uint32_t where;    // the view (Max3: the lookup cell), as the memo keys it
+  std::uint32_t nearest;  // the view nearest to the eye, in whose image axes vx and vy are
+  Vec3 slip;              // retinal slip [deg/s], eye space
   bool moving;
   bool decided;                             // by its memo through the view (pass 4)
   bool at_place;                            // ... which says the whole cells do not decide
@@ -2075,6 +2098,90 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
   }
 }
 
+// Sets object id's hold (Memo::Hold) for the decision through its view just made or confirmed
+// (block b's j-th; o its probe, with its cells where it moves; cand its lookup cell's candidates):
+// the widest turn of the direction to the eye, change of slip and range of eccentricity within
+// which view_key and speed_key stay, less room for the rounding of each as the frame loop computes
+// it (a ten-thousandth of the quantity or of its cell). None where the image slips but
+// not in the view's axes (then any change of slip may move it).
+void Scheduler::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o,
+                          const std::uint16_t* cand, const Block& b, std::uint32_t j, bool quartered,
+                          bool still) const {
+  Memo::Hold& h = memo.hold[id];
+  h.turn = -1.0f;
+  if (!o.moving && !still) return;
+  const Profile& p = pc.profile;
+  const Vec3 to_eye = b.to_eye_at(j);
+  const float d[3] = {to_eye.x, to_eye.y, to_eye.z};
+  // Moving, the nearest view's image axes carry the slip (Max3 too): it must stay the nearest.
+  float views[kLookupCandidates][3];
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
+    std::memcpy(views[k], p.views[cand[k]].direction, sizeof views[k]);
+  const bool cell_only = config_.view_blend == ViewBlend::Max3 && !o.moving;
+  const float margin = std::min(view_margin(d, p.meta.lookup_resolution, cell_only ? nullptr : views), 0.5f);
+  if (!(margin > 0.0f)) return;
+  float reach = kInf, e_from = -kInf, e_to = kInf;
+  if (o.moving) {
+    // Each orientation's speed |vx cos t + vy sin t| stays in its cell (and quarter) while (vx, vy)
+    // moves less than its distance to their ends, and (vx, vy) stays off 0 within its length.
+    const float floor = pre_->floor_velocity, v0 = pre_->speed_offset;
+    const float length_v = std::sqrt(o.vx * o.vx + o.vy * o.vy);
+    float room = length_v * (1.0f - 1e-4f);
+    const std::uint32_t T = p.meta.orientation_count;
+    for (std::uint32_t t = 0; t < T; ++t) {
+      const float u = std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]);
+      const std::uint32_t cell = o.speed_j[t];
+      const float lo = floor * std::ldexp(1.0f, int(cell)), g_top = lo / (3.0f * lo + 2.0f * v0);
+      // The speed at weight w of the cell [lo, 2 lo] (speed_cell()'s weight inverted).
+      const auto at = [&](float w) {
+        const float g = w * g_top;
+        return (lo * (1.0f + g) + 2.0f * g * v0) / (1.0f - g);
+      };
+      const std::uint32_t q = quartered ? quarter_of(o.speed_w[t]) : 0u;
+      const float span = quartered ? 1.0f / kQuarters : 1.0f;
+      const bool first_cell = cell == 0, last_cell = cell == kMovingS - 2;
+      const float lower = q == 0 ? (first_cell ? -kInf : lo) : at(float(q) * span);
+      const float upper =
+          (quartered ? q == kQuarters - 1 : true) ? (last_cell ? kInf : 2.0f * lo) : at(float(q + 1) * span);
+      const float slack = 1e-4f * std::max(u, floor) + 1e-5f * length_v;
+      room = std::min(room, std::min(u - lower, upper - u) - slack);
+    }
+    if (!(room > 0.0f)) return;
+    // (vx, vy) = the slip on the view's right and up axes (object space, rotated by the object's
+    // rotation, which preserves them): it moves at most the largest singular value of the two
+    // times the slip's move.
+    const float* right = &pc.view_right[3 * std::size_t(o.nearest)];
+    const float* up = p.views[o.nearest].up;
+    const float rr = dot(load(right), load(right)), uu = dot(load(up), load(up)),
+                ru = dot(load(right), load(up));
+    const float stretch =
+        std::sqrt(0.5f * (rr + uu) + std::sqrt(0.25f * (rr - uu) * (rr - uu) + ru * ru)) * (1.0f + 1e-5f);
+    reach = room / stretch;
+    // The eccentricity stays in its cell (and quarter) of the moving grid.
+    const std::uint32_t cell = o.em.j;
+    const float lower = e_node(cell, kMovingE), upper = e_node(cell + 1, kMovingE);
+    const std::uint32_t q = quartered ? quarter_of(o.em.w) : 0u;
+    const float span = quartered ? 1.0f / kQuarters : 1.0f;
+    const float slack = 1e-4f * (upper - lower) + 1e-6f * b.e[j];
+    e_from = q == 0 ? (cell == 0 ? -kInf : lower) : lower + float(q) * span * (upper - lower);
+    e_to = (quartered ? q == kQuarters - 1 : true) ? (cell == kMovingE - 2 ? kInf : upper)
+                                                   : lower + float(q + 1) * span * (upper - lower);
+    e_from += slack;
+    e_to -= slack;
+    if (!(e_from < b.e[j] && b.e[j] < e_to)) return;
+  }
+  // A chord c between unit vectors spans 2 asin(c / 2) rad: at most the margin for c <= 0.98 of it
+  // (margins of at most 0.5 rad).
+  std::memcpy(h.direction, d, sizeof d);
+  h.slip[0] = o.slip.x;
+  h.slip[1] = o.slip.y;
+  h.slip[2] = o.slip.z;
+  h.reach = reach;
+  h.e_from = e_from;
+  h.e_to = e_to;
+  h.turn = 0.98f * margin;
+}
+
 // One eye, the objects of a block, in passes that each prefetch what the next reads, so a block's
 // cache misses overlap: the inputs of the bounds over every view and the objects the memo decides
 // (pass 1, table_inputs()), the objects decided without tables and the any-view rows of the rest
@@ -2151,6 +2258,18 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
     if (scores) continue;  // every level's score: the view's tables
     if (view_memo[j]) {    // its memo through the view decides if the view and cells are the same
+      const Memo::Hold& h = memo.hold[id];
+      const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
+      const Vec3 turned = b.to_eye_at(j) - load(h.direction);
+      const Vec3 slipped =
+          retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params) - load(h.slip);
+      if (h.turn >= 0.0f && dot(turned, turned) <= h.turn * h.turn &&
+          dot(slipped, slipped) <= h.reach * h.reach && h.e_from <= b.e[j] &&
+          b.e[j] <= h.e_to) {  // which they are, within its hold
+        todo[j] = 0;
+        standing[j] = 1;
+        continue;
+      }
       ACUITY_PREFETCH(&memo.view_key[id]);
       ACUITY_PREFETCH(&memo.speed_key[id]);
       continue;
@@ -2235,6 +2354,8 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     o.em = {0, 0.0f};
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
     o.where = max3 ? static_cast<std::uint32_t>((cand[j] - p.lookup) / kLookupCandidates) : view;
+    o.nearest = view;
+    o.slip = slip;
     o.decided = o.at_place = false;
     const std::uint32_t T = p.meta.orientation_count;
     if (view_memo[j] && Memo::keyable(o.moving, T)) {  // the same view and cells?
@@ -2245,7 +2366,10 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
       standing[j] = o.decided;
-      if (o.decided) continue;  // out[j] holds its memo's decision
+      if (o.decided) {  // out[j] holds its memo's decision; its hold moves here
+        hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
+        continue;
+      }
     }
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
@@ -2328,6 +2452,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o, quartered);
       memo.speed_key[id] = Memo::speed_key_of(o, T, quartered);
+      if (stands) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
       standing[j] = stands;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};

@@ -294,6 +294,8 @@ class Scheduler {
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
                             std::int32_t* lo, std::int32_t* hi);
   static int any_view_level_at(const std::int16_t* row, std::uint32_t L, float x, float w, bool still);
+  void hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o, const std::uint16_t* cand,
+                 const Block& b, std::uint32_t j, bool quartered, bool still) const;
   static int view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set, bool quartered,
                              std::int32_t* lo, std::int32_t* hi);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
