@@ -1318,6 +1318,20 @@ struct AgainstScored {
     c.keep_scores = keep_scores;
     return c;
   }
+  // Runs a frame through both; counts the levels that differ between them, and those of `scored`
+  // that changed since its last frame.
+  int differ = 0, changed = 0, frames = 0;
+  std::vector<std::uint8_t> last = std::vector<std::uint8_t>(scored.object_capacity(), 255);
+  void run_frame(const Frame& fr) {
+    fast.run_frame(fr);
+    scored.run_frame(fr);
+    for (ObjectId id = 0; id < ObjectId(last.size()); ++id) {
+      differ += fast.level(id) != scored.level(id);
+      changed += frames > 0 && scored.level(id) != last[id];
+      last[id] = scored.level(id);
+    }
+    ++frames;
+  }
 };
 
 // Objects turn in place about their y axis each frame, the eye drifts and the gaze wanders. The
@@ -1342,8 +1356,6 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
     }
     Frame fr = looking_forward();
     gaze_at(fr, 0.1, 0.05, -1);
-    int differ = 0, changed = 0;
-    std::vector<std::uint8_t> last(objects, 255);
     for (int f = 0; f < frames; ++f) {
       // The eye drifts back and forth and the gaze wanders: sizes and eccentricities cross boxes too.
       fr.eyes[0].position[2] = 0.5 * std::sin(0.05 * f);
@@ -1353,15 +1365,10 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
         remembering.set_transform(ObjectId(i), scene[i].t);
         scored.set_transform(ObjectId(i), scene[i].t);
       }
-      remembering.run_frame(fr);
-      scored.run_frame(fr);
-      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
-        differ += remembering.level(id) != scored.level(id);
-        changed += f > 0 && scored.level(id) != last[id];
-        last[id] = scored.level(id);
-      }
+      pair.run_frame(fr);
     }
     const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
+    const int differ = pair.differ, changed = pair.changed;
     EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
     EXPECT_GT(changed, objects / 2) << name << ": turning changes only " << changed << " levels";
   }
@@ -1390,8 +1397,6 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
       EXPECT_EQ(scored.add_object(0, scene[i].t), ObjectId(i));
     }
     Frame fr = looking_forward();
-    int differ = 0, changed = 0;
-    std::vector<std::uint8_t> last(objects, 255);
     for (int f = 0; f < frames; ++f) {
       fr.eyes[0].position[2] = 0.3 * std::sin(0.04 * f);
       gaze_at(fr, 0.1 + 0.1 * std::sin(0.09 * f), 0.05 + 0.05 * std::cos(0.05 * f), -1);
@@ -1406,15 +1411,10 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
           scored.set_transform(ObjectId(i), scene[i].t);
         }
       }
-      remembering.run_frame(fr);
-      scored.run_frame(fr);
-      for (ObjectId id = 0; id < ObjectId(objects); ++id) {
-        differ += remembering.level(id) != scored.level(id);
-        changed += f > 0 && scored.level(id) != last[id];
-        last[id] = scored.level(id);
-      }
+      pair.run_frame(fr);
     }
     const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
+    const int differ = pair.differ, changed = pair.changed;
     EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
     EXPECT_GT(changed, objects / 2) << name << ": the swells change only " << changed << " levels";
   }
