@@ -175,11 +175,16 @@ struct FrameStats {
 // tables would decide. Per object and frame the work is the geometry, then one
 // table read (decided over every view), or one per level (still) or per level and orientation
 // (moving) through the object's view. A decision made over whole cells, or at the object's place in
-// them (through its view: a still image's), is kept per object and eye (32 bytes each, allocated at
-// creation) with what it stands under: the same eccentricity cell, table set, still or moving image
-// and bands shown, and a size (at its place: and an eccentricity) clear of the bounds it compared; made
-// through the object's view, also the same view (Max3: lookup cell) and, moving, the same cells of
-// eccentricity and of each orientation's speed (profiles of up to 16 orientations). While those hold,
+// them (through its view: a still image's; over the quarters of its cells it lies in: a moving
+// one's), is kept per object and eye (32 bytes each, allocated at creation) with what it stands
+// under: the same eccentricity cell, table set, still or moving image and bands shown, and a size
+// (at its place: and an eccentricity) clear of the bounds it compared; made through the object's
+// view, also the same view (Max3: lookup cell) and, moving, the same cells (quarters) of
+// eccentricity and of each orientation's speed (profiles of up to 16 orientations, 10 for
+// quarters). Such a decision through the view also holds (40 bytes per object and eye) while the
+// direction to the eye turns less than keeps its view, the retinal slip moves less than keeps its
+// speed cells and the eccentricity stays in its moving cell, with the rotation unchanged: then the
+// view is not looked up again. While those hold,
 // the next frames take it without reading a table: the same decision, bit for bit (with keep_scores,
 // or a triangle budget, every object reads its view's tables and nothing is kept). At rest: while
 // neither the eye (no velocity, angular velocity or gaze velocity reported) nor the object moves
