@@ -1318,6 +1318,15 @@ struct AgainstScored {
     c.keep_scores = keep_scores;
     return c;
   }
+  // The same call on both.
+  void add_object(const ObjectTransform& t, ObjectId expected) {
+    EXPECT_EQ(fast.add_object(0, t), expected);
+    EXPECT_EQ(scored.add_object(0, t), expected);
+  }
+  void set_transform(ObjectId id, const ObjectTransform& t) {
+    fast.set_transform(id, t);
+    scored.set_transform(id, t);
+  }
   // Runs a frame through both; counts the levels that differ between them, and those of `scored`
   // that changed since its last frame.
   int differ = 0, changed = 0, frames = 0;
@@ -1332,6 +1341,11 @@ struct AgainstScored {
     }
     ++frames;
   }
+  // No level differs, and more than `least_changed` changed on the way (by `what`).
+  void expect_same_levels(const char* name, int least_changed, const char* what) const {
+    EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << last.size() * frames << " levels differ";
+    EXPECT_GT(changed, least_changed) << name << ": " << what << " changes only " << changed << " levels";
+  }
 };
 
 // Objects turn in place about their y axis each frame, the eye drifts and the gaze wanders. The
@@ -1344,15 +1358,13 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
   const int objects = 1000, frames = 120;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, halves.profile);
-    Scheduler &remembering = pair.fast, &scored = pair.scored;
     Rng rng(11);
     std::vector<RandomObject> scene;
     std::vector<float> turn;  // [deg a frame]
     for (int i = 0; i < objects; ++i) {
       scene.push_back(random_object(rng, 0));
       turn.push_back(rng.uniform(0.5f, 4.0f));
-      EXPECT_EQ(remembering.add_object(0, scene[i].t), ObjectId(i));
-      EXPECT_EQ(scored.add_object(0, scene[i].t), ObjectId(i));
+      pair.add_object(scene[i].t, ObjectId(i));
     }
     Frame fr = looking_forward();
     gaze_at(fr, 0.1, 0.05, -1);
@@ -1362,15 +1374,11 @@ TEST(SchedulerTabulated, TurningObjectsRememberedThroughTheirView) {
       gaze_at(fr, 0.1 + 0.1 * std::sin(0.13 * f), 0.05 + 0.05 * std::cos(0.07 * f), -1);
       for (int i = 0; i < objects; ++i) {
         turn_about_y(scene[i].t.rotation, turn[i]);
-        remembering.set_transform(ObjectId(i), scene[i].t);
-        scored.set_transform(ObjectId(i), scene[i].t);
+        pair.set_transform(ObjectId(i), scene[i].t);
       }
       pair.run_frame(fr);
     }
-    const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
-    const int differ = pair.differ, changed = pair.changed;
-    EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
-    EXPECT_GT(changed, objects / 2) << name << ": turning changes only " << changed << " levels";
+    pair.expect_same_levels(blend == ViewBlend::Nearest ? "nearest" : "max3", objects / 2, "turning");
   }
 }
 
@@ -1386,15 +1394,13 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
   const int objects = 3000, frames = 160;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, six.profile);
-    Scheduler &remembering = pair.fast, &scored = pair.scored;
     Rng rng(13);
     std::vector<RandomObject> scene;
     std::vector<float> phase;
     for (int i = 0; i < objects; ++i) {
       scene.push_back(random_object(rng, 100));
       phase.push_back(rng.uniform(0.0f, 6.3f));
-      EXPECT_EQ(remembering.add_object(0, scene[i].t), ObjectId(i));
-      EXPECT_EQ(scored.add_object(0, scene[i].t), ObjectId(i));
+      pair.add_object(scene[i].t, ObjectId(i));
     }
     Frame fr = looking_forward();
     for (int f = 0; f < frames; ++f) {
@@ -1403,20 +1409,16 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
       for (int i = 0; i < objects; ++i) {
         const float swell = std::exp(0.3f * std::sin(0.25f * float(f) + phase[i]));
         const float v[3] = {swell * scene[i].v[0], swell * scene[i].v[1], swell * scene[i].v[2]};
-        remembering.set_velocity(ObjectId(i), v);
-        scored.set_velocity(ObjectId(i), v);
+        pair.fast.set_velocity(ObjectId(i), v);
+        pair.scored.set_velocity(ObjectId(i), v);
         if (i % 4 == 0) {  // a quarter of them also turn in place: the view's axes turn under the slip
           turn_about_y(scene[i].t.rotation, 2.0f);
-          remembering.set_transform(ObjectId(i), scene[i].t);
-          scored.set_transform(ObjectId(i), scene[i].t);
+          pair.set_transform(ObjectId(i), scene[i].t);
         }
       }
       pair.run_frame(fr);
     }
-    const char* name = blend == ViewBlend::Nearest ? "nearest" : "max3";
-    const int differ = pair.differ, changed = pair.changed;
-    EXPECT_EQ(differ, 0) << name << ": " << differ << " of " << objects * frames << " levels differ";
-    EXPECT_GT(changed, objects / 2) << name << ": the swells change only " << changed << " levels";
+    pair.expect_same_levels(blend == ViewBlend::Nearest ? "nearest" : "max3", objects / 2, "the swells");
   }
 }
 
