@@ -1888,6 +1888,13 @@ constexpr std::uint32_t kQuarters = 4;
 [[gnu::always_inline]] inline std::uint32_t quarter_of(float w) {
   return std::min(static_cast<std::uint32_t>(w * float(kQuarters)), kQuarters - 1);
 }
+// The weights [*from, *to] of a cell a decision at weight w stands over: its quarter, or the whole
+// cell [0, 1].
+inline void weight_range(bool quartered, float w, float* from, float* to) {
+  const float q = quartered ? float(quarter_of(w)) : 0.0f, span = quartered ? 1.0f / kQuarters : 1.0f;
+  *from = q * span;
+  *to = (q + 1.0f) * span;
+}
 }  // namespace
 
 std::uint32_t Scheduler::Memo::view_key_of(const Probe& o, bool quartered) {
@@ -1997,15 +2004,9 @@ int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int3
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
   const ProfileCache::Tables& tables = pc.sets[o.tables + set];
   const std::vector<std::int16_t>& near = o.moving ? tables.slow : tables.still;
-  // The ends of a weight's range: its quarter, or the whole cell.
-  const auto ends = [quartered](float w, float* from, float* to) {
-    const float q = quartered ? float(quarter_of(w)) : 0.0f, span = quartered ? 1.0f / kQuarters : 1.0f;
-    *from = q * span;
-    *to = (q + 1.0f) * span;
-  };
   float ec_from, ec_to, em_from, em_to;
-  ends(o.ec.w, &ec_from, &ec_to);
-  if (o.moving) ends(o.em.w, &em_from, &em_to);
+  weight_range(quartered, o.ec.w, &ec_from, &ec_to);
+  if (o.moving) weight_range(quartered, o.em.w, &em_from, &em_to);
   // A bound in table steps, rounded down (up).
   const auto step_below = [](float v) { return std::int32_t(std::floor(v * kSizeSteps)); };
   const auto step_above = [](float v) { return std::int32_t(std::ceil(v * kSizeSteps)); };
@@ -2022,7 +2023,7 @@ int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int3
           const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
           const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
           float s_from, s_to;
-          ends(o.speed_w[t], &s_from, &s_to);
+          weight_range(quartered, o.speed_w[t], &s_from, &s_to);
           float corners[4];
           for (int e = 0; e < 2; ++e) {  // at each eccentricity end, the speed interpolation's ends
             const float w = e ? em_to : em_from;
@@ -2137,12 +2138,10 @@ void Scheduler::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const
         const float g = w * g_top;
         return (lo * (1.0f + g) + 2.0f * g * v0) / (1.0f - g);
       };
-      const std::uint32_t q = quartered ? quarter_of(o.speed_w[t]) : 0u;
-      const float span = quartered ? 1.0f / kQuarters : 1.0f;
-      const bool first_cell = cell == 0, last_cell = cell == kMovingS - 2;
-      const float lower = q == 0 ? (first_cell ? -kInf : lo) : at(float(q) * span);
-      const float upper =
-          (quartered ? q == kQuarters - 1 : true) ? (last_cell ? kInf : 2.0f * lo) : at(float(q + 1) * span);
+      float w_from, w_to;  // past the grid's first and last cells, the ends are open
+      weight_range(quartered, o.speed_w[t], &w_from, &w_to);
+      const float lower = w_from == 0.0f ? (cell == 0 ? -kInf : lo) : at(w_from);
+      const float upper = w_to == 1.0f ? (cell == kMovingS - 2 ? kInf : 2.0f * lo) : at(w_to);
       const float slack = 1e-4f * std::max(u, floor) + 1e-5f * length_v;
       room = std::min(room, std::min(u - lower, upper - u) - slack);
     }
@@ -2160,12 +2159,11 @@ void Scheduler::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const
     // The eccentricity stays in its cell (and quarter) of the moving grid.
     const std::uint32_t cell = o.em.j;
     const float lower = e_node(cell, kMovingE), upper = e_node(cell + 1, kMovingE);
-    const std::uint32_t q = quartered ? quarter_of(o.em.w) : 0u;
-    const float span = quartered ? 1.0f / kQuarters : 1.0f;
+    float w_from, w_to;
+    weight_range(quartered, o.em.w, &w_from, &w_to);
     const float slack = 1e-4f * (upper - lower) + 1e-6f * b.e[j];
-    e_from = q == 0 ? (cell == 0 ? -kInf : lower) : lower + float(q) * span * (upper - lower);
-    e_to = (quartered ? q == kQuarters - 1 : true) ? (cell == kMovingE - 2 ? kInf : upper)
-                                                   : lower + float(q + 1) * span * (upper - lower);
+    e_from = w_from == 0.0f ? (cell == 0 ? -kInf : lower) : lower + w_from * (upper - lower);
+    e_to = w_to == 1.0f ? (cell == kMovingE - 2 ? kInf : upper) : lower + w_to * (upper - lower);
     e_from += slack;
     e_to -= slack;
     if (!(e_from < b.e[j] && b.e[j] < e_to)) return;
@@ -2424,9 +2422,10 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       bool stands = coarse >= 0, quartered = false;
       if (!stands && o.moving && Memo::quarterable(T)) {  // a moving image: over its cells' quarters
         stand = Stand{};
-        const std::uint32_t quarter = quarter_of(o.ec.w), span = std::uint32_t(kWeightSteps) / kQuarters;
-        stand.w_from = static_cast<std::uint16_t>(quarter * span);
-        stand.w_to = static_cast<std::uint16_t>((quarter + 1) * span);
+        float w_from, w_to;
+        weight_range(true, o.ec.w, &w_from, &w_to);
+        stand.w_from = static_cast<std::uint16_t>(w_from * kWeightSteps);
+        stand.w_to = static_cast<std::uint16_t>(w_to * kWeightSteps);
         fine = view_cell_level(pc, o, x_step[j], 0, true, &stand.lo, &stand.hi);
         coarse =
             sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, true, &stand.lo, &stand.hi) : fine;
