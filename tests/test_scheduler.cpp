@@ -868,6 +868,69 @@ TEST(SchedulerPolicies, TransitionFactorAndChangeEvents) {
   }
 }
 
+// stats() counts the live objects as they stand after end_frame: triangles at their drawn levels,
+// changes, invalid inputs and budget-forced levels, through objects added, moved, made invalid and
+// removed (also between update() and end_frame()), with and without a budget and cross-fades.
+TEST(SchedulerPolicies, FrameStatsCountTheLiveObjectsAsTheyStand) {
+  const TestProfile a, b(4, 4, 6);
+  for (const bool budget : {false, true}) {
+    SchedulerConfig c;
+    c.max_objects = 300;  // not a multiple of a block or of end_frame's chunk
+    c.hysteresis_frames = 1;
+    c.triangle_budget = budget ? 3000000 : 0;
+    c.transition_seconds = budget ? 0.0f : 0.05f;
+    Scheduler s(c);
+    const int profile[2] = {s.add_profile(a.profile), s.add_profile(b.profile)};
+    const Profile* profiles[2] = {&a.profile, &b.profile};
+    const Profile* of[300] = {};  // each live object's profile
+    Rng rng(budget ? 5 : 6);
+    const auto place = [&] { return at(rng.uniform(-20, 20), rng.uniform(-5, 5), -rng.uniform(0.5, 200)); };
+    Frame f = looking_forward();
+    f.dt = 0.02f;
+    std::uint64_t changes = 0, forced_total = 0;
+    for (int frame = 0; frame < 60; ++frame) {
+      for (int k = 0; k < 12; ++k) {  // some objects come, some go, some move or turn invalid
+        const auto id = ObjectId(rng.uniform(0, 300)) % 300;
+        const double what = rng.uniform(0, 1);
+        if (!s.alive(id)) {
+          const int which = int(what < 0.5);
+          of[s.add_object(profile[which], place())] = profiles[which];
+        } else if (what < 0.3) {
+          s.remove_object(id);
+        } else if (what < 0.4) {
+          s.set_transform(id, at(std::nan(""), 0, -3));
+        } else {
+          s.set_transform(id, place());
+        }
+      }
+      gaze_at(f, rng.uniform(-0.5, 0.5), 0, -1);
+      s.begin_frame(f);
+      s.update(0, 150);
+      s.update(150, 150);
+      if (frame % 7 == 3)
+        for (ObjectId id = 0; id < 300; id += 37) s.remove_object(id);
+      s.end_frame();
+      std::uint64_t triangles = 0;
+      std::uint32_t changed = 0, invalid = 0, forced = 0;
+      for (ObjectId id = 0; id < 300; ++id) {
+        if (!s.alive(id)) continue;
+        triangles += of[id]->levels[s.level(id)].triangles;
+        changed += (s.flags(id) & kFlagChanged) != 0;
+        invalid += (s.flags(id) & kFlagInvalidInput) != 0;
+        forced += (s.flags(id) & kFlagBudgetForced) != 0;
+      }
+      EXPECT_EQ(s.stats().triangles, triangles) << frame;
+      EXPECT_EQ(s.stats().changed, changed) << frame;
+      EXPECT_EQ(s.stats().invalid, invalid) << frame;
+      EXPECT_EQ(s.stats().budget_forced, forced) << frame;
+      changes += changed;
+      forced_total += forced;
+    }
+    EXPECT_GT(changes, 100u);
+    EXPECT_EQ(forced_total > 0, budget);
+  }
+}
+
 TEST(SchedulerBaselines, DistanceAndScreenSize) {
   const TestProfile tp;  // geometric error of level k: 0.002 (2^k - 1) diameters, radius 1
   const Frame f = looking_forward();

@@ -1144,6 +1144,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   bias_tables_[id] = bias_tables_of(1.0f);
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
+  drawn_triangles_ += triangles_[std::size_t(profile) * kMaxLevels + level_[id]];
   flags_[id] = 0;
   calm_frames_[id] = wait_frames_[id] = 0;
   fade_[id] = 1.0f;
@@ -1154,8 +1155,12 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
 
 void Scheduler::remove_object(ObjectId id) {
   if (!alive(id)) return;
+  drawn_triangles_ -= triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
   profile_of_[id] = -1;
-  sphere_[3][id] = 0.0f;  // a free slot looks invalid to the frame loop
+  sphere_[3][id] = 0.0f;   // a free slot looks invalid to the frame loop
+  next_[id] = level_[id];  // and counts nothing in end_frame (the frame loop keeps a free slot's state)
+  flags_[id] = 0;
+  rest_[id] = 0;
   end_rests(id);
   free_list_.push_back(id);
 }
@@ -1432,6 +1437,7 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
       continue;
     }
     if (end - start >= 3 * Block::kSize) prefetch_objects(start + 2 * Block::kSize);
+    if (curves_ && end - start >= 2 * Block::kSize) prefetch_holds(start + Block::kSize);
     std::fill(rest_.begin() + start, rest_.begin() + start + n, std::uint8_t(0));
     derive_velocities(start, n);
     for (std::uint32_t i = 0; i < eye_count_; ++i) look_block(eyes_[i], start, n, &blocks[i]);
@@ -1582,7 +1588,19 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
     for (const auto* a : {&m.key, &m.w_from, &m.w_to}) lines(&(*a)[first], sizeof(std::uint16_t) * n);
     for (const auto* a : {&m.f_lo, &m.f_hi}) lines(&(*a)[first], sizeof(float) * n);
     for (const auto* a : {&m.fine, &m.coarse}) lines(&(*a)[first], n);
-    lines(&m.hold[first], sizeof(Memo::Hold) * n);
+  }
+}
+
+// The holds of a block's memos made through the view (their keys, prefetched a block earlier, say
+// which): the others are never read.
+void Scheduler::prefetch_holds(std::uint32_t first) const {
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const Memo& m = memos_[i];
+    for (std::uint32_t j = 0; j < Block::kSize; ++j)
+      if (m.key[first + j] & Memo::kThroughView) {
+        ACUITY_PREFETCH(&m.hold[first + j]);
+        ACUITY_PREFETCH(&m.hold[first + j].e_to);
+      }
   }
 }
 
@@ -2203,13 +2221,34 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   const std::int32_t* x_step = in.x_step;
   const std::uint32_t *ec_j = in.ec_j, *still = in.still, *memo_hit = in.memo_hit, *view_memo = in.view_memo;
   const float *ec_w = in.ec_w, *inv_diam = in.inv_diam;
+  // Objects whose memo through the view stands keep its decision while the view and cells are
+  // the same, which they are within its hold (Memo::Hold; only these holds are read).
+  std::uint32_t decided[kBlock];  // by a memo
+  std::uint8_t viewed[kBlock];
+  std::uint32_t viewed_count = 0;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    decided[j] = memo_hit[j];
+    viewed[viewed_count] = static_cast<std::uint8_t>(j);
+    viewed_count += view_memo[j];
+  }
+  for (std::uint32_t i = 0; i < viewed_count; ++i) {
+    const std::uint32_t j = viewed[i];
+    const Memo::Hold& h = memo.hold[first + j];
+    const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
+    const Vec3 turned = b.to_eye_at(j) - load(h.direction);
+    const Vec3 slipped =
+        retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params) - load(h.slip);
+    decided[j] = std::uint32_t(h.turn >= 0.0f) & std::uint32_t(dot(turned, turned) <= h.turn * h.turn) &
+                 std::uint32_t(dot(slipped, slipped) <= h.reach * h.reach) &
+                 std::uint32_t(h.e_from <= b.e[j]) & std::uint32_t(b.e[j] <= h.e_to);
+  }
   std::uint32_t bands[kBlock];
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
   std::uint8_t miss[kBlock];
   std::uint32_t miss_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     miss[miss_count] = static_cast<std::uint8_t>(j);
-    miss_count += memo_hit[j] ^ 1u;
+    miss_count += decided[j] ^ 1u;
   }
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
@@ -2225,7 +2264,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
   const std::int16_t* rows[2][kBlock];
   std::uint8_t standing[kBlock];           // decided by a memo that stands now: its rest may be set
   for (std::uint32_t j = 0; j < n; ++j) {  // the memo's decision for every object: misses overwrite it
-    standing[j] = static_cast<std::uint8_t>(memo_hit[j]);
+    standing[j] = static_cast<std::uint8_t>(decided[j]);
     todo[j] = 0;
     out[j] = {memo.fine[first + j], memo.coarse[first + j], gaze_flag};
   }
@@ -2256,18 +2295,6 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
     if (scores) continue;  // every level's score: the view's tables
     if (view_memo[j]) {    // its memo through the view decides if the view and cells are the same
-      const Memo::Hold& h = memo.hold[id];
-      const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
-      const Vec3 turned = b.to_eye_at(j) - load(h.direction);
-      const Vec3 slipped =
-          retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params) - load(h.slip);
-      if (h.turn >= 0.0f && dot(turned, turned) <= h.turn * h.turn &&
-          dot(slipped, slipped) <= h.reach * h.reach && h.e_from <= b.e[j] &&
-          b.e[j] <= h.e_to) {  // which they are, within its hold
-        todo[j] = 0;
-        standing[j] = 1;
-        continue;
-      }
       ACUITY_PREFETCH(&memo.view_key[id]);
       ACUITY_PREFETCH(&memo.speed_key[id]);
       continue;
@@ -2786,29 +2813,54 @@ ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, 
 void Scheduler::end_frame() {
   if (config_.triangle_budget > 0) apply_budget();
   FrameStats& st = stats_;
-  st.triangles = 0;
   st.changed = st.invalid = st.budget_forced = st.at_rest = 0;
   const bool fades = config_.transition_seconds > 0;  // else every fade_ stays 1 (not read)
-  for (std::uint32_t id = 0; id < config_.max_objects; ++id) {
-    if (profile_of_[id] < 0) continue;
-    if (next_[id] != level_[id]) {  // a change event; the cross-fade starts from the drawn level
-      from_level_[id] = level_[id];
-      fade_[id] = fades ? 0.0f : 1.0f;
-      flags_[id] |= kFlagChanged;
-      level_[id] = next_[id];
-    } else if (fades && fade_[id] < 1.0f) {
-      fade_[id] = std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds);
+  constexpr std::uint32_t kChunk = 256;
+  for (std::uint32_t first = 0; first < config_.max_objects; first += kChunk) {
+    const std::uint32_t n = std::min(kChunk, config_.max_objects - first);
+    if (count_flags(first, n, &st) == 0 && !fades) continue;  // nothing to write
+    for (std::uint32_t id = first; id < first + n; ++id) {
+      if (profile_of_[id] < 0) continue;
+      if (next_[id] != level_[id]) {  // a change event; the cross-fade starts from the drawn level
+        const std::uint32_t* triangles = &triangles_[std::size_t(profile_of_[id]) * kMaxLevels];
+        drawn_triangles_ += triangles[next_[id]] - std::uint64_t(triangles[level_[id]]);
+        from_level_[id] = level_[id];
+        fade_[id] = fades ? 0.0f : 1.0f;
+        flags_[id] |= kFlagChanged;
+        level_[id] = next_[id];
+      } else if (fades && fade_[id] < 1.0f) {
+        fade_[id] = std::min(1.0f, fade_[id] + dt_ / config_.transition_seconds);
+      }
     }
-    st.triangles += triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
-    st.changed += (flags_[id] & kFlagChanged) != 0;
-    st.invalid += (flags_[id] & kFlagInvalidInput) != 0;
-    st.budget_forced += (flags_[id] & kFlagBudgetForced) != 0;
-    st.at_rest += rest_[id];
   }
+  st.triangles = drawn_triangles_;
 }
 
-// Funkhouser & Sequin: while over budget, coarsen by one level the object whose next level costs
-// the least perceptual harm (its score) per triangle saved. Ties go to the lower id.
+// Counts the flags of `count` objects from `first` into st as end_frame() leaves them (kFlagChanged
+// where the next level is not the drawn one), and returns how many levels change. Reads only: it
+// vectorises, and the objects whose level stays are not written. Free slots count nothing (their
+// flags and rest are 0 and their next level the drawn one: remove_object()).
+ACUITY_SIMD_CLONES std::uint32_t Scheduler::count_flags(std::uint32_t first, std::uint32_t n,
+                                                        FrameStats* st) const {
+  const std::uint8_t *next = &next_[first], *level = &level_[first], *flags = &flags_[first],
+                     *rest = &rest_[first];
+  std::uint32_t changes = 0, changed = 0, invalid = 0, forced = 0, at_rest = 0;
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const std::uint32_t change = next[j] != level[j];
+    const std::uint32_t flag = flags[j];
+    changes += change;
+    changed += change | std::uint32_t((flag & kFlagChanged) != 0);
+    invalid += (flag & kFlagInvalidInput) != 0;
+    forced += (flag & kFlagBudgetForced) != 0;
+    at_rest += rest[j];
+  }
+  st->changed += changed;
+  st->invalid += invalid;
+  st->budget_forced += forced;
+  st->at_rest += at_rest;
+  return changes;
+}
+
 void Scheduler::apply_budget() {
   std::uint64_t total = 0;
   for (std::uint32_t id = 0; id < config_.max_objects; ++id)

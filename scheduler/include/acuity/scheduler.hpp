@@ -319,11 +319,13 @@ class Scheduler {
   struct Decisions;                            // one block's choices, both eyes combined
   void derive_velocities(std::uint32_t first, std::uint32_t count);
   void prefetch_objects(std::uint32_t first) const;  // a block's per-object arrays, ahead of its turn
+  void prefetch_holds(std::uint32_t first) const;    // a block's holds in use, a block ahead
   void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
                          const Sight (*sights)[kBlock], Decisions* out);
   void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void choose_tabulated(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
   void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
+  std::uint32_t count_flags(std::uint32_t first, std::uint32_t count, FrameStats* st) const;  // end_frame's
   // At rest (the tabulated path, a still eye): objects decided from their memos without geometry.
   struct RestProbe;
   // A block with more runs of objects not at rest than this, or more such objects, takes the whole
@@ -344,6 +346,7 @@ class Scheduler {
   // Per profile, what every object reads, in small arrays owned here (not the profile blob):
   std::vector<std::uint8_t> level_count_;  // [max_profiles]
   std::vector<std::uint32_t> triangles_;   // [max_profiles][kMaxLevels]
+  std::uint64_t drawn_triangles_ = 0;      // over the live objects at their drawn levels (level_)
   std::vector<float> error_size_;          // [max_profiles][kMaxLevels]: 2 x geometric error
   std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
                                            // radius (Distance, ScreenSize); +inf past K - 1
