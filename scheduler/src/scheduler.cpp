@@ -1596,11 +1596,16 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
 void Scheduler::prefetch_holds(std::uint32_t first) const {
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
-    for (std::uint32_t j = 0; j < Block::kSize; ++j)
-      if (m.key[first + j] & Memo::kThroughView) {
-        ACUITY_PREFETCH(&m.hold[first + j]);
-        ACUITY_PREFETCH(&m.hold[first + j].e_to);
-      }
+    std::uint8_t through[Block::kSize];  // listed without branches (which ones is unpredictable)
+    std::uint32_t count = 0;
+    for (std::uint32_t j = 0; j < Block::kSize; ++j) {
+      through[count] = static_cast<std::uint8_t>(j);
+      count += (m.key[first + j] & Memo::kThroughView) != 0;
+    }
+    for (std::uint32_t k = 0; k < count; ++k) {
+      ACUITY_PREFETCH(&m.hold[first + through[k]]);
+      ACUITY_PREFETCH(&m.hold[first + through[k]].e_to);
+    }
   }
 }
 
