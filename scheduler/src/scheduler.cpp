@@ -2866,6 +2866,8 @@ ACUITY_SIMD_CLONES std::uint32_t Scheduler::count_flags(std::uint32_t first, std
   return changes;
 }
 
+// Funkhouser & Sequin: while over budget, coarsen by one level the object whose next level costs
+// the least perceptual harm (its score) per triangle saved. Ties go to the lower id.
 void Scheduler::apply_budget() {
   std::uint64_t total = 0;
   for (std::uint32_t id = 0; id < config_.max_objects; ++id)
