@@ -75,7 +75,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 4);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 5);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -313,6 +313,22 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
       EXPECT_EQ(fades[i], ref.transition(ids[i]));
       changes += (flags[i] & ACUITY_FLAG_CHANGED) != 0;
     }
+    // The frame's stats: the C++ scheduler's, and the counts of the flags returned.
+    acuity_frame_stats st;
+    st.struct_size = sizeof st;
+    ASSERT_EQ(acuity_get_frame_stats(s, &st), ACUITY_OK);
+    const FrameStats& want = ref.stats();
+    EXPECT_EQ(st.struct_size, sizeof st);
+    EXPECT_EQ(st.triangles, want.triangles);
+    EXPECT_EQ(st.triangles, acuity_frame_triangles(s));
+    EXPECT_EQ(st.changed, want.changed);
+    EXPECT_EQ(st.invalid, want.invalid);
+    EXPECT_EQ(st.budget_forced, want.budget_forced);
+    EXPECT_EQ(st.at_rest, want.at_rest);
+    EXPECT_EQ(st.gaze_used, want.gaze_used ? 1 : 0);
+    std::uint32_t changed = 0;
+    for (uint32_t i = 0; i < 16; ++i) changed += (flags[i] & ACUITY_FLAG_CHANGED) != 0;
+    EXPECT_EQ(st.changed, changed) << n;
     EXPECT_GE(levels[5], 1);
     EXPECT_LE(levels[5], 2);
     EXPECT_EQ(levels[6], 0);
@@ -329,6 +345,50 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
     }
   }
   EXPECT_GT(changes, 0) << "the walk changes levels, so transitions were exercised";
+  acuity_destroy(s);
+}
+
+// acuity_get_frame_stats's struct_size: the version-5 size and any larger multiple of 8 up to 65536
+// are taken (bytes past the known fields left as they were); anything else, or null, is refused
+// with *out untouched.
+TEST(CAbi, FrameStatsFollowTheGrowthRule) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 4;
+  acuity_scheduler* s = create(c, f);
+  Scene scene(3);
+  std::vector<uint32_t> ids(3);
+  ASSERT_EQ(acuity_add_objects(s, 3, scene.profiles.data(), scene.positions.data(), 0, scene.rotations.data(),
+                               0, scene.scales.data(), ids.data()),
+            ACUITY_OK);
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  ASSERT_EQ(frame(s, eye, 1.0f / 60), ACUITY_OK) << acuity_last_error();
+  ASSERT_GT(acuity_frame_triangles(s), 0u);
+  struct Newer {
+    acuity_frame_stats known;
+    std::uint64_t later[2];  // fields a newer caller knows of
+  } newer;
+  std::memset(&newer, 0xab, sizeof newer);
+  newer.known.struct_size = sizeof newer;
+  ASSERT_EQ(acuity_get_frame_stats(s, &newer.known), ACUITY_OK);
+  EXPECT_EQ(newer.known.triangles, acuity_frame_triangles(s));
+  EXPECT_EQ(newer.known.struct_size, sizeof newer);
+  EXPECT_EQ(newer.known.reserved[0], 0);
+  for (const std::uint64_t later : newer.later) EXPECT_EQ(later, 0xababababababababull);
+  for (const uint32_t size : {0u, 8u, 24u, ACUITY_FRAME_STATS_SIZE_V5 + 4u, 65544u, 0xffffffffu}) {
+    acuity_frame_stats st;
+    std::memset(&st, 0xcd, sizeof st);
+    st.struct_size = size;
+    EXPECT_EQ(acuity_get_frame_stats(s, &st), ACUITY_INVALID_ARGUMENT) << size;
+    EXPECT_NE(std::string(acuity_last_error()).find("struct_size"), std::string::npos);
+    EXPECT_EQ(st.triangles, 0xcdcdcdcdcdcdcdcdull) << size;
+  }
+  acuity_frame_stats st;
+  st.struct_size = sizeof st;
+  EXPECT_EQ(acuity_get_frame_stats(nullptr, &st), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_get_frame_stats(s, nullptr), ACUITY_INVALID_ARGUMENT);
   acuity_destroy(s);
 }
 

@@ -217,6 +217,21 @@ export class Scheduler {
 
   frameTriangles() { return Number(this.m._acuity_frame_triangles(this.s)); }
 
+  // The last endFrame's counts over the live objects (acuity_frame_stats, version 5 layout).
+  frameStats() {
+    const bytes = 32;
+    const head = new Uint32Array(bytes / 4);
+    head[0] = bytes;  // struct_size
+    const [p] = this.stage([head]);
+    this.a.check(this.m._acuity_get_frame_stats(this.s, p), 'acuity_get_frame_stats');
+    const v = new DataView(this.m.HEAPU8.buffer, p, bytes);
+    return {
+      changed: v.getUint32(4, true), triangles: Number(v.getBigUint64(8, true)),
+      budgetForced: v.getUint32(16, true), invalid: v.getUint32(20, true), atRest: v.getUint32(24, true),
+      gazeUsed: v.getUint8(28) !== 0,
+    };
+  }
+
   destroy() {
     if (this.scratch) this.m._free(this.scratch);
     this.scratch = 0;

@@ -34,8 +34,9 @@ extern "C" {
 /* Version 2 added: acuity_config.struct_size and every SchedulerConfig field, acuity_set_bias,
  * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls.
  * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner.
- * Version 4 appended acuity_config.tabulated_biases. */
-#define ACUITY_C_API_VERSION 4
+ * Version 4 appended acuity_config.tabulated_biases.
+ * Version 5 added acuity_frame_stats and acuity_get_frame_stats. */
+#define ACUITY_C_API_VERSION 5
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -260,6 +261,26 @@ acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, 
 acuity_status acuity_explain(const acuity_scheduler* s, uint32_t id, acuity_object_explain* out);
 /* Triangles drawn at this frame's levels; 0 for null. */
 uint64_t acuity_frame_triangles(const acuity_scheduler* s);
+
+/* The last acuity_end_frame's counts over the live objects (acuity::FrameStats; all 0 before the
+ * first). Growth rule as acuity_config's: the caller sets struct_size = sizeof(acuity_frame_stats)
+ * as it compiled it; fields are only ever appended, and only the fields within struct_size are
+ * written (a newer caller's further bytes are left as they were). */
+typedef struct acuity_frame_stats {
+  uint32_t struct_size;   /* sizeof(acuity_frame_stats), set by the caller */
+  uint32_t changed;       /* objects whose level changed (ACUITY_FLAG_CHANGED) */
+  uint64_t triangles;     /* drawn at the chosen levels (as acuity_frame_triangles) */
+  uint32_t budget_forced; /* objects the triangle budget pushed past visibility */
+  uint32_t invalid;       /* objects with ACUITY_FLAG_INVALID_INPUT */
+  uint32_t at_rest;       /* objects decided at rest: from their memos, without their geometry */
+  uint8_t gaze_used;      /* 1: a gaze was used this frame */
+  uint8_t reserved[3];    /* written 0 */
+} acuity_frame_stats;
+/* The size of the version-5 layout, the smallest struct_size accepted. */
+#define ACUITY_FRAME_STATS_SIZE_V5 32
+/* INVALID_ARGUMENT: null s or out, struct_size below ACUITY_FRAME_STATS_SIZE_V5, not a multiple of
+ * 8 or above 65536; *out untouched then. */
+acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_stats* out);
 
 /* ---- Foveation planner (acuity/foveation_plan.hpp) --------------------------------------------
  * Per eye and frame: a variable-rate-shading image (pixels per shade in x and y: 1, 2 or 4) and a

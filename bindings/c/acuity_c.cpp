@@ -54,6 +54,9 @@ static_assert(std::size(acuity_config{}.tabulated_biases) == acuity::kMaxTabulat
 static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V4 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
+static_assert(offsetof(acuity_frame_stats, struct_size) == 0 &&
+                  sizeof(acuity_frame_stats) == ACUITY_FRAME_STATS_SIZE_V5,
+              "the version-5 stats layout");
 // The eye and explain structs are copied field by field, so only their field types must agree.
 static_assert(sizeof(acuity_eye::position) == sizeof(acuity::Eye::position) &&
               sizeof(acuity_eye::orientation) == sizeof(acuity::Eye::orientation) &&
@@ -512,6 +515,29 @@ acuity_status acuity_explain(const acuity_scheduler* s, uint32_t id, acuity_obje
 }
 
 uint64_t acuity_frame_triangles(const acuity_scheduler* s) { return s ? s->scheduler.stats().triangles : 0; }
+
+acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_stats* out) {
+  return guarded([&] {
+    if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_frame_stats: null argument");
+    const uint32_t size = out->struct_size;
+    if (size < ACUITY_FRAME_STATS_SIZE_V5 || size % 8 != 0 || size > 65536)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_frame_stats: struct_size " + std::to_string(size) +
+                                               " (at least " + std::to_string(ACUITY_FRAME_STATS_SIZE_V5) +
+                                               ", a multiple of 8, at most 65536)");
+    const acuity::FrameStats& st = s->scheduler.stats();
+    acuity_frame_stats r;
+    std::memset(&r, 0, sizeof r);
+    r.struct_size = size;
+    r.changed = st.changed;
+    r.triangles = st.triangles;
+    r.budget_forced = st.budget_forced;
+    r.invalid = st.invalid;
+    r.at_rest = st.at_rest;
+    r.gaze_used = st.gaze_used ? 1 : 0;
+    std::memcpy(out, &r, std::min<std::size_t>(size, sizeof r));
+    return ACUITY_OK;
+  });
+}
 
 }  // extern "C"
 

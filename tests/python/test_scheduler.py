@@ -64,6 +64,32 @@ def test_levels_coarsen_with_distance():
     assert len(e["levels"]) == 5
 
 
+def test_stats_count_objects_at_rest():
+    # A still eye over still objects: their memos decide them at rest within a few frames (rests
+    # are set a block in eight frames); an eye that reports a velocity cannot rest.
+    config = acuity.SchedulerConfig()
+    config.max_objects = 64
+    s = acuity.Scheduler(config)
+    pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+    z = -np.geomspace(2, 200, 64)
+    pos = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
+    ids = s.add_objects(np.full(64, pid), pos, np.tile([0, 0, 0, 1], (64, 1)), np.ones(64))
+    f = frame_looking_forward()
+    s.run_frame(f)
+    assert s.stats["at_rest"] == 0  # no rest set yet
+    levels = s.levels(ids)
+    for _ in range(16):
+        s.run_frame(f)
+    assert s.stats["at_rest"] == 64
+    assert np.array_equal(s.levels(ids), levels)
+    assert s.stats["triangles"] == sum(10000 >> int(l) for l in levels)
+    eye = f.eyes[0]
+    eye.velocity = [0.0, 0.0, -0.01]
+    f.eyes = [eye]
+    s.run_frame(f)
+    assert s.stats["at_rest"] == 0
+
+
 def test_bad_input_is_flagged_not_fatal():
     s = acuity.Scheduler()
     pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))

@@ -83,6 +83,13 @@ const near = levels[158], far = levels[315 * 316 + 158];  // straight ahead at 2
 assert.ok(near < far, `a near object (level ${near}) is finer than a far one (${far})`);
 assert.ok(flags.every(f => (f & FLAG.invalidInput) === 0), 'no invalid input');
 assert.ok(flags[0] & FLAG.noGaze, 'no gaze given');
+// The frame's stats: its triangles, and as many changes as flags say (a first frame: some).
+const stats = s.frameStats();
+assert.equal(stats.triangles, s.frameTriangles());
+assert.equal(stats.changed, flags.filter(f => f & FLAG.changed).length);
+assert.ok(stats.changed > 0, 'levels changed from the fallback');
+assert.equal(stats.invalid, 0);
+assert.equal(stats.gazeUsed, false);
 throwsAcuity(() => s.getLevels(Uint32Array.of(n + 5), new Uint8Array(1)), 1, /acuity_get_levels/);
 throwsAcuity(() => s.getLevels(ids, new Uint8Array(3)), 1, /levels: 100000 values/);
 
