@@ -264,8 +264,8 @@ uint64_t acuity_frame_triangles(const acuity_scheduler* s);
 
 /* The last acuity_end_frame's counts over the live objects (acuity::FrameStats; all 0 before the
  * first). Growth rule as acuity_config's: the caller sets struct_size = sizeof(acuity_frame_stats)
- * as it compiled it; fields are only ever appended, and only the fields within struct_size are
- * written (a newer caller's further bytes are left as they were). */
+ * as it compiled it; fields are only ever appended, and this library writes the fields it knows
+ * (a newer caller's further bytes are left as they were). */
 typedef struct acuity_frame_stats {
   uint32_t struct_size;   /* sizeof(acuity_frame_stats), set by the caller */
   uint32_t changed;       /* objects whose level changed (ACUITY_FLAG_CHANGED) */
