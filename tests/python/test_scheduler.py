@@ -43,15 +43,20 @@ def test_profile_round_trip(tmp_path):
         acuity.Profile.load(str(tmp_path / "no-such.acuity"))
 
 
-def test_levels_coarsen_with_distance():
+def objects_in_a_row(z):
+    """A scheduler of 64 slots with one object of make_profile() at each depth z [m] straight ahead."""
     config = acuity.SchedulerConfig()
     config.max_objects = 64
     s = acuity.Scheduler(config)
     pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
-    z = -np.geomspace(2, 2000, 40)
     pos = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
-    rot = np.tile([0, 0, 0, 1], (40, 1)).astype(np.float32)
-    ids = s.add_objects(np.full(40, pid), pos, rot, np.ones(40))
+    rot = np.tile([0, 0, 0, 1], (len(z), 1)).astype(np.float32)
+    return s, s.add_objects(np.full(len(z), pid), pos, rot, np.ones(len(z)))
+
+
+def test_levels_coarsen_with_distance():
+    z = -np.geomspace(2, 2000, 40)
+    s, ids = objects_in_a_row(z)
     s.run_frame(frame_looking_forward())
     levels = s.levels(ids)
     assert levels.dtype == np.uint8 and levels.shape == (40,)
@@ -67,13 +72,7 @@ def test_levels_coarsen_with_distance():
 def test_stats_count_objects_at_rest():
     # A still eye over still objects: their memos decide them at rest within a few frames (rests
     # are set a block in eight frames); an eye that reports a velocity cannot rest.
-    config = acuity.SchedulerConfig()
-    config.max_objects = 64
-    s = acuity.Scheduler(config)
-    pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
-    z = -np.geomspace(2, 200, 64)
-    pos = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
-    ids = s.add_objects(np.full(64, pid), pos, np.tile([0, 0, 0, 1], (64, 1)), np.ones(64))
+    s, ids = objects_in_a_row(-np.geomspace(2, 200, 64))
     f = frame_looking_forward()
     s.run_frame(f)
     assert s.stats["at_rest"] == 0  # no rest set yet
