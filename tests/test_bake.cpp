@@ -152,9 +152,7 @@ TEST(Bake, OneBrokenAssetFailsAloneAndLeavesNothing) {
     const std::string input = slurp(root / "in" / (std::string(name) + ".off"));
     EXPECT_EQ(a["input_sha256"], bake::sha256_hex(input.data(), input.size()));
     // The profile the runtime reads describes the chain the index lists.
-    Blob blob;
-    std::string error;
-    ASSERT_TRUE(read_file((root / "out" / a["profile"].get<std::string>()).string(), &blob, &error)) << error;
+    const Blob blob = io::read_file((root / "out" / a["profile"].get<std::string>()).string());
     Profile p{};
     ASSERT_EQ(open_profile(blob.data(), blob.size, &p), ProfileStatus::Ok);
     ASSERT_EQ(p.meta.level_count, a["triangles"].size());

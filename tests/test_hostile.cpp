@@ -23,7 +23,6 @@
 #include "acuity/file.hpp"
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
-#include "acuity/lodgen/output.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "profile_fixture.hpp"
 
@@ -461,18 +460,15 @@ TEST(Broader, GlbFramingIsChecked) {
 TEST(Files, NonRegularFilesAreNotReadNorReplaced) {
   const fs::path fifo = scratch("fifo");
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  Blob b;
-  std::string error;
-  EXPECT_FALSE(read_file(fifo.string(), &b, &error));  // returns at once: opened non-blocking
-  EXPECT_NE(error.find("FIFO"), std::string::npos) << error;
-  EXPECT_FALSE(read_file(scratch("").string(), &b, &error));
-  EXPECT_NE(error.find("directory"), std::string::npos) << error;
-  EXPECT_FALSE(write_file_atomically(fifo.string(), "x", 1, &error));
-  EXPECT_NE(error.find("refusing to replace"), std::string::npos) << error;
+  // read_file returns at once: opened non-blocking.
+  EXPECT_NE(error_of([&] { io::read_file(fifo.string()); }).find("FIFO"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::read_file(scratch("").string()); }).find("directory"), std::string::npos);
+  EXPECT_NE(error_of([&] { io::write_file_atomically(fifo.string(), "x"); }).find("refusing to replace"),
+            std::string::npos);
   struct stat st {};
   ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));  // still the FIFO
-  EXPECT_NE(error_of([&] { lodgen::check_output("/dev/null", {}); }).find("not a regular file"),
+  EXPECT_NE(error_of([&] { io::check_output("/dev/null", {}); }).find("not a regular file"),
             std::string::npos);
   // A glTF uri naming a FIFO: refused without waiting.
   write(scratch("fifo.gltf"), triangle_gltf("fifo").dump());
@@ -496,8 +492,7 @@ TEST(Files, SignalDuringAWriteLeavesNoTemporary) {
   ASSERT_GE(child, 0);
   if (child == 0) {
     const std::string bytes(std::size_t(64) << 20, 'x');
-    std::string error;
-    write_file_atomically(target.string(), bytes.data(), bytes.size(), &error);
+    io::write_file_atomically(target.string(), bytes);
     ::_exit(0);
   }
   bool seen = false;
@@ -519,19 +514,19 @@ TEST(Files, OutputMustNotBeAnInput) {
   write(in, "x");
   fs::remove(link);
   fs::create_hard_link(in, link);
-  EXPECT_NE(error_of([&] { lodgen::check_output(in.string(), {in.string()}); }).find("is the input"),
+  EXPECT_NE(error_of([&] { io::check_output(in.string(), {in.string()}); }).find("is the input"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { lodgen::check_output(link.string(), {in.string()}); }).find("is the input"),
+  EXPECT_NE(error_of([&] { io::check_output(link.string(), {in.string()}); }).find("is the input"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
-              lodgen::check_output(scratch("x.off").string(), {}, {".glb", ".gltf"});
+              io::check_output(scratch("x.off").string(), {}, {".glb", ".gltf"});
             }).find("must end in"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
-              lodgen::check_output((scratch("") / "no/such/dir/x.glb").string(), {});
+              io::check_output((scratch("") / "no/such/dir/x.glb").string(), {});
             }).find("does not exist"),
             std::string::npos);
-  EXPECT_EQ(error_of([&] { lodgen::check_output(scratch("fresh.GLB").string(), {in.string()}, {".glb"}); }),
+  EXPECT_EQ(error_of([&] { io::check_output(scratch("fresh.GLB").string(), {in.string()}, {".glb"}); }),
             "no error");
 }
 

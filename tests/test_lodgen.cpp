@@ -9,7 +9,9 @@
 #include <map>
 #include <set>
 
+#include "acuity/file.hpp"
 #include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/refine.hpp"
 #include "acuity/lodgen/repair.hpp"
@@ -313,6 +315,38 @@ TEST(BadInput, EveryFormatFailsCleanlyAndNamesTheFile) {
 }
 
 // The two mesh readers differ only in where OpenMesh runs: the same mesh, or the same error.
+// One registry says which files lodgen reads and how; load_scene picks its reader from it and
+// refuses the rest by naming the list.
+TEST(Formats, OneRegistryPicksTheReader) {
+  EXPECT_EQ(input_format_names(), "OFF, OBJ, PLY, STL, glTF, GLB");
+  ASSERT_NE(input_format("a/B.OBJ"), nullptr);
+  EXPECT_EQ(input_format("a/B.OBJ")->reader, FormatReader::OpenMesh);
+  EXPECT_EQ(input_format("x.glb")->reader, FormatReader::Gltf);
+  EXPECT_TRUE(is_gltf("x.GLTF"));
+  EXPECT_FALSE(is_gltf("x.off"));
+  EXPECT_EQ(input_format("notes.txt"), nullptr);
+  const fs::path txt = scratch("notes.txt");
+  write(txt, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  try {
+    load_scene(txt.string());
+    ADD_FAILURE() << "read a .txt";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              txt.string() + ": lodgen reads OFF, OBJ, PLY, STL, glTF, GLB files, not '.txt'");
+  }
+  // A mesh file over max_file_bytes is refused before OpenMesh opens it.
+  const fs::path off = scratch("small.off");
+  write(off, "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  LoadOptions o;
+  o.limits.max_file_bytes = 10;
+  try {
+    load_scene(off.string(), o);
+    ADD_FAILURE() << "read past max_file_bytes";
+  } catch (const acuity::io::Error& e) {
+    EXPECT_NE(e.reason().find("max_file_bytes (10)"), std::string::npos) << e.what();
+  }
+}
+
 TEST(BadInput, IsolatedAndInProcessReadersAgree) {
   const std::string off_ok = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   const std::vector<std::pair<std::string, std::string>> files = {
@@ -338,7 +372,7 @@ TEST(BadInput, IsolatedAndInProcessReadersAgree) {
       try {
         *out = reader(path);
         return "";
-      } catch (const InputError& e) { return e.what(); }
+      } catch (const std::runtime_error& e) { return e.what(); }  // InputError, or io::Error (missing.off)
     };
     Mesh here, there;
     const std::string error_here = attempt([](const std::string& p) { return load_mesh(p); }, &here);

@@ -204,27 +204,22 @@ TEST(Profile, AtomicFileWriteAndRead) {
   fs::create_directories(dir);
   const std::string path = (dir / "a.acuity").string();
   spectra::write_profile(path, small_profile());
-  Blob b;
-  std::string error;
-  ASSERT_TRUE(read_file(path, &b, &error)) << error;
+  const Blob b = io::read_file(path);
   EXPECT_EQ(open(b), ProfileStatus::Ok);
   // A failing write (directory missing) leaves nothing behind and says where.
   EXPECT_THROW(spectra::write_profile((dir / "missing" / "b.acuity").string(), small_profile()),
                std::runtime_error);
   EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}), 1);
-  EXPECT_FALSE(read_file((dir / "nope").string(), &b, &error));
-  EXPECT_NE(error.find("nope"), std::string::npos);
+  try {
+    io::read_file((dir / "nope").string());
+    ADD_FAILURE() << "read a missing file";
+  } catch (const io::Error& e) { EXPECT_EQ(e.path(), (dir / "nope").string()); }
   fs::remove_all(dir);
 }
 
 // ---- The golden version-1 profile (tests/data/README.md) ----
 namespace {
-Blob golden_v1() {
-  Blob b;
-  std::string error;
-  EXPECT_TRUE(read_file(ACUITY_TEST_DATA "/profile_v1.acuity", &b, &error)) << error;
-  return b;
-}
+Blob golden_v1() { return io::read_file(ACUITY_TEST_DATA "/profile_v1.acuity"); }
 }  // namespace
 
 TEST(ProfileGolden, HeaderAndSectionTableOfVersion1) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "acuity/bake/library.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -70,8 +71,9 @@ void add_bake_command(CLI::App& app) {
   bake::BakeOptions& b = o->bake;
   CLI::App* cmd = app.add_subcommand(
       "bake", "Bake a folder or manifest of assets: LOD chains, profiles and an index, cached");
-  cmd->add_option("input", o->input,
-                  "A folder (walked for glTF, GLB, OBJ, PLY, STL, OFF), a manifest (.json) or one asset")
+  cmd->add_option(
+         "input", o->input,
+         "A folder (walked for " + lodgen::input_format_names() + "), a manifest (.json) or one asset")
       ->required();
   cmd->add_option("-o,--output", o->output, "Output folder (index.json, <asset>.glb, <asset>.acuity)")
       ->required();

@@ -41,9 +41,11 @@ void add_chain_options(CLI::App* cmd, bake::BakeOptions& options);
 // adaptive views' tolerance.
 void add_profile_options(CLI::App* cmd, bake::BakeOptions& options);
 
-void add_models_report(CLI::App& app);      // `acuity models`
-void print_models_report();                 // the same tables with the defaults
-void add_demo_command(CLI::App& app);       // `acuity demo`: the README's main job
+void add_models_report(CLI::App& app);  // `acuity models`
+void print_models_report();             // the same tables with the defaults
+// `acuity demo`: the README's main job. `program`: how the command was invoked (argv[0]), for the
+// `explain` line it prints.
+void add_demo_command(CLI::App& app, const std::string& program);
 void add_profile_command(CLI::App& app);    // `acuity profile`
 void add_inspect_command(CLI::App& app);    // `acuity inspect`
 void add_lodgen_command(CLI::App& app);     // `acuity lodgen`

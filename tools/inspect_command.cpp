@@ -14,9 +14,7 @@ namespace acuity::tools {
 namespace {
 
 void run(const std::string& path, bool json) {
-  Blob blob;
-  std::string error;
-  if (!read_file(path, &blob, &error)) throw std::runtime_error(error);
+  const Blob blob = io::read_file(path);
   Profile p;
   ProfileError pe;
   if (open_profile(blob.data(), blob.size, &p, &pe) != ProfileStatus::Ok)

@@ -9,7 +9,7 @@
 #include "acuity/bake/chains.hpp"
 #include "acuity/bake/library.hpp"
 #include "acuity/file.hpp"
-#include "acuity/lodgen/output.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "commands.hpp"
 
 namespace acuity::tools {
@@ -28,7 +28,7 @@ void progress(const char* stage, std::size_t done, std::size_t total) {
 }
 
 void run(const LodgenOptions& o) {
-  lodgen::check_output(o.output + ".json", {o.input});  // before any work
+  io::check_output(o.output + ".json", {o.input});  // before any work
   bake::ChainRequest request;
   try {
     request = bake::chain_request(o.input, o.chain);
@@ -40,9 +40,7 @@ void run(const LodgenOptions& o) {
   for (const auto& c : w.chains.chains)
     for (const std::string& warning : c.warnings) std::fprintf(stderr, "warning: %s\n", warning.c_str());
   std::fputs(bake::chains_table(w.chains).c_str(), stdout);
-  std::string error;
-  if (!write_file_atomically(o.output + ".json", w.json.data(), w.json.size(), &error))
-    throw std::runtime_error(error);
+  io::write_file_atomically(o.output + ".json", w.json);
   std::printf("wrote %s (%zu objects) and %s.json in %.2f s\n", o.output.c_str(), w.chains.objects.size(),
               o.output.c_str(), w.seconds);
 }
@@ -53,7 +51,7 @@ void add_lodgen_command(CLI::App& app) {
   auto o = std::make_shared<LodgenOptions>();
   CLI::App* cmd = app.add_subcommand(
       "lodgen", "Build a measured chain of levels of detail, written as glTF with MSFT_lod");
-  cmd->add_option("input", o->input, "OFF, OBJ, PLY, STL, glTF or GLB")->required();
+  cmd->add_option("input", o->input, lodgen::input_format_names())->required();
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
   add_chain_options(cmd, o->chain);
   add_number(cmd, "--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)", 0, 6);

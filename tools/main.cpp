@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   acuity::tools::add_lodgen_command(app);
   acuity::tools::add_simulate_commands(app);
   acuity::tools::add_plan_command(app);
-  acuity::tools::add_demo_command(app);
+  acuity::tools::add_demo_command(app, argc > 0 ? argv[0] : "acuity");
   acuity::tools::add_bake_command(app);
   try {
     app.parse(argc, argv);

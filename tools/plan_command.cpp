@@ -11,7 +11,6 @@
 
 #include "acuity/file.hpp"
 #include "acuity/foveation_plan.hpp"
-#include "acuity/lodgen/output.hpp"
 #include "acuity/sim/foveation_report.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "commands.hpp"
@@ -76,8 +75,8 @@ void run(const Options& o) {
     throw std::runtime_error("--frame: the track has " + std::to_string(gazes.size()) + " frames");
   for (const std::string* output : {&o.png, &o.csv})  // never over the track, never a device
     if (!output->empty())
-      lodgen::check_output(*output,
-                           o.gaze_track.empty() ? std::vector<std::string>{} : std::vector{o.gaze_track});
+      io::check_output(*output,
+                       o.gaze_track.empty() ? std::vector<std::string>{} : std::vector{o.gaze_track});
 
   const TrackPlan plan = plan_track(*planner, eye, gazes, o.tile, o.fps, o.frame);
   const PlanResult& shown = plan.shown;
@@ -89,9 +88,7 @@ void run(const Options& o) {
   std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status),
               100 * shown.saved(), shown.maps.cols, shown.maps.rows);
   if (!o.csv.empty()) {
-    std::string error;
-    if (!write_file_atomically(o.csv, plan.csv.data(), plan.csv.size(), &error))
-      throw std::runtime_error(error);
+    io::write_file_atomically(o.csv, plan.csv);
     std::printf("wrote %s\n", o.csv.c_str());
   }
   if (!o.png.empty()) {

@@ -9,8 +9,9 @@
 #include "acuity/bake/chains.hpp"
 #include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
+#include "acuity/file.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "acuity/lodgen/mesh.hpp"
-#include "acuity/lodgen/output.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/snapshots.hpp"
 #include "commands.hpp"
@@ -35,7 +36,7 @@ void progress_bar(const char* stage, std::size_t done, std::size_t total) {
 }
 
 void run_snapshots(const ProfileOptions& o) {
-  lodgen::check_output(o.output, {o.snapshots});
+  io::check_output(o.output, {o.snapshots});
   spectra::AnalysisSettings a;
   a.orientations = o.profile.orientations;
   a.bands = o.profile.bands;
@@ -52,10 +53,10 @@ void run(const ProfileOptions& o) {
   if (o.levels.size() > kMaxLevels)
     throw std::runtime_error("profile: " + std::to_string(o.levels.size()) + " level files, more than " +
                              std::to_string(kMaxLevels));
-  lodgen::check_output(o.output, o.levels);  // before any work
+  io::check_output(o.output, o.levels);  // before any work
   const auto start = std::chrono::steady_clock::now();
   bake::ChainFile file;  // lodgen's output: the first node with MSFT_lod holds the chain
-  if (o.levels.size() == 1 && bake::is_gltf_path(o.levels[0])) {
+  if (o.levels.size() == 1 && lodgen::is_gltf(o.levels[0])) {
     file = bake::read_chain_file(o.levels[0], o.asset_root);
   } else {  // mesh files, finest first, without errors
     for (const std::string& path : o.levels) {
@@ -97,7 +98,8 @@ void add_profile_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
   cmd->add_option("levels", o->levels,
-                  "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (OFF, OBJ, PLY, STL)")
+                  "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (" +
+                      lodgen::input_format_names() + ")")
       ->check(CLI::ExistingFile);
   cmd->add_option("--snapshots", o->snapshots,
                   "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "acuity/lodgen/output.hpp"
+#include "acuity/file.hpp"
 #include "acuity/sim/run.hpp"
 #include "commands.hpp"
 
@@ -71,8 +71,8 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
 }
 
 void simulate(const SimulateOptions& o) {
-  lodgen::check_output_folder(o.sim.output);  // before any work
-  lodgen::check_output_folder(o.assets.profiles);
+  io::check_output_folder(o.sim.output);  // before any work
+  io::check_output_folder(o.assets.profiles);
   std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
   run_simulation(*scene, o.sim, o.plot_hint);

@@ -1,7 +1,6 @@
 #include "acuity/bake/chains.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,27 +12,10 @@
 #include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
 #include "acuity/file.hpp"
-#include "acuity/lodgen/output.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "acuity/lodgen/refine.hpp"
 
 namespace acuity::bake {
-namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-}  // namespace
-
-bool is_gltf_path(const std::string& path) {
-  const std::string ext = lower_extension(path);
-  return ext == ".glb" || ext == ".gltf";
-}
-
-bool is_gltf_text_path(const std::string& path) { return lower_extension(path) == ".gltf"; }
-
 namespace {
 
 // One object per node that draws a mesh, at its world matrix, with its mesh's chain.
@@ -137,19 +119,17 @@ bool refresh_cache(const std::string& dir, const std::vector<std::string>& names
   namespace fs = std::filesystem;
   const std::string stamp = cache_format() + "\n" + tool_version() + "\n" + settings + "\n";
   const fs::path path = fs::path(dir) / "cache-stamp";
-  Blob old;
-  std::string error;
-  if (read_file(path.string(), &old, &error) &&
-      std::string(static_cast<const char*>(old.data()), old.size) == stamp)
-    return true;
+  try {
+    const Blob old = io::read_file(path.string());
+    if (std::string(static_cast<const char*>(old.data()), old.size) == stamp) return true;
+  } catch (const io::Error&) {}  // no stamp yet, or an unreadable one: the cache is renewed
   for (const std::string& name : names) {
     std::error_code ec;
     fs::remove(fs::path(dir) / (name + ".glb"), ec);
     fs::remove(fs::path(dir) / "profiles" / (name + ".acuity"), ec);
   }
   fs::create_directories(dir);
-  if (!write_file_atomically(path.string(), stamp.data(), stamp.size(), &error))
-    throw std::runtime_error(error);
+  io::write_file_atomically(path.string(), stamp);
   return false;
 }
 
@@ -194,13 +174,14 @@ WrittenChains write_scene_chains(const ChainRequest& request, const std::string&
                                  double reference_height, const std::string& backend,
                                  const lodgen::ChainProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
-  if (!output.empty()) lodgen::check_output(output, {request.input}, {".glb", ".gltf"});  // before any work
+  if (!output.empty())
+    io::check_output(output, {request.input}, lodgen::chain_output_extensions());  // before any work
   WrittenChains out;
   out.chains = build_scene_chains(request, progress);
   if (!output.empty()) {
     lodgen::GltfWriteOptions wo;
     wo.reference_height = reference_height;
-    wo.binary = !is_gltf_text_path(output);
+    wo.binary = io::lower_extension(output) != ".gltf";
     lodgen::write_lod_gltf(output, out.chains.objects, out.chains.scene.materials, wo);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -20,6 +20,7 @@
 #include "acuity/bake/scene.hpp"
 #include "acuity/bake/sha256.hpp"
 #include "acuity/file.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "acuity/lodgen/versions.hpp"
 #include "acuity/profile.hpp"
 #include "acuity/spectra/versions.hpp"
@@ -115,43 +116,28 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
 
 // ---- Files --------------------------------------------------------------------------------------
 
-bool bakeable(const fs::path& p) {
-  std::string ext = p.extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  for (const char* e : {".gltf", ".glb", ".obj", ".ply", ".stl", ".off"})
-    if (ext == e) return true;
-  return false;
-}
+// What a folder INPUT is walked for: the files lodgen reads.
+bool bakeable(const fs::path& p) { return lodgen::input_format(p.string()) != nullptr; }
 
-// The whole file, at most max_bytes; false with *error ("path: reason").
-bool read_bounded(const std::string& path, std::uint64_t max_bytes, Blob* out, std::string* error) {
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
-  if (!ec && size > max_bytes) {
-    *error = path + ": " + std::to_string(size) + " bytes, more than the load limit max_file_bytes (" +
-             std::to_string(max_bytes) + ")";
-    return false;
-  }
-  return read_file(path, out, error);
+// The whole file, at most max_bytes (the load limit max_file_bytes); throws io::Error.
+Blob read_bounded(const std::string& path, std::uint64_t max_bytes) {
+  io::ReadLimits limits;
+  limits.max_bytes = max_bytes;
+  limits.max_bytes_name = "the load limit max_file_bytes";
+  return io::read_file(path, limits);
 }
 
 std::string read_text(const std::string& path, std::uint64_t max_bytes) {
-  Blob b;
-  std::string error;
-  if (!read_bounded(path, max_bytes, &b, &error)) throw lodgen::InputError(error);
+  const Blob b = read_bounded(path, max_bytes);
   return std::string(static_cast<const char*>(b.data()), b.size);
 }
 
-void write_or_throw(const std::string& path, const std::string& bytes) {
-  std::string error;
-  if (!write_file_atomically(path, bytes.data(), bytes.size(), &error)) throw std::runtime_error(error);
-}
-
 bool same_bytes(const std::string& path, const std::string& bytes) {
-  Blob b;
-  std::string error;
-  return read_file(path, &b, &error) && b.size == bytes.size() &&
-         std::equal(bytes.begin(), bytes.end(), static_cast<const char*>(b.data()));
+  try {
+    const Blob b = io::read_file(path);
+    return b.size == bytes.size() &&
+           std::equal(bytes.begin(), bytes.end(), static_cast<const char*>(b.data()));
+  } catch (const io::Error&) { return false; }
 }
 
 fs::path canonical_folder(const fs::path& p) {
@@ -203,10 +189,9 @@ void summary_from_json(const json& j, AssetResult& r) {
 // The cached answer for r.key, when a whole, intact entry exists.
 bool lookup(const std::string& cache, const AssetJob& job, AssetResult& r) {
   const EntryPaths p = entry_paths(cache, r.key);
-  Blob record, chain, profile;
-  std::string error;
-  if (!fs::exists(p.record) || !read_file(p.record, &record, &error)) return false;
+  if (!fs::exists(p.record)) return false;
   try {
+    const Blob record = io::read_file(p.record);
     const json j = json::parse(static_cast<const char*>(record.data()),
                                static_cast<const char*>(record.data()) + record.size);
     if (j.at("format").get<std::string>() != kCacheFormat || j.at("key").get<std::string>() != r.key)
@@ -219,11 +204,13 @@ bool lookup(const std::string& cache, const AssetJob& job, AssetResult& r) {
       return true;
     }
     summary_from_json(j, r);
-    if (!read_file(p.chain, &chain, &error) || !read_file(p.profile, &profile, &error)) return false;
+    const Blob chain = io::read_file(p.chain), profile = io::read_file(p.profile);
     if (sha256_hex(chain.data(), chain.size) != j.at("chain_sha256").get<std::string>() ||
         sha256_hex(profile.data(), profile.size) != j.at("profile_sha256").get<std::string>())
       return false;  // damaged: rebake
-  } catch (const json::exception&) { return false; }
+  } catch (const json::exception&) { return false; } catch (const io::Error&) {
+    return false;
+  }  // a missing or unreadable part: rebake
   r.ok = r.cached = true;
   return true;
 }
@@ -234,8 +221,8 @@ void store(const std::string& cache, const AssetJob& job, const AssetResult& r, 
   fs::create_directories(fs::path(p.record).parent_path());
   json j = {{"format", kCacheFormat}, {"key", r.key}, {"seconds", r.seconds}};
   if (r.ok) {
-    write_or_throw(p.chain, chain);
-    write_or_throw(p.profile, profile);
+    io::write_file_atomically(p.chain, chain);
+    io::write_file_atomically(p.profile, profile);
     j["status"] = "ok";
     j["chain_sha256"] = sha256_hex(chain.data(), chain.size());
     j["profile_sha256"] = sha256_hex(profile.data(), profile.size());
@@ -246,7 +233,7 @@ void store(const std::string& cache, const AssetJob& job, const AssetResult& r, 
     j["status"] = "error";
     j["error"] = error;
   }
-  write_or_throw(p.record, j.dump(1) + "\n");  // last: the entry exists once this is in place
+  io::write_file_atomically(p.record, j.dump(1) + "\n");  // last: the entry exists once this is in place
 }
 
 // The cache key: format, versions, options, the input's bytes and every file its uris read.
@@ -258,9 +245,11 @@ std::string cache_key(const AssetJob& job, const std::string& input_sha256,
   const fs::path base = canonical_folder(
       fs::path(job.input).parent_path().empty() ? fs::path(".") : fs::path(job.input).parent_path());
   for (const std::string& f : files_read) {
-    Blob b;
-    std::string error;
-    const std::string digest = read_file(f, &b, &error) ? sha256_hex(b.data(), b.size) : "unreadable";
+    std::string digest = "unreadable";
+    try {
+      const Blob b = io::read_file(f);
+      digest = sha256_hex(b.data(), b.size);
+    } catch (const io::Error&) {}
     h.update("file " + fs::path(f).lexically_relative(base).generic_string() + " " + digest + "\n");
   }
   return h.hex();
@@ -455,10 +444,13 @@ AssetResult bake_asset(const AssetJob& job, const std::string& cache, unsigned p
   AssetResult r;
   r.name = job.name;
   const lodgen::LoadLimits limits;
-  Blob bytes;
-  if (!read_bounded(job.input, limits.max_file_bytes, &bytes, &r.error)) return r;
-  r.input_sha256 = sha256_hex(bytes.data(), bytes.size);
-  bytes = Blob();
+  try {
+    const Blob bytes = read_bounded(job.input, limits.max_file_bytes);
+    r.input_sha256 = sha256_hex(bytes.data(), bytes.size);
+  } catch (const io::Error& e) {
+    r.error = e.what();
+    return r;
+  }
   const auto start = std::chrono::steady_clock::now();
   lodgen::Scene scene;
   std::vector<std::string> files_read;
@@ -657,10 +649,10 @@ std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& re
     const EntryPaths p = entry_paths(plan.cache, r.key);
     for (const auto& [from, to] : {std::pair{p.chain, chain}, std::pair{p.profile, profile}}) {
       const std::string bytes = read_text(from, std::uint64_t(1) << 40);
-      if (!same_bytes(to, bytes)) write_or_throw(to, bytes);
+      if (!same_bytes(to, bytes)) io::write_file_atomically(to, bytes);
     }
   }
-  write_or_throw((fs::path(plan.out) / "index.json").string(), index_json(plan, results));
+  io::write_file_atomically((fs::path(plan.out) / "index.json").string(), index_json(plan, results));
   return failed;
 }
 

@@ -21,8 +21,10 @@ using Matrix = std::array<double, 16>;
 
 // Reads the cached profile into a when it describes this chain (same level count and triangles).
 bool load_matching_profile(const std::string& path, const lodgen::Chain& chain, Asset* a) {
-  std::string error;
-  if (!fs::exists(path) || !read_file(path, &a->blob, &error)) return false;
+  if (!fs::exists(path)) return false;
+  try {
+    a->blob = io::read_file(path);
+  } catch (const io::Error&) { return false; }  // unreadable: built and written again
   const Profile& p = a->profile;
   if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok ||
       p.meta.level_count != chain.levels.size())

@@ -5,7 +5,7 @@
 
 #include "acuity/bake/chains.hpp"
 #include "acuity/bake/library.hpp"
-#include "acuity/lodgen/output.hpp"
+#include "acuity/lodgen/formats.hpp"
 #include "bindings.hpp"
 
 namespace py = pybind11;
@@ -15,6 +15,18 @@ namespace acuity::python {
 
 void bind_lodgen(py::module_ m) {
   py::register_exception<lodgen::InputError>(m, "InputError", PyExc_ValueError);
+  // The formats named from lodgen's registry (acuity/lodgen/formats.hpp), as the command's help does.
+  static const std::string build_doc =
+      "Build a measured chain of levels for every mesh of `input` (" + lodgen::input_format_names() +
+      "); write\n"
+      "it as glTF with MSFT_lod when `output` is given, each node that draws a mesh at its world matrix:\n"
+      "the same code and the same bytes as `acuity lodgen` (acuity::bake::build_scene_chains). Returns the "
+      "summary as a dict (the JSON acuity lodgen writes beside its output). Raises\n"
+      "acuity.lodgen.InputError (a ValueError) for bad input, a bad option, or a glTF uri outside\n"
+      "`asset_root` (default: the glTF's folder), and acuity.FileError (a ValueError) for a file that\n"
+      "cannot be read or a refused output (not .glb/.gltf, not a regular file, the input itself).\n"
+      "Options (keywords) as acuity lodgen and acuity bake take them: levels, ratio, max_error,\n"
+      "backend, lock_border, crease, measure_seconds, reference_height, asset_root.";
   m.def(
       "build",
       [](const std::string& input, const std::string& output, const py::kwargs& options) {
@@ -29,16 +41,7 @@ void bind_lodgen(py::module_ m) {
         }
         return py::module_::import("json").attr("loads")(summary);
       },
-      "input"_a, "output"_a = "",
-      "Build a measured chain of levels for every mesh of `input` (OFF/OBJ/PLY/STL/glTF/GLB); write\n"
-      "it as glTF with MSFT_lod when `output` is given, each node that draws a mesh at its world matrix:\n"
-      "the same code and the same bytes as `acuity lodgen` (acuity::bake::build_scene_chains). Returns the "
-      "summary as a dict (the JSON acuity lodgen writes beside its output). Raises\n"
-      "acuity.lodgen.InputError (a ValueError) for bad input, a refused output (not .glb/.gltf, not a\n"
-      "regular file, the input itself), a bad option, or a glTF uri outside `asset_root` (default: the "
-      "glTF's\n"
-      "folder). Options (keywords) as acuity lodgen and acuity bake take them: levels, ratio, max_error,\n"
-      "backend, lock_border, crease, measure_seconds, reference_height, asset_root.");
+      "input"_a, "output"_a = "", build_doc.c_str());
 }
 
 }  // namespace acuity::python

@@ -1,12 +1,15 @@
 // The native part of the Python package `acuity`. Each area registers its own submodule.
 #include <pybind11/pybind11.h>
 
+#include "acuity/file.hpp"
 #include "acuity/version.hpp"
 #include "bindings.hpp"
 
 PYBIND11_MODULE(_acuity, m) {
   m.doc() = "acuity native module; import the package `acuity` instead.";
   m.attr("__version__") = ACUITY_VERSION_STRING;
+  // acuity::io's one error (acuity/file.hpp): a file that cannot be read or written as asked.
+  pybind11::register_exception<acuity::io::Error>(m, "FileError", PyExc_ValueError);
   acuity::python::bind_models(m.def_submodule("models", "Vision models (see acuity.models)"));
   acuity::python::bind_scheduler(m);
   acuity::python::bind_spectra(

@@ -49,10 +49,7 @@ std::shared_ptr<OwnedProfile> profile_from_bytes(const py::bytes& bytes) {
 }
 
 std::shared_ptr<OwnedProfile> profile_from_file(const std::string& path) {
-  Blob blob;
-  std::string error;
-  if (!read_file(path, &blob, &error)) throw py::value_error(error);
-  return open_owned(std::move(blob), path);
+  return open_owned(io::read_file(path), path);  // io::Error: acuity.FileError, a ValueError
 }
 
 template <std::size_t N, class T>

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "acuity/bake/scene.hpp"
-#include "acuity/lodgen/output.hpp"
+#include "acuity/file.hpp"
 #include "acuity/sim/run.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "bindings.hpp"
@@ -69,8 +69,8 @@ SceneRun load(const std::string& scene, const py::kwargs& kw) {
   }
   sim::check_options(o);
   py::gil_scoped_release release;
-  if (!o.output.empty()) lodgen::check_output_folder(o.output);  // before any work
-  if (!assets.profiles.empty()) lodgen::check_output_folder(assets.profiles);
+  io::check_output_folder(o.output);  // before any work
+  io::check_output_folder(assets.profiles);
   r.scene = bake::load_scene_assets(scene, assets);
   return r;
 }

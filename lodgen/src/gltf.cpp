@@ -1,18 +1,15 @@
 // glTF input (tinygltf) with every accessor bounds-checked, and LOD output with MSFT_lod.
 #include "acuity/lodgen/gltf.hpp"
 
-#include "path.hpp"
+#include "acuity/lodgen/formats.hpp"
 
-#include <fcntl.h>
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
 #include <tiny_gltf.h>
-#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -313,8 +310,6 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
   return scene;
 }
 
-using detail::lower_extension;
-
 // --- writing ---
 
 struct BufferWriter {
@@ -378,52 +373,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Why a file is not read: "" for a regular file.
-std::string not_regular(const struct stat& st) {
-  if (S_ISREG(st.st_mode)) return {};
-  if (S_ISDIR(st.st_mode)) return "is a directory, not a regular file";
-  if (S_ISFIFO(st.st_mode)) return "is a FIFO, not a regular file";
-  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "is a device, not a regular file";
-  return "is not a regular file";
-}
-
-// Reads a whole regular file of at most `limit` bytes, charging the budget before reading. Opened
-// non-blocking so a FIFO cannot make it wait; fstat then refuses anything but a regular file.
-bool read_regular(const std::string& path, std::uint64_t limit, Budget& budget,
-                  std::vector<unsigned char>* out, std::string* error) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    *error = path + ": " + std::strerror(errno);
-    return false;
-  }
-  struct stat st {};
-  std::string why = ::fstat(fd, &st) != 0 ? std::string(std::strerror(errno)) : not_regular(st);
-  if (why.empty() && std::uint64_t(st.st_size) > limit)
-    why = std::to_string(st.st_size) + " bytes, more than the load limit max_file_bytes (" +
-          std::to_string(limit) + ")";
-  if (why.empty() && std::uint64_t(st.st_size) > budget.left)
-    why = std::to_string(st.st_size) + " bytes, more than the load limit max_total_bytes leaves (" +
-          std::to_string(budget.left) + ")";
-  if (!why.empty()) {
-    ::close(fd);
-    *error = path + ": " + why;
-    return false;
-  }
-  budget.left -= std::uint64_t(st.st_size);
-  out->resize(std::size_t(st.st_size));
-  std::size_t done = 0;
-  while (done < out->size()) {
-    const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += std::size_t(n);
-  }
-  ::close(fd);
-  if (done != out->size()) {
-    *error = path + ": cannot read (it changed while reading)";
-    return false;
-  }
-  return true;
+// Reads a whole regular file through acuity::io, within max_file_bytes and what the budget leaves
+// (refused before reading), confined to `root` when it is not empty; charges the budget.
+void read_within(const std::string& path, const std::string& root, const LoadLimits& limits, Budget& budget,
+                 std::vector<unsigned char>* out) {
+  io::ReadLimits l;
+  l.root = root;
+  l.max_bytes = std::min(limits.max_file_bytes, budget.left);
+  l.max_bytes_name = limits.max_file_bytes <= budget.left ? "the load limit max_file_bytes"
+                                                          : "the load limit max_total_bytes leaves";
+  io::read_file(path, l, out);
+  budget.left -= out->size();
 }
 
 // The JSON's nesting depth, scanned as text (strings skipped) so that no parser recurses into a
@@ -483,13 +443,12 @@ std::string resolve_uri(const std::string& uri, const fs::path& base, const fs::
     *why = "leaves the asset folder " + root.string() + " (see --asset-root)";
     return {};
   }
-  std::error_code ec;
-  const fs::path real = fs::weakly_canonical(lexical, ec);  // symbolic links resolved
-  if (ec || !inside(real)) {
+  try {
+    return io::confine(lexical.string(), root.string());  // symbolic links resolved
+  } catch (const io::Error&) {
     *why = "leads outside the asset folder " + root.string() + " (a symbolic link?)";
     return {};
   }
-  return real.string();
 }
 
 // The state tinygltf's callbacks see.
@@ -529,13 +488,16 @@ bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const st
   Reader& r = *static_cast<Reader*>(user);
   std::string why;
   const std::string file = confined(joined, r, &why);
-  bool ok = !file.empty() && read_regular(file, r.limits.max_file_bytes, r.budget, out, &why);
-  if (ok && r.files_read) r.files_read->push_back(file);
-  if (!ok) {
-    if (err) *err += why;
-    if (r.error.empty()) r.error = why;
+  if (!file.empty()) {
+    try {
+      read_within(file, r.root.string(), r.limits, r.budget, out);  // confined again as it is opened
+      if (r.files_read) r.files_read->push_back(file);
+      return true;
+    } catch (const io::Error& e) { why = e.what(); }
   }
-  return ok;
+  if (err) *err += why;
+  if (r.error.empty()) r.error = why;
+  return false;
 }
 
 bool write_whole_file(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
@@ -736,8 +698,7 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
       throw InputError(path + ": is not inside the asset root " + r.root.string());
   }
   std::vector<unsigned char> bytes;
-  std::string error;
-  if (!read_regular(path, r.limits.max_file_bytes, r.budget, &bytes, &error)) throw InputError(error);
+  read_within(path, "", r.limits, r.budget, &bytes);
   // The JSON: the whole .gltf, or a .glb's first chunk (framing checked here; tinygltf rechecks).
   const bool glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   const char* json_text = reinterpret_cast<const char*>(bytes.data());
@@ -782,8 +743,15 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
 }  // namespace
 
 Scene load_scene(const std::string& path, const LoadOptions& options) {
-  const std::string ext = lower_extension(path);
-  if (ext != ".gltf" && ext != ".glb") {
+  const InputFormat* format = input_format(path);
+  if (!format)
+    throw InputError(path + ": lodgen reads " + input_format_names() + " files, not '" +
+                     io::lower_extension(path) + "'");
+  if (format->reader == FormatReader::OpenMesh) {
+    io::ReadLimits bound;  // the reader opens the file itself: its size is checked here first
+    bound.max_bytes = options.limits.max_file_bytes;
+    bound.max_bytes_name = "the load limit max_file_bytes";
+    io::check_input(path, bound);
     Scene s;
     s.meshes.push_back(options.isolate_mesh_reader ? load_mesh_isolated(path) : load_mesh(path));
     s.mesh_names.push_back(std::filesystem::path(path).stem().string());
@@ -872,8 +840,7 @@ void write_lod_gltf(const std::string& path, const std::vector<LodObject>& objec
   try {
     bytes = encode_lod_gltf(objects, materials, options, instances);
   } catch (const std::runtime_error& e) { throw std::runtime_error(path + ": " + e.what()); }
-  std::string error;
-  if (!write_file_atomically(path, bytes.data(), bytes.size(), &error)) throw std::runtime_error(error);
+  io::write_file_atomically(path, bytes);
 }
 
 std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::vector<Material>& materials,

@@ -1,6 +1,6 @@
 #include "acuity/lodgen/mesh.hpp"
 
-#include "path.hpp"
+#include "acuity/file.hpp"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -27,13 +27,11 @@ namespace acuity::lodgen {
 namespace {
 using OmMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
-using detail::lower_extension;
-
 // The element counts an OFF or PLY header declares (0 when there is none), checked against what
 // the file's size can hold, so a lying header cannot make the reader reserve absurd memory.
 std::size_t declared_faces(const std::string& path, std::uintmax_t size) {
   std::ifstream in(path, std::ios::binary);
-  const std::string ext = lower_extension(path);
+  const std::string ext = io::lower_extension(path);
   std::size_t faces = 0;
   auto check = [&](const char* what, unsigned long long count, unsigned long long min_bytes) {
     if (count > size / min_bytes)
@@ -157,8 +155,7 @@ Mesh read_openmesh(const std::string& path, std::size_t declared) {
 
 // The file's size and the face count its header declares, after the header checks.
 std::size_t checked_declared_faces(const std::string& path, std::uintmax_t* size) {
-  if (!std::filesystem::is_regular_file(path)) throw InputError(path + ": no such file");
-  *size = std::filesystem::file_size(path);
+  *size = io::check_input(path);  // a regular file (a FIFO would block OpenMesh's open)
   return declared_faces(path, *size);
 }
 

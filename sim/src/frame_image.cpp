@@ -119,8 +119,7 @@ void write_png(const std::string& path, const RgbImage& image) {
   if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, image.pixels.data(),
                               image.width * 3))
     throw std::runtime_error(path + ": cannot encode PNG");
-  std::string error;
-  if (!write_file_atomically(path, png.data(), png.size(), &error)) throw std::runtime_error(error);
+  io::write_file_atomically(path, png.data(), png.size());
 }
 
 }  // namespace acuity::sim

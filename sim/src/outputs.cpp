@@ -16,8 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 void save(const std::string& path, const std::string& text, std::vector<std::string>* written) {
-  std::string error;
-  if (!write_file_atomically(path, text.data(), text.size(), &error)) throw std::runtime_error(error);
+  io::write_file_atomically(path, text);
   written->push_back(path);
 }
 

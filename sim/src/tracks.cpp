@@ -155,9 +155,7 @@ Table parse_table(const std::string& text, const std::string& source, bool json)
 }
 
 Table read_table(const std::string& path) {
-  Blob blob;  // a regular file only: a FIFO or device is refused, not waited on
-  std::string error;
-  if (!read_file(path, &blob, &error)) throw std::runtime_error("cannot open " + error);
+  const Blob blob = io::read_file(path);  // a regular file only: a FIFO or device is refused, not waited on
   const std::string text(static_cast<const char*>(blob.data()), blob.size);
   return parse_table(text, path, std::filesystem::path(path).extension().string() == ".json");
 }

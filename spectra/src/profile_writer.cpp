@@ -134,8 +134,7 @@ Blob encode_profile(const ProfileData& data) {
 
 void write_profile(const std::string& path, const ProfileData& data) {
   const Blob blob = encode_profile(data);
-  std::string error;
-  if (!write_file_atomically(path, blob.data(), blob.size, &error)) throw std::runtime_error(error);
+  io::write_file_atomically(path, blob.data(), blob.size);
 }
 
 }  // namespace acuity::spectra

@@ -33,9 +33,7 @@ std::array<float, 3> vec3(const nlohmann::json& j, const std::string& where) {
 }  // namespace
 
 Image load_png_luminance(const std::string& path) {
-  Blob blob;  // a regular file only: a FIFO or device is refused, not waited on
-  std::string error;
-  if (!read_file(path, &blob, &error)) throw std::runtime_error(error);
+  const Blob blob = io::read_file(path);  // a regular file only: a FIFO or device is refused, not waited on
   const auto* bytes = static_cast<const unsigned char*>(blob.data());
   if (blob.size > std::size_t(INT32_MAX)) fail(path, "too large for an image");
   int w = 0, h = 0, c = 0;
@@ -63,9 +61,7 @@ Image load_png_luminance(const std::string& path) {
 }
 
 ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSettings& settings) {
-  Blob text;
-  std::string error;
-  if (!read_file(manifest, &text, &error)) throw std::runtime_error(error);
+  const Blob text = io::read_file(manifest);
   nlohmann::json j;
   try {
     const char* begin = static_cast<const char*>(text.data());

@@ -39,8 +39,12 @@ def test_profile_round_trip(tmp_path):
     assert acuity.Profile.load(str(path)).to_bytes() == data
     with pytest.raises(ValueError, match="checksum|too small|magic"):
         acuity.Profile.from_bytes(data[:-9] + b"\x00" * 9)
-    with pytest.raises(ValueError, match="no-such"):
+    # acuity::io's one error, a ValueError naming the path and the reason.
+    assert issubclass(acuity.FileError, ValueError)
+    with pytest.raises(acuity.FileError, match="no-such.acuity: No such file"):
         acuity.Profile.load(str(tmp_path / "no-such.acuity"))
+    with pytest.raises(acuity.FileError, match="is a directory, not a regular file"):
+        acuity.Profile.load(str(tmp_path))
 
 
 def objects_in_a_row(z):

@@ -1,6 +1,8 @@
 """acuity: draw only the geometric detail a viewer can see.
 
-Top level: Profile, Scheduler, SchedulerConfig, Eye, Gaze, Frame (the runtime).
+Top level: Profile, Scheduler, SchedulerConfig, Eye, Gaze, Frame (the runtime); FileError (a
+ValueError): a file that cannot be read or written as asked (missing, not a regular file, too large,
+outside its folder, a refused output).
 Submodules:
     acuity.models   vision models: thresholds, CSFs, cutoffs, Guenter's layers (numpy-vectorised)
     acuity.spectra  snapshots, lost-contrast analysis, Reddy features, profiling, profile files
@@ -24,9 +26,9 @@ sim = _acuity.sim
 for _name in ("models", "spectra", "lodgen", "foveation", "sim"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
-from ._acuity import (Eye, Evaluation, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
+from ._acuity import (Eye, Evaluation, FileError, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
-__all__ = ["models", "spectra", "lodgen", "foveation", "sim", "Eye", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+__all__ = ["models", "spectra", "lodgen", "foveation", "sim", "Eye", "FileError", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
            "SelectionRule", "ViewBlend", "Evaluation", "__version__"]

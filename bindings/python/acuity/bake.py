@@ -20,9 +20,10 @@ from . import _acuity
 
 _native = _acuity._bake
 InputError = _acuity.lodgen.InputError
+FileError = _acuity.FileError
 TOOL_VERSION = _native.TOOL_VERSION
 
-__all__ = ["bake", "plan", "bake_asset", "sha256", "InputError", "TOOL_VERSION", "main"]
+__all__ = ["bake", "plan", "bake_asset", "sha256", "InputError", "FileError", "TOOL_VERSION", "main"]
 
 
 def plan(input, out, cache=None, **options):
@@ -94,7 +95,8 @@ def bake(input, out, client=None, cache=None, workers=None, jobs=0, profile_jobs
     bands, views, tolerance, bound_cells, asset_root (as `acuity bake`; a manifest may override them per asset).
 
     Returns the index (the dict written to out/index.json). A failed asset is listed with
-    "status": "error"; the others are baked. Raises InputError when the input or out is refused.
+    "status": "error"; the others are baked. Raises InputError when the input or out is refused,
+    FileError when a manifest or the cache cannot be read or out cannot be written.
     """
     return _bake(input, out, client, cache, workers, jobs, profile_jobs, progress, options)[2]
 
@@ -128,7 +130,7 @@ def main(argv=None):
     try:
         text, results, index = _bake(a.input, a.output, a.dask, a.cache, a.workers, a.jobs, 1, not a.quiet,
                                      json.loads(a.options))
-    except InputError as e:
+    except (InputError, FileError) as e:
         print("acuity bake: %s" % e, file=sys.stderr)
         return 1
     print(_native.summary_table(text, results, time.monotonic() - start), end="")

@@ -49,8 +49,8 @@ std::string chains_json(const SceneChains& chains, const std::string& input, con
 
 // `acuity lodgen`'s job, also Python's acuity.lodgen.build: the chains of `request.input`, written
 // to `output` (.gltf: text, else binary glTF with MSFT_lod, MSFT_screencoverage at
-// `reference_height` px) unless it is empty; the output is checked (lodgen::check_output) before any
-// work. Returns the chains and chains_json() of them, `backend` naming the back-end used.
+// `reference_height` px) unless it is empty; the output is checked (io::check_output, one of
+// lodgen::chain_output_extensions()) before any work. Returns the chains and chains_json() of them, `backend` naming the back-end used.
 struct WrittenChains {
   SceneChains chains;
   std::string json;
@@ -80,14 +80,9 @@ lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache
 // (<dir>/profiles/<name>.acuity) true to the code and settings that made them: its stamp
 // <dir>/cache-stamp names the bake cache format, the tool version and `settings`; when the stamp is
 // missing or differs, those files of each of `names` are removed (nothing else) and the stamp is
-// rewritten. Returns true when the cached files were kept. Throws std::runtime_error when the stamp
-// cannot be written.
+// rewritten. Returns true when the cached files were kept. Throws io::Error when the stamp cannot
+// be written.
 bool refresh_cache(const std::string& dir, const std::vector<std::string>& names,
                    const std::string& settings);
-
-// True when `path` ends in .glb or .gltf (any case).
-bool is_gltf_path(const std::string& path);
-// True when `path` ends in .gltf (any case): lodgen writes text glTF there, binary otherwise.
-bool is_gltf_text_path(const std::string& path);
 
 }  // namespace acuity::bake

@@ -73,14 +73,15 @@ struct BakePlan {
   std::vector<AssetJob> jobs;  // sorted by name
 };
 
-// A folder INPUT is walked (sorted, symbolic links not followed) for .gltf/.glb/.obj/.ply/.stl/.off
-// (any case); the name is the path relative to INPUT without its extension (with the extension's
+// A folder INPUT is walked (sorted, symbolic links not followed) for the files lodgen reads
+// (lodgen::input_formats(), any case); the name is the path relative to INPUT without its extension (with the extension's
 // letters appended on a clash). A file INPUT ending in .json is a manifest:
 //   {"options": {...defaults...}, "assets": [{"input": "path", "name": "n", "options": {...}}, ...]}
 // (paths relative to the manifest's folder; name defaults as for a folder). Any other file is one
 // asset. Throws lodgen::InputError for a missing INPUT; OUT or the cache inside a folder INPUT (or
 // equal to it), or equal to the folder of any input (an output could replace it); a malformed
-// manifest; clashing names; more than max_assets assets.
+// manifest; clashing names; more than max_assets assets; io::Error for a manifest that cannot be
+// read (not a regular file, or over 64 MiB).
 BakePlan plan_bake(const std::string& input, const std::string& out, const std::string& cache,
                    const BakeOptions& defaults, std::size_t max_assets = 1000000);
 
@@ -121,8 +122,8 @@ std::vector<AssetResult> bake_all(const BakePlan& plan, unsigned jobs = 0, const
 
 // Copies each good asset's chain and profile from the cache into OUT (atomically; unchanged files
 // are not rewritten), removes the outputs of a failed asset left by an earlier run, and writes
-// OUT/index.json. Returns the number of failed assets. Throws std::runtime_error when OUT cannot
-// be written.
+// OUT/index.json. Returns the number of failed assets. Throws io::Error when OUT cannot be
+// written.
 std::size_t finish_bake(const BakePlan& plan, const std::vector<AssetResult>& results);
 
 // The text of OUT/index.json for these results (what finish_bake writes).

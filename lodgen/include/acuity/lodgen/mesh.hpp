@@ -54,7 +54,8 @@ struct InputError : std::runtime_error {
 };
 
 // Reads an OFF, OBJ, PLY or STL file (by extension) through OpenMesh, in the calling process,
-// and triangulates it. Throws InputError naming the file when it cannot be read, has no
+// and triangulates it. Throws io::Error (acuity/file.hpp) when the path is missing or not a regular
+// file, and InputError naming the file when OpenMesh cannot read it, it has no
 // triangles, holds non-finite coordinates, or its OFF/PLY header declares more elements than its
 // size can hold. For trusted files only: OpenMesh's readers abort (a library assert) or loop
 // forever on some malformed files (found by fuzzing), which no exception can report; untrusted
@@ -72,7 +73,7 @@ Mesh load_mesh_isolated(const std::string& path);
 // What an untrusted glTF may make the reader do. Each limit is checked before the work it bounds;
 // exceeding one throws InputError naming the limit. docs/security.md lists them with the reasons.
 struct LoadLimits {
-  std::uint64_t max_file_bytes = 1ull << 30;   // the .gltf/.glb itself and each file a uri names
+  std::uint64_t max_file_bytes = 1ull << 30;   // the file itself (any format) and each file a uri names
   std::uint64_t max_total_bytes = 2ull << 30;  // files read + pixels decoded + vertex/index data decoded
   std::uint32_t max_json_depth = 64;           // nesting of JSON arrays and objects (scanned before parsing)
   std::uint32_t max_nodes = 100000;
@@ -100,10 +101,14 @@ struct LoadOptions {
   std::vector<std::string>* files_read = nullptr;
 };
 
-// Reads a glTF 2.0 file (.gltf with its .bin, or .glb) or, by extension, any format load_mesh
-// reads (as one node; in a child process unless options.isolate_mesh_reader is false). The glTF must be a strict tree (no node with two parents or listed twice,
-// no cycle; scene roots have no parent); only the images a material uses as base colour are
-// decoded. Throws InputError naming the file and the element at fault.
+// Reads a file in any format of input_formats() (acuity/lodgen/formats.hpp), picked by its
+// extension: a glTF 2.0 file (.gltf with its .bin, or .glb), or a mesh file (as one node; in a
+// child process unless options.isolate_mesh_reader is false). Every file is read through
+// acuity::io (regular files only, within limits.max_file_bytes; a glTF's uris confined to
+// asset_root). The glTF must be a strict tree (no node with two parents or listed twice, no cycle;
+// scene roots have no parent); only the images a material uses as base colour are decoded. Throws
+// io::Error for a file that cannot be read as a regular file within the limits (the path and why),
+// InputError naming the file and the element at fault for anything else.
 Scene load_scene(const std::string& path, const LoadOptions& options = {});
 
 // A node reached from the scene's roots and its world matrix (column-major, parents' matrices

@@ -1,0 +1,76 @@
+#include "acuity/sim/demo.hpp"
+
+#include <chrono>
+#include <filesystem>
+
+#include "acuity/bake/chains.hpp"
+#include "acuity/lodgen/gltf.hpp"
+#include "acuity/sim/generators.hpp"
+#include "text.hpp"
+
+namespace acuity::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// lodgen's options for the demo's chains: 5 levels, creases at 45 degrees (or every edge, flat).
+lodgen::ChainOptions chain_options(const DemoOptions& o) {
+  lodgen::ChainOptions c;
+  c.levels = 5;
+  if (o.flat) c.decimate.crease_degrees = 0;
+  return c;
+}
+
+// lodgen's chain of one demo mesh, or the one an earlier run cached as <cache>/<name>.glb.
+lodgen::LodObject chain_for(const DemoMesh& mesh, const DemoOptions& o,
+                            const std::function<void(const std::string&)>& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path glb = fs::path(o.cache) / (mesh.name + ".glb");
+  bool cached = false;
+  lodgen::LodObject obj = bake::cached_chain(mesh.path, glb.string(), chain_options(o), &cached);
+  obj.name = mesh.name;
+  std::string line;
+  if (cached)
+    appendf(&line, "  %-15s LOD chain cached in %s\n", mesh.name.c_str(), glb.string().c_str());
+  else
+    appendf(&line, "  %-15s lodgen: %zu -> %zu triangles in %zu levels, %.1f s\n", mesh.name.c_str(),
+            obj.chain.levels.front().mesh.triangle_count(), obj.chain.levels.back().mesh.triangle_count(),
+            obj.chain.levels.size(),
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  progress(line);
+  return obj;
+}
+
+}  // namespace
+
+DemoScene build_demo(const DemoOptions& o, const std::function<void(const std::string&)>& progress) {
+  const std::vector<DemoMesh> meshes = demo_meshes(o.meshes, o.assimp_models, o.webxr_profiles);
+  std::vector<std::string> names;
+  for (const DemoMesh& m : meshes) names.push_back(m.name);
+  const std::string settings = "profile pixels " + std::to_string(o.pixels) + (o.flat ? ", flat-shaded" : "");
+  if (!bake::refresh_cache(o.cache, names, settings))
+    progress("(" + o.cache + ": cached chains and profiles of another version or settings removed)\n");
+  DemoScene out;
+  out.sim = o.sim;
+  if (out.sim.output.empty()) out.sim.output = (fs::path(o.cache) / "simulate").string();
+  progress(std::string("acuity demo: seven real meshes") + (o.flat ? " flat-shaded" : "") +
+           ", a field of 64 objects, an eye-tracked fly-through\n\nlodgen:\n");
+  std::vector<lodgen::LodObject> objects;
+  for (const DemoMesh& m : meshes) {
+    objects.push_back(chain_for(m, o, progress));
+    if (m.third_party) out.sim.third_party.push_back(m.name);
+  }
+  out.scene_path = (fs::path(o.cache) / "field.glb").string();
+  lodgen::write_lod_gltf(out.scene_path, objects, {}, {}, demo_field(objects, o.sim.seed));
+  std::string scene;
+  appendf(&scene, "scene:\n  %s: 64 instances of %zu LOD chains (MSFT_lod)\nprofile:\n",
+          out.scene_path.c_str(), objects.size());
+  progress(scene);
+  bake::AssetOptions ao;
+  ao.profiles = out.profiles = (fs::path(o.cache) / "profiles").string();
+  ao.profile_pixels = o.pixels;
+  out.assets = bake::load_scene_assets(out.scene_path, ao);
+  return out;
+}
+
+}  // namespace acuity::sim
