@@ -25,6 +25,7 @@ PACKAGES=(
   libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run
   g++-mingw-w64-x86-64                        # the runtime and the C ABI cross-compiled for Windows (portability check)
   python3-distributed                         # acuity.bake on a Dask cluster (LocalCluster in the tests)
+  python3-pip python3-setuptools python3-wheel python3-venv   # pip install build/python into a venv (the python_package test)
 )
 
 install_packages() {

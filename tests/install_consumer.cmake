@@ -1,5 +1,11 @@
-# cmake -P script: install BUILD_DIR into WORK_DIR/prefix, then configure, build and run the
-# consumer in SOURCE_DIR against it. Fails on the first step that fails.
+# cmake -P script: the installed acuity as a user gets it, consumed by tests/consumer (SOURCE_DIR).
+#   MODE=install  `cmake --install BUILD_DIR` into WORK_DIR/prefix
+#   MODE=deb      `cpack -G DEB` in BUILD_DIR, the acuity .deb extracted (dpkg-deb -x) into
+#                 WORK_DIR/root; its files checked, then also a C build through pkg-config
+# Then configures, builds and runs the consumer (find_package(acuity): the C++ consumer on
+# acuity::scheduler, examples/hello_lod.c on acuity::c) against it. Fails on the first step that fails.
+#   HELLO_LOD  examples/hello_lod.c   PROFILE  a profile for it   GENERATOR  CMake generator
+#   CPACK, DPKG_DEB, PKG_CONFIG, C_COMPILER  tools (deb mode)   SHARED  libacuity.so is built
 file(REMOVE_RECURSE ${WORK_DIR})
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
@@ -7,9 +13,59 @@ function(run)
     message(FATAL_ERROR "failed (${rc}): ${ARGN}\n${out}")
   endif()
   message("${out}")
+  set(out "${out}" PARENT_SCOPE)
 endfunction()
-run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+function(check_hello_lod)  # the output of hello_lod in `out`
+  if(NOT out MATCHES "levels:( [0-9])+\n.*triangles: [1-9][0-9]*")
+    message(FATAL_ERROR "hello_lod printed:\n${out}")
+  endif()
+endfunction()
+
+if(MODE STREQUAL "deb")
+  run(${CPACK} -G DEB --config ${BUILD_DIR}/CPackConfig.cmake -B ${WORK_DIR}/pkg -D CPACK_COMPONENTS_ALL=runtime)
+  file(GLOB debs ${WORK_DIR}/pkg/acuity_*.deb)
+  list(LENGTH debs n)
+  if(NOT n EQUAL 1)
+    message(FATAL_ERROR "expected one acuity_*.deb in ${WORK_DIR}/pkg, found: ${debs}")
+  endif()
+  run(${DPKG_DEB} --info ${debs})
+  run(${DPKG_DEB} -x ${debs} ${WORK_DIR}/root)
+  set(prefix ${WORK_DIR}/root/usr)
+  file(GLOB_RECURSE pcs ${prefix}/*/acuity.pc)
+  file(GLOB_RECURSE configs ${prefix}/*/acuityConfig.cmake)
+  foreach(f include/acuity.h include/acuity/scheduler.hpp include/acuity/version.hpp)
+    if(NOT EXISTS ${prefix}/${f})
+      message(FATAL_ERROR "the .deb has no /usr/${f}")
+    endif()
+  endforeach()
+  if(SHARED)
+    file(GLOB_RECURSE sonames ${prefix}/*/libacuity.so.*)
+    if(NOT sonames OR NOT pcs)
+      message(FATAL_ERROR "the .deb lacks libacuity.so.* (${sonames}) or acuity.pc (${pcs})")
+    endif()
+  endif()
+  if(NOT configs)
+    message(FATAL_ERROR "the .deb has no acuityConfig.cmake")
+  endif()
+  if(SHARED)  # C through pkg-config: the flags, the compiler, the program finding the library
+    get_filename_component(pc_dir ${pcs} DIRECTORY)
+    set(ENV{PKG_CONFIG_PATH} ${pc_dir})
+    run(${PKG_CONFIG} --cflags --libs acuity)
+    separate_arguments(flags UNIX_COMMAND "${out}")
+    string(REGEX MATCH "-L([^ \n]+)" _ "${out}")
+    set(libdir ${CMAKE_MATCH_1})
+    run(${C_COMPILER} -std=c11 -Wall -Wextra -Werror ${HELLO_LOD} ${flags} -o ${WORK_DIR}/hello_pkgconfig)
+    run(${CMAKE_COMMAND} -E env LD_LIBRARY_PATH=${libdir} ${WORK_DIR}/hello_pkgconfig ${PROFILE})
+    check_hello_lod()
+  endif()
+else()
+  run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${WORK_DIR}/prefix)
+  set(prefix ${WORK_DIR}/prefix)
+endif()
+
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
-    -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
+    -DCMAKE_PREFIX_PATH=${prefix} -DHELLO_LOD=${HELLO_LOD})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/consumer)
+run(${WORK_DIR}/build/consumer_c ${PROFILE})
+check_hello_lod()

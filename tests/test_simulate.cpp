@@ -19,12 +19,13 @@
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/results.hpp"
 #include "acuity/sim/sampled.hpp"
+#include "acuity/transform.hpp"
 #include "mesh_fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace acuity;
 using namespace acuity::sim;
-using namespace acuity::bake;  // the scene bake (load_scene_assets, decompose)
+using namespace acuity::bake;  // the scene bake (load_scene_assets)
 
 namespace {
 
@@ -236,7 +237,8 @@ TEST(Scene, InstancesShareMeshesAndKeepTheirPlacement) {
   EXPECT_NEAR(scene.instances[4].radius, 0.5, 1e-6);
   // A rotated, scaled and mirrored matrix decomposes to a unit quaternion and the largest scale.
   const double c = std::cos(0.3), s = std::sin(0.3);
-  const ObjectTransform t = decompose({2 * c, 0, -2 * s, 0, 0, 3, 0, 0, 2 * s, 0, 2 * c, 0, 1, 2, 3, 1});
+  const ObjectTransform t = acuity::transform_from_matrix(
+      std::array<double, 16>{2 * c, 0, -2 * s, 0, 0, 3, 0, 0, 2 * s, 0, 2 * c, 0, 1, 2, 3, 1}.data());
   EXPECT_FLOAT_EQ(t.scale, 3.0f);
   EXPECT_NEAR(t.rotation[1], std::sin(0.15), 1e-6);
   EXPECT_NEAR(t.rotation[3], std::cos(0.15), 1e-6);

@@ -7,8 +7,9 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
-import { AcuityError, EYE_DOUBLES, loadAcuity, writeEye } from './acuity.js';
-import { ContentError, fetchBytes, loadLodScene, showLevel } from './lod_scene.js';
+// acuity-web's exports (web/package.json), mapped to the served files by index.html's import map.
+import { AcuityError, EYE_DOUBLES, loadAcuity, writeEye } from 'acuity-web';
+import { ContentError, fetchBytes, loadLodScene, showLevel } from 'acuity-web/lod-scene';
 
 const params = new URLSearchParams(location.search);
 const sceneUrl = params.get('scene') || 'content/field.glb';
@@ -37,7 +38,7 @@ window.addEventListener('unhandledrejection', e => { e.preventDefault(); fail(e.
 async function loadModule() {
   let factory;
   try {
-    factory = (await import('./wasm/acuity.mjs')).default;
+    factory = (await import('acuity-web/wasm')).default;
   } catch (e) {
     throw new ContentError(`wasm/acuity.mjs: the WebAssembly module is missing; build it (cmake --build build --target acuity_wasm) (${e.message})`);
   }

@@ -7,11 +7,10 @@
 #include <filesystem>
 #include <map>
 
-#include <glm/gtc/quaternion.hpp>
-
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/spectra/profile_writer.hpp"
+#include "acuity/transform.hpp"
 
 namespace acuity::bake {
 namespace fs = std::filesystem;
@@ -59,27 +58,6 @@ std::vector<spectra::LevelInput> spectra_levels(const lodgen::Chain& chain) {
   return out;
 }
 
-ObjectTransform decompose(const Matrix& m) {
-  ObjectTransform t;
-  for (int k = 0; k < 3; ++k) t.position[k] = m[std::size_t(12 + k)];
-  glm::dmat3 r;
-  double largest = 0;
-  for (int c = 0; c < 3; ++c) {
-    const glm::dvec3 axis(m[std::size_t(4 * c)], m[std::size_t(4 * c + 1)], m[std::size_t(4 * c + 2)]);
-    const double len = glm::length(axis);
-    largest = std::max(largest, len);
-    r[c] = len > 0 ? axis / len : glm::dvec3(c == 0, c == 1, c == 2);
-  }
-  if (glm::determinant(r) < 0) r[2] = -r[2];  // a mirror: keep a rotation (the bounding sphere is unaffected)
-  const glm::dquat q = glm::normalize(glm::quat_cast(r));
-  t.rotation[0] = float(q.x);
-  t.rotation[1] = float(q.y);
-  t.rotation[2] = float(q.z);
-  t.rotation[3] = float(q.w);
-  t.scale = float(largest);
-  return t;
-}
-
 spectra::Material spectra_material(const lodgen::Scene& scene, int index) {
   spectra::Material material;
   if (index < 0 || std::size_t(index) >= scene.materials.size()) return material;
@@ -122,7 +100,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
     Instance in;
     in.asset = it->second;
     in.name = n.name.empty() ? "node" + std::to_string(id) : n.name;
-    in.transform = decompose(world);
+    in.transform = transform_from_matrix(world.data());
     out->instances.push_back(in);
   }
   if (out->instances.empty()) throw lodgen::InputError(path + ": the scene has no mesh to simulate");

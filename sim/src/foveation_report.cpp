@@ -138,8 +138,13 @@ std::vector<Gaze> gazes_from_track(const Table& track, double fps) {
   const double seconds = track.rows.empty() ? 0.0 : track.rows.back()[static_cast<std::size_t>(t)];
   const std::size_t frames = static_cast<std::size_t>(std::floor(seconds * fps)) + 1;
   if (frames > 1000000) throw std::runtime_error(track.source + ": more than a million frames");
+  return gazes_from(gaze_trace_from(track, fps, frames));
+}
+
+std::vector<Gaze> gazes_from(const std::vector<GazeSample>& samples) {
   std::vector<Gaze> gazes;
-  for (const GazeSample& s : gaze_trace_from(track, fps, frames)) {
+  gazes.reserve(samples.size());
+  for (const GazeSample& s : samples) {
     Gaze g;
     for (int k = 0; k < 3; ++k) g.direction[k] = static_cast<float>(s.direction[k]);
     g.confidence = s.confidence;

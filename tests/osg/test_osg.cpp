@@ -18,6 +18,7 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
+#include "acuity/sim/foveation_report.hpp"  // gazes_from
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "profile_fixture.hpp"
@@ -203,7 +204,8 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   const auto samples =
       acuity::sim::gaze_trace_from(acuity::sim::parse_table(gaze_csv(), "gaze.csv", false), kFps, frames);
   ASSERT_EQ(head.size(), std::size_t(frames));
-  w.kit->set_gaze_source(new acuity::osg::TrackGaze(samples));  // sample 0 at the first frame
+  w.kit->set_gaze_source(
+      new acuity::osg::TrackGaze(acuity::sim::gazes_from(samples)));  // sample 0 at the first frame
   acuity::Scheduler ref(w.config);
   ASSERT_EQ(ref.add_profile(w.profile), 0);
   for (std::uint32_t i = 0; i < 12; ++i) ASSERT_EQ(ref.add_object(0, w.transform(i, 0)), w.nodes[i]->id());

@@ -11,7 +11,9 @@ Submodules:
     acuity.foveation  per-tile shading-rate and mip-bias maps and Guenter layers for one eye
     acuity.bake     (import acuity.bake) bake an asset library (chains, profiles, index) through the cache, locally or on Dask
 
-Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3).
+Use from a build tree with ``PYTHONPATH=<build>/python /usr/bin/python3`` (Debian's python3), or
+install it: ``pip install --no-index --no-build-isolation <build>/python`` (e.g. into a venv made
+with ``/usr/bin/python3 -m venv --system-site-packages``).
 """
 import sys as _sys
 

@@ -7,9 +7,10 @@ through the content-addressed cache, locally on all cores or as one Dask task pe
     python3 -m acuity.bake assets/ -o baked/ --dask tcp://host:8786  # the same from a shell
 
 Every path runs the same C++ (acuity::bake: plan_bake, bake_asset, finish_bake), so the outputs
-and the index are the same bytes whichever runs the tasks. Workers need this package importable
-(PYTHONPATH) and the input and cache folders at the same paths (a shared file system); the
-client copies the results from the cache into OUT.
+and the index are the same bytes whichever runs the tasks. Workers need this package importable --
+installed (`pip install --no-index --no-build-isolation <build>/python` into the workers' Python
+environment) or on PYTHONPATH -- and the input and cache folders at the same paths (a shared file
+system); the client copies the results from the cache into OUT.
 """
 import argparse
 import json

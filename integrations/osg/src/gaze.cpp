@@ -49,19 +49,13 @@ Gaze MouseGaze::gaze(std::uint32_t, double, const ::osg::Camera& camera, std::ui
   return g;
 }
 
-TrackGaze::TrackGaze(std::vector<sim::GazeSample> samples, std::uint32_t first_frame)
+TrackGaze::TrackGaze(std::vector<Gaze> samples, std::uint32_t first_frame)
     : samples_(std::move(samples)), first_(first_frame) {}
 
 Gaze TrackGaze::gaze(std::uint32_t frame, double, const ::osg::Camera&, std::uint32_t) {
-  Gaze g;
-  if (samples_.empty()) return g;
+  if (samples_.empty()) return Gaze{};
   if (first_ == kFirstAsked) first_ = frame;
-  const std::size_t i = std::min<std::size_t>(frame > first_ ? frame - first_ : 0, samples_.size() - 1);
-  const sim::GazeSample& s = samples_[i];
-  for (int k = 0; k < 3; ++k) g.direction[k] = float(s.direction[k]);
-  g.confidence = s.confidence;
-  g.valid = s.confidence > 0;
-  return g;
+  return samples_[std::min<std::size_t>(frame > first_ ? frame - first_ : 0, samples_.size() - 1)];
 }
 
 }  // namespace acuity::osg

@@ -1,16 +1,16 @@
 #include "acuity/osg/kit.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
 
-#include <glm/gtc/quaternion.hpp>
 #include <osg/Transform>
 #include <osg/Uniform>
 
-#include "acuity/bake/scene.hpp"  // bake::decompose
+#include "acuity/transform.hpp"
 
 namespace acuity::osg {
 namespace {
@@ -18,7 +18,14 @@ namespace {
 constexpr double kDeg = 57.295779513082320876;
 constexpr int kFadeSteps = 64;  // the 8x8 dither's coverage levels
 
-glm::dquat quat_of(const float q[4]) { return glm::dquat(q[3], q[0], q[1], q[2]); }
+// The rotation from p to q, q * p^-1 (Hamilton product), for quaternions stored x y z w.
+std::array<double, 4> turn_between(const float q[4], const float p[4]) {
+  const double d = double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2] + double(p[3]) * p[3];
+  const double bx = -p[0] / d, by = -p[1] / d, bz = -p[2] / d, bw = p[3] / d;
+  const double ax = q[0], ay = q[1], az = q[2], aw = q[3];
+  return {aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
+          aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz};
+}
 
 }  // namespace
 
@@ -199,13 +206,12 @@ void Kit::read_eyes(const ::osg::Camera* fallback, double dt) {
     const Eye& p = previous_eyes_[e];
     for (int k = 0; k < 3; ++k)
       eye.velocity[k] = ran_ && dt > 0 ? float((eye.position[k] - p.position[k]) / dt) : 0.0f;
-    const glm::dquat turn = quat_of(eye.orientation) * glm::inverse(quat_of(p.orientation));
-    const glm::dvec3 axis(turn.x, turn.y, turn.z);
-    const double len = glm::length(axis);
-    const double angle = 2 * std::atan2(len, std::abs(turn.w)) * kDeg;
+    const std::array<double, 4> turn = turn_between(eye.orientation, p.orientation);
+    const double len = std::sqrt(turn[0] * turn[0] + turn[1] * turn[1] + turn[2] * turn[2]);
+    const double angle = 2 * std::atan2(len, std::abs(turn[3])) * kDeg;
     for (int k = 0; k < 3; ++k)
       eye.angular_velocity[k] =
-          ran_ && dt > 0 && len > 0 ? float(axis[k] / len * (turn.w < 0 ? -1.0 : 1.0) * angle / dt) : 0.0f;
+          ran_ && dt > 0 && len > 0 ? float(turn[k] / len * (turn[3] < 0 ? -1.0 : 1.0) * angle / dt) : 0.0f;
     previous_eyes_[e] = eye;
     frame_.gaze[e] = gaze_.valid() ? gaze_->gaze(frame_number_, time_, *cams[e], e) : Gaze{};
   }
@@ -233,9 +239,8 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
     }
     std::reverse(path_.begin(), path_.end());
     const ::osg::Matrixd m = ::osg::computeLocalToWorld(path_);
-    std::array<double, 16> a;
-    std::copy(m.ptr(), m.ptr() + 16, a.begin());  // osg's row-vector layout is the column-major array
-    scheduler_->set_transform(n->id_, bake::decompose(a));
+    // osg's row-vector layout is the column-major array transform_from_matrix takes.
+    scheduler_->set_transform(n->id_, transform_from_matrix(m.ptr()));
   }
   const auto t1 = std::chrono::steady_clock::now();
   scheduler_->run_frame(frame_);

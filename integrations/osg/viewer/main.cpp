@@ -31,6 +31,7 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
+#include "acuity/sim/foveation_report.hpp"  // gazes_from
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/generators.hpp"
 
@@ -186,9 +187,10 @@ int run(const Options& o) {
   ::osg::ref_ptr<aosg::MouseGaze> mouse;
   if (mode == "track") {
     if (o.gaze_file.empty()) throw std::runtime_error("--gaze-source track needs --gaze FILE");
-    gaze = new aosg::TrackGaze(sim::gaze_trace_from(sim::read_table(o.gaze_file), o.fps, frames));
+    gaze = new aosg::TrackGaze(
+        sim::gazes_from(sim::gaze_trace_from(sim::read_table(o.gaze_file), o.fps, frames)));
   } else if (mode == "generated") {
-    gaze = new aosg::TrackGaze(sim::generate_gaze(*assets, head, {}, o.fps, o.seed).samples);
+    gaze = new aosg::TrackGaze(sim::gazes_from(sim::generate_gaze(*assets, head, {}, o.fps, o.seed).samples));
   } else if (mode == "mouse") {
     mouse = new aosg::MouseGaze;
     gaze = mouse.get();

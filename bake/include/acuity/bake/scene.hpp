@@ -56,9 +56,6 @@ struct AssetOptions {
 // lodgen::InputError or std::runtime_error naming the file.
 std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const AssetOptions& options);
 
-// A world transform (column-major 4x4) as position, rotation and uniform scale (the largest axis).
-ObjectTransform decompose(const std::array<double, 16>& matrix);
-
 // "armadillo.1" -> "armadillo_1": letters, digits, '-' and '_' kept, anything else '_'; "" -> "object".
 std::string file_safe(const std::string& name);
 

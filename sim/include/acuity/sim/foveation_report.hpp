@@ -30,6 +30,9 @@ PlanResult plan_eye(const FoveationPlanner& planner, const Eye& eye, const Gaze&
 // A gaze track (columns t,x,y,z[,confidence], head space) as one gaze per frame at `fps`, frames
 // 0 to floor(last t x fps). Throws std::runtime_error naming the track past a million frames.
 std::vector<Gaze> gazes_from_track(const Table& track, double fps);
+// Gaze samples as the scheduler's gazes (direction, confidence; valid while confidence > 0), as the
+// OSG kit's TrackGaze plays them.
+std::vector<Gaze> gazes_from(const std::vector<GazeSample>& samples);
 
 // The planner over every gaze: CSV text, one line per frame (frame,time_s,status,origin_x_px,
 // origin_y_px,shaded_px,full_px,saved), the sum of the fractions saved, and frame `shown`'s plan.

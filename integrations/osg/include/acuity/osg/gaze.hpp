@@ -1,12 +1,11 @@
 #pragma once
 // acuity/osg/gaze.hpp — gaze sources for acuity::osg::Kit: a fixed direction, the mouse as a gaze
-// proxy, and a recorded trace in the CSV/JSON format `acuity simulate --gaze` reads (acuity/sim/tracks.hpp).
+// proxy, and a recorded trace played back frame by frame.
 #include <vector>
 
 #include <osgGA/GUIEventHandler>
 
 #include "acuity/osg/kit.hpp"
-#include "acuity/sim/tracks.hpp"
 
 namespace acuity::osg {
 
@@ -39,17 +38,18 @@ class MouseGaze : public GazeSource {
 // Eye-space direction through normalised device coordinates (x, y) of a perspective camera.
 ::osg::Vec3d direction_through(const ::osg::Camera& camera, double x, double y);
 
-// A recorded trace, one sample per frame (sim::gaze_trace_from resamples a table to frames),
-// sample 0 at frame number `first_frame` (by default the first frame it is asked for); held past
-// the ends. Confidence 0 is no gaze.
+// A recorded trace, one gaze per frame for every eye, sample 0 at frame number `first_frame` (by
+// default the first frame it is asked for); held past the ends. The file formats `acuity simulate
+// --gaze` reads become such samples with sim::gazes_from(sim::gaze_trace_from(...))
+// (acuity/sim/foveation_report.hpp, the offline library; the kit itself needs only the runtime).
 class TrackGaze : public GazeSource {
  public:
   static constexpr std::uint32_t kFirstAsked = 0xffffffffu;
-  explicit TrackGaze(std::vector<sim::GazeSample> samples, std::uint32_t first_frame = kFirstAsked);
+  explicit TrackGaze(std::vector<Gaze> samples, std::uint32_t first_frame = kFirstAsked);
   Gaze gaze(std::uint32_t frame, double time, const ::osg::Camera& camera, std::uint32_t eye) override;
 
  private:
-  std::vector<sim::GazeSample> samples_;
+  std::vector<Gaze> samples_;
   std::uint32_t first_;
 };
 

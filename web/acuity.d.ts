@@ -1,0 +1,81 @@
+// Types of acuity.js (the package's main export, 'acuity-web'). Units as in acuity.h: metres,
+// degrees, degrees per second, pixels, seconds; an eye looks along its local -Z with +Y up.
+
+/** Selection rules (acuity_config.rule). */
+export const RULE: Readonly<{ perceptual: 0; reddy: 1; distance: 2; screenSize: 3 }>;
+/** Per-object flags getLevels() writes (ACUITY_FLAG_*). */
+export const FLAG: Readonly<{ invalidInput: 1; eyeInside: 2; noGaze: 4; budgetForced: 8; changed: 16; held: 32 }>;
+/** acuity_status text by value: 'ok', 'invalid argument', 'bad profile', 'full', 'out of memory', 'internal error'. */
+export const STATUS: readonly string[];
+
+/** Every failing call throws one: the message is acuity_last_error()'s text, status the acuity_status. */
+export class AcuityError extends Error {
+  constructor(message: string, status: number);
+  readonly status: number;
+}
+
+export interface GazeInput {
+  direction?: ArrayLike<number>;        // 3, unit, eye space (default 0 0 -1)
+  confidence?: number;                  // 0..1 (default 1)
+  angularVelocity?: ArrayLike<number>;  // 3, deg/s; absent: the pursuit model
+}
+export interface EyeInput {
+  position: ArrayLike<number>;          // 3, world [m]
+  orientation: ArrayLike<number>;       // 4, x y z w, eye to world
+  fov: ArrayLike<number>;               // 4, left (< 0), right, up, down (< 0) [deg]
+  viewport: ArrayLike<number>;          // 2, [px]
+  velocity?: ArrayLike<number>;         // 3, [m/s] (default 0)
+  angularVelocity?: ArrayLike<number>;  // 3, [deg/s] (default 0)
+  gaze?: GazeInput | null;              // null or absent: no eye tracker
+}
+/** Doubles per eye in the Float64Array that beginFrame/frame take. */
+export const EYE_DOUBLES: 28;
+/** Writes `eye` at eyes[i * EYE_DOUBLES]. */
+export function writeEye(eyes: Float64Array, i: number, eye: EyeInput): void;
+
+/** The module the 'acuity-web/wasm' factory makes (emscripten); opaque to callers. */
+export interface AcuityModule { readonly HEAPU8: Uint8Array }
+export interface ModuleOptions {
+  /** The bytes of 'acuity-web/acuity.wasm'; needed in node (the module is built for the web). */
+  wasmBinary?: ArrayBuffer | Uint8Array;
+  /** Where the browser fetches acuity.wasm from (default: next to acuity.mjs). */
+  locateFile?: (path: string, prefix: string) => string;
+}
+export type ModuleFactory = (options?: ModuleOptions) => Promise<AcuityModule>;
+
+/** Instantiates the module: `loadAcuity(createAcuityModule)` with the default export of 'acuity-web/wasm'. */
+export function loadAcuity(factory: ModuleFactory, moduleOptions?: ModuleOptions): Promise<Acuity>;
+
+export class Acuity {
+  /** The library's version, "major.minor.patch" (acuity_version). */
+  readonly version: string;
+  lastError(): string;
+  /** acuity_config fields by name, e.g. { max_objects: 4096, quality: 1, rule: RULE.distance }. */
+  createScheduler(options?: Record<string, number | boolean>): Scheduler;
+}
+
+export interface FrameStats {
+  changed: number; triangles: number; budgetForced: number; invalid: number; atRest: number; gazeUsed: boolean;
+}
+
+export class Scheduler {
+  /** A .acuity file's bytes (copied, validated); returns the profile index. */
+  loadProfile(bytes: Uint8Array): number;
+  /** profiles n, positions 3n [m], rotations 4n (x y z w), scales n or null (1); returns the ids. */
+  addObjects(profiles: Int32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): Uint32Array;
+  removeObjects(ids: Uint32Array): void;
+  setTransforms(ids: Uint32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): void;
+  /** velocities 3n [m/s]. */
+  setVelocities(ids: Uint32Array, velocities: Float32Array): void;
+  /** eyes: eyeCount x EYE_DOUBLES (writeEye); dt [s]. */
+  beginFrame(eyes: Float64Array, eyeCount: number, dt: number): void;
+  updateRange(first: number, count: number): void;
+  endFrame(): void;
+  /** beginFrame, updateRange over every object, endFrame. */
+  frame(eyes: Float64Array, eyeCount: number, dt: number): void;
+  /** Writes each id's level (0 finest) and, when given, its FLAG bits. */
+  getLevels(ids: Uint32Array, levels: Uint8Array, flags?: Uint8Array | null): void;
+  frameTriangles(): number;
+  frameStats(): FrameStats;
+  destroy(): void;
+}
