@@ -33,31 +33,18 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
   return {0, 0, 0};
 }
 
-// The perceptual rule evaluated in full (and Reddy's rule):
-//   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
-//   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
-Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out,
-                                          ObjectExplain* ex) const {
-  const ProfileCache& pc = profiles_[profile_of_[id]];
+// ln CT per (orientation, band) of one object seen as s (ln_ct: [rows][B]; Reddy: each row's visible
+// limit [cpod]). A static object's velocity is the drift floor in every orientation, so one row serves
+// all of them. Returns the number of rows: T, or 1.
+std::uint32_t Scheduler::exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const {
   const Profile& p = pc.profile;
-  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
-                      B = p.meta.band_count;
-  Choice out{0, 0, s.flags};
+  const std::uint32_t T = p.meta.orientation_count, B = p.meta.band_count;
   const float nyquist_cpd = s.nyquist_cpd, diameter_deg = s.diameter_deg, e = s.e;
-  const std::uint32_t view = s.view;
-  const std::uint16_t* cand = s.cand;
   const bool moving = s.moving;
   const float vx = s.vx, vy = s.vy;
   const Precomputed& pre = *pre_;
   const float inv_diam = 1.0f / diameter_deg, ln_diam = s.ln_diam;
-  const float ln_q = pre.ln_quality_at(bias_[id]);
-  const float ln_q_coarse = ln_q + pre.ln_margin;
-  const bool all_levels = scores_out || ex;
   const float a = pre.ecc_slope * e;  // ln CT grows by a per cpd with eccentricity
-
-  // ln CT per (orientation, band). A static object's velocity is the drift floor in every
-  // orientation, so one row serves all of them (rows = 1).
-  float ln_ct[kMaxOrientations * kMaxBands];
   float v_t[kMaxOrientations];
   const std::uint32_t rows = moving || config_.model != ThresholdModel::Default ? T : 1;
   for (std::uint32_t t = 0; t < rows; ++t) {
@@ -83,11 +70,76 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
       }
     }
   }
+  return rows;
+}
+
+// explain()'s pass over the same arithmetic: level k's score (ln_excess = ln(score)) and the component
+// that limits it, found again from choose_exact()'s thresholds (ln_ct, rows of `stride`).
+void Scheduler::explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
+                              std::uint32_t stride, float inv_diam, float ln_excess,
+                              LevelExplain* out) const {
+  const Profile& p = pc.profile;
+  const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count;
+  const std::size_t TB = std::size_t(T) * B;
+  LevelExplain& le = *out;
+  le.score = std::exp(ln_excess);
+  std::uint32_t arg = 0;  // the limiting component, found again (explain is not the hot path)
+  if (config_.rule == SelectionRule::Reddy) {
+    float best_ratio = -kInf;
+    for (std::uint32_t j = 0; j < k; ++j)
+      for (std::uint32_t t = 0; t < T; ++t) {
+        const float F = p.feature_frequency(j, view, t);
+        if (F > 0 && ln_ct[t * stride] / F > best_ratio) {
+          best_ratio = ln_ct[t * stride] / F;
+          arg = t * B;
+        }
+      }
+  } else {
+    const float* lost = &pc.ln_lost[((k - 1) * std::size_t(V) + view) * TB];
+    float best_x = -kInf;
+    for (std::uint32_t i = 0; i < T * B; ++i) {
+      const float x = lost[i] - ln_ct[(i / B) * stride + i % B];
+      if (x > best_x) {
+        best_x = x;
+        arg = i;
+      }
+    }
+  }
+  le.orientation = static_cast<std::uint8_t>(arg / B);
+  le.band = static_cast<std::uint8_t>(arg % B);
+  le.frequency_cpd = p.bands[le.band] * inv_diam;
+  le.threshold = config_.rule == SelectionRule::Reddy
+                     ? 0.0f
+                     : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
+}
+
+// The perceptual rule evaluated in full (and Reddy's rule):
+//   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
+//   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
+Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out,
+                                          ObjectExplain* ex) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
+                      B = p.meta.band_count;
+  Choice out{0, 0, s.flags};
+  const float diameter_deg = s.diameter_deg, e = s.e;
+  const std::uint32_t view = s.view;
+  const std::uint16_t* cand = s.cand;
+  const Precomputed& pre = *pre_;
+  const float inv_diam = 1.0f / diameter_deg;
+  const float ln_q = pre.ln_quality_at(bias_[id]);
+  const float ln_q_coarse = ln_q + pre.ln_margin;
+  const bool all_levels = scores_out || ex;
+
+  // ln CT per (orientation, band). A static object's velocity is the drift floor in every
+  // orientation, so one row serves all of them (rows = 1).
+  float ln_ct[kMaxOrientations * kMaxBands];
+  const std::uint32_t rows = exact_thresholds(pc, s, ln_ct);
   const std::uint32_t stride = rows == 1 ? 0 : B;  // a static object's one row serves every orientation
 
   // ln(score_k q) = max over (t, b) of ln lost - ln CT. Levels are scanned from the coarsest; without
   // scores or explain, the scan stops at the first level that passes even the hysteresis margin.
-  const std::size_t TB = std::size_t(T) * B;
   // Reddy: a finer level's smallest feature F is visible when it lies at or below the limit, so
   // level k's score is the largest limit / F over the levels j < k and every orientation.
   float reddy_prefix[kMaxLevels] = {};
@@ -123,38 +175,7 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
     }
     if (out.coarse == 0 && m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
     if (scores_out) scores_out[k] = std::exp(m - ln_q);
-    if (ex) {
-      LevelExplain& le = ex->levels[k];
-      le.score = std::exp(m - ln_q);
-      std::uint32_t arg = 0;  // the limiting component, found again (explain is not the hot path)
-      if (config_.rule == SelectionRule::Reddy) {
-        float best_ratio = -kInf;
-        for (std::uint32_t j = 0; j < k; ++j)
-          for (std::uint32_t t = 0; t < T; ++t) {
-            const float F = p.feature_frequency(j, view, t);
-            if (F > 0 && ln_ct[t * stride] / F > best_ratio) {
-              best_ratio = ln_ct[t * stride] / F;
-              arg = t * B;
-            }
-          }
-      } else {
-        const float* lost = &pc.ln_lost[((k - 1) * std::size_t(V) + view) * TB];
-        float best_x = -kInf;
-        for (std::uint32_t i = 0; i < T * B; ++i) {
-          const float x = lost[i] - ln_ct[(i / B) * stride + i % B];
-          if (x > best_x) {
-            best_x = x;
-            arg = i;
-          }
-        }
-      }
-      le.orientation = static_cast<std::uint8_t>(arg / B);
-      le.band = static_cast<std::uint8_t>(arg % B);
-      le.frequency_cpd = p.bands[le.band] * inv_diam;
-      le.threshold = config_.rule == SelectionRule::Reddy
-                         ? 0.0f
-                         : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
-    }
+    if (ex) explain_level(pc, view, k, ln_ct, stride, inv_diam, m - ln_q, &ex->levels[k]);
     if (out.coarse != 0 && !all_levels) break;
   }
   if (ex) {

@@ -96,40 +96,7 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   }
   if (tabulated()) {
     memos_ = std::unique_ptr<Memo[]>(new Memo[2]{Memo(n), Memo(n)});
-    curves_ = std::make_unique<Curves>();
-    curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
-    curves_->slow.resize(std::size_t(kStillE) * kCurveSamples);
-    for (std::uint32_t j = 0; j < kStillE; ++j) {
-      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, false,
-                     &curves_->still[j * std::size_t(kCurveSamples)]);
-      Curves::sample(pre, config_, still_e_node(j), pre.floor_velocity, true,
-                     &curves_->slow[j * std::size_t(kCurveSamples)]);
-    }
-    curves_->moving.resize(std::size_t(kMovingS) * kMovingE * kCurveSamples);
-    for (std::uint32_t i = 0; i < kMovingS; ++i)
-      for (std::uint32_t j = 0; j < kMovingE; ++j)
-        Curves::sample(pre, config_, moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
-                       &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)]);
-    // Each cell's interpolation is checked against the truth: Reddy's per axis in advance, the other
-    // models' at the cell's midpoint (curves there).
-    if (config_.model == ThresholdModel::Reddy) {
-      curves_->reddy_lifts(pre.floor_velocity, pre.speed_offset);
-    } else {
-      curves_->still_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
-      curves_->slow_centre.resize(std::size_t(kStillE - 1) * kCurveSamples);
-      for (std::uint32_t j = 0; j + 1 < kStillE; ++j) {
-        Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, false,
-                       &curves_->still_centre[j * std::size_t(kCurveSamples)]);
-        Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true,
-                       &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
-      }
-      curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
-      for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
-        for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
-          Curves::sample(pre, config_, Curves::centre_e(j),
-                         Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true,
-                         &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)]);
-    }
+    build_curves();
   }
 }
 

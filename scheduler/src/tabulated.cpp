@@ -201,22 +201,39 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 // inside) take the fallback or finest level; an object whose bias has no tables (not a tabulated
 // bias) is evaluated exactly. Writes out[j], and with `scores` (kMaxLevels per object) each level's
 // score (no memo then).
-void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                         Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
-  const std::uint16_t* cand[kBlock];
+// tabulate()'s passes share one block's state: what each pass leaves the next (objects by their
+// index j in the block).
+struct Scheduler::Tabulation {
+  Inputs in;                            // pass 1: table positions and memo hits
+  std::uint32_t decided[kBlock];        // by a memo
+  std::uint32_t bands[kBlock];          // the lowest bands the display shows
+  std::uint8_t miss[kBlock];            // the objects no memo decided ...
+  std::uint32_t miss_count = 0;         // ... and their count
+  std::uint8_t todo[kBlock];            // 2: the bounds over every view first; 1: through the object's view
+  std::uint8_t tables[kBlock];          // the object's bias's first table set (kTableSets)
+  const std::int16_t* rows[2][kBlock];  // the any-view rows, per margin set
+  std::uint8_t standing[kBlock];        // decided by a memo that stands now: its rest may be set
+  const std::uint16_t* cand[kBlock];    // the lookup cell's candidate views
+  static_assert(kBlock <= 256, "left[] holds block indices in bytes");
+  std::uint8_t left[kBlock];     // the objects left for passes 4 to 6 ...
+  std::uint32_t left_count = 0;  // ... and their count
   Probe probe[kBlock];
-  std::uint8_t todo[kBlock];    // 2: the bounds over every view first; 1: through the object's view
-  std::uint8_t tables[kBlock];  // the object's bias's first table set (kTableSets)
-  const std::uint8_t gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
+  std::uint8_t gaze_flag;
+  int sets;  // the hysteresis margin's tables too
+};
+
+void Scheduler::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                               const Memo& memo, bool scores, Tabulation& tb) const {
+  auto& decided = tb.decided;
+  auto& bands = tb.bands;
+  auto& miss = tb.miss;
+  auto& miss_count = tb.miss_count;
+  const float* inv_diam = tb.in.inv_diam;
+  const std::uint32_t *memo_hit = tb.in.memo_hit, *view_memo = tb.in.view_memo;
   // Pass 1: the tables' x and eccentricity cell, still or moving, whether the memo stands.
-  Inputs in;
-  table_inputs(eye, first, n, b, memo, scores == nullptr, &in);
-  const std::int32_t* x_step = in.x_step;
-  const std::uint32_t *ec_j = in.ec_j, *still = in.still, *memo_hit = in.memo_hit, *view_memo = in.view_memo;
-  const float *ec_w = in.ec_w, *inv_diam = in.inv_diam;
+  table_inputs(eye, first, n, b, memo, !scores, &tb.in);
   // Objects whose memo through the view stands keep its decision while the view and cells are
   // the same, which they are within its hold (Memo::Hold; only these holds are read).
-  std::uint32_t decided[kBlock];  // by a memo
   std::uint8_t viewed[kBlock];
   std::uint32_t viewed_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
@@ -235,10 +252,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
                  std::uint32_t(dot(slipped, slipped) <= h.reach * h.reach) &
                  std::uint32_t(h.e_from <= b.e[j]) & std::uint32_t(b.e[j] <= h.e_to);
   }
-  std::uint32_t bands[kBlock];
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
-  std::uint8_t miss[kBlock];
-  std::uint32_t miss_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     miss[miss_count] = static_cast<std::uint8_t>(j);
     miss_count += decided[j] ^ 1u;
@@ -250,12 +264,25 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     for (std::uint32_t k = 0; k < max_band_count_; ++k) shown += frequency[k] * inv_diam[j] <= b.nyquist[j];
     bands[j] = shown;
   }
+}
+
+void Scheduler::tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                              const Memo& memo, Choice* out, float (*scores)[kMaxLevels],
+                              Tabulation& tb) const {
+  auto& decided = tb.decided;
+  auto& bands = tb.bands;
+  auto& miss = tb.miss;
+  const std::uint32_t miss_count = tb.miss_count;
+  auto& todo = tb.todo;
+  auto& tables = tb.tables;
+  auto& rows = tb.rows;
+  auto& standing = tb.standing;
+  const int sets = tb.sets;
+  const std::uint8_t gaze_flag = tb.gaze_flag;
+  const std::uint32_t *ec_j = tb.in.ec_j, *view_memo = tb.in.view_memo;
   // Pass 2: objects decided by their memo; of the rest, those not seen, of a bias without tables or
   // with nothing to choose; the any-view rows of the others found (per table set) and prefetched, so
   // that pass 3 decides without reading a profile.
-  const int sets = margin_sets(config_);  // the hysteresis margin's tables too
-  const std::int16_t* rows[2][kBlock];
-  std::uint8_t standing[kBlock];           // decided by a memo that stands now: its rest may be set
   for (std::uint32_t j = 0; j < n; ++j) {  // the memo's decision for every object: misses overwrite it
     standing[j] = static_cast<std::uint8_t>(decided[j]);
     todo[j] = 0;
@@ -300,6 +327,22 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(row + 4 * L + 1);  // the upper node's row ends here
     }
   }
+}
+
+void Scheduler::tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                                  Tabulation& tb) const {
+  auto& bands = tb.bands;
+  auto& miss = tb.miss;
+  const std::uint32_t miss_count = tb.miss_count;
+  auto& todo = tb.todo;
+  auto& rows = tb.rows;
+  auto& standing = tb.standing;
+  const int sets = tb.sets;
+  const std::uint8_t gaze_flag = tb.gaze_flag;
+  auto& cand = tb.cand;
+  const std::int32_t* x_step = tb.in.x_step;
+  const std::uint32_t *ec_j = tb.in.ec_j, *still = tb.in.still;
+  const float* ec_w = tb.in.ec_w;
   // Pass 3: the any-view decisions, over the cell or else at the object's place in it, remembered with
   // the x and eccentricity where they stand; the rest have their lookup cell (of the direction to the
   // eye) found and its candidates prefetched.
@@ -339,10 +382,22 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       ACUITY_PREFETCH(cand[j]);
     }
   }
+}
+
+void Scheduler::tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                               Memo& memo, Tabulation& tb) const {
+  auto& bands = tb.bands;
+  auto& todo = tb.todo;
+  auto& tables = tb.tables;
+  auto& standing = tb.standing;
+  const int sets = tb.sets;
+  auto& cand = tb.cand;
+  auto& left = tb.left;
+  auto& left_count = tb.left_count;
+  auto& probe = tb.probe;
+  const std::uint32_t *ec_j = tb.in.ec_j, *still = tb.in.still, *view_memo = tb.in.view_memo;
+  const float* ec_w = tb.in.ec_w;
   // The objects left for passes 4 to 6, listed without branches (which ones remain is unpredictable).
-  static_assert(kBlock <= 256, "left[] holds block indices in bytes");
-  std::uint8_t left[kBlock];
-  std::uint32_t left_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     left[left_count] = static_cast<std::uint8_t>(j);
     left_count += todo[j] != 0;
@@ -423,6 +478,20 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
       }
     }
   }
+}
+
+void Scheduler::tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                                      float (*scores)[kMaxLevels], Tabulation& tb) const {
+  auto& bands = tb.bands;
+  auto& standing = tb.standing;
+  const int sets = tb.sets;
+  auto& cand = tb.cand;
+  auto& left = tb.left;
+  const std::uint32_t left_count = tb.left_count;
+  auto& probe = tb.probe;
+  const std::uint8_t gaze_flag = tb.gaze_flag;
+  const std::int32_t* x_step = tb.in.x_step;
+  const std::uint32_t *ec_j = tb.in.ec_j, *still = tb.in.still;
   // Pass 6: the decisions through the objects' views: over their whole cells where those decide, else
   // at their place in the cells; remembered where they stand (a moving image: over whole cells or over
   // the quarters of its cells it lies in).
@@ -481,6 +550,19 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
     out[j] = table_choice(pc, b.e[j], o, scores ? scores[j] : nullptr);
     out[j].flags |= gaze_flag;
   }
+}
+
+void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                         Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
+  Tabulation tb;
+  tb.gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
+  tb.sets = margin_sets(config_);
+  tabulate_memos(eye, first, n, b, memo, scores != nullptr, tb);
+  tabulate_rows(eye, first, n, b, memo, out, scores, tb);
+  tabulate_any_view(first, b, memo, out, tb);
+  tabulate_views(eye, first, n, b, memo, tb);
+  tabulate_through_view(first, b, memo, out, scores, tb);
+  const auto& standing = tb.standing;
   // Rests for the objects a standing memo decided, where the eye can rest (none with scores); where
   // few objects were at rest last frame, in one block of eight each frame (an eye that keeps moving
   // leaves them at once: little is spent on them).

@@ -288,13 +288,26 @@ class Scheduler {
   float error_threshold(float error_size, float focal_px) const;
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
-  struct Probe;                                       // tabulated path: one object's table position
+  std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
+  void explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
+                     std::uint32_t stride, float inv_diam, float ln_excess, LevelExplain* out) const;
+  struct Probe;   // tabulated path: one object's table position
   struct Memo;    // tabulated path: per eye, each object's last decision made over whole cells
   struct Inputs;  // tabulated path: a block's table positions and memo hits
   void table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                     const Memo& memo, bool use_memo, Inputs* out) const;
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
                 Choice* out, float (*scores)[kMaxLevels]) const;
+  struct Tabulation;  // tabulate()'s passes: one block's state between them
+  void tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                      const Memo& memo, bool scores, Tabulation& tb) const;
+  void tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                     const Memo& memo, Choice* out, float (*scores)[kMaxLevels], Tabulation& tb) const;
+  void tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out, Tabulation& tb) const;
+  void tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
+                      Tabulation& tb) const;
+  void tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                             float (*scores)[kMaxLevels], Tabulation& tb) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
   static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
                             std::int32_t* lo, std::int32_t* hi);
@@ -306,7 +319,11 @@ class Scheduler {
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
+  void build_curves();  // at creation
   void build_tables(ProfileCache& c) const;
+  void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
+  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
+  void build_any_view(ProfileCache& c, std::uint32_t set) const;
   // Whether a configuration's perceptual rule reads tables: the models whose thresholds never fall
   // with speed (see "The tabulated path").
   static bool tabulated(const SchedulerConfig& c) {
