@@ -8,7 +8,7 @@ namespace acuity {
 // a level whose geometric error is error_size radii is allowed, for an eye of this focal length [px]
 // (+inf: never). Distance: d >= distance_scale / tan(1 arcmin) x error. ScreenSize: error / d x
 // focal <= pixel_error, so never for pixel_error < 0 (or NaN), only an error of 0 for pixel_error 0.
-float Scheduler::error_threshold(float error_size, float focal_px) const {
+float Scheduler::Impl::error_threshold(float error_size, float focal_px) const {
   if (config_.rule == SelectionRule::Distance) return pre_->distance_per_error * error_size;
   const float allowed = config_.pixel_error;
   if (allowed > 0) return error_size * focal_px / allowed;
@@ -16,7 +16,7 @@ float Scheduler::error_threshold(float error_size, float focal_px) const {
 }
 
 // One object (explain()): the coarsest level whose geometric error passes the rule's test.
-Scheduler::Choice Scheduler::choose_by_error(ObjectId id, const Sight& s) const {
+Scheduler::Impl::Choice Scheduler::Impl::choose_by_error(ObjectId id, const Sight& s) const {
   const std::size_t at = std::size_t(profile_of_[id]) * kMaxLevels;
   float threshold[kMaxLevels];
   for (std::uint32_t k = 1; k < level_count_[profile_of_[id]]; ++k)
@@ -27,7 +27,8 @@ Scheduler::Choice Scheduler::choose_by_error(ObjectId id, const Sight& s) const 
 
 // A block through Distance or ScreenSize: per object and eye the ratio distance / radius against
 // the profile's thresholds of this frame (begin_frame).
-void Scheduler::choose_by_error(std::uint32_t first, std::uint32_t n, const Block* blocks, Decisions* out) {
+void Scheduler::Impl::choose_by_error(std::uint32_t first, std::uint32_t n, const Block* blocks,
+                                      Decisions* out) {
   const std::uint32_t count = max_level_count_;
   for (std::uint32_t j = 0; j < n; ++j) {
     const int p = profile_of_[first + j];

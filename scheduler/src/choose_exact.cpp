@@ -6,8 +6,8 @@ namespace acuity {
 
 // One eye's view of one object (sight() and aim() done) through the configured rule, exactly.
 // scores_out (K floats) and ex are optional.
-Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out,
-                                      ObjectExplain* ex) const {
+Scheduler::Impl::Choice Scheduler::Impl::evaluate(ObjectId id, Look look, const Sight& s, float* scores_out,
+                                                  ObjectExplain* ex) const {
   const Profile& p = profiles_[profile_of_[id]].profile;
   const std::uint32_t K = p.meta.level_count;
   if (scores_out) std::fill(scores_out, scores_out + K, 0.0f);
@@ -36,7 +36,7 @@ Scheduler::Choice Scheduler::evaluate(ObjectId id, Look look, const Sight& s, fl
 // ln CT per (orientation, band) of one object seen as s (ln_ct: [rows][B]; Reddy: each row's visible
 // limit [cpod]). A static object's velocity is the drift floor in every orientation, so one row serves
 // all of them. Returns the number of rows: T, or 1.
-std::uint32_t Scheduler::exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const {
+std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const {
   const Profile& p = pc.profile;
   const std::uint32_t T = p.meta.orientation_count, B = p.meta.band_count;
   const float nyquist_cpd = s.nyquist_cpd, diameter_deg = s.diameter_deg, e = s.e;
@@ -75,9 +75,9 @@ std::uint32_t Scheduler::exact_thresholds(const ProfileCache& pc, const Sight& s
 
 // explain()'s pass over the same arithmetic: level k's score (ln_excess = ln(score)) and the component
 // that limits it, found again from choose_exact()'s thresholds (ln_ct, rows of `stride`).
-void Scheduler::explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
-                              std::uint32_t stride, float inv_diam, float ln_excess,
-                              LevelExplain* out) const {
+void Scheduler::Impl::explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k,
+                                    const float* ln_ct, std::uint32_t stride, float inv_diam, float ln_excess,
+                                    LevelExplain* out) const {
   const Profile& p = pc.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const std::size_t TB = std::size_t(T) * B;
@@ -116,8 +116,8 @@ void Scheduler::explain_level(const ProfileCache& pc, std::uint32_t view, std::u
 // The perceptual rule evaluated in full (and Reddy's rule):
 //   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
 //   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
-Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* scores_out,
-                                          ObjectExplain* ex) const {
+Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& s, float* scores_out,
+                                                      ObjectExplain* ex) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
@@ -192,8 +192,8 @@ Scheduler::Choice Scheduler::choose_exact(ObjectId id, const Sight& s, float* sc
 }
 
 // The perceptual rules for a block whose passes are done: each eye's choice, the finer need wins.
-void Scheduler::choose_perceptual(std::uint32_t first, std::uint32_t n, const Look (*looks)[kBlock],
-                                  const Sight (*sights)[kBlock], Decisions* out) {
+void Scheduler::Impl::choose_perceptual(std::uint32_t first, std::uint32_t n, const Look (*looks)[kBlock],
+                                        const Sight (*sights)[kBlock], Decisions* out) {
   for (std::uint32_t j = 0; j < n; ++j) {
     const ObjectId id = first + j;
     if (profile_of_[id] < 0) continue;

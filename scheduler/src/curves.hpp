@@ -6,7 +6,7 @@
 namespace acuity {
 
 // The tabulated path's threshold curves on the table grid (config-dependent, profile-independent).
-struct Scheduler::Curves {
+struct Scheduler::Impl::Curves {
   std::vector<float> still;   // [kStillE][kCurveSamples]: the floor's terms
   std::vector<float> slow;    // [kStillE][kCurveSamples]: moving at the floor (the velocity envelope)
   std::vector<float> moving;  // [kMovingS][kMovingE][kCurveSamples]

@@ -4,7 +4,7 @@
 
 namespace acuity {
 
-void Scheduler::begin_frame(const Frame& frame) {
+void Scheduler::Impl::begin_frame(const Frame& frame) {
   eye_count_ = std::clamp<std::uint32_t>(frame.eye_count, 1, 2);
   dt_ = std::isfinite(frame.dt) && frame.dt > 0 ? frame.dt : 0.0f;
   saccade_ = false;
@@ -69,7 +69,7 @@ void Scheduler::begin_frame(const Frame& frame) {
   }
 }
 
-void Scheduler::update(std::uint32_t first, std::uint32_t count) {
+void Scheduler::Impl::update(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t end =
       first >= config_.max_objects ? first : first + std::min(count, config_.max_objects - first);
   Block blocks[2];
@@ -134,7 +134,7 @@ void Scheduler::update(std::uint32_t first, std::uint32_t count) {
 // ahead. A frame reads some thirty of them side by side: more streams than the hardware prefetcher
 // follows, so without this every block began with misses in each (measured in docs/benchmarks.md).
 // An array the frame loop starts to read belongs here too. Hints only: nothing here changes a result.
-void Scheduler::prefetch_objects(std::uint32_t first) const {
+void Scheduler::Impl::prefetch_objects(std::uint32_t first) const {
   constexpr std::uint32_t n = Block::kSize, kLine = 64;
   const auto lines = [](const void* p, std::size_t bytes) {
     for (std::size_t o = 0; o < bytes; o += kLine) ACUITY_PREFETCH(static_cast<const char*>(p) + o);
@@ -160,7 +160,7 @@ void Scheduler::prefetch_objects(std::uint32_t first) const {
 
 // Velocities not given are derived from the positions and dt (a given velocity stays given, so its
 // object's previous position is never read again). Blocks whose velocities are all given skip it.
-ACUITY_SIMD_CLONES void Scheduler::derive_velocities(std::uint32_t first, std::uint32_t n) {
+ACUITY_SIMD_CLONES void Scheduler::Impl::derive_velocities(std::uint32_t first, std::uint32_t n) {
   const std::uint8_t* given = &explicit_velocity_[first];
   std::uint8_t all = 1;
   for (std::uint32_t j = 0; j < n; ++j) all &= given[j];
@@ -182,7 +182,7 @@ ACUITY_SIMD_CLONES void Scheduler::derive_velocities(std::uint32_t first, std::u
 // once; a finer level (or the fallback) applies at once; a coarser one after hysteresis_frames
 // calm frames and, with saccade gating, in a saccade or after max_coarsen_wait frames (kFlagHeld
 // meanwhile). Free slots keep their state.
-ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
+ACUITY_SIMD_CLONES void Scheduler::Impl::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
   const std::uint32_t frames = config_.hysteresis_frames, max_wait = config_.max_coarsen_wait;
   const std::uint32_t gate_open = config_.saccade_speed <= 0 || saccade_;
   const int* profile = &profile_of_[first];
@@ -222,7 +222,7 @@ ACUITY_SIMD_CLONES void Scheduler::settle(std::uint32_t first, std::uint32_t n, 
   }
 }
 
-void Scheduler::end_frame() {
+void Scheduler::Impl::end_frame() {
   if (config_.triangle_budget > 0) apply_budget();
   FrameStats& st = stats_;
   st.changed = st.invalid = st.budget_forced = st.at_rest = 0;
@@ -252,8 +252,8 @@ void Scheduler::end_frame() {
 // where the next level is not the drawn one), and returns how many levels change. Reads only: it
 // vectorises, and the objects whose level stays are not written. Free slots count nothing (their
 // flags and rest are 0 and their next level the drawn one: remove_object()).
-ACUITY_SIMD_CLONES std::uint32_t Scheduler::count_flags(std::uint32_t first, std::uint32_t n,
-                                                        FrameStats* st) const {
+ACUITY_SIMD_CLONES std::uint32_t Scheduler::Impl::count_flags(std::uint32_t first, std::uint32_t n,
+                                                              FrameStats* st) const {
   const std::uint8_t *next = &next_[first], *level = &level_[first], *flags = &flags_[first],
                      *rest = &rest_[first];
   std::uint32_t changes = 0, changed = 0, invalid = 0, forced = 0, at_rest = 0;
@@ -275,7 +275,7 @@ ACUITY_SIMD_CLONES std::uint32_t Scheduler::count_flags(std::uint32_t first, std
 
 // Funkhouser & Sequin: while over budget, coarsen by one level the object whose next level costs
 // the least perceptual harm (its score) per triangle saved. Ties go to the lower id.
-void Scheduler::apply_budget() {
+void Scheduler::Impl::apply_budget() {
   std::uint64_t total = 0;
   for (std::uint32_t id = 0; id < config_.max_objects; ++id)
     if (profile_of_[id] >= 0) total += profiles_[profile_of_[id]].profile.levels[next_[id]].triangles;

@@ -7,8 +7,8 @@ namespace acuity {
 // The first pass, for `count` consecutive objects from `first` and one eye: arithmetic only, no
 // branches and no calls, so the compiler vectorises it. Camera-relative geometry subtracts in double
 // first, so 1e7 m from the origin is exact. Free slots have radius 0 and come out Invalid.
-ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count,
-                                              Block* out) const {
+ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::uint32_t first,
+                                                    std::uint32_t count, Block* out) const {
   const double* px = &position_[0][first];
   const double* py = &position_[1][first];
   const double* pz = &position_[2][first];
@@ -92,8 +92,8 @@ ACUITY_SIMD_CLONES void Scheduler::look_block(const EyeCache& eye, std::uint32_t
 }
 
 // The second pass for one object: the view lookup and retinal slip, what branches.
-Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& b, std::uint32_t j,
-                                 Sight* s) const {
+Scheduler::Impl::Look Scheduler::Impl::sight(ObjectId id, const EyeCache& eye, const Block& b,
+                                             std::uint32_t j, Sight* s) const {
   if (const Look state = b.state(j); state != Look::Ok) return state;
   s->d = b.d[j];
   s->r = b.r[j];
@@ -119,14 +119,14 @@ Scheduler::Look Scheduler::sight(ObjectId id, const EyeCache& eye, const Block& 
 }
 
 // The candidate views' directions prefetched (between sight() and aim(), a pass apart).
-void Scheduler::prefetch_views(ObjectId id, const Sight& s) const {
+void Scheduler::Impl::prefetch_views(ObjectId id, const Sight& s) const {
   const Profile& p = profiles_[profile_of_[id]].profile;
   for (std::uint32_t k = 0; k < kLookupCandidates; ++k) ACUITY_PREFETCH(&p.views[s.cand[k]]);
 }
 
 // The profile's view nearest to the direction from the object to the eye, and the retinal slip in
 // that snapshot's image axes, so it meets the profile's orientations in one frame.
-void Scheduler::aim(ObjectId id, Sight* s) const {
+void Scheduler::Impl::aim(ObjectId id, Sight* s) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
   const Profile& p = pc.profile;
   s->view = nearest_view(p, s->cand, s->to_eye);

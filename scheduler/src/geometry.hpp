@@ -5,7 +5,7 @@
 
 namespace acuity {
 
-struct Scheduler::EyeCache {
+struct Scheduler::Impl::EyeCache {
   double position[3];
   float rotation[4];
   Vec3 forward;   // world
@@ -21,7 +21,7 @@ struct Scheduler::EyeCache {
 };
 
 // One eye's view of one object: everything the rules read.
-struct Scheduler::Sight {
+struct Scheduler::Impl::Sight {
   float d, r;  // distance to the sphere's centre, radius [m]
   float radius_deg, diameter_deg, ln_diam;
   float focal_px;
@@ -39,7 +39,7 @@ struct Scheduler::Sight {
 };
 
 // One eye's view of up to kSize consecutive objects, structure of arrays (the frame loop's first pass).
-struct Scheduler::Block {
+struct Scheduler::Impl::Block {
   static constexpr std::uint32_t kSize = kBlock;
   float d[kSize], r[kSize], radius_deg[kSize], ln_diam[kSize];
   // Perceptual and Reddy only:
@@ -55,7 +55,7 @@ struct Scheduler::Block {
 };
 
 // One block's choices, both eyes combined (the finer need wins), before clamps and hysteresis.
-struct Scheduler::Decisions {
+struct Scheduler::Impl::Decisions {
   std::uint8_t fine[kBlock], coarse[kBlock], flags[kBlock];
 };
 

@@ -4,7 +4,7 @@
 
 namespace acuity {
 
-void Scheduler::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
+void Scheduler::Impl::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
   Pose now{};
   const auto zero = [](Vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; };
   // A still image stays still only while nothing moves it: no eye or head velocity, no gaze velocity.
@@ -48,7 +48,8 @@ void Scheduler::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
 // computes it at the ends of its range, stays inside the memo's box. The direction to the object
 // turns by at most asin(m / d); the angular radius and x are monotone in d (a table step of room for
 // the fast functions' ulps); the eccentricity cell and its weight are monotone in e.
-bool Scheduler::stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m, float t) const {
+bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m,
+                                     float t) const {
   const float room_d = 1e-5f * h.d;  // float error of the distance as computed
   const float d_near = h.d - m - room_d, d_far = h.d + m + room_d;
   if (!(d_near > h.r) || !(m + room_d < h.d)) return false;
@@ -81,7 +82,7 @@ bool Scheduler::stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h
   return memo.f_lo[id] * inv_diam_most <= nyquist_least && memo.f_hi[id] * inv_diam_least > nyquist_most;
 }
 
-void Scheduler::end_rests(ObjectId id) {
+void Scheduler::Impl::end_rests(ObjectId id) {
   if (memos_)
     for (int i = 0; i < 2; ++i) memos_[i].end_rest(id);
 }
@@ -120,8 +121,8 @@ float view_margin(const float d[3], std::uint32_t resolution, const float (*view
 
 // Sets object id's rest for one eye from its geometry now (block b's j-th), where its memo decides it
 // this frame and it does not move: the wider of two tries stands_at_rest() confirms, else none.
-void Scheduler::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b,
-                         std::uint32_t j) const {
+void Scheduler::Impl::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b,
+                               std::uint32_t j) const {
   memo.rest_frame[id] = frame_;
   memo.end_rest(id);
   if (velocity_[0][id] != 0.0f || velocity_[1][id] != 0.0f || velocity_[2][id] != 0.0f) return;
@@ -167,7 +168,7 @@ void Scheduler::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Blo
 // A block whose objects are nearly all at rest (the eye within each one's rest, every eye): those
 // decided from their memos, the few runs of others through the frame loop. Returns false, deciding
 // nothing, where more than kMostRuns runs are not at rest (the whole block's passes cost less then).
-bool Scheduler::rest_mask(std::uint32_t first, std::uint32_t n, std::uint32_t* at_rest) const {
+bool Scheduler::Impl::rest_mask(std::uint32_t first, std::uint32_t n, std::uint32_t* at_rest) const {
   for (std::uint32_t j = 0; j < n; ++j) at_rest[j] = 1;
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
@@ -191,7 +192,8 @@ bool Scheduler::rest_mask(std::uint32_t first, std::uint32_t n, std::uint32_t* a
 }
 
 // The per-object arrays the frame loop reads of the objects of a block not at rest (rest_mask()).
-void Scheduler::prefetch_restless(std::uint32_t first, std::uint32_t n, const std::uint32_t* at_rest) const {
+void Scheduler::Impl::prefetch_restless(std::uint32_t first, std::uint32_t n,
+                                        const std::uint32_t* at_rest) const {
   for (std::uint32_t j = 0; j < n; ++j) {
     if (at_rest[j]) continue;
     const ObjectId id = first + j;
@@ -220,8 +222,8 @@ void Scheduler::prefetch_restless(std::uint32_t first, std::uint32_t n, const st
   }
 }
 
-void Scheduler::decide_at_rest(std::uint32_t first, std::uint32_t n, const std::uint32_t* at_rest,
-                               Decisions* out) {
+void Scheduler::Impl::decide_at_rest(std::uint32_t first, std::uint32_t n, const std::uint32_t* at_rest,
+                                     Decisions* out) {
   std::uint8_t* rest = &rest_[first];
   for (std::uint32_t j = 0; j < n; ++j) rest[j] = static_cast<std::uint8_t>(at_rest[j]);
   // The memo's decision, both eyes: the finer need wins.
@@ -259,7 +261,7 @@ void Scheduler::decide_at_rest(std::uint32_t first, std::uint32_t n, const std::
 
 // The holds of a block's memos made through the view (their keys, prefetched a block earlier, say
 // which): the others are never read.
-void Scheduler::prefetch_holds(std::uint32_t first) const {
+void Scheduler::Impl::prefetch_holds(std::uint32_t first) const {
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
     std::uint8_t through[Block::kSize];  // listed without branches (which ones is unpredictable)
@@ -281,9 +283,9 @@ void Scheduler::prefetch_holds(std::uint32_t first) const {
 // which view_key and speed_key stay, less room for the rounding of each as the frame loop computes
 // it (a ten-thousandth of the quantity or of its cell). None where the image slips but
 // not in the view's axes (then any change of slip may move it).
-void Scheduler::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o,
-                          const std::uint16_t* cand, const Block& b, std::uint32_t j, bool quartered,
-                          bool still) const {
+void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o,
+                                const std::uint16_t* cand, const Block& b, std::uint32_t j, bool quartered,
+                                bool still) const {
   Memo::Hold& h = memo.hold[id];
   h.turn = -1.0f;
   if (!o.moving && !still) return;

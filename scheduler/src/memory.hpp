@@ -15,7 +15,7 @@ namespace acuity {
 // the same view_key and speed_key. Tables never change once built, so within these the decision is
 // the one the rows would give again: an object kept still, or moving steadily, is decided from its
 // own memo without reading a table. Object slots start (add_object) with no memo.
-struct Scheduler::Memo {
+struct Scheduler::Impl::Memo {
   static constexpr std::uint16_t kNone = 0xffff;  // a key no object has
   static constexpr std::uint16_t kThroughView = 1 << 14;
   static std::uint32_t key_of(std::uint32_t ec, std::uint32_t still, std::uint32_t tables) {
@@ -133,20 +133,20 @@ struct Scheduler::Memo {
 };
 
 // What a rest's check reads of an object and one eye now.
-struct Scheduler::RestProbe {
+struct Scheduler::Impl::RestProbe {
   float d, r;                       // distance, radius [m]
   float gaze_angle, forward_angle;  // from the direction to the object to the gaze's and the head's [deg]
   float view_margin;                // how far [rad] the direction may turn before its view can change
   float half_focal, offset;         // as look_block() reads them
 };
 
-inline std::uint32_t Scheduler::Memo::view_key_of(const Probe& o, bool quartered) {
+inline std::uint32_t Scheduler::Impl::Memo::view_key_of(const Probe& o, bool quartered) {
   if (!o.moving) return o.where << 8;
   const std::uint32_t quarter = quartered ? kQuartered | quarter_of(o.em.w) << 5 : 0u;
   return o.where << 8 | quarter | o.em.j << 1 | 1u;
 }
 
-inline std::uint64_t Scheduler::Memo::speed_key_of(const Probe& o, std::uint32_t T, bool quartered) {
+inline std::uint64_t Scheduler::Impl::Memo::speed_key_of(const Probe& o, std::uint32_t T, bool quartered) {
   std::uint64_t k = 0;
   for (std::uint32_t t = 0; o.moving && t < T; ++t) {
     k |= std::uint64_t(o.speed_j[t]) << (4 * t);

@@ -1,7 +1,8 @@
 #pragma once
 // The runtime's internal arithmetic (scheduler/src only): vectors, the Default model's fast terms,
-// the velocity envelope, and what depends only on the configuration (Scheduler::Precomputed).
+// the velocity envelope, and what depends only on the configuration (Scheduler::Impl::Precomputed).
 #include "acuity/scheduler.hpp"
+#include "impl.hpp"
 
 #include "fast_math.hpp"
 #include "vectorize.hpp"
@@ -162,7 +163,7 @@ namespace acuity {
 using namespace internal;
 
 // Everything that depends only on the configuration, computed once at creation.
-struct Scheduler::Precomputed {
+struct Scheduler::Impl::Precomputed {
   DalyConstants daly{};
   VelocityTerms static_terms{};  // Default-model terms at the velocity floor
   float floor_velocity = 0;      // [deg/s]

@@ -19,7 +19,7 @@
 
 namespace acuity {
 
-Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
+Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
   const std::size_t n = config_.max_objects;
   profiles_.resize(config_.max_profiles);
@@ -100,11 +100,11 @@ Scheduler::Scheduler(const SchedulerConfig& config) : config_(config) {
   }
 }
 
-float Scheduler::envelope_speed(float frequency_cpd) const { return pre_->speed_at(std::log(frequency_cpd)); }
+float Scheduler::Impl::envelope_speed(float frequency_cpd) const {
+  return pre_->speed_at(std::log(frequency_cpd));
+}
 
-Scheduler::~Scheduler() = default;
-
-int Scheduler::add_profile(const Profile& p) {
+int Scheduler::Impl::add_profile(const Profile& p) {
   if (profile_count_ >= config_.max_profiles) return -1;
   ProfileCache& c = profiles_[profile_count_];
   c.profile = p;
@@ -145,7 +145,7 @@ int Scheduler::add_profile(const Profile& p) {
   return static_cast<int>(profile_count_++);
 }
 
-ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
+ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
   if (profile < 0 || profile >= static_cast<int>(profile_count_) || free_list_.empty()) return kInvalidObject;
   const ObjectId id = free_list_.back();
   free_list_.pop_back();
@@ -172,7 +172,7 @@ ObjectId Scheduler::add_object(int profile, const ObjectTransform& t) {
   return id;
 }
 
-void Scheduler::remove_object(ObjectId id) {
+void Scheduler::Impl::remove_object(ObjectId id) {
   if (!alive(id)) return;
   drawn_triangles_ -= triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
   profile_of_[id] = -1;
@@ -184,7 +184,7 @@ void Scheduler::remove_object(ObjectId id) {
   free_list_.push_back(id);
 }
 
-void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
+void Scheduler::Impl::set_transform(ObjectId id, const ObjectTransform& t) {
   if (!alive(id)) return;
   // The frame reads the sphere scaled (the same products it would form): one array fewer per object.
   const float* sphere = profiles_[profile_of_[id]].profile.meta.sphere;
@@ -206,21 +206,21 @@ void Scheduler::set_transform(ObjectId id, const ObjectTransform& t) {
     for (int i = 0; i < 2; ++i) memos_[i].end_hold(id);
 }
 
-void Scheduler::set_velocity(ObjectId id, const float v[3]) {
+void Scheduler::Impl::set_velocity(ObjectId id, const float v[3]) {
   if (!alive(id)) return;
   for (int k = 0; k < 3; ++k) velocity_[k][id] = v[k];
   explicit_velocity_[id] = 1;
   end_rests(id);
 }
 
-void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level) {
+void Scheduler::Impl::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level) {
   if (!alive(id)) return;
   min_level_[id] = min_level;
   max_level_[id] =
       std::min(std::max(min_level, max_level), static_cast<std::uint8_t>(level_count_[profile_of_[id]] - 1));
 }
 
-void Scheduler::set_bias(ObjectId id, float quality_bias) {
+void Scheduler::Impl::set_bias(ObjectId id, float quality_bias) {
   if (!alive(id)) return;
   bias_[id] = quality_bias;
   bias_tables_[id] = bias_tables_of(quality_bias);
@@ -229,7 +229,7 @@ void Scheduler::set_bias(ObjectId id, float quality_bias) {
 
 // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
 // would drop what the engine asked for). The frame loop tests an object's bias here, not bias_.
-std::uint8_t Scheduler::bias_tables_of(float bias) const {
+std::uint8_t Scheduler::Impl::bias_tables_of(float bias) const {
   const float q = config_.quality * bias;
   if (!(std::isfinite(q) && q > 0.0f)) return kInvalidBias;
   const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, bias);
@@ -237,11 +237,11 @@ std::uint8_t Scheduler::bias_tables_of(float bias) const {
                                                       : static_cast<std::uint8_t>(tabulated - table_bias_);
 }
 
-const float* Scheduler::scores(ObjectId id) const {
+const float* Scheduler::Impl::scores(ObjectId id) const {
   return config_.keep_scores && alive(id) ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
 }
 
-bool Scheduler::explain(ObjectId id, ObjectExplain* out) const {
+bool Scheduler::Impl::explain(ObjectId id, ObjectExplain* out) const {
   if (!alive(id) || !out) return false;
   *out = ObjectExplain{};
   // The eye that needs the finer level is the one that decides.
@@ -290,5 +290,41 @@ const char* to_string(Evaluation evaluation) {
 }
 bool parse_selection_rule(const char* name, SelectionRule* out) { return parse_name(name, kRuleNames, out); }
 bool parse_evaluation(const char* name, Evaluation* out) { return parse_name(name, kEvaluationNames, out); }
+
+// ---- The public face: every call forwards to the implementation ----------------------------------
+
+Scheduler::Scheduler(const SchedulerConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+Scheduler::~Scheduler() = default;
+int Scheduler::add_profile(const Profile& profile) { return impl_->add_profile(profile); }
+ObjectId Scheduler::add_object(int profile, const ObjectTransform& transform) {
+  return impl_->add_object(profile, transform);
+}
+void Scheduler::remove_object(ObjectId id) { impl_->remove_object(id); }
+void Scheduler::set_transform(ObjectId id, const ObjectTransform& transform) {
+  impl_->set_transform(id, transform);
+}
+void Scheduler::set_velocity(ObjectId id, const float velocity[3]) { impl_->set_velocity(id, velocity); }
+void Scheduler::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level) {
+  impl_->set_clamps(id, min_level, max_level);
+}
+void Scheduler::set_bias(ObjectId id, float quality_bias) { impl_->set_bias(id, quality_bias); }
+void Scheduler::begin_frame(const Frame& frame) { impl_->begin_frame(frame); }
+void Scheduler::update(std::uint32_t first, std::uint32_t count) { impl_->update(first, count); }
+void Scheduler::end_frame() { impl_->end_frame(); }
+std::uint32_t Scheduler::object_capacity() const { return impl_->object_capacity(); }
+bool Scheduler::alive(ObjectId id) const { return impl_->alive(id); }
+std::uint8_t Scheduler::level(ObjectId id) const { return impl_->level(id); }
+std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags(id); }
+std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->previous_level(id); }
+float Scheduler::transition(ObjectId id) const { return impl_->transition(id); }
+const float* Scheduler::scores(ObjectId id) const { return impl_->scores(id); }
+const FrameStats& Scheduler::stats() const { return impl_->stats(); }
+const SchedulerConfig& Scheduler::config() const { return impl_->config(); }
+std::size_t Scheduler::table_bytes(int profile) const { return impl_->table_bytes(profile); }
+std::size_t Scheduler::table_bytes(const ProfileMeta& meta, const SchedulerConfig& config) {
+  return Impl::table_bytes(meta, config);
+}
+float Scheduler::envelope_speed(float frequency_cpd) const { return impl_->envelope_speed(frequency_cpd); }
+bool Scheduler::explain(ObjectId id, ObjectExplain* out) const { return impl_->explain(id, out); }
 
 }  // namespace acuity

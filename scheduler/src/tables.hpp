@@ -21,7 +21,7 @@ constexpr float kNever = -1e30f;  // a table entry no size passes
 // the bilinear surface can still cut above the truth between centre and edges (measured: < 0.003).
 constexpr float kBilinearMargin = 0.001f;
 // Table sets per profile: [2 i + 0] score <= 1, [2 i + 1] score <= 1 - margin, at the i-th bias with
-// tables (Scheduler::table_bias_); an object whose bias has none takes the exact path.
+// tables (Scheduler::Impl::table_bias_); an object whose bias has none takes the exact path.
 constexpr std::uint32_t kTableSets = 2 * (1 + kMaxTabulatedBiases);
 constexpr std::uint8_t kExactBias = 255;
 constexpr std::uint8_t kInvalidBias = 254;  // quality x bias not finite and > 0: invalid input
@@ -167,7 +167,7 @@ bool stand_at_place(float x, std::int32_t x_step, float w, const Lines& lines, S
 
 namespace acuity {
 
-struct Scheduler::ProfileCache {
+struct Scheduler::Impl::ProfileCache {
   Profile profile{};
   std::vector<float> ln_lost;       // [(K-1) V T B], -inf where nothing is lost
   std::vector<float> ln_lost_any;   // [(K-1) V B]: max over orientations (all a static object needs)
@@ -195,7 +195,7 @@ struct Scheduler::ProfileCache {
 };
 
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
-struct Scheduler::Probe {
+struct Scheduler::Impl::Probe {
   float x;                                 // ln angular diameter [ln deg]
   std::uint8_t tables;                     // the object's bias's first table set (kTableSets)
   float vx, vy;                            // retinal slip in the view's image axes [deg/s]

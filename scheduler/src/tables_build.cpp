@@ -5,7 +5,7 @@ namespace acuity {
 
 // The threshold curves the tables are read from, on the table grid (Curves): at creation, once for
 // every profile.
-void Scheduler::build_curves() {
+void Scheduler::Impl::build_curves() {
   const Precomputed& pre = *pre_;
   curves_ = std::make_unique<Curves>();
   curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
@@ -44,7 +44,7 @@ void Scheduler::build_curves() {
 }
 
 // Fills the tabulated path's tables of one profile (see ProfileCache).
-void Scheduler::build_tables(ProfileCache& c) const {
+void Scheduler::Impl::build_tables(ProfileCache& c) const {
   const Profile& p = c.profile;
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
                       B = p.meta.band_count, L = K - 1;
@@ -67,8 +67,8 @@ void Scheduler::build_tables(ProfileCache& c) const {
 }
 
 // The still and slow tables of view w and level k in table set `set` (ln_q: its ln q).
-void Scheduler::build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
-                            std::uint32_t k) const {
+void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
+                                  std::uint32_t k) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
@@ -125,8 +125,8 @@ void Scheduler::build_still(ProfileCache& c, std::uint32_t set, float ln_q, std:
 }
 
 // The moving tables of view w and level k in table set `set` (ln_q: its ln q).
-void Scheduler::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
-                             std::uint32_t k) const {
+void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
+                                   std::uint32_t k) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count,
                       L = p.meta.level_count - 1;
@@ -178,7 +178,7 @@ void Scheduler::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std
 }
 
 // The bounds over every view of table set `set` (its still and slow tables built).
-void Scheduler::build_any_view(ProfileCache& c, std::uint32_t set) const {
+void Scheduler::Impl::build_any_view(ProfileCache& c, std::uint32_t set) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
   const std::vector<std::int16_t>& still = c.sets[set].still;
@@ -201,7 +201,7 @@ void Scheduler::build_any_view(ProfileCache& c, std::uint32_t set) const {
     }
 }
 
-std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
+std::size_t Scheduler::Impl::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
   if (!tabulated(config) || m.level_count < 2) return 0;
   const std::size_t per_set =
       std::size_t(m.view_count) * (m.level_count - 1) *
@@ -212,7 +212,7 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& m, const SchedulerConfig& 
          sizeof(std::int16_t);
 }
 
-std::size_t Scheduler::table_bytes(int profile) const {
+std::size_t Scheduler::Impl::table_bytes(int profile) const {
   if (profile < 0 || profile >= static_cast<int>(profile_count_)) return 0;
   const ProfileCache& c = profiles_[profile];
   std::size_t n = 0;

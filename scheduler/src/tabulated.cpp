@@ -21,10 +21,10 @@ namespace acuity {
 // the least still and slow bound passes the coarsest level. Integers: x [ln deg] rounded up to the
 // tables' step passes an entry exactly where x does.
 // The row of the cell's lower node (the upper node's follows it).
-[[gnu::always_inline]] inline const std::int16_t* Scheduler::any_view_row(const ProfileCache& pc,
-                                                                          std::uint32_t L,
-                                                                          std::uint32_t bands,
-                                                                          std::uint32_t ec, int set) {
+[[gnu::always_inline]] inline const std::int16_t* Scheduler::Impl::any_view_row(const ProfileCache& pc,
+                                                                                std::uint32_t L,
+                                                                                std::uint32_t bands,
+                                                                                std::uint32_t ec, int set) {
   return &pc.sets[set].any_view[((std::size_t(bands) - 1) * kStillE + ec) * (2 * std::size_t(L) + 1)];
 }
 // row: any_view_row()'s for a profile of L coarser levels; x: the object's ln angular diameter
@@ -32,9 +32,9 @@ namespace acuity {
 // of its two nodes'. (*lo, *hi] narrows to the x where each entry compared keeps its outcome (lo the
 // largest below x, hi the least at or above it): there the result is the same, so a memo of it
 // stands there.
-[[gnu::always_inline]] inline int Scheduler::any_view_level(const std::int16_t* row, std::uint32_t L,
-                                                            std::int32_t x, bool still, std::int32_t* lo,
-                                                            std::int32_t* hi) {
+[[gnu::always_inline]] inline int Scheduler::Impl::any_view_level(const std::int16_t* row, std::uint32_t L,
+                                                                  std::int32_t x, bool still,
+                                                                  std::int32_t* lo, std::int32_t* hi) {
   const std::int16_t* upper = row + 2 * L + 1;
   if (!still)
     return passes_narrowing(x, std::min(row[2 * L], upper[2 * L]), lo, hi) ? static_cast<int>(L) : -1;
@@ -68,8 +68,8 @@ void any_view_lines(const std::int16_t* row, std::uint32_t L, bool still, const 
 // still a bound over every view, and a closer one. x: the object's ln angular diameter [ln deg].
 // Decides more objects than any_view_level(), for this eccentricity (stand_at_place() finds how far
 // around it the decision stands).
-[[gnu::always_inline]] inline int Scheduler::any_view_level_at(const std::int16_t* row, std::uint32_t L,
-                                                               float x, float w, bool still) {
+[[gnu::always_inline]] inline int Scheduler::Impl::any_view_level_at(const std::int16_t* row, std::uint32_t L,
+                                                                     float x, float w, bool still) {
   const std::int16_t* upper = row + 2 * L + 1;
   const auto at = [&](std::uint32_t i) { return between(row[i], upper[i], w); };
   if (!still) return x <= at(2 * L) - kAnyViewRounding ? static_cast<int>(L) : -1;
@@ -90,8 +90,8 @@ void any_view_lines(const std::int16_t* row, std::uint32_t L, bool still, const 
 // passes there too, and none failing the most does. Integers, x and (*lo, *hi] as in
 // any_view_level(): a bound in table steps rounded down for the least, up for the most (entries,
 // the whole cells' corners, are exact). A moving object's cells must be set (o.cells).
-int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
-                               bool quartered, std::int32_t* lo, std::int32_t* hi) {
+int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
+                                     bool quartered, std::int32_t* lo, std::int32_t* hi) {
   const ProfileMeta& m = pc.profile.meta;
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
   const ProfileCache::Tables& tables = pc.sets[o.tables + set];
@@ -147,7 +147,7 @@ int Scheduler::view_cell_level(const ProfileCache& pc, const Probe& o, std::int3
 // The inputs of the tables for a block's objects (tabulate()'s pass 1), branch-free so that it
 // vectorises: the tables' x and eccentricity cell and whether the image is still on the retina (as
 // retinal_slip() finds it); with these, whether each object's memo stands (never with use_memo false).
-struct Scheduler::Inputs {
+struct Scheduler::Impl::Inputs {
   std::int32_t x_step[kBlock];  // ln angular diameter in table steps, rounded up
   std::uint32_t ec_j[kBlock];
   float ec_w[kBlock], inv_diam[kBlock];
@@ -155,9 +155,9 @@ struct Scheduler::Inputs {
   std::uint32_t memo_hit[kBlock];   // 0 or 1: decided by its memo
   std::uint32_t view_memo[kBlock];  // 0 or 1: by its memo if the view and speed cells are the same
 };
-ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
-                                                const Block& b, const Memo& memo, bool use_memo,
-                                                Inputs* out) const {
+ACUITY_SIMD_CLONES void Scheduler::Impl::table_inputs(const EyeCache& eye, std::uint32_t first,
+                                                      std::uint32_t n, const Block& b, const Memo& memo,
+                                                      bool use_memo, Inputs* out) const {
   const Vec3 tracked = eye.gaze_moving ? eye.gaze_velocity : Vec3{0, 0, 0};
   const std::uint16_t* memo_key = &memo.key[first];
   const std::int16_t *x_from = &memo.x_from[first], *x_to = &memo.x_to[first];
@@ -203,7 +203,7 @@ ACUITY_SIMD_CLONES void Scheduler::table_inputs(const EyeCache& eye, std::uint32
 // score (no memo then).
 // tabulate()'s passes share one block's state: what each pass leaves the next (objects by their
 // index j in the block).
-struct Scheduler::Tabulation {
+struct Scheduler::Impl::Tabulation {
   Inputs in;                            // pass 1: table positions and memo hits
   std::uint32_t decided[kBlock];        // by a memo
   std::uint32_t bands[kBlock];          // the lowest bands the display shows
@@ -222,8 +222,8 @@ struct Scheduler::Tabulation {
   int sets;  // the hysteresis margin's tables too
 };
 
-void Scheduler::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                               const Memo& memo, bool scores, Tabulation& tb) const {
+void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
+                                     const Block& b, const Memo& memo, bool scores, Tabulation& tb) const {
   auto& decided = tb.decided;
   auto& bands = tb.bands;
   auto& miss = tb.miss;
@@ -266,9 +266,9 @@ void Scheduler::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::ui
   }
 }
 
-void Scheduler::tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                              const Memo& memo, Choice* out, float (*scores)[kMaxLevels],
-                              Tabulation& tb) const {
+void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                                    const Memo& memo, Choice* out, float (*scores)[kMaxLevels],
+                                    Tabulation& tb) const {
   auto& decided = tb.decided;
   auto& bands = tb.bands;
   auto& miss = tb.miss;
@@ -329,8 +329,8 @@ void Scheduler::tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uin
   }
 }
 
-void Scheduler::tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
-                                  Tabulation& tb) const {
+void Scheduler::Impl::tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                                        Tabulation& tb) const {
   auto& bands = tb.bands;
   auto& miss = tb.miss;
   const std::uint32_t miss_count = tb.miss_count;
@@ -384,8 +384,8 @@ void Scheduler::tabulate_any_view(std::uint32_t first, const Block& b, Memo& mem
   }
 }
 
-void Scheduler::tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                               Memo& memo, Tabulation& tb) const {
+void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
+                                     const Block& b, Memo& memo, Tabulation& tb) const {
   auto& bands = tb.bands;
   auto& todo = tb.todo;
   auto& tables = tb.tables;
@@ -480,8 +480,8 @@ void Scheduler::tabulate_views(const EyeCache& eye, std::uint32_t first, std::ui
   }
 }
 
-void Scheduler::tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
-                                      float (*scores)[kMaxLevels], Tabulation& tb) const {
+void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                                            float (*scores)[kMaxLevels], Tabulation& tb) const {
   auto& bands = tb.bands;
   auto& standing = tb.standing;
   const int sets = tb.sets;
@@ -552,8 +552,8 @@ void Scheduler::tabulate_through_view(std::uint32_t first, const Block& b, Memo&
   }
 }
 
-void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                         Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
+void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                               Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
   Tabulation tb;
   tb.gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   tb.sets = margin_sets(config_);
@@ -574,7 +574,7 @@ void Scheduler::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t
 }
 
 // A moving object's cells on the moving grid: eccentricity e [deg], each orientation's speed.
-ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, Probe* o) const {
+ACUITY_SIMD_CLONES void Scheduler::Impl::speed_cells(const ProfileCache& pc, float e, Probe* o) const {
   const float floor = pre_->floor_velocity, v0 = pre_->speed_offset, vx = o->vx, vy = o->vy;
   const float *cos_t = pc.cos_t.data(), *sin_t = pc.sin_t.data();
   const std::uint32_t T = pc.profile.meta.orientation_count;
@@ -591,7 +591,8 @@ ACUITY_SIMD_CLONES void Scheduler::speed_cells(const ProfileCache& pc, float e, 
 // `scores` (K floats) every level's score; without, a moving object's bounds stop at the first that
 // decides. For a profile of two or more levels and an object the display shows bands of (tabulate
 // decides the others without tables).
-Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const {
+Scheduler::Impl::Choice Scheduler::Impl::table_choice(const ProfileCache& pc, float e, Probe& o,
+                                                      float* scores) const {
   const Profile& p = pc.profile;
   const std::uint32_t K = p.meta.level_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const std::uint32_t L = K - 1;          // coarser levels per view
@@ -653,7 +654,8 @@ Scheduler::Choice Scheduler::table_choice(const ProfileCache& pc, float e, Probe
 }
 
 // The tabulated path for a block whose geometry is done: each eye's choice, the finer need wins.
-void Scheduler::choose_tabulated(std::uint32_t first, std::uint32_t n, const Block* blocks, Decisions* out) {
+void Scheduler::Impl::choose_tabulated(std::uint32_t first, std::uint32_t n, const Block* blocks,
+                                       Decisions* out) {
   Choice eye_choice[2][kBlock];
   float eye_scores[kBlock][kMaxLevels];  // the second eye's, with keep_scores
   auto* kept = config_.keep_scores
