@@ -198,21 +198,18 @@ void Scheduler::Impl::choose_perceptual(std::uint32_t first, std::uint32_t n, co
     const ObjectId id = first + j;
     if (profile_of_[id] < 0) continue;
     const std::uint32_t K = level_count_[profile_of_[id]];
-    std::uint8_t fine = 255, coarse = 255, flags = 0;
+    Choice both{255, 255, 0};
     float* kept = config_.keep_scores ? &scores_[std::size_t(id) * kMaxLevels] : nullptr;
     float eye_scores[kMaxLevels];
     for (std::uint32_t i = 0; i < eye_count_; ++i) {  // both eyes agree: the finer need wins
-      const Choice c = evaluate(id, looks[i][j], sights[i][j], kept ? eye_scores : nullptr, nullptr);
-      fine = std::min(fine, c.fine);
-      coarse = std::min(coarse, c.coarse);
-      flags |= c.flags;
+      both = finer(both, evaluate(id, looks[i][j], sights[i][j], kept ? eye_scores : nullptr, nullptr));
       if (kept)
         for (std::uint32_t k = 0; k < K; ++k)
           kept[k] = i == 0 ? eye_scores[k] : std::max(kept[k], eye_scores[k]);
     }
-    out->fine[j] = fine;
-    out->coarse[j] = coarse;
-    out->flags[j] = flags;
+    out->fine[j] = both.fine;
+    out->coarse[j] = both.coarse;
+    out->flags[j] = both.flags;
   }
 }
 

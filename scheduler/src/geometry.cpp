@@ -112,8 +112,7 @@ Scheduler::Impl::Look Scheduler::Impl::sight(ObjectId id, const EyeCache& eye, c
   s->slip = retinal_slip(s->image, eye.gaze_moving, eye.gaze_velocity, config_.params);
   // The lookup cell of the direction from the object to the eye; aim() picks the nearest view.
   s->to_eye = Vec3{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-  const float dir[3] = {s->to_eye.x, s->to_eye.y, s->to_eye.z};
-  s->cand = p.lookup + cube_cell(dir, p.meta.lookup_resolution) * kLookupCandidates;
+  s->cand = lookup_candidates(p, b, j);
   ACUITY_PREFETCH(s->cand);
   return Look::Ok;
 }
@@ -127,11 +126,7 @@ void Scheduler::Impl::prefetch_views(ObjectId id, const Sight& s) const {
 // The profile's view nearest to the direction from the object to the eye, and the retinal slip in
 // that snapshot's image axes, so it meets the profile's orientations in one frame.
 void Scheduler::Impl::aim(ObjectId id, Sight* s) const {
-  const ProfileCache& pc = profiles_[profile_of_[id]];
-  const Profile& p = pc.profile;
-  s->view = nearest_view(p, s->cand, s->to_eye);
-  const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
-  slip_in_view(s->slip, q, &pc.view_right[3 * std::size_t(s->view)], p.views[s->view].up, &s->vx, &s->vy);
+  s->view = aim(id, s->cand, s->to_eye, s->slip, &s->vx, &s->vy);
   s->moving = s->vx != 0.0f || s->vy != 0.0f;
 }
 

@@ -94,4 +94,11 @@ inline void slip_in_view(Vec3 slip, const float q[4], const float* right, const 
 }
 }  // namespace internal
 
+// The lookup cell's candidate views of block b's j-th object: of the direction from it to the eye.
+inline const std::uint16_t* Scheduler::Impl::lookup_candidates(const Profile& p, const Block& b,
+                                                               std::uint32_t j) {
+  const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+  return p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
+}
+
 }  // namespace acuity

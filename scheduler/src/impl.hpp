@@ -5,6 +5,8 @@
 // tables.hpp (ProfileCache, Probe), curves.hpp (Curves), memory.hpp (Memo, RestProbe).
 #include "acuity/scheduler.hpp"
 
+#include <algorithm>
+
 namespace acuity {
 
 struct Scheduler::Impl {
@@ -70,6 +72,11 @@ struct Scheduler::Impl {
   struct Choice {
     std::uint8_t fine, coarse, flags;
   };  // coarsest level at score <= 1 and <= 1 - margin
+  // Two eyes' choices of one object: the finer need wins.
+  static Choice finer(const Choice& a, const Choice& b) {
+    return {std::min(a.fine, b.fine), std::min(a.coarse, b.coarse),
+            static_cast<std::uint8_t>(a.flags | b.flags)};
+  }
   enum class Look : std::uint8_t { Ok, Invalid, Inside };
   bool perceptual() const {
     return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
@@ -78,6 +85,9 @@ struct Scheduler::Impl {
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
   void prefetch_views(ObjectId id, const Sight& s) const;
   void aim(ObjectId id, Sight* s) const;  // perceptual rules: the nearest view, the slip in its axes
+  std::uint32_t aim(ObjectId id, const std::uint16_t* cand, Vec3 to_eye, Vec3 slip, float* vx,
+                    float* vy) const;
+  static const std::uint16_t* lookup_candidates(const Profile& p, const Block& b, std::uint32_t j);
   Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
   Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
   float error_threshold(float error_size, float focal_px) const;

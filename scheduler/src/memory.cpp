@@ -33,9 +33,9 @@ void Scheduler::Impl::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
     }
     double dd = 0;
     for (int c = 0; c < 3; ++c) dd += (now.position[c] - p.position[c]) * (now.position[c] - p.position[c]);
-    moved[k] = static_cast<float>(std::sqrt(dd) * (1.0 + 1e-6));
-    turned[k] =
-        static_cast<float>(std::max(turn_deg(now.gaze, p.gaze), turn_deg(now.forward, p.forward)) + 1e-6);
+    moved[k] = static_cast<float>(std::sqrt(dd) * (1.0 + kRoomPose));
+    turned[k] = static_cast<float>(std::max(turn_deg(now.gaze, p.gaze), turn_deg(now.forward, p.forward)) +
+                                   kRoomPose);
     if ((frame - k) % kPoses < 4) {  // frame's and the 3 before it
       recent_m = std::max(recent_m, moved[k]);
       recent_deg = std::max(recent_deg, turned[k]);
@@ -50,11 +50,11 @@ void Scheduler::Impl::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
 // the fast functions' ulps); the eccentricity cell and its weight are monotone in e.
 bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m,
                                      float t) const {
-  const float room_d = 1e-5f * h.d;  // float error of the distance as computed
+  const float room_d = kRoomRelative * h.d;  // float error of the distance as computed
   const float d_near = h.d - m - room_d, d_far = h.d + m + room_d;
   if (!(d_near > h.r) || !(m + room_d < h.d)) return false;
   const float alpha = std::asin((m + room_d) / h.d);  // [rad]
-  if (!(alpha + 1e-5f < h.view_margin)) return false;
+  if (!(alpha + kRoomRelative < h.view_margin)) return false;
   const float radius_near = angular_radius_deg(d_near, h.r), radius_far = angular_radius_deg(d_far, h.r);
   // x: one table step of room each side (the box's ends past the entries need none).
   const std::int32_t x_near = size_steps_above(ln_positive(2.0f * radius_near)),
@@ -63,7 +63,7 @@ bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestPr
   if (!(memo.x_to[id] == Stand::kNoHigh || x_near < memo.x_to[id])) return false;
   // Eccentricity: max(0, angle to the gaze - radius - offset).
   const float turn = kDeg * alpha + t;
-  const float room_e = 1e-3f + 1e-5f * (h.gaze_angle + radius_near);
+  const float room_e = kRoomEccentricity + kRoomRelative * (h.gaze_angle + radius_near);
   const Cell low = e_cell<kStillE>(std::max(0.0f, h.gaze_angle - turn - radius_near - h.offset - room_e));
   const Cell high = e_cell<kStillE>(std::max(0.0f, h.gaze_angle + turn - radius_far - h.offset + room_e));
   const std::uint32_t cell = memo.key[id] & 31u;
@@ -71,14 +71,14 @@ bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestPr
   if (!(float(memo.w_from[id]) <= low.w * kWeightSteps && high.w * kWeightSteps <= float(memo.w_to[id])))
     return false;
   // The bands shown: f_lo / diameter <= Nyquist < f_hi / diameter over the range of both.
-  const double phi_low = std::max(0.0, double(h.forward_angle) - turn - 1e-3) * kRad,
-               phi_high = std::min(180.0, double(h.forward_angle) + turn + 1e-3) * kRad;
-  const float cos_most = std::clamp(float(std::cos(phi_low)) + 1e-6f, 0.05f, 1.0f),
-              cos_least = std::clamp(float(std::cos(phi_high)) - 1e-6f, 0.05f, 1.0f);
-  const float nyquist_least = h.half_focal / (cos_most * cos_most) * (1.0f - 1e-5f),
-              nyquist_most = h.half_focal / (cos_least * cos_least) * (1.0f + 1e-5f);
-  const float inv_diam_most = 1.0f / (2.0f * radius_far) * (1.0f + 1e-5f),
-              inv_diam_least = 1.0f / (2.0f * radius_near) * (1.0f - 1e-5f);
+  const double phi_low = std::max(0.0, double(h.forward_angle) - turn - kRoomAngle) * kRad,
+               phi_high = std::min(180.0, double(h.forward_angle) + turn + kRoomAngle) * kRad;
+  const float cos_most = std::clamp(float(std::cos(phi_low)) + kRoomCosine, 0.05f, 1.0f),
+              cos_least = std::clamp(float(std::cos(phi_high)) - kRoomCosine, 0.05f, 1.0f);
+  const float nyquist_least = h.half_focal / (cos_most * cos_most) * (1.0f - kRoomRelative),
+              nyquist_most = h.half_focal / (cos_least * cos_least) * (1.0f + kRoomRelative);
+  const float inv_diam_most = 1.0f / (2.0f * radius_far) * (1.0f + kRoomRelative),
+              inv_diam_least = 1.0f / (2.0f * radius_near) * (1.0f - kRoomRelative);
   return memo.f_lo[id] * inv_diam_most <= nyquist_least && memo.f_hi[id] * inv_diam_least > nyquist_most;
 }
 
@@ -115,7 +115,7 @@ float view_margin(const float d[3], std::uint32_t resolution, const float (*view
       if (std::memcmp(views[k], views[best], sizeof views[k]) != 0)
         margin = std::min(margin, 0.5 * (dots[best] - dots[k]));
   }
-  return static_cast<float>(margin) - 1e-5f;  // the rounding of the direction as the loop computes it
+  return static_cast<float>(margin) - kRoomRelative;  // the rounding of the direction as the loop computes it
 }
 }  // namespace
 
@@ -142,7 +142,7 @@ void Scheduler::Impl::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, con
     const Profile& p = profiles_[profile_of_[id]].profile;
     const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
     float views[kLookupCandidates][3];
-    const std::uint16_t* cand = p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
+    const std::uint16_t* cand = lookup_candidates(p, b, j);
     for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
       std::memcpy(views[k], p.views[cand[k]].direction, sizeof views[k]);
     h.view_margin = view_margin(to_eye, p.meta.lookup_resolution,
@@ -305,7 +305,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
     // moves less than its distance to their ends, and (vx, vy) stays off 0 within its length.
     const float floor = pre_->floor_velocity, v0 = pre_->speed_offset;
     const float length_v = std::sqrt(o.vx * o.vx + o.vy * o.vy);
-    float room = length_v * (1.0f - 1e-4f);
+    float room = length_v * (1.0f - kRoomSpeed);
     const std::uint32_t T = p.meta.orientation_count;
     for (std::uint32_t t = 0; t < T; ++t) {
       const float u = std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]);
@@ -320,7 +320,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
       weight_range(quartered, o.speed_w[t], &w_from, &w_to);
       const float lower = w_from == 0.0f ? (cell == 0 ? -kInf : lo) : at(w_from);
       const float upper = w_to == 1.0f ? (cell == kMovingS - 2 ? kInf : 2.0f * lo) : at(w_to);
-      const float slack = 1e-4f * std::max(u, floor) + 1e-5f * length_v;
+      const float slack = kRoomSpeed * std::max(u, floor) + kRoomRelative * length_v;
       room = std::min(room, std::min(u - lower, upper - u) - slack);
     }
     if (!(room > 0.0f)) return;
@@ -331,15 +331,15 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
     const float* up = p.views[o.nearest].up;
     const float rr = dot(load(right), load(right)), uu = dot(load(up), load(up)),
                 ru = dot(load(right), load(up));
-    const float stretch =
-        std::sqrt(0.5f * (rr + uu) + std::sqrt(0.25f * (rr - uu) * (rr - uu) + ru * ru)) * (1.0f + 1e-5f);
+    const float stretch = std::sqrt(0.5f * (rr + uu) + std::sqrt(0.25f * (rr - uu) * (rr - uu) + ru * ru)) *
+                          (1.0f + kRoomRelative);
     reach = room / stretch;
     // The eccentricity stays in its cell (and quarter) of the moving grid.
     const std::uint32_t cell = o.em.j;
     const float lower = e_node(cell, kMovingE), upper = e_node(cell + 1, kMovingE);
     float w_from, w_to;
     weight_range(quartered, o.em.w, &w_from, &w_to);
-    const float slack = 1e-4f * (upper - lower) + 1e-6f * b.e[j];
+    const float slack = kRoomSpeed * (upper - lower) + kRoomCosine * b.e[j];
     e_from = w_from == 0.0f ? (cell == 0 ? -kInf : lower) : lower + w_from * (upper - lower);
     e_to = w_to == 1.0f ? (cell == kMovingE - 2 ? kInf : upper) : lower + w_to * (upper - lower);
     e_from += slack;

@@ -3,6 +3,20 @@
 // over whole cells or at the object's place, its hold of the view, and its rest.
 #include "tables.hpp"
 
+namespace acuity::internal {
+
+// The rounding rooms of the memory's checks (memory.cpp): how far an input the check computes may
+// lie from the frame loop's own computation of it, so that a memo, hold or rest is only trusted where
+// the loop would decide the same. Each is named once; the checks say which they spend where.
+constexpr float kRoomRelative = 1e-5f;      // a float of a few operations (and the fast functions), relative
+constexpr float kRoomEccentricity = 1e-3f;  // an eccentricity [deg], besides its relative room
+constexpr double kRoomAngle = 1e-3;         // an angle from the fast atan2 [deg]
+constexpr float kRoomCosine = 1e-6f;        // a cosine, and an eccentricity's weight per degree
+constexpr float kRoomSpeed = 1e-4f;         // a hold's speeds and cell weights, relative
+constexpr double kRoomPose = 1e-6;          // a pose's distance (relative) and turn [deg] in double
+
+}  // namespace acuity::internal
+
 namespace acuity {
 
 // Per eye and object, the last decision made over whole cells or around the object's place in them:

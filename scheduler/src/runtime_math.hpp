@@ -2,7 +2,6 @@
 // The runtime's internal arithmetic (scheduler/src only): vectors, the Default model's fast terms,
 // the velocity envelope, and what depends only on the configuration (Scheduler::Impl::Precomputed).
 #include "acuity/scheduler.hpp"
-#include "impl.hpp"
 
 #include "fast_math.hpp"
 #include "vectorize.hpp"
@@ -161,6 +160,11 @@ inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std
 
 namespace acuity {
 using namespace internal;
+}  // namespace acuity
+
+#include "impl.hpp"  // Scheduler::Impl, whose members hold the types above
+
+namespace acuity {
 
 // Everything that depends only on the configuration, computed once at creation.
 struct Scheduler::Impl::Precomputed {

@@ -240,4 +240,16 @@ inline void weight_range(bool quartered, float w, float* from, float* to) {
 }
 }  // namespace internal
 
+// Of object id's candidate views, the one nearest to the direction to the eye (object space), and the
+// slip [deg/s] in its image axes (*vx, *vy): where the slip meets the profile's orientations.
+inline std::uint32_t Scheduler::Impl::aim(ObjectId id, const std::uint16_t* cand, Vec3 to_eye, Vec3 slip,
+                                          float* vx, float* vy) const {
+  const ProfileCache& pc = profiles_[profile_of_[id]];
+  const Profile& p = pc.profile;
+  const std::uint32_t view = nearest_view(p, cand, to_eye);
+  const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
+  slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, vx, vy);
+  return view;
+}
+
 }  // namespace acuity

@@ -376,9 +376,7 @@ void Scheduler::Impl::tabulate_any_view(std::uint32_t first, const Block& b, Mem
                       &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j], fine, coarse);
     }
     if (todo[j]) {
-      const Profile& p = profiles_[profile_of_[id]].profile;
-      const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-      cand[j] = p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
+      cand[j] = lookup_candidates(profiles_[profile_of_[id]].profile, b, j);
       ACUITY_PREFETCH(cand[j]);
     }
   }
@@ -418,10 +416,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
     o.ec = {ec_j[j], ec_w[j]};
     const Vec3 image{b.image[0][j], b.image[1][j], b.image[2][j]};
     const Vec3 slip = retinal_slip(image, eye.gaze_moving, eye.gaze_velocity, config_.params);
-    const Vec3 to_eye{b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
-    const std::uint32_t view = nearest_view(p, cand[j], to_eye);
-    const float q[4] = {rotation_[0][id], rotation_[1][id], rotation_[2][id], rotation_[3][id]};
-    slip_in_view(slip, q, &pc.view_right[3 * std::size_t(view)], p.views[view].up, &o.vx, &o.vy);
+    const std::uint32_t view = aim(id, cand[j], b.to_eye_at(j), slip, &o.vx, &o.vy);
     o.moving = o.vx != 0.0f || o.vy != 0.0f;
     o.cells = false;
     o.em = {0, 0.0f};
@@ -668,9 +663,7 @@ void Scheduler::Impl::choose_tabulated(std::uint32_t first, std::uint32_t n, con
     if (p < 0) continue;
     Choice c = eye_choice[0][j];
     if (eye_count_ > 1) {
-      const Choice& d = eye_choice[1][j];
-      c = {std::min(c.fine, d.fine), std::min(c.coarse, d.coarse),
-           static_cast<std::uint8_t>(c.flags | d.flags)};
+      c = finer(c, eye_choice[1][j]);
       if (kept)
         for (std::uint32_t k = 0; k < level_count_[p]; ++k)
           kept[j][k] = std::max(kept[j][k], eye_scores[j][k]);
