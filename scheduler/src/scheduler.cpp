@@ -265,31 +265,43 @@ bool Scheduler::Impl::explain(ObjectId id, ObjectExplain* out) const {
 }
 
 namespace {
-constexpr const char* kRuleNames[] = {"perceptual", "reddy", "distance",
-                                      "screen-size"};               // SelectionRule order
-constexpr const char* kEvaluationNames[] = {"tabulated", "exact"};  // Evaluation order
-template <class E, std::size_t N>
-bool parse_name(const char* name, const char* const (&names)[N], E* out) {
-  if (!name) return false;
-  for (std::size_t i = 0; i < N; ++i)
-    if (std::strcmp(name, names[i]) == 0) {
-      *out = static_cast<E>(i);
-      return true;
-    }
-  return false;
+constexpr RuleInfo kRules[] = {
+    {SelectionRule::Perceptual, "perceptual",
+     "coarsest level whose lost contrast stays below q x threshold in every band (default)"},
+    {SelectionRule::Reddy, "reddy",
+     "coarsest level whose finer levels' smallest features all lie above H(v) M(e) [unverified]"},
+    {SelectionRule::Distance, "distance",
+     "OpenSceneGraph-style: level k from distance >= distance_scale x d_k"},
+    {SelectionRule::ScreenSize, "screen-size",
+     "Unity-style screen-relative size: level k while its error covers <= pixel_error px"},
+};
+constexpr bool in_enum_order() {
+  for (std::size_t i = 0; i < std::size(kRules); ++i)
+    if (static_cast<std::size_t>(kRules[i].rule) != i) return false;
+  return true;
 }
+static_assert(in_enum_order(), "kRules lists the rules in SelectionRule order");
+constexpr const char* kEvaluationNames[] = {"tabulated", "exact"};  // Evaluation order
 }  // namespace
 
+std::span<const RuleInfo> selection_rules() { return kRules; }
 const char* to_string(SelectionRule rule) {
   const auto i = static_cast<std::size_t>(rule);
-  return i < std::size(kRuleNames) ? kRuleNames[i] : "unknown";
+  return i < std::size(kRules) ? kRules[i].name : "unknown";
 }
 const char* to_string(Evaluation evaluation) {
   const auto i = static_cast<std::size_t>(evaluation);
   return i < std::size(kEvaluationNames) ? kEvaluationNames[i] : "unknown";
 }
-bool parse_selection_rule(const char* name, SelectionRule* out) { return parse_name(name, kRuleNames, out); }
-bool parse_evaluation(const char* name, Evaluation* out) { return parse_name(name, kEvaluationNames, out); }
+bool parse_evaluation(const char* name, Evaluation* out) {
+  if (!name) return false;
+  for (std::size_t i = 0; i < std::size(kEvaluationNames); ++i)
+    if (std::strcmp(name, kEvaluationNames[i]) == 0) {
+      *out = static_cast<Evaluation>(i);
+      return true;
+    }
+  return false;
+}
 
 // ---- The public face: every call forwards to the implementation ----------------------------------
 

@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "acuity/models.hpp"
@@ -24,12 +25,9 @@
 
 namespace acuity {
 
-enum class SelectionRule : std::uint8_t {
-  Perceptual,  // coarsest level whose lost contrast stays below q x threshold in every band (default)
-  Reddy,       // coarsest level whose finer levels' smallest features all lie above H(v) M(e) [unverified]
-  Distance,    // OpenSceneGraph-style: level k from distance >= distance_scale x d_k (baseline)
-  ScreenSize,  // Unity-style screen-relative size: level k while its error covers <= pixel_error px (baseline)
-};
+// The rules, each described in selection_rules() (below): Perceptual is the default, Distance and
+// ScreenSize are the engines' usual baselines.
+enum class SelectionRule : std::uint8_t { Perceptual, Reddy, Distance, ScreenSize };
 
 // How the perceptual rule evaluates thresholds each frame.
 enum class Evaluation : std::uint8_t {
@@ -99,11 +97,20 @@ struct SchedulerConfig {
   bool keep_scores = false;  // keep every level's score for scores()
 };
 
-// Names used by the command line, Python and the C ABI's documentation: "perceptual", "reddy",
-// "distance", "screen-size"; "tabulated", "exact". parse_* return false for an unknown name.
+// Every selection rule, once, in SelectionRule order: its name (the one Python, the simulation's
+// outputs and the C ABI's documentation use; Python writes '-' as '_') and what it does. A new rule
+// touches the enum above, this list and its chooser (scheduler/src), and the C ABI's ACUITY_RULE_*.
+struct RuleInfo {
+  SelectionRule rule;
+  const char* name;  // "perceptual", "reddy", "distance", "screen-size"
+  const char* help;  // one line
+};
+std::span<const RuleInfo> selection_rules();
+
+// The names of selection_rules() and of Evaluation ("tabulated", "exact"); "unknown" out of range.
+// parse_evaluation returns false for an unknown name.
 const char* to_string(SelectionRule rule);
 const char* to_string(Evaluation evaluation);
-bool parse_selection_rule(const char* name, SelectionRule* out);
 bool parse_evaluation(const char* name, Evaluation* out);
 
 struct Eye {
