@@ -10,56 +10,26 @@
 namespace acuity {
 
 struct Scheduler::Impl {
-  // What the public Scheduler offers, as it offers it (scheduler.hpp documents each).
+  // The work of the public calls (scheduler.hpp documents each; Scheduler forwards to these, and
+  // reads the per-object arrays below for its accessors).
   explicit Impl(const SchedulerConfig& config);
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
-
-  // Registers a profile (its bytes must outlive the scheduler). Returns its index, or -1 when full.
-  int add_profile(const Profile& profile);
-
-  // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
-  // level; bias multiplies q for this object (see SchedulerConfig::tabulated_biases).
-  ObjectId add_object(int profile, const ObjectTransform& transform);
-  void remove_object(ObjectId id);
-  void set_transform(ObjectId id, const ObjectTransform& transform);
-  void set_velocity(ObjectId id,
-                    const float velocity[3]);  // world [m/s]; else derived from transforms and dt
-  void set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level);
-  void set_bias(ObjectId id, float quality_bias);
-
-  // The frame: begin, update ranges (any split), end (budget, transitions, statistics).
   void begin_frame(const Frame& frame);
   void update(std::uint32_t first, std::uint32_t count);
   void end_frame();
-  void run_frame(const Frame& frame) {
-    begin_frame(frame);
-    update(0, object_capacity());
-    end_frame();
-  }
-
-  std::uint32_t object_capacity() const { return config_.max_objects; }
-  bool alive(ObjectId id) const { return id < config_.max_objects && profile_of_[id] >= 0; }
-  std::uint8_t level(ObjectId id) const { return level_[id]; }
-  std::uint8_t flags(ObjectId id) const { return flags_[id]; }
-  // Cross-fade: the previous level and how far the fade to the current one is (1 = done).
-  std::uint8_t previous_level(ObjectId id) const { return from_level_[id]; }
-  float transition(ObjectId id) const { return fade_[id]; }
-  // Every level's score this frame (needs keep_scores); nullptr otherwise.
-  const float* scores(ObjectId id) const;
-  const FrameStats& stats() const { return stats_; }
-  const SchedulerConfig& config() const { return config_; }
-
-  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated), and what a
-  // profile with this meta would take under a configuration (before adding it).
+  int add_profile(const Profile& profile);
   std::size_t table_bytes(int profile) const;
   static std::size_t table_bytes(const ProfileMeta& meta, const SchedulerConfig& config);
-
-  // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
-  // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].
   float envelope_speed(float frequency_cpd) const;
-
-  // Recomputes one object for the current frame with full detail (allocation-free, not for every object).
+  ObjectId add_object(int profile, const ObjectTransform& transform);
+  void set_transform(ObjectId id, const ObjectTransform& transform);
+  void set_velocity(ObjectId id, const float velocity[3]);
+  void set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level);
+  void set_bias(ObjectId id, float quality_bias);
+  void remove_object(ObjectId id);
+  bool alive(ObjectId id) const { return id < config_.max_objects && profile_of_[id] >= 0; }
+  const float* scores(ObjectId id) const;
   bool explain(ObjectId id, ObjectExplain* out) const;
 
   // ---- Internals ----

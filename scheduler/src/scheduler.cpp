@@ -323,15 +323,15 @@ void Scheduler::set_bias(ObjectId id, float quality_bias) { impl_->set_bias(id, 
 void Scheduler::begin_frame(const Frame& frame) { impl_->begin_frame(frame); }
 void Scheduler::update(std::uint32_t first, std::uint32_t count) { impl_->update(first, count); }
 void Scheduler::end_frame() { impl_->end_frame(); }
-std::uint32_t Scheduler::object_capacity() const { return impl_->object_capacity(); }
+std::uint32_t Scheduler::object_capacity() const { return impl_->config_.max_objects; }
 bool Scheduler::alive(ObjectId id) const { return impl_->alive(id); }
-std::uint8_t Scheduler::level(ObjectId id) const { return impl_->level(id); }
-std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags(id); }
-std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->previous_level(id); }
-float Scheduler::transition(ObjectId id) const { return impl_->transition(id); }
+std::uint8_t Scheduler::level(ObjectId id) const { return impl_->level_[id]; }
+std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags_[id]; }
+std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->from_level_[id]; }
+float Scheduler::transition(ObjectId id) const { return impl_->fade_[id]; }
 const float* Scheduler::scores(ObjectId id) const { return impl_->scores(id); }
-const FrameStats& Scheduler::stats() const { return impl_->stats(); }
-const SchedulerConfig& Scheduler::config() const { return impl_->config(); }
+const FrameStats& Scheduler::stats() const { return impl_->stats_; }
+const SchedulerConfig& Scheduler::config() const { return impl_->config_; }
 std::size_t Scheduler::table_bytes(int profile) const { return impl_->table_bytes(profile); }
 std::size_t Scheduler::table_bytes(const ProfileMeta& meta, const SchedulerConfig& config) {
   return Impl::table_bytes(meta, config);

@@ -171,53 +171,18 @@ struct FrameStats {
   bool gaze_used = false;
 };
 
-// The tabulated path (Evaluation::Tabulated, the default for the perceptual rule). For each profile,
-// view and level k, add_profile stores the largest angular size [ln deg] at which k's loss stays below
-// q x threshold: still objects on a grid over eccentricity (one table per number of bands the display
-// can show: the display's Nyquist limit is exact up to 3 bands cut), moving objects per orientation on
-// a grid over eccentricity and that orientation's retinal speed. Beside them, per band count and
-// eccentricity node, the least and the most of the still tables over every view (and the least of the
-// still and slow ones): most objects are decided from those (over their eccentricity cell, else
-// interpolated at their eccentricity) before their view is looked up, exactly as their own view's
-// tables would decide. Per object and frame the work is the geometry, then one
-// table read (decided over every view), or one per level (still) or per level and orientation
-// (moving) through the object's view. A decision made over whole cells, or at the object's place in
-// them (through its view: a still image's; over the quarters of its cells it lies in: a moving
-// one's), is kept per object and eye (32 bytes each, allocated at creation) with what it stands
-// under: the same eccentricity cell, table set, still or moving image and bands shown, and a size
-// (at its place: and an eccentricity) clear of the bounds it compared; made through the object's
-// view, also the same view (Max3: lookup cell) and, moving, the same cells (quarters) of
-// eccentricity and of each orientation's speed (profiles of up to 16 orientations, 10 for
-// quarters). Such a decision through the view also holds (40 bytes per object and eye) while the
-// direction to the eye turns less than keeps its view, the retinal slip moves less than keeps its
-// speed cells and the eccentricity stays in its moving cell, with the rotation unchanged: then the
-// view is not looked up again. While those hold,
-// the next frames take it without reading a table: the same decision, bit for bit (with keep_scores,
-// or a triangle budget, every object reads its view's tables and nothing is kept). At rest: while
-// neither the eye (no velocity, angular velocity or gaze velocity reported) nor the object moves
-// (its transform set to other bits, its velocity or bias set), an object whose kept decision stands
-// gets a rest (12 bytes per object and eye): how far the eye may move [m] and the gaze and head turn
-// [deg] before any input the decision stands under could leave its bounds, each input computed as
-// the frame loop computes it at the ends of its range and confirmed inside. Within it, later frames
-// take the kept decision without the object's geometry (FrameStats::at_rest counts them); blocks of
-// 64 in which more than 4 runs of objects are not at rest take the whole loop. Tables are
-// conservative: a decision may be finer than Exact's, never coarser (tests/test_scheduler.cpp pins it
-// and the agreement rate). A level's score in this mode is the ratio of the object's angular size to
-// that largest invisible size (<= 1 invisible), so the budget, hysteresis margin and keep_scores work
-// from the tables. update() runs each block of 64 objects as passes: the geometry, the lookup cells
-// and the clamps/hysteresis as vectorised loops (branch-free; with GCC on x86-64 also compiled for
-// AVX2, picked at load time, same bits); the decision over every view, then for the rest the view,
-// slip and grid position and the decision through the view, as scalar passes over compact per-object
-// probes, each prefetching the table rows the next reads so a block's cache misses overlap. A moving object reads its per-orientation rows only where the slow
-// bound does not already pass. Every rule reads per-profile counts, triangles and thresholds from
-// small arrays the scheduler owns (not the profile blob); Distance and ScreenSize compare distance /
-// radius with per-level thresholds set at begin_frame and compute no angles; velocities are derived from
-// positions only in blocks holding an object without a given velocity. Tables cover the models whose
-// thresholds never fall with speed: Default, GeislerPerry and the Reddy step model (its kinked cutoff
-// lowers the nodes by what interpolation rises above it, known in advance); KellyDaly (its band-pass
-// CSF rises with speed at low frequencies) evaluates exactly. Tables are built for q, q x margin and each
-// of SchedulerConfig::tabulated_biases; an object of any other bias evaluates exactly.
-// Memory: table_bytes(); `acuity inspect` prints it for a profile.
+// The tabulated path (Evaluation::Tabulated, the default for the perceptual rule). add_profile builds,
+// per profile, view and level, the largest invisible angular size on grids over eccentricity and
+// retinal speed, for q, q x hysteresis margin and each of SchedulerConfig::tabulated_biases
+// (table_bytes() says how much; `acuity inspect` prints it). A decision may be finer than Exact's,
+// never coarser. A level's score is the object's angular size over that largest invisible size (<= 1
+// invisible), so the budget, hysteresis margin and keep_scores work from the tables. Decisions are
+// remembered per object and eye with the bounds of the inputs they stand under (memo, 32 bytes; the
+// view's hold, 40; a rest with a still eye, 12; allocated at creation): while the inputs stay inside,
+// later frames take the same decision, bit for bit, without reading a table, and objects at rest
+// without their geometry (FrameStats::at_rest). keep_scores or a triangle budget make every object
+// read its tables instead. KellyDaly (its threshold falls with speed at low frequencies) and objects
+// of an unlisted bias evaluate exactly. How it works: docs/design.md section 6.
 class Scheduler {
  public:
   explicit Scheduler(const SchedulerConfig& config);
