@@ -326,6 +326,10 @@ void Scheduler::end_frame() { impl_->end_frame(); }
 std::uint32_t Scheduler::object_capacity() const { return impl_->config_.max_objects; }
 bool Scheduler::alive(ObjectId id) const { return impl_->alive(id); }
 std::uint8_t Scheduler::level(ObjectId id) const { return impl_->level_[id]; }
+const std::uint8_t* Scheduler::level_array() const { return impl_->level_.data(); }
+const std::uint8_t* Scheduler::flag_array() const { return impl_->flags_.data(); }
+const std::uint8_t* Scheduler::previous_level_array() const { return impl_->from_level_.data(); }
+const float* Scheduler::transition_array() const { return impl_->fade_.data(); }
 std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags_[id]; }
 std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->from_level_[id]; }
 float Scheduler::transition(ObjectId id) const { return impl_->fade_[id]; }

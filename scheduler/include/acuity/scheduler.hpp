@@ -222,6 +222,14 @@ class Scheduler {
   float transition(ObjectId id) const;
   // Every level's score this frame (needs keep_scores); nullptr otherwise.
   const float* scores(ObjectId id) const;
+  // The same four for every slot at once, object_capacity() entries each, indexed by ObjectId (free
+  // slots hold stale values: check alive()). The arrays live as long as the scheduler; read them
+  // between end_frame() and the next begin_frame(). A host reading many objects per frame indexes
+  // these: the per-object calls above are out of line.
+  const std::uint8_t* level_array() const;
+  const std::uint8_t* flag_array() const;
+  const std::uint8_t* previous_level_array() const;
+  const float* transition_array() const;
   const FrameStats& stats() const;
   const SchedulerConfig& config() const;
 
