@@ -464,9 +464,10 @@ acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const
     if (!s || (count && (!ids || !levels)))
       return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_levels: null argument");
     if (const acuity_status st = check_ids(s, count, ids, "acuity_get_levels"); st != ACUITY_OK) return st;
+    const uint8_t *level = s->scheduler.level_array(), *flag = s->scheduler.flag_array();
     for (uint32_t i = 0; i < count; ++i) {
-      levels[i] = s->scheduler.level(ids[i]);
-      if (flags) flags[i] = s->scheduler.flags(ids[i]);
+      levels[i] = level[ids[i]];
+      if (flags) flags[i] = flag[ids[i]];
     }
     return ACUITY_OK;
   });
@@ -478,9 +479,11 @@ acuity_status acuity_get_transitions(const acuity_scheduler* s, uint32_t count, 
     if (!s || (count && !ids)) return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_transitions: null argument");
     if (const acuity_status st = check_ids(s, count, ids, "acuity_get_transitions"); st != ACUITY_OK)
       return st;
+    const uint8_t* previous_level = s->scheduler.previous_level_array();
+    const float* fade = s->scheduler.transition_array();
     for (uint32_t i = 0; i < count; ++i) {
-      if (previous) previous[i] = s->scheduler.previous_level(ids[i]);
-      if (fades) fades[i] = s->scheduler.transition(ids[i]);
+      if (previous) previous[i] = previous_level[ids[i]];
+      if (fades) fades[i] = fade[ids[i]];
     }
     return ACUITY_OK;
   });

@@ -254,11 +254,12 @@ void bind_scheduler(py::module_ m) {
         return py::bytes(static_cast<const char*>(p.blob.data()), p.blob.size);
       });
 
-  py::enum_<SelectionRule>(m, "SelectionRule")
-      .value("perceptual", SelectionRule::Perceptual)
-      .value("reddy", SelectionRule::Reddy)
-      .value("distance", SelectionRule::Distance)
-      .value("screen_size", SelectionRule::ScreenSize);
+  py::enum_<SelectionRule> rules(m, "SelectionRule");
+  for (const RuleInfo& r : selection_rules()) {  // the scheduler's one list; '-' is not a Python name
+    std::string name = r.name;
+    std::replace(name.begin(), name.end(), '-', '_');
+    rules.value(name.c_str(), r.rule, r.help);
+  }
   py::enum_<ViewBlend>(m, "ViewBlend").value("nearest", ViewBlend::Nearest).value("max3", ViewBlend::Max3);
   py::enum_<Evaluation>(m, "Evaluation",
                         "How the perceptual rule evaluates thresholds (see acuity/scheduler.hpp).")

@@ -325,6 +325,115 @@ bool foveation_map_size(const Eye& eye, std::uint32_t tile_px, std::uint32_t* co
   return ok;
 }
 
+namespace {
+// The row of the planner's tables for the least retinal speed of the static world under head rotation
+// anywhere in the view (written to maps->retinal_speed): image speed |w| sin(angle between the
+// rotation axis and the direction) >= |w| sin(angle to the view's centre less the view's angular
+// radius), then Daly's pursuit model.
+int retinal_speed_row(const FoveationPlanner& planner, const Eye& eye, const Projection& pr,
+                      FoveationMaps* maps) {
+  const FoveationConfig& cfg = planner.config;
+  const float* q = eye.orientation;
+  int speed_row = 0;
+  double image_speed = 0;
+  if (cfg.head_rotation) {
+    double w[3];
+    rotate_inverse(q, eye.angular_velocity, w);
+    const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    if (speed > 0) {
+      const double axis[3] = {w[0] / speed, w[1] / speed, w[2] / speed};
+      double centre[3] = {0.5 * (pr.tan_l + pr.tan_r), 0.5 * (pr.tan_u + pr.tan_d), -1};
+      normalize(centre);
+      double radius = 0;
+      for (double tx : {pr.tan_l, pr.tan_r})
+        for (double ty : {pr.tan_u, pr.tan_d}) {
+          double corner[3] = {tx, ty, -1};
+          normalize(corner);
+          radius = std::max(radius, angle_deg(centre, corner));
+        }
+      const double a = angle_deg(axis, centre);
+      const double off_axis = std::clamp(std::min(a, 180.0 - a) - radius, 0.0, 90.0);
+      image_speed = speed * std::sin(off_axis / kDegD);
+    }
+  }
+  const float retinal = daly_retinal_velocity(static_cast<float>(image_speed), cfg.params);
+  maps->retinal_speed = retinal;
+  for (int k = 1; k < kFoveationSpeeds; ++k)
+    if (planner.speed[k] <= retinal) speed_row = k;
+  return speed_row;
+}
+
+// This frame's cutoff per sine bin: index 0 is full rate (an unreachable Nyquist: rate 1, bias
+// 0), else 1 + the eccentricity step at or below the bin's eccentricity. Built once per frame so
+// each tile needs one table read instead of the angle arithmetic.
+void cutoff_tables(const FoveationPlanner& planner, const float* nyq, const float* log2_nyq, float e_offset,
+                   float* need_of, float* log2_need_of, std::int32_t* step_of) {
+  const float fovea = planner.config.foveal_radius_deg;
+  need_of[0] = 1e30f;
+  log2_need_of[0] = 100.0f;
+  for (int j = 0; j < kFoveationEccSteps; ++j) {
+    need_of[j + 1] = nyq[j];
+    log2_need_of[j + 1] = log2_nyq[j];
+  }
+  for (int i = 0; i < kFoveationSineSteps; ++i) {
+    const float e = planner.sine_angle[i] - e_offset;
+    step_of[i] = e <= fovea
+                     ? 0
+                     : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1);
+  }
+}
+}  // namespace
+
+namespace {
+// Whether the eye is usable (its projection in *pr): a valid frustum and viewport, finite position
+// and velocities, a unit orientation.
+bool eye_usable(const Eye& eye, Projection* pr) {
+  const float* q = eye.orientation;
+  const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  return projection(eye, pr) && std::isfinite(eye.position[0]) && std::isfinite(eye.position[1]) &&
+         std::isfinite(eye.position[2]) && std::abs(qn - 1.0f) < 1e-3f && finite3(eye.angular_velocity) &&
+         finite3(eye.velocity);
+}
+
+// The gaze direction O (eye space, unit) where the gaze is usable; else the view's axis. Returns
+// whether it is usable.
+bool gaze_direction(const FoveationConfig& cfg, const Gaze& gaze, double O[3]) {
+  const float gl = std::sqrt(gaze.direction[0] * gaze.direction[0] + gaze.direction[1] * gaze.direction[1] +
+                             gaze.direction[2] * gaze.direction[2]);
+  const bool has_gaze =
+      gaze.valid && gaze.confidence >= cfg.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
+  O[0] = 0;
+  O[1] = 0;
+  O[2] = -1;
+  if (has_gaze) {
+    for (int k = 0; k < 3; ++k) O[k] = gaze.direction[k];
+    normalize(O);
+  }
+  return has_gaze;
+}
+
+// The origin in pixels of gaze direction O (a gaze at or behind 90 deg goes far out in its own
+// direction).
+void origin_px(const double O[3], const Projection& pr, float out[2]) {
+  const double depth = std::max(-O[2], 1e-6);
+  const double px = std::clamp((O[0] / depth - pr.tan_l) * pr.fx, -1e9, 1e9);
+  const double py = std::clamp((pr.tan_u - O[1] / depth) * pr.fy, -1e9, 1e9);
+  out[0] = static_cast<float>(px);
+  out[1] = static_cast<float>(py);
+}
+
+// No planned neighbours yet: the neutral 4, 4, kMaxBias for the rows below and above the origin's.
+void neutral_rows(std::uint32_t cols, int* below_x, int* below_y, float* below_b, int* above_x, int* above_y,
+                  float* above_b) {
+  std::fill(below_x, below_x + cols, 4);
+  std::fill(below_y, below_y + cols, 4);
+  std::fill(below_b, below_b + cols, kMaxBias);
+  std::copy(below_x, below_x + cols, above_x);
+  std::copy(below_y, below_y + cols, above_y);
+  std::copy(below_b, below_b + cols, above_b);
+}
+}  // namespace
+
 FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, const Gaze& gaze,
                                FoveationMaps* maps) {
   if (!maps) return FoveationStatus::InvalidArgument;
@@ -347,68 +456,19 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   const FoveationConfig& cfg = planner.config;
 
   Projection pr;
-  const float* q = eye.orientation;
-  const float qn = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  const bool eye_ok = projection(eye, &pr) && std::isfinite(eye.position[0]) &&
-                      std::isfinite(eye.position[1]) && std::isfinite(eye.position[2]) &&
-                      std::abs(qn - 1.0f) < 1e-3f && finite3(eye.angular_velocity) && finite3(eye.velocity);
-  if (!eye_ok) {
+  if (!eye_usable(eye, &pr)) {
     fill_full(maps, n);
     return FoveationStatus::InvalidEye;
   }
 
-  // Where the gaze may be: a direction O (eye space) and a slack S around it.
-  const float gl = std::sqrt(gaze.direction[0] * gaze.direction[0] + gaze.direction[1] * gaze.direction[1] +
-                             gaze.direction[2] * gaze.direction[2]);
-  const bool has_gaze =
-      gaze.valid && gaze.confidence >= cfg.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
-  double O[3] = {0, 0, -1};
-  if (has_gaze) {
-    for (int k = 0; k < 3; ++k) O[k] = gaze.direction[k];
-    normalize(O);
-  }
+  // Where the gaze may be: a direction O (eye space) and a slack S around it; the origin in pixels.
+  double O[3];
+  const bool has_gaze = gaze_direction(cfg, gaze, O);
   const float slack = has_gaze ? cfg.gaze_uncertainty_deg : cfg.no_gaze_radius_deg;
 
-  // The origin in pixels (a gaze at or behind 90 deg goes far out in its own direction).
-  {
-    const double depth = std::max(-O[2], 1e-6);
-    const double px = std::clamp((O[0] / depth - pr.tan_l) * pr.fx, -1e9, 1e9);
-    const double py = std::clamp((pr.tan_u - O[1] / depth) * pr.fy, -1e9, 1e9);
-    maps->origin_px[0] = static_cast<float>(px);
-    maps->origin_px[1] = static_cast<float>(py);
-  }
+  origin_px(O, pr, maps->origin_px);
 
-  // The least retinal speed of the static world under head rotation anywhere in the view: image
-  // speed |w| sin(angle between the rotation axis and the direction) >= |w| sin(angle to the view's
-  // centre less the view's angular radius), then Daly's pursuit model.
-  int speed_row = 0;
-  {
-    double image_speed = 0;
-    if (cfg.head_rotation) {
-      double w[3];
-      rotate_inverse(q, eye.angular_velocity, w);
-      const double speed = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-      if (speed > 0) {
-        const double axis[3] = {w[0] / speed, w[1] / speed, w[2] / speed};
-        double centre[3] = {0.5 * (pr.tan_l + pr.tan_r), 0.5 * (pr.tan_u + pr.tan_d), -1};
-        normalize(centre);
-        double radius = 0;
-        for (double tx : {pr.tan_l, pr.tan_r})
-          for (double ty : {pr.tan_u, pr.tan_d}) {
-            double corner[3] = {tx, ty, -1};
-            normalize(corner);
-            radius = std::max(radius, angle_deg(centre, corner));
-          }
-        const double a = angle_deg(axis, centre);
-        const double off_axis = std::clamp(std::min(a, 180.0 - a) - radius, 0.0, 90.0);
-        image_speed = speed * std::sin(off_axis / kDegD);
-      }
-    }
-    const float retinal = daly_retinal_velocity(static_cast<float>(image_speed), cfg.params);
-    maps->retinal_speed = retinal;
-    for (int k = 1; k < kFoveationSpeeds; ++k)
-      if (planner.speed[k] <= retinal) speed_row = k;
-  }
+  const int speed_row = retinal_speed_row(planner, eye, pr, maps);
   const float* nyq = planner.nyquist[speed_row];
   const float* log2_nyq = planner.log2_nyquist[speed_row];
 
@@ -416,7 +476,6 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   // (1 / f radians, on the axis).
   const float rho = static_cast<float>(T * std::numbers::sqrt2 / 2.0 / std::min(pr.fx, pr.fy) * kDegD);
   const float e_offset = rho + slack;
-  const float fovea = cfg.foveal_radius_deg;
   const float kx = static_cast<float>(pr.fx / kDegD),
               ky = static_cast<float>(pr.fy / kDegD);  // px per deg on axis
   const int max_rate = cfg.max_rate;
@@ -431,23 +490,9 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
     ox_u[c] = ox * cx.centre[c];
     u2[c] = cx.centre[c] * cx.centre[c];
   }
-  // This frame's cutoff per sine bin: index 0 is full rate (an unreachable Nyquist: rate 1, bias
-  // 0), else 1 + the eccentricity step at or below the bin's eccentricity. Built once per frame so
-  // each tile needs one table read instead of the angle arithmetic.
   float need_of[kFoveationEccSteps + 1], log2_need_of[kFoveationEccSteps + 1];
-  need_of[0] = 1e30f;
-  log2_need_of[0] = 100.0f;
-  for (int j = 0; j < kFoveationEccSteps; ++j) {
-    need_of[j + 1] = nyq[j];
-    log2_need_of[j + 1] = log2_nyq[j];
-  }
   std::int32_t step_of[kFoveationSineSteps];  // 32-bit: a vector gather's index
-  for (int i = 0; i < kFoveationSineSteps; ++i) {
-    const float e = planner.sine_angle[i] - e_offset;
-    step_of[i] = e <= fovea
-                     ? 0
-                     : 1 + std::min(static_cast<int>(e * (1.0f / kFoveationEccStep)), kFoveationEccSteps - 1);
-  }
+  cutoff_tables(planner, nyq, log2_nyq, e_offset, need_of, log2_need_of, step_of);
   const RowTables tables{.ox_u = ox_u,
                          .u2 = u2,
                          .step_of = step_of,
@@ -463,12 +508,7 @@ FoveationStatus plan_foveation(const FoveationPlanner& planner, const Eye& eye, 
   int below_x[kMaxFoveationTiles], below_y[kMaxFoveationTiles], above_x[kMaxFoveationTiles],
       above_y[kMaxFoveationTiles];
   float below_b[kMaxFoveationTiles], above_b[kMaxFoveationTiles];
-  std::fill(below_x, below_x + cols, 4);
-  std::fill(below_y, below_y + cols, 4);
-  std::fill(below_b, below_b + cols, kMaxBias);
-  std::copy(below_x, below_x + cols, above_x);
-  std::copy(below_y, below_y + cols, above_y);
-  std::copy(below_b, below_b + cols, above_b);
+  neutral_rows(cols, below_x, below_y, below_b, above_x, above_y, above_b);
   const Tiles below{below_x, below_y, below_b}, above{above_x, above_y, above_b};
   int own_x[kMaxFoveationTiles], own_y[kMaxFoveationTiles];
   float own_b[kMaxFoveationTiles];

@@ -54,6 +54,48 @@ std::uint64_t profile_checksum(const void* data, std::size_t size) {
   return hash;
 }
 
+namespace {
+// The values of a profile whose sections have their sizes: each finite and in its range.
+ProfileStatus check_values(const Profile& p, ProfileError* error) {
+  const ProfileMeta& m = p.meta;
+  const std::uint64_t K = m.level_count, V = m.view_count, T = m.orientation_count, B = m.band_count;
+  const std::uint64_t cells = 6ull * m.lookup_resolution * m.lookup_resolution;
+  for (std::uint64_t k = 0; k < K; ++k)
+    if (!std::isfinite(p.levels[k].geometric_error) || p.levels[k].geometric_error < 0)
+      return fail(error, ProfileStatus::BadValue, "Levels: level %llu has an invalid geometric error",
+                  static_cast<unsigned long long>(k));
+  for (std::uint64_t v = 0; v < V; ++v) {
+    const ProfileView& view = p.views[v];
+    const float d =
+        view.direction[0] * view.up[0] + view.direction[1] * view.up[1] + view.direction[2] * view.up[2];
+    if (!unit(view.direction) || !unit(view.up) || !(std::abs(d) < 2e-3f))
+      return fail(error, ProfileStatus::BadValue,
+                  "Views: view %llu needs a unit direction and a unit up orthogonal to it",
+                  static_cast<unsigned long long>(v));
+  }
+  for (std::uint64_t i = 0; i < cells * kLookupCandidates; ++i)
+    if (p.lookup[i] >= V)
+      return fail(error, ProfileStatus::BadValue, "Lookup: entry %llu names view %u of %llu",
+                  static_cast<unsigned long long>(i), p.lookup[i], static_cast<unsigned long long>(V));
+  for (std::uint64_t t = 0; t < T; ++t)
+    if (!(p.orientations[t] >= 0 && p.orientations[t] < 180) ||
+        (t && !(p.orientations[t] > p.orientations[t - 1])))
+      return fail(error, ProfileStatus::BadValue,
+                  "Orientations: entry %llu must increase within [0, 180) deg",
+                  static_cast<unsigned long long>(t));
+  for (std::uint64_t b = 0; b < B; ++b)
+    if (!(std::isfinite(p.bands[b]) && p.bands[b] > 0) || (b && !(p.bands[b] > p.bands[b - 1])))
+      return fail(error, ProfileStatus::BadValue, "Bands: entry %llu must be finite, positive and increasing",
+                  static_cast<unsigned long long>(b));
+  std::size_t bad = 0;
+  if (!finite_nonnegative(p.lost, (K - 1) * V * T * B, &bad))
+    return fail(error, ProfileStatus::BadValue, "Lost: value %zu is negative or not finite", bad);
+  if (!finite_nonnegative(p.features, K * V * T, &bad))
+    return fail(error, ProfileStatus::BadValue, "Features: value %zu is negative or not finite", bad);
+  return ProfileStatus::Ok;
+}
+}  // namespace
+
 ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, ProfileError* error) {
   if (!data || !out) return fail(error, ProfileStatus::NullInput, "no data");
   if (reinterpret_cast<std::uintptr_t>(data) % 8 != 0)
@@ -162,38 +204,8 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   p.lost = reinterpret_cast<const float*>(at(ProfileSection::Lost));
   p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
 
-  for (std::uint64_t k = 0; k < K; ++k)
-    if (!std::isfinite(p.levels[k].geometric_error) || p.levels[k].geometric_error < 0)
-      return fail(error, ProfileStatus::BadValue, "Levels: level %llu has an invalid geometric error",
-                  static_cast<unsigned long long>(k));
-  for (std::uint64_t v = 0; v < V; ++v) {
-    const ProfileView& view = p.views[v];
-    const float d =
-        view.direction[0] * view.up[0] + view.direction[1] * view.up[1] + view.direction[2] * view.up[2];
-    if (!unit(view.direction) || !unit(view.up) || !(std::abs(d) < 2e-3f))
-      return fail(error, ProfileStatus::BadValue,
-                  "Views: view %llu needs a unit direction and a unit up orthogonal to it",
-                  static_cast<unsigned long long>(v));
-  }
-  for (std::uint64_t i = 0; i < cells * kLookupCandidates; ++i)
-    if (p.lookup[i] >= V)
-      return fail(error, ProfileStatus::BadValue, "Lookup: entry %llu names view %u of %llu",
-                  static_cast<unsigned long long>(i), p.lookup[i], static_cast<unsigned long long>(V));
-  for (std::uint64_t t = 0; t < T; ++t)
-    if (!(p.orientations[t] >= 0 && p.orientations[t] < 180) ||
-        (t && !(p.orientations[t] > p.orientations[t - 1])))
-      return fail(error, ProfileStatus::BadValue,
-                  "Orientations: entry %llu must increase within [0, 180) deg",
-                  static_cast<unsigned long long>(t));
-  for (std::uint64_t b = 0; b < B; ++b)
-    if (!(std::isfinite(p.bands[b]) && p.bands[b] > 0) || (b && !(p.bands[b] > p.bands[b - 1])))
-      return fail(error, ProfileStatus::BadValue, "Bands: entry %llu must be finite, positive and increasing",
-                  static_cast<unsigned long long>(b));
-  std::size_t bad = 0;
-  if (!finite_nonnegative(p.lost, (K - 1) * V * T * B, &bad))
-    return fail(error, ProfileStatus::BadValue, "Lost: value %zu is negative or not finite", bad);
-  if (!finite_nonnegative(p.features, K * V * T, &bad))
-    return fail(error, ProfileStatus::BadValue, "Features: value %zu is negative or not finite", bad);
+  const ProfileStatus values = check_values(p, error);
+  if (values != ProfileStatus::Ok) return values;
 
   *out = p;
   if (error) *error = ProfileError{};

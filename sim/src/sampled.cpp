@@ -94,10 +94,7 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
   }
 
   // Every rule chooses once (objects new to a scheduler take their level at once: no hysteresis).
-  std::vector<Tuning> tunings = {{"perceptual", SelectionRule::Perceptual, 1},
-                                 {"reddy", SelectionRule::Reddy, 0},
-                                 {"distance", SelectionRule::Distance, 1},
-                                 {"screen-size", SelectionRule::ScreenSize, 1}};
+  std::vector<Tuning> tunings = main_tunings();
   const std::size_t main_rules = tunings.size();
   for (const Tuning& t : swept_tunings(kWider)) tunings.push_back(t);
   SchedulerConfig perceptual;

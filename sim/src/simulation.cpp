@@ -18,6 +18,13 @@ std::vector<Tuning> swept_tunings(int wider) {
   return out;
 }
 
+std::vector<Tuning> main_tunings() {
+  std::vector<Tuning> out;
+  for (const RuleInfo& rule : selection_rules())
+    out.push_back({rule.name, rule.rule, rule.rule == SelectionRule::Reddy ? 0.0 : 1.0});
+  return out;
+}
+
 void tune(SchedulerConfig* c, SelectionRule rule, double parameter) {
   c->rule = rule;
   if (rule == SelectionRule::Perceptual) c->quality = float(parameter);
@@ -144,10 +151,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     r.levels.assign(frames * objects_, 0);
     rules_.push_back(std::move(r));
   };
-  add("perceptual", SelectionRule::Perceptual, 1, false);
-  add("reddy", SelectionRule::Reddy, 0, false);
-  add("distance", SelectionRule::Distance, 1, false);
-  add("screen-size", SelectionRule::ScreenSize, 1, false);
+  for (const Tuning& t : main_tunings()) add(t.name, t.rule, t.parameter, false);
   add("ungated", SelectionRule::Perceptual, 1, false);
   for (const Tuning& t : swept_tunings()) add(t.name, t.rule, t.parameter, true);
 }

@@ -58,6 +58,8 @@ struct Tuning {
   double parameter;
 };
 std::vector<Tuning> swept_tunings(int wider = 0);
+// Every rule of acuity::selection_rules() at its default tuning (Reddy has none: 0).
+std::vector<Tuning> main_tunings();
 // `c` set to `rule` at tuning `parameter` (quality, pixel error or distance scale; else unused).
 void tune(SchedulerConfig* c, SelectionRule rule, double parameter);
 

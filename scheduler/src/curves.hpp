@@ -1,0 +1,172 @@
+#pragma once
+// The tabulated path's threshold curves on the table grid (scheduler/src only): what build_tables()
+// reads the largest invisible sizes from.
+#include "tables.hpp"
+
+namespace acuity {
+
+// The tabulated path's threshold curves on the table grid (config-dependent, profile-independent).
+struct Scheduler::Impl::Curves {
+  std::vector<float> still;   // [kStillE][kCurveSamples]: the floor's terms
+  std::vector<float> slow;    // [kStillE][kCurveSamples]: moving at the floor (the velocity envelope)
+  std::vector<float> moving;  // [kMovingS][kMovingE][kCurveSamples]
+  std::vector<float> centre;  // [kMovingS - 1][kMovingE - 1][kCurveSamples]: each moving cell's midpoint
+  std::vector<float> still_centre, slow_centre;  // [kStillE - 1][kCurveSamples]: each cell's midpoint
+  // Reddy's cutoff H(v) M(e) is separable and kinked (0.825 deg/s, 5.79 deg; -ln H steep and convex
+  // towards 118 deg/s), so a cell's midpoint does not show how far interpolation rises above the
+  // truth. The largest invisible ln size is ln(band) - ln H(v) - ln M(e) whatever the profile, so how
+  // far each node must come down for its cells to stay below it is known in advance, per axis
+  // (Lift): [kStillE - 1] and [kMovingS - 1], [kMovingE - 1] (empty for the other models).
+  struct Lift {
+    float lower, upper;  // [ln deg] at the cell's lower and upper node
+  };
+  std::vector<Lift> still_lift, speed_lift, moving_e_lift;
+  static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
+  static float centre_speed(std::uint32_t i, float floor, float v0) {
+    return speed_midpoint(speed(i, floor), v0);
+  }
+  static float centre_e(std::uint32_t j) { return 0.5f * (moving_e_node(j) + moving_e_node(j + 1)); }
+  static float still_centre_e(std::uint32_t j) { return 0.5f * (still_e_node(j) + still_e_node(j + 1)); }
+  // The least the ends of a cell must come down (a at w = 0, b at w = 1, both >= 0, a + b least) for
+  // the chord of f to stay at or below f over the cell, at 4096 weights w in [0, 1] mapped to the axis
+  // by x(w): {0, 0} where f is concave.
+  template <class F, class X>
+  static Lift chord_lift(F f, X x) {
+    constexpr int kSteps = 4096;
+    const float f0 = f(x(0.0f)), f1 = f(x(1.0f));
+    float rise[kSteps + 1];
+    float most_a = 0;  // a with b = 0
+    for (int i = 0; i <= kSteps; ++i) {
+      const float w = float(i) / float(kSteps);
+      rise[i] = f0 + w * (f1 - f0) - f(x(w));
+      if (i < kSteps) most_a = std::max(most_a, rise[i] / (1.0f - w));
+    }
+    auto least_b = [&](float a) {  // the least b >= 0 that covers every sample given a
+      float b = 0;
+      for (int i = 1; i <= kSteps; ++i) {
+        const float w = float(i) / float(kSteps);
+        b = std::max(b, (rise[i] - a * (1.0f - w)) / w);
+      }
+      return b;
+    };
+    float lo = 0, hi = most_a;  // a + least_b(a) is convex in a: ternary search
+    for (int it = 0; it < 60; ++it) {
+      const float m1 = lo + (hi - lo) / 3, m2 = hi - (hi - lo) / 3;
+      if (m1 + least_b(m1) <= m2 + least_b(m2))
+        hi = m2;
+      else
+        lo = m1;
+    }
+    return {hi, least_b(hi)};
+  }
+  // Reddy's lifts (see still_lift): per axis, -ln M(e) and -ln H(v) against the weights the frame
+  // loop interpolates with (e_cell, speed_cell).
+  void reddy_lifts(float floor, float v0) {
+    auto ln_size_e = [](float e) { return -std::log(reddy_eccentricity(e)); };
+    auto ln_size_v = [](float v) { return -std::log(reddy_velocity(v)); };
+    auto e_axis = [](float lower, float upper) {
+      return [=](float w) { return lower + w * (upper - lower); };
+    };
+    for (std::uint32_t j = 0; j + 1 < kStillE; ++j)
+      still_lift.push_back(chord_lift(ln_size_e, e_axis(still_e_node(j), still_e_node(j + 1))));
+    for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
+      moving_e_lift.push_back(chord_lift(ln_size_e, e_axis(moving_e_node(j), moving_e_node(j + 1))));
+    for (std::uint32_t i = 0; i + 1 < kMovingS; ++i) {
+      const float lo = speed(i, floor), inv_g = (3.0f * lo + 2.0f * v0) / lo;
+      // speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo + 2 v0), solved for v.
+      speed_lift.push_back(chord_lift(ln_size_v, [=](float w) {
+        const float g = w / inv_g;
+        return (lo + g * (lo + 2.0f * v0)) / (1.0f - g);
+      }));
+    }
+  }
+  // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
+  static void sample(const Precomputed& pre, const SchedulerConfig& c, float e, float v, bool moving,
+                     float* out) {
+    const VelocityTerms own = pre.own_terms(v, moving);
+    for (int i = 0; i < kCurveSamples; ++i)
+      out[i] = pre.ln_ct(c, kCurveU0 + kCurveStep * float(i), e, v, moving, own);
+    for (int i = kCurveSamples - 2; i >= 0; --i) out[i] = std::min(out[i], out[i + 1]);
+  }
+  // ln of the largest angular diameter [ln deg] at which a component of band ln_band [ln cpod] with
+  // ln lost contrast y (already divided by q) stays at or below threshold: ln_band - u*, u* the
+  // smallest ln f above which the curve stays >= y. Bisection on the model itself refines the sampled
+  // bracket; the upper end is kept, so the result errs small (conservative).
+  // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
+  // sample step below largest_size(). `bracket` receives the sample index of that upper end (-1: the
+  // curve's ends decided, nothing to refine).
+  // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
+  // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
+  static float sampled_size(const float* curve, float y, float ln_band, int* bracket,
+                            int hint = kCurveSamples / 2) {
+    *bracket = -1;
+    if (!(y > curve[0])) return ln_band - kCurveU0;
+    if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
+    int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
+    hint = std::clamp(hint, 1, kCurveSamples - 1);
+    if (curve[hint] >= y) {  // gallop down from the hint
+      hi = hint;
+      for (int step = 1; hi - step > 0; step *= 2) {
+        if (curve[hi - step] < y) {
+          lo = hi - step;
+          break;
+        }
+        hi -= step;
+      }
+    } else {  // gallop up
+      lo = hint;
+      for (int step = 1; lo + step < kCurveSamples - 1; step *= 2) {
+        if (curve[lo + step] >= y) {
+          hi = lo + step;
+          break;
+        }
+        lo += step;
+      }
+    }
+    while (hi - lo > 1) {
+      const int mid = (lo + hi) / 2;
+      (curve[mid] >= y ? hi : lo) = mid;
+    }
+    *bracket = hi;
+    return ln_band - (kCurveU0 + kCurveStep * float(hi));
+  }
+  static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band,
+                      float e, float v, bool moving) {
+    float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
+    const VelocityTerms own = pre.own_terms(v, moving);
+    for (int i = 0; i < 6; ++i) {
+      const float mid = 0.5f * (ulo + uhi);
+      (pre.ln_ct(c, mid, e, v, moving, own) >= y ? uhi : ulo) = mid;
+    }
+    return ln_band - uhi;
+  }
+  static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
+                            float ln_band, float e, float v, bool moving, int* hint) {
+    int bracket;
+    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint);
+    if (bracket >= 0) *hint = bracket;
+    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
+  }
+  // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
+  // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
+  static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
+                             const float* y, const float* ln_band, std::uint32_t bands, float e, float v,
+                             bool moving, int* hint) {
+    float sampled[kMaxBands];
+    int bracket[kMaxBands];
+    float least = -kNever;
+    for (std::uint32_t b = 0; b < bands; ++b) {
+      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
+      if (bracket[b] >= 0) hint[b] = bracket[b];
+      least = std::min(least, sampled[b]);
+    }
+    float m = -kNever;
+    for (std::uint32_t b = 0; b < bands; ++b)
+      m = std::min(m, bracket[b] >= 0 && sampled[b] <= least + 1.01f * kCurveStep
+                          ? refine(pre, c, bracket[b], y[b], ln_band[b], e, v, moving)
+                          : sampled[b]);
+    return m;
+  }
+};
+
+}  // namespace acuity

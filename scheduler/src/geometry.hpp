@@ -1,0 +1,104 @@
+#pragma once
+// One eye's view of objects (scheduler/src only): the eye as a frame sees it, one object's sight,
+// a block's geometry (look_block()), and the retinal slip and view helpers the choosers share.
+#include "runtime_math.hpp"
+
+namespace acuity {
+
+struct Scheduler::Impl::EyeCache {
+  double position[3];
+  float rotation[4];
+  Vec3 forward;   // world
+  Vec3 velocity;  // world [m/s]
+  Vec3 omega;     // head angular velocity, world [rad/s]
+  bool valid;
+  bool gaze;                      // a usable gaze this frame
+  Vec3 gaze_dir;                  // world, unit
+  bool gaze_moving;               // measured gaze velocity
+  Vec3 gaze_velocity;             // world tangent velocity of the gaze direction [deg/s]
+  float focal_px;                 // horizontal focal length [px]
+  float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
+};
+
+// One eye's view of one object: everything the rules read.
+struct Scheduler::Impl::Sight {
+  float d, r;  // distance to the sphere's centre, radius [m]
+  float radius_deg, diameter_deg, ln_diam;
+  float focal_px;
+  // Perceptual and Reddy only:
+  Vec3 u;                     // unit direction eye -> centre, world
+  Vec3 image, slip;           // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  Vec3 to_eye;                // unit direction centre -> eye, object space
+  float e;                    // eccentricity [deg]
+  float nyquist_cpd;          // the display's limit in the object's direction
+  const std::uint16_t* cand;  // the lookup cell's candidate views
+  std::uint32_t view;         // the nearest of them
+  float vx, vy;               // slip in the view's image axes [deg/s]
+  bool moving;
+  std::uint8_t flags;  // kFlagNoGaze
+};
+
+// One eye's view of up to kSize consecutive objects, structure of arrays (the frame loop's first pass).
+struct Scheduler::Impl::Block {
+  static constexpr std::uint32_t kSize = kBlock;
+  float d[kSize], r[kSize], radius_deg[kSize], ln_diam[kSize];
+  // Perceptual and Reddy only:
+  float test[kSize];  // 0 where the input is valid (NaN otherwise)
+  float e[kSize], nyquist[kSize];
+  float u[3][kSize];       // unit direction eye -> centre, world
+  float image[3][kSize];   // image-plane angular velocity [deg/s], world tangent vector
+  float to_eye[3][kSize];  // unit direction centre -> eye, object space (the view lookup)
+  Look state(std::uint32_t j) const {
+    return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok;
+  }
+  Vec3 to_eye_at(std::uint32_t j) const { return {to_eye[0][j], to_eye[1][j], to_eye[2][j]}; }
+};
+
+// One block's choices, both eyes combined (the finer need wins), before clamps and hysteresis.
+struct Scheduler::Impl::Decisions {
+  std::uint8_t fine[kBlock], coarse[kBlock], flags[kBlock];
+};
+
+namespace internal {
+// Retinal slip of an image moving at `image` [deg/s]: against the measured gaze motion, or Daly's
+// pursuit model.
+inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const ModelParams& params) {
+  if (gaze_moving) return image - gaze_velocity;
+  const float vi = length(image);
+  return vi > 0 ? (daly_retinal_velocity(vi, params) / vi) * image : Vec3{0, 0, 0};
+}
+// Whether retinal_slip() is 0 (Daly's pursuit leaves at least the drift of any moving image), without
+// branches: the image moves with the measured gaze (`tracked`: the gaze velocity, or 0 without one).
+[[gnu::always_inline]] inline bool no_retinal_slip(Vec3 image, Vec3 tracked) {
+  return (image.x == tracked.x) & (image.y == tracked.y) & (image.z == tracked.z);
+}
+// Of a lookup cell's candidates, the view nearest to the direction to the eye (the first on ties).
+inline std::uint32_t nearest_view(const Profile& p, const std::uint16_t* cand, Vec3 to_eye) {
+  std::uint32_t view = cand[0];
+  float best = -2.0f;
+  for (std::uint32_t k = 0; k < kLookupCandidates; ++k) {
+    const float dd = dot(to_eye, load(p.views[cand[k]].direction));
+    view = dd > best ? cand[k] : view;
+    best = std::max(best, dd);
+  }
+  return view;
+}
+// The slip [deg/s] in a view's image axes (right, up; object space, q the object's rotation): there
+// it meets the profile's orientations. 0 for no slip.
+inline void slip_in_view(Vec3 slip, const float q[4], const float* right, const float* up, float* vx,
+                         float* vy) {
+  *vx = *vy = 0;
+  if (slip.x == 0.0f && slip.y == 0.0f && slip.z == 0.0f) return;
+  *vx = dot(slip, rotate(q, load(right)));
+  *vy = dot(slip, rotate(q, load(up)));
+}
+}  // namespace internal
+
+// The lookup cell's candidate views of block b's j-th object: of the direction from it to the eye.
+inline const std::uint16_t* Scheduler::Impl::lookup_candidates(const Profile& p, const Block& b,
+                                                               std::uint32_t j) {
+  const float to_eye[3] = {b.to_eye[0][j], b.to_eye[1][j], b.to_eye[2][j]};
+  return p.lookup + cube_cell(to_eye, p.meta.lookup_resolution) * kLookupCandidates;
+}
+
+}  // namespace acuity

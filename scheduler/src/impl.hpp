@@ -1,0 +1,180 @@
+#pragma once
+// The scheduler's implementation (scheduler/src only): Scheduler::Impl holds every array and runs every
+// pass; the public Scheduler forwards each call to it (scheduler.cpp). Its parts are defined by
+// concern: runtime_math.hpp (Precomputed), geometry.hpp (EyeCache, Sight, Block, Decisions),
+// tables.hpp (ProfileCache, Probe), curves.hpp (Curves), memory.hpp (Memo, RestProbe).
+#include "acuity/scheduler.hpp"
+
+#include <algorithm>
+
+namespace acuity {
+
+struct Scheduler::Impl {
+  // The work of the public calls (scheduler.hpp documents each; Scheduler forwards to these, and
+  // reads the per-object arrays below for its accessors).
+  explicit Impl(const SchedulerConfig& config);
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  void begin_frame(const Frame& frame);
+  void update(std::uint32_t first, std::uint32_t count);
+  void end_frame();
+  int add_profile(const Profile& profile);
+  std::size_t table_bytes(int profile) const;
+  static std::size_t table_bytes(const ProfileMeta& meta, const SchedulerConfig& config);
+  float envelope_speed(float frequency_cpd) const;
+  ObjectId add_object(int profile, const ObjectTransform& transform);
+  void set_transform(ObjectId id, const ObjectTransform& transform);
+  void set_velocity(ObjectId id, const float velocity[3]);
+  void set_clamps(ObjectId id, std::uint8_t min_level, std::uint8_t max_level);
+  void set_bias(ObjectId id, float quality_bias);
+  void remove_object(ObjectId id);
+  bool alive(ObjectId id) const { return id < config_.max_objects && profile_of_[id] >= 0; }
+  const float* scores(ObjectId id) const;
+  bool explain(ObjectId id, ObjectExplain* out) const;
+
+  // ---- Internals ----
+  struct ProfileCache;
+  struct EyeCache;
+  struct Precomputed;
+  struct Curves;
+  struct Sight;
+  struct Block;
+  struct Choice {
+    std::uint8_t fine, coarse, flags;
+  };  // coarsest level at score <= 1 and <= 1 - margin
+  // Two eyes' choices of one object: the finer need wins.
+  static Choice finer(const Choice& a, const Choice& b) {
+    return {std::min(a.fine, b.fine), std::min(a.coarse, b.coarse),
+            static_cast<std::uint8_t>(a.flags | b.flags)};
+  }
+  enum class Look : std::uint8_t { Ok, Invalid, Inside };
+  bool perceptual() const {
+    return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
+  }
+  void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
+  Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
+  void prefetch_views(ObjectId id, const Sight& s) const;
+  void aim(ObjectId id, Sight* s) const;  // perceptual rules: the nearest view, the slip in its axes
+  std::uint32_t aim(ObjectId id, const std::uint16_t* cand, Vec3 to_eye, Vec3 slip, float* vx,
+                    float* vy) const;
+  static const std::uint16_t* lookup_candidates(const Profile& p, const Block& b, std::uint32_t j);
+  Choice evaluate(ObjectId id, Look look, const Sight& s, float* scores, ObjectExplain* explain) const;
+  Choice choose_by_error(ObjectId id, const Sight& s) const;  // Distance, ScreenSize (explain)
+  float error_threshold(float error_size, float focal_px) const;
+  Choice choose_exact(ObjectId id, const Sight& s, float* scores,
+                      ObjectExplain* explain) const;  // Perceptual, Reddy
+  std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
+  void explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
+                     std::uint32_t stride, float inv_diam, float ln_excess, LevelExplain* out) const;
+  struct Probe;   // tabulated path: one object's table position
+  struct Memo;    // tabulated path: per eye, each object's last decision made over whole cells
+  struct Inputs;  // tabulated path: a block's table positions and memo hits
+  void table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                    const Memo& memo, bool use_memo, Inputs* out) const;
+  void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
+                Choice* out, float (*scores)[kMaxLevels]) const;
+  struct Tabulation;  // tabulate()'s passes: one block's state between them
+  void tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                      const Memo& memo, bool scores, Tabulation& tb) const;
+  void tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
+                     const Memo& memo, Choice* out, float (*scores)[kMaxLevels], Tabulation& tb) const;
+  void tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out, Tabulation& tb) const;
+  void tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
+                      Tabulation& tb) const;
+  void tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
+                             float (*scores)[kMaxLevels], Tabulation& tb) const;
+  Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
+  static int any_view_level(const std::int16_t* row, std::uint32_t L, std::int32_t x, bool still,
+                            std::int32_t* lo, std::int32_t* hi);
+  static int any_view_level_at(const std::int16_t* row, std::uint32_t L, float x, float w, bool still);
+  void hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o, const std::uint16_t* cand,
+                 const Block& b, std::uint32_t j, bool quartered, bool still) const;
+  static int view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set, bool quartered,
+                             std::int32_t* lo, std::int32_t* hi);
+  static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
+                                          std::uint32_t ec, int set);
+  void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
+  void build_curves();  // at creation
+  void build_tables(ProfileCache& c) const;
+  void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
+  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
+  void build_any_view(ProfileCache& c, std::uint32_t set) const;
+  // Whether a configuration's perceptual rule reads tables: the models whose thresholds never fall
+  // with speed (see "The tabulated path").
+  static bool tabulated(const SchedulerConfig& c) {
+    return c.rule == SelectionRule::Perceptual && c.evaluation == Evaluation::Tabulated &&
+           (c.model == ThresholdModel::Default || c.model == ThresholdModel::GeislerPerry ||
+            c.model == ThresholdModel::Reddy);
+  }
+  bool tabulated() const { return tabulated(config_); }
+  static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
+  struct Decisions;                            // one block's choices, both eyes combined
+  void derive_velocities(std::uint32_t first, std::uint32_t count);
+  void prefetch_objects(std::uint32_t first) const;  // a block's per-object arrays, ahead of its turn
+  void prefetch_holds(std::uint32_t first) const;    // a block's holds in use, a block ahead
+  void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
+                         const Sight (*sights)[kBlock], Decisions* out);
+  void choose_by_error(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
+  void choose_tabulated(std::uint32_t first, std::uint32_t count, const Block* blocks, Decisions* out);
+  void settle(std::uint32_t first, std::uint32_t count, const Decisions& d);  // clamps, hysteresis
+  std::uint32_t count_flags(std::uint32_t first, std::uint32_t count, FrameStats* st) const;  // end_frame's
+  // At rest (the tabulated path, a still eye): objects decided from their memos without geometry.
+  struct RestProbe;
+  // A block with more runs of objects not at rest than this, or more such objects, takes the whole
+  // frame loop (rest_mask() returns false).
+  static constexpr std::uint32_t kMostRestlessRuns = 4, kMostRestless = 16;
+  bool rest_mask(std::uint32_t first, std::uint32_t count, std::uint32_t* at_rest) const;
+  void prefetch_restless(std::uint32_t first, std::uint32_t count, const std::uint32_t* at_rest) const;
+  void decide_at_rest(std::uint32_t first, std::uint32_t count, const std::uint32_t* at_rest, Decisions* out);
+  bool stands_at_rest(const Memo& memo, ObjectId id, const RestProbe& h, float m, float t) const;
+  void set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b, std::uint32_t j) const;
+  void end_rests(ObjectId id);
+  void apply_budget();
+  std::uint8_t bias_tables_of(float bias) const;  // bias_tables_ of an object of this bias
+
+  SchedulerConfig config_;
+  std::vector<ProfileCache> profiles_;
+  std::uint32_t profile_count_ = 0;
+  // Per profile, what every object reads, in small arrays owned here (not the profile blob):
+  std::vector<std::uint8_t> level_count_;  // [max_profiles]
+  std::vector<std::uint32_t> triangles_;   // [max_profiles][kMaxLevels]
+  std::uint64_t drawn_triangles_ = 0;      // over the live objects at their drawn levels (level_)
+  std::vector<float> error_size_;          // [max_profiles][kMaxLevels]: 2 x geometric error
+  std::vector<float> error_threshold_[2];  // per eye, each frame: level k's least distance /
+                                           // radius (Distance, ScreenSize); +inf past K - 1
+  std::vector<float> band_frequency_;      // [max_profiles][kMaxBands]: band centres [cpod], +inf past B
+  std::uint32_t max_level_count_ = 1;      // the largest K added
+  std::uint32_t max_band_count_ = 0;       // the largest B added
+  // Objects, structure of arrays: one array per component, so the frame loop vectorises.
+  std::vector<int> profile_of_;  // -1: free slot
+  std::vector<double> position_[3], previous_position_[3];
+  std::vector<float> rotation_[4], velocity_[3], bias_;
+  std::vector<float> sphere_[4];  // the profile's bounding sphere (centre, radius) x the object's scale
+  std::vector<std::uint8_t> explicit_velocity_, fresh_, min_level_, max_level_, flags_;
+  std::vector<std::uint8_t> chosen_;              // perceptual choice after hysteresis (before the budget)
+  std::vector<std::uint8_t> next_;                // this frame's level after the budget
+  std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
+  std::vector<std::uint32_t> calm_frames_, wait_frames_;
+  std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
+  std::vector<float> fade_, scores_;
+  std::vector<std::uint8_t> rest_;  // 1: decided at rest this frame
+  std::vector<std::uint32_t> free_list_;
+  std::vector<std::uint32_t> heap_;  // budget pass
+  // Frame state.
+  std::unique_ptr<Precomputed> pre_;                    // model constants and the velocity envelope
+  std::unique_ptr<Curves> curves_;                      // tabulated path: threshold curves on the table grid
+  std::unique_ptr<Memo[]> memos_;                       // tabulated path: [2], one per eye
+  float table_bias_[1 + kMaxTabulatedBiases] = {1.0f};  // the biases with tables: 1, then the config's
+  std::uint32_t table_bias_count_ = 1;
+  std::vector<EyeCache> eyes_;
+  std::uint32_t eye_count_ = 0;
+  float dt_ = 0;
+  bool saccade_ = false;
+  std::uint32_t frame_ = 0;        // begin_frame's count
+  bool resting_ = false;           // rests may be set this frame (a still eye)
+  bool many_at_rest_ = false;      // an eighth of the objects were last frame
+  bool looking_for_rest_ = false;  // objects are looked for at rest this frame
+  FrameStats stats_;
+};
+
+}  // namespace acuity
