@@ -141,10 +141,11 @@ struct PathPair {
         ++n->coarser;
         ObjectExplain x{};
         exact.explain(id, &x);
-        std::printf("coarser (%s): object %u tabulated %d exact %d; %.4g m, %.4g deg across, e %.3g deg, "
-                    "image %.4g deg/s, retinal %.4g deg/s\n",
-                    what, id, tab.level(id), exact.level(id), double(x.distance_m), double(x.angular_diameter_deg),
-                    double(x.eccentricity_deg), double(x.image_velocity_deg_s), double(x.retinal_velocity_deg_s));
+        std::printf(
+            "coarser (%s): object %u tabulated %d exact %d; %.4g m, %.4g deg across, e %.3g deg, "
+            "image %.4g deg/s, retinal %.4g deg/s\n",
+            what, id, tab.level(id), exact.level(id), double(x.distance_m), double(x.angular_diameter_deg),
+            double(x.eccentricity_deg), double(x.image_velocity_deg_s), double(x.retinal_velocity_deg_s));
       }
       tab.remove_object(id);
       exact.remove_object(id);
@@ -162,7 +163,8 @@ ObjectTransform sphere_at(const Profile& p, Rng& rng, const double c[3], double 
   const float* q = t.rotation;
   // The profile's centre, scaled and rotated (q v q*), is subtracted so the sphere lands at c.
   const float v[3] = {s[0] * t.scale, s[1] * t.scale, s[2] * t.scale};
-  const float u[3] = {2 * (q[1] * v[2] - q[2] * v[1]), 2 * (q[2] * v[0] - q[0] * v[2]), 2 * (q[0] * v[1] - q[1] * v[0])};
+  const float u[3] = {2 * (q[1] * v[2] - q[2] * v[1]), 2 * (q[2] * v[0] - q[0] * v[2]),
+                      2 * (q[0] * v[1] - q[1] * v[0])};
   const float rotated[3] = {v[0] + q[3] * u[0] + (q[1] * u[2] - q[2] * u[1]),
                             v[1] + q[3] * u[1] + (q[2] * u[0] - q[0] * u[2]),
                             v[2] + q[3] * u[2] + (q[0] * u[1] - q[1] * u[0])};
@@ -243,8 +245,8 @@ TEST(NeverCoarser, TheObjectsFoundCoarser) {
 TEST(NeverCoarser, TheCornersOfTheTables) {
   const bool quick = std::getenv("ACUITY_QUICK_TESTS") != nullptr;
   const int scenes = 24, frames = quick ? 1 : 4, objects = quick ? 4200 : 10500;
-  const ThresholdModel models[] = {ThresholdModel::Default, ThresholdModel::GeislerPerry, ThresholdModel::Reddy,
-                                   ThresholdModel::KellyDaly};
+  const ThresholdModel models[] = {ThresholdModel::Default, ThresholdModel::GeislerPerry,
+                                   ThresholdModel::Reddy, ThresholdModel::KellyDaly};
   Count n;
   for (int scene = 0; scene < scenes; ++scene) {
     Rng rng(4600u + unsigned(scene));
@@ -266,7 +268,8 @@ TEST(NeverCoarser, TheCornersOfTheTables) {
       f.eyes[1].position[0] = 0.064;
       const bool gaze = rng.chance(0.7f), pursuing = gaze && rng.chance(0.4f);
       for (Gaze& g : f.gaze) {
-        const float x = rng.uniform(-0.6f, 0.6f), y = rng.uniform(-0.4f, 0.4f), s = std::sqrt(x * x + y * y + 1);
+        const float x = rng.uniform(-0.6f, 0.6f), y = rng.uniform(-0.4f, 0.4f),
+                    s = std::sqrt(x * x + y * y + 1);
         g.direction[0] = x / s;
         g.direction[1] = y / s;
         g.direction[2] = -1 / s;
@@ -288,7 +291,11 @@ TEST(NeverCoarser, TheCornersOfTheTables) {
         float v[3] = {0, 0, 0};
         if (rng.chance(0.6f)) across(rng, d, rng.log_uniform(0.05f, 300.0f), v);
         const float b = rng.uniform(0, 1);
-        pair.add(sphere_at(p.profile, rng, centre, r), v, b < 0.15f ? 0.5f : b < 0.3f ? 2.0f : b < 0.35f ? 1.3f : 1.0f);
+        pair.add(sphere_at(p.profile, rng, centre, r), v,
+                 b < 0.15f   ? 0.5f
+                 : b < 0.3f  ? 2.0f
+                 : b < 0.35f ? 1.3f
+                             : 1.0f);
       }
       char what[64];
       std::snprintf(what, sizeof what, "scene %d, frame %d", scene, frame);
