@@ -12,6 +12,17 @@ struct Scheduler::Impl::Curves {
   std::vector<float> moving;  // [kMovingS][kMovingE][kCurveSamples]
   std::vector<float> centre;  // [kMovingS - 1][kMovingE - 1][kCurveSamples]: each moving cell's midpoint
   std::vector<float> still_centre, slow_centre;  // [kStillE - 1][kCurveSamples]: each cell's midpoint
+  // The Default model's largest invisible size is not concave along speed everywhere: where a band's
+  // lost contrast nears the CSF's peak threshold it rises steeply, and it jumps where the band becomes
+  // invisible at any size. So each moving cell's rows (at each eccentricity node) are checked at
+  // kRowChecks - 1 speeds inside, at weights m / kRowChecks:
+  // [kMovingS - 1][kMovingE][kRowChecks - 1][kCurveSamples] (empty for the other models, whose
+  // thresholds do not depend on speed or are known in advance).
+  static constexpr int kRowChecks = 8;
+  std::vector<float> row_checks;
+  static std::size_t row_check_at(std::uint32_t i, std::uint32_t j, int m) {
+    return ((std::size_t(i) * kMovingE + j) * (kRowChecks - 1) + std::size_t(m - 1)) * kCurveSamples;
+  }
   // Reddy's cutoff H(v) M(e) is separable and kinked (0.825 deg/s, 5.79 deg; -ln H steep and convex
   // towards 118 deg/s), so a cell's midpoint does not show how far interpolation rises above the
   // truth. The largest invisible ln size is ln(band) - ln H(v) - ln M(e) whatever the profile, so how
@@ -22,6 +33,12 @@ struct Scheduler::Impl::Curves {
   };
   std::vector<Lift> still_lift, speed_lift, moving_e_lift;
   static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
+  // The speed at weight w of speed cell i (speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo +
+  // 2 v0), solved for v).
+  static float speed_at(std::uint32_t i, float w, float floor, float v0) {
+    const float lo = speed(i, floor), g = w * lo / (3.0f * lo + 2.0f * v0);
+    return (lo + g * (lo + 2.0f * v0)) / (1.0f - g);
+  }
   static float centre_speed(std::uint32_t i, float floor, float v0) {
     return speed_midpoint(speed(i, floor), v0);
   }
@@ -72,12 +89,7 @@ struct Scheduler::Impl::Curves {
     for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
       moving_e_lift.push_back(chord_lift(ln_size_e, e_axis(moving_e_node(j), moving_e_node(j + 1))));
     for (std::uint32_t i = 0; i + 1 < kMovingS; ++i) {
-      const float lo = speed(i, floor), inv_g = (3.0f * lo + 2.0f * v0) / lo;
-      // speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo + 2 v0), solved for v.
-      speed_lift.push_back(chord_lift(ln_size_v, [=](float w) {
-        const float g = w / inv_g;
-        return (lo + g * (lo + 2.0f * v0)) / (1.0f - g);
-      }));
+      speed_lift.push_back(chord_lift(ln_size_v, [=](float w) { return speed_at(i, w, floor, v0); }));
     }
   }
   // Samples ln CT over the curve's range and makes it non-decreasing from the top (suffix minimum).
@@ -147,6 +159,18 @@ struct Scheduler::Impl::Curves {
     if (bracket >= 0) *hint = bracket;
     return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
   }
+  // min over bands of sampled_size() (each band's into sampled[] and bracket[]): at most one sample
+  // step below smallest_size(), from the samples alone.
+  static float smallest_sampled(const float* curve, const float* y, const float* ln_band, std::uint32_t bands,
+                                int* hint, float* sampled, int* bracket) {
+    float least = -kNever;
+    for (std::uint32_t b = 0; b < bands; ++b) {
+      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
+      if (bracket[b] >= 0) hint[b] = bracket[b];
+      least = std::min(least, sampled[b]);
+    }
+    return least;
+  }
   // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
   // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
@@ -154,12 +178,7 @@ struct Scheduler::Impl::Curves {
                              bool moving, int* hint) {
     float sampled[kMaxBands];
     int bracket[kMaxBands];
-    float least = -kNever;
-    for (std::uint32_t b = 0; b < bands; ++b) {
-      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
-      if (bracket[b] >= 0) hint[b] = bracket[b];
-      least = std::min(least, sampled[b]);
-    }
+    const float least = smallest_sampled(curve, y, ln_band, bands, hint, sampled, bracket);
     float m = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b)
       m = std::min(m, bracket[b] >= 0 && sampled[b] <= least + 1.01f * kCurveStep

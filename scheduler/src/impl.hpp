@@ -99,6 +99,13 @@ struct Scheduler::Impl {
   void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
   void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
   void build_any_view(ProfileCache& c, std::uint32_t set) const;
+  void lower_speed_rows(const float* nodes, const float* ys, const float* ln_band, std::uint32_t B,
+                        std::uint32_t T, float* lowers) const;
+  struct Need;
+  struct Lowering {
+    float lower, upper;  // [ln deg] at a cell's lower and upper node
+  };
+  static Lowering least_lowering(const Need* needs, int count);
   // Whether a configuration's perceptual rule reads tables: the models whose thresholds never fall
   // with speed (see "The tabulated path").
   static bool tabulated(const SchedulerConfig& c) {

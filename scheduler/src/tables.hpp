@@ -20,6 +20,9 @@ constexpr float kNever = -1e30f;  // a table entry no size passes
 // The moving tables' cells are checked at their centres only; this much more [ln deg] covers what
 // the bilinear surface can still cut above the truth between centre and edges (measured: < 0.003).
 constexpr float kBilinearMargin = 0.001f;
+// A rise of the truth between two of a moving cell's row checks [ln deg] past twice the
+// interpolation's that counts as a jump (see lower_speed_rows()).
+constexpr float kRowJump = 0.02f;
 // Table sets per profile: [2 i + 0] score <= 1, [2 i + 1] score <= 1 - margin, at the i-th bias with
 // tables (Scheduler::Impl::table_bias_); an object whose bias has none takes the exact path.
 constexpr std::uint32_t kTableSets = 2 * (1 + kMaxTabulatedBiases);

@@ -34,6 +34,17 @@ void Scheduler::Impl::build_curves() {
       Curves::sample(pre, config_, Curves::still_centre_e(j), pre.floor_velocity, true,
                      &curves_->slow_centre[j * std::size_t(kCurveSamples)]);
     }
+    if (config_.model == ThresholdModel::Default) {
+      curves_->row_checks.resize(std::size_t(kMovingS - 1) * kMovingE * (Curves::kRowChecks - 1) *
+                                 kCurveSamples);
+      for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+        for (std::uint32_t j = 0; j < kMovingE; ++j)
+          for (int m = 1; m < Curves::kRowChecks; ++m)
+            Curves::sample(
+                pre, config_, moving_e_node(j),
+                Curves::speed_at(i, float(m) / Curves::kRowChecks, pre.floor_velocity, pre.speed_offset),
+                true, &curves_->row_checks[Curves::row_check_at(i, j, m)]);
+    }
     curves_->centre.resize(std::size_t(kMovingS - 1) * (kMovingE - 1) * kCurveSamples);
     for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
       for (std::uint32_t j = 0; j + 1 < kMovingE; ++j)
@@ -132,49 +143,167 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
                       L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
-  const std::size_t kv = std::size_t(k - 1) * V + w;
-  std::vector<std::int16_t>& moving = c.sets[set].moving;
-  // Moving: per orientation, every band.
+  const std::size_t kv = std::size_t(k - 1) * V + w, N = std::size_t(kMovingS) * kMovingE;
+  // Per orientation at its own speed, every band: the nodes, then what they come down by.
+  std::vector<float> y(std::size_t(T) * kMaxBands), nodes(T * N), lowers(T * N, 0.0f);
   for (std::uint32_t t = 0; t < T; ++t) {
-    float y[kMaxBands];
-    for (std::uint32_t b = 0; b < B; ++b) y[b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
-    int hint[kMaxBands], centre_hint[kMaxBands];  // each band's bracket at the previous node
+    for (std::uint32_t b = 0; b < B; ++b) y[t * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
+    int hint[kMaxBands];  // each band's bracket at the previous node
     std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
-    std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
-    auto largest = [&](const float* curve, float e, float v, int* h) {
-      return Curves::smallest_size(pre, config_, curve, y, c.ln_band.data(), B, e, v, true, h);
-    };
-    float node[kMovingS * kMovingE];
     for (std::uint32_t i = 0; i < kMovingS; ++i)
       for (std::uint32_t j = 0; j < kMovingE; ++j)
-        node[i * kMovingE + j] = largest(&curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
-                                         moving_e_node(j), Curves::speed(i, pre.floor_velocity), hint);
-    // Concave along each axis keeps the cell's edges below; where the midpoint shows the
+        nodes[t * N + i * kMovingE + j] = Curves::smallest_size(
+            pre, config_, &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
+            &y[t * kMaxBands], c.ln_band.data(), B, moving_e_node(j), Curves::speed(i, pre.floor_velocity),
+            true, hint);
+  }
+  if (!curves_->row_checks.empty())
+    lower_speed_rows(nodes.data(), y.data(), c.ln_band.data(), B, T, lowers.data());
+  std::vector<std::int16_t>& moving = c.sets[set].moving;
+  for (std::uint32_t t = 0; t < T; ++t) {
+    const float* node = &nodes[t * N];
+    float* lower = &lowers[t * N];
+    int centre_hint[kMaxBands];  // each band's bracket at the previous cell
+    std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
+    // Concave along eccentricity keeps the cell's rows' blend below; where the midpoint shows the
     // bilinear surface above the truth, the cell's corners come down by the excess.
-    float lower[kMovingS * kMovingE] = {};
     for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
       for (std::uint32_t j = 0; j + 1 < kMovingE; ++j) {
-        float* corner[4] = {&node[i * kMovingE + j], &node[i * kMovingE + j + 1],
-                            &node[(i + 1) * kMovingE + j], &node[(i + 1) * kMovingE + j + 1]};
-        if (*corner[0] <= kNever || *corner[3] >= -kNever) continue;
+        const std::uint32_t corner[4] = {i * kMovingE + j, i * kMovingE + j + 1, (i + 1) * kMovingE + j,
+                                         (i + 1) * kMovingE + j + 1};
+        if (node[corner[0]] <= kNever || node[corner[3]] >= -kNever) continue;
         if (!midpoints) {  // Reddy: known in advance
           const Curves::Lift v = curves_->speed_lift[i], e = curves_->moving_e_lift[j];
           const float lift[4] = {v.lower + e.lower, v.lower + e.upper, v.upper + e.lower, v.upper + e.upper};
-          for (int n = 0; n < 4; ++n) lower[corner[n] - node] = std::max(lower[corner[n] - node], lift[n]);
+          for (int n = 0; n < 4; ++n) lower[corner[n]] = std::max(lower[corner[n]], lift[n]);
           continue;
         }
-        const float mean = 0.25f * (*corner[0] + *corner[1] + *corner[2] + *corner[3]);
-        const float truth = largest(
-            &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)], Curves::centre_e(j),
-            Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), centre_hint);
+        const float mean = 0.25f * (node[corner[0]] + node[corner[1]] + node[corner[2]] + node[corner[3]]);
+        const float truth = Curves::smallest_size(
+            pre, config_, &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
+            &y[t * kMaxBands], c.ln_band.data(), B, Curves::centre_e(j),
+            Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true, centre_hint);
         const float excess = mean - truth;
         if (excess > 0)
-          for (float* q : corner) lower[q - node] = std::max(lower[q - node], excess);
+          for (const std::uint32_t q : corner) lower[q] = std::max(lower[q], excess);
       }
-    for (std::uint32_t i = 0; i < kMovingS * kMovingE; ++i)
-      moving[((std::size_t(w) * T + t) * kMovingS * kMovingE + i) * L + (k - 1)] =
+    for (std::uint32_t i = 0; i < N; ++i)
+      moving[((std::size_t(w) * T + t) * N + i) * L + (k - 1)] =
           encode_size(node[i] - lower[i] - kBilinearMargin);
   }
+}
+
+// At a cell's weight w, the interpolation must come down by e [ln deg].
+struct Scheduler::Impl::Need {
+  float w, e;
+  int check;  // the row check whose truth it compares with
+};
+
+// Lowers the moving table's nodes of one level and view (per orientation t: nodes[t N ..] less
+// lowers[t N ..], as build_moving() stores them, for ln lost contrast ys[t kMaxBands ..] over q per
+// band; N = kMovingS kMovingE) so that along speed, at each
+// eccentricity node, the interpolation stays at or below the truth (the largest invisible size) at
+// the row checks' speeds inside each cell. The truth there is first read from the samples alone (at
+// most one sample step low); where that shows a need, refined on the model. Between two checks the
+// truth is taken to bend no more than their grid shows, except where it rises more than twice the
+// interpolation does (a band becoming invisible at any size, or nearly): there only monotonicity is
+// assumed (thresholds never fall with speed), so the interpolation's larger end of that step must
+// stay at or below the truth at its lower end. A cell's two nodes come down by the least total that
+// does it (least_lowering()); a node shared by two cells may come down for either (which only lowers
+// the other's).
+void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, const float* ln_band,
+                                       std::uint32_t B, std::uint32_t T, float* lowers) const {
+  const Precomputed& pre = *pre_;
+  constexpr int M = Curves::kRowChecks;
+  const std::size_t N = std::size_t(kMovingS) * kMovingE;
+  // Each orientation's and check's brackets at the previous cell.
+  std::vector<int> hints(std::size_t(T) * M * kMaxBands, kCurveSamples / 2);
+  float sampled[kMaxBands];
+  int bracket[kMaxBands];
+  // Cells outside, orientations inside: a cell's check curves stay in the cache for all of them.
+  for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+    for (std::uint32_t j = 0; j < kMovingE; ++j)
+      for (std::uint32_t t = 0; t < T; ++t) {
+        const float* node = &nodes[t * N];
+        const float* y = &ys[t * kMaxBands];
+        float* lower = &lowers[t * N];
+        int* hint = &hints[std::size_t(t) * M * kMaxBands];
+        const std::uint32_t at0 = i * kMovingE + j, at1 = (i + 1) * kMovingE + j;
+        if (node[at0] <= kNever || node[at1] >= -kNever) continue;  // no size passes, or every size does
+        const float a0 = node[at0] - lower[at0], a1 = node[at1] - lower[at1], rise = (a1 - a0) / M;
+        float truth[M + 1];
+        truth[0] = node[at0];
+        truth[M] = node[at1];
+        for (int m = 1; m < M; ++m)
+          truth[m] = Curves::smallest_sampled(&curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band,
+                                              B, &hint[m * kMaxBands], sampled, bracket);
+        Need needs[3 * M];  // what the row needs (only where it must come down)
+        int count = 0;
+        const auto gather = [&] {
+          count = 0;
+          const auto add = [&](int at, int check) {
+            const float e = a0 + rise * float(at) - truth[check];
+            if (e > 0.0f) needs[count++] = {float(at) / M, e, check};
+          };
+          for (int m = 0; m < M; ++m) {
+            add(m + 1, m + 1);
+            if (truth[m + 1] - truth[m] > 2.0f * std::max(rise, 0.0f) + kRowJump) {
+              add(m, m);
+              add(m + 1, m);
+            }
+          }
+          return count;
+        };
+        if (gather() == 0) continue;
+        bool refined[M + 1] = {};
+        for (int n = 0; n < count; ++n) {
+          const int m = needs[n].check;
+          if (m == 0 || m == M || refined[m]) continue;
+          refined[m] = true;
+          int refine_hint[kMaxBands];
+          std::copy(&hint[m * kMaxBands], &hint[(m + 1) * kMaxBands], refine_hint);
+          truth[m] = Curves::smallest_size(
+              pre, config_, &curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
+              moving_e_node(j), Curves::speed_at(i, float(m) / M, pre.floor_velocity, pre.speed_offset), true,
+              refine_hint);
+        }
+        if (gather() == 0) continue;
+        const Lowering d = least_lowering(needs, count);
+        lower[at0] += d.lower;
+        lower[at1] += d.upper;
+      }
+}
+
+// The least lowering of a cell's two nodes (lower + upper least, both >= 0) under which the
+// interpolation at each weight needs[n].w comes down by at least needs[n].e > 0: (1 - w) lower + w
+// upper >= e. The optimum lies where one node alone, or two of the needs, decide; the largest e on
+// both nodes is always enough.
+Scheduler::Impl::Lowering Scheduler::Impl::least_lowering(const Need* needs, int count) {
+  float most = 0.0f, only_upper = 0.0f, only_lower = 0.0f;
+  for (int n = 0; n < count; ++n) {
+    most = std::max(most, needs[n].e);
+    only_upper = needs[n].w > 0.0f ? std::max(only_upper, needs[n].e / needs[n].w) : kInf;
+    only_lower = needs[n].w < 1.0f ? std::max(only_lower, needs[n].e / (1.0f - needs[n].w)) : kInf;
+  }
+  Lowering best{most, most};
+  const auto consider = [&](float a, float b) {
+    if (!(a >= 0.0f && b >= 0.0f && a + b < best.lower + best.upper)) return;
+    for (int n = 0; n < count; ++n)
+      if ((1.0f - needs[n].w) * a + needs[n].w * b < needs[n].e) return;
+    best = {a, b};
+  };
+  consider(0.0f, only_upper);
+  consider(only_lower, 0.0f);
+  for (int p = 0; p < count; ++p)
+    for (int q = p + 1; q < count; ++q) {
+      const Need& u = needs[p];
+      const Need& v = needs[q];
+      const float det = v.w - u.w;  // (1 - u.w) v.w - (1 - v.w) u.w
+      if (det == 0.0f) continue;
+      const float a = (u.e * v.w - v.e * u.w) / det, b = ((1.0f - u.w) * v.e - (1.0f - v.w) * u.e) / det;
+      consider(a + 1e-6f, b + 1e-6f);  // a hair more: rounding must not leave the pair uncovered
+    }
+  return best;
 }
 
 // The bounds over every view of table set `set` (its still and slow tables built).
