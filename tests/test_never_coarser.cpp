@@ -19,34 +19,15 @@
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_writer.hpp"
 
+#include "random_scene.hpp"
+
 using namespace acuity;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-struct Rng {
-  std::mt19937 g;
-  explicit Rng(unsigned seed) : g(seed) {}
-  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-  float log_uniform(float lo, float hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
-  bool chance(float p) { return uniform(0, 1) < p; }
-  void quaternion(float q[4]) {
-    std::normal_distribution<float> n;
-    float s = 0;
-    for (int i = 0; i < 4; ++i) {
-      q[i] = n(g);
-      s += q[i] * q[i];
-    }
-    for (int i = 0; i < 4; ++i) q[i] /= std::sqrt(s);
-  }
-  void direction(float v[3]) {
-    float q[4];
-    quaternion(q);
-    const float s = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-    for (int i = 0; i < 3; ++i) v[i] = q[i] / s;
-  }
-};
+using acuity::testing::Rng;
 
 // A profile's bytes (8-byte aligned, as open_profile needs) and the profile read from them.
 struct OwnedProfile {

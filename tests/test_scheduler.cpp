@@ -15,6 +15,8 @@
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_writer.hpp"
 
+#include "random_scene.hpp"
+
 #include "allocation_counter.hpp"  // the no-allocation test counts with it
 
 using namespace acuity;
@@ -85,21 +87,7 @@ void gaze_at(Frame& f, double x, double y, double z) {
   f.gaze[0].valid = true;
 }
 
-struct Rng {
-  std::mt19937 g;
-  explicit Rng(unsigned seed) : g(seed) {}
-  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(g); }
-  void quaternion(float q[4]) {
-    std::normal_distribution<float> n;
-    float s = 0;
-    for (int i = 0; i < 4; ++i) {
-      q[i] = n(g);
-      s += q[i] * q[i];
-    }
-    s = std::sqrt(s);
-    for (int i = 0; i < 4; ++i) q[i] /= s;
-  }
-};
+using acuity::testing::Rng;
 
 // One object evaluated alone (hysteresis off): its level. A re-added object starts fresh.
 struct Single {
