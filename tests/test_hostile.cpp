@@ -26,21 +26,15 @@
 #include "acuity/sim/tracks.hpp"
 #include "profile_fixture.hpp"
 
+#include "scratch_dir.hpp"
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace acuity;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("acuity_test_hostile_" + std::to_string(::getpid())) / name;
-  fs::create_directories(p.parent_path());
-  return p;
-}
-struct ScratchCleanup : ::testing::Environment {
-  void TearDown() override { fs::remove_all(scratch("x").parent_path()); }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+using acuity::testing::scratch;
 
 void write(const fs::path& p, const std::string& bytes) {
   fs::create_directories(p.parent_path());
