@@ -665,21 +665,23 @@ TEST(SchedulerPolicies, HysteresisStopsPingPong) {
   const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -10));
   Frame f = looking_forward();
   gaze_at(f, 0, 0, -1);
-  // Find a distance where the level steps, then oscillate by 1% around it (VR head bob).
+  // Find a distance where the level steps, then oscillate by 1% around it (VR head bob). The probe
+  // has no hysteresis: it refines and coarsens at once, so each frame's level is a new object's.
   double step = 0;
   std::uint8_t prev = 0;
+  SchedulerConfig probe_config;
+  probe_config.max_objects = 2;
+  Scheduler probe(probe_config);
+  const ObjectId j = probe.add_object(probe.add_profile(tp.profile), at(0, 0, -2));
   for (double z = 2; z < 400; z *= 1.01) {
     s.set_transform(id, at(0, 0, -z));
-    SchedulerConfig fresh_config;
-    fresh_config.max_objects = 2;
-    Scheduler fresh(fresh_config);
-    const ObjectId j = fresh.add_object(fresh.add_profile(tp.profile), at(0, 0, -z));
-    fresh.run_frame(f);
-    if (fresh.level(j) > prev && z > 5) {
+    probe.set_transform(j, at(0, 0, -z));
+    probe.run_frame(f);
+    if (probe.level(j) > prev && z > 5) {
       step = z;
       break;
     }
-    prev = fresh.level(j);
+    prev = probe.level(j);
   }
   ASSERT_GT(step, 0);
   int changes = 0;
@@ -708,32 +710,41 @@ TEST(SchedulerPolicies, HysteresisStopsPingPong) {
 // fixating eye; without saccade gating the measured gaze speed still counts as eye motion.
 TEST(SchedulerPolicies, ASaccadeDoesNotSpendItsOwnBlur) {
   const TestProfile tp;
+  std::vector<double> distances;  // one object per distance, each decided on its own
+  for (double z = 3.0; z < 300.0; z *= 1.2) distances.push_back(z);
   for (const Evaluation evaluation : {Evaluation::Exact, Evaluation::Tabulated}) {
-    // The level after five frames of a 400 deg/s gaze sweep, from a fixation on an object z m away.
-    auto after_sweep = [&](double z, float gate, std::uint8_t* fixating) {
+    // Each object's level after five frames of a 400 deg/s gaze sweep, from a fixation on it
+    // (*fixating: the level before the sweep).
+    auto after_sweep = [&](float gate, std::vector<std::uint8_t>* fixating) {
       SchedulerConfig c;
-      c.max_objects = 1;
+      c.max_objects = static_cast<std::uint32_t>(distances.size());
       c.saccade_speed = gate;
       c.evaluation = evaluation;
       Scheduler s(c);
-      const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -z));
+      const int profile = s.add_profile(tp.profile);
+      for (const double z : distances) s.add_object(profile, at(0, 0, -z));
       Frame f = looking_forward();
       gaze_at(f, 0, 0, -1);
       f.gaze[0].has_velocity = true;
       s.run_frame(f);
-      *fixating = s.level(id);
+      fixating->clear();
+      for (ObjectId id = 0; id < distances.size(); ++id) fixating->push_back(s.level(id));
       Frame saccade = f;
       saccade.gaze[0].angular_velocity[1] = 400;
       for (int i = 0; i < 5; ++i) s.run_frame(saccade);
-      return s.level(id);
+      std::vector<std::uint8_t> after;
+      for (ObjectId id = 0; id < distances.size(); ++id) after.push_back(s.level(id));
+      return after;
     };
+    std::vector<std::uint8_t> fixating, gated_fixating;
+    const std::vector<std::uint8_t> ungated = after_sweep(0.0f, &fixating);  // measured eye motion
+    const std::vector<std::uint8_t> gated = after_sweep(200.0f, &gated_fixating);
+    ASSERT_EQ(fixating, gated_fixating);  // before the sweep the gate changes nothing
     int blur_coarsens = 0;
-    for (double z = 3.0; z < 300.0; z *= 1.2) {
-      std::uint8_t fixating = 0;
-      if (after_sweep(z, 0.0f, &fixating) <= fixating) continue;  // measured eye motion: the blur counts
+    for (std::size_t i = 0; i < distances.size(); ++i) {
+      if (ungated[i] <= fixating[i]) continue;  // the blur counts, but does not coarsen it here
       ++blur_coarsens;
-      EXPECT_EQ(after_sweep(z, 200.0f, &fixating), fixating)
-          << z << " m";  // a gated saccade does not spend it
+      EXPECT_EQ(gated[i], fixating[i]) << distances[i] << " m";  // a gated saccade does not spend it
     }
     EXPECT_GT(blur_coarsens, 0) << to_string(evaluation);  // the case exists at some distance
   }
