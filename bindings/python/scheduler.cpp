@@ -347,6 +347,15 @@ void bind_scheduler(py::module_ m) {
             return index;
           },
           "profile"_a)
+      .def(
+          "table_bytes",
+          [](const PyScheduler& s, int profile) {
+            if (profile < 0 || std::size_t(profile) >= s.profiles.size())
+              throw py::index_error("table_bytes: profile " + std::to_string(profile) + " was not added");
+            return s.scheduler.table_bytes(profile);
+          },
+          "profile_id"_a,
+          "Bytes of runtime tables this scheduler keeps for the profile (0 where it evaluates exactly).")
       .def("add_objects", &PyScheduler::add_objects, "profile"_a, "position"_a, "rotation"_a, "scale"_a,
            "Add N objects; returns their ids (uint32). All or nothing: a profile index that was not\n"
            "added raises IndexError, more objects than free capacity ValueError; then none is added.")

@@ -161,3 +161,27 @@ def test_a_tabulated_bias_decides_as_that_quality():
     assert np.array_equal(biased, levels(quality=2.0))
     assert np.all(biased <= levels(bias=2.0, evaluation=acuity.Evaluation.exact))
     assert np.any(biased > levels())  # the bias did coarsen
+
+
+def test_table_bytes_per_profile():
+    """What a profile's tables cost: none evaluated exactly; a hysteresis margin and each listed bias
+    add a set as large as the first."""
+    def table_bytes(**fields):
+        config = acuity.SchedulerConfig()
+        config.max_objects = 1
+        for name, value in fields.items():
+            setattr(config, name, value)
+        s = acuity.Scheduler(config)
+        pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+        with pytest.raises(IndexError, match="profile 1 was not added"):
+            s.table_bytes(pid + 1)
+        with pytest.raises(IndexError):
+            s.table_bytes(-1)
+        return s.table_bytes(pid)
+
+    one_set = table_bytes()
+    assert one_set > 0
+    assert table_bytes(evaluation=acuity.Evaluation.exact) == 0
+    assert table_bytes(hysteresis_margin=0.3) == 2 * one_set
+    assert table_bytes(tabulated_biases=[2.0, 0, 0]) == 2 * one_set
+    assert table_bytes(tabulated_biases=[2.0, 0.5, 0], hysteresis_margin=0.3) == 6 * one_set
