@@ -6,6 +6,7 @@
 //   build/bench/bench_scheduler --benchmark_min_time=0.5
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <barrier>
 #include <cmath>
 #include <memory>
@@ -112,19 +113,132 @@ struct Scene {
   }
 };
 
+// How the head moves in BM_scheduler: steadily (still, or turning at a constant speed), sweeping
+// back and forth, or along head_track().
+enum class HeadMotion { Steady, Sweep, Track };
+
+// A head track as a seated VR user makes one, 20 s at 90 Hz, from a fixed seed: sway (yaw, pitch
+// and a centimetre of position at 0.2-1.1 Hz), turns of 10-45 deg every 1.5-3 s along minimum-jerk
+// profiles (peaks of 50-170 deg/s, within +-40 deg), and the gaze fixating points in the world (the
+// eye counter-rotates in the head while the head moves) with a saccade of 40 ms to a new point
+// every 0.2-0.5 s or when the eye would turn past 30 deg in the head. Every frame reports the eye's
+// velocity and angular velocity and the gaze's, as a headset's runtime does (finite differences).
+std::vector<Frame> head_track(const Frame& base) {
+  constexpr double kPi = 3.14159265358979, kDeg = kPi / 180.0;
+  constexpr int kFrames = 1800;
+  const double dt = base.dt;  // the track in double; frames take floats
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  struct Pose {
+    double yaw, pitch;  // head [deg]
+    double position[3];
+  };
+  std::vector<Pose> poses(kFrames);
+  double turn_from = 0, turn_to = 0, turn_start = 0, turn_length = 0.4, next_turn = 1.0;
+  for (int i = 0; i < kFrames; ++i) {
+    const double t = double(i) * dt;
+    if (t >= next_turn) {
+      turn_from = turn_to;
+      const double size = 10.0 + 35.0 * u(rng);
+      turn_to = std::clamp(turn_from + (u(rng) < 0.5 ? -size : size), -40.0, 40.0);
+      turn_start = t;
+      turn_length = 0.25 + 0.35 * u(rng);
+      next_turn = t + 1.5 + 1.5 * u(rng);
+    }
+    const double tau = std::clamp((t - turn_start) / turn_length, 0.0, 1.0);
+    const double eased = tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));  // minimum jerk
+    const double sway_yaw = 1.5 * std::sin(2 * kPi * 0.31 * t) + 0.7 * std::sin(2 * kPi * 0.83 * t + 1);
+    const double sway_pitch = 1.0 * std::sin(2 * kPi * 0.23 * t + 0.5) + 0.4 * std::sin(2 * kPi * 1.1 * t);
+    poses[i] = {turn_from + eased * (turn_to - turn_from) + sway_yaw,
+                sway_pitch,
+                {0.01 * std::sin(2 * kPi * 0.25 * t), 0.005 * std::sin(2 * kPi * 0.5 * t),
+                 0.008 * std::sin(2 * kPi * 0.19 * t)}};
+  }
+  // The eye-in-head direction toward a world direction, for a head at yaw and pitch [deg].
+  const auto in_head = [&](const double world[3], double yaw, double pitch, double out[3]) {
+    const double cy = std::cos(yaw * kDeg), sy = std::sin(yaw * kDeg), cp = std::cos(pitch * kDeg),
+                 sp = std::sin(pitch * kDeg);
+    const double x = cy * world[0] - sy * world[2], z = sy * world[0] + cy * world[2];  // undo the yaw
+    out[0] = x;
+    out[1] = cp * world[1] - sp * z;  // undo the pitch
+    out[2] = sp * world[1] + cp * z;
+  };
+  std::vector<Frame> frames(kFrames, base);
+  double target[3] = {0, 0, -1}, from[3] = {0, 0, -1};  // the fixated world direction; the saccade's start
+  double saccade_left = 0, next_saccade = 0.3, direction[3] = {0, 0, -1};
+  for (int i = 0; i < kFrames; ++i) {
+    const double t = double(i) * dt;
+    const Pose& p = poses[i];
+    Frame& f = frames[i];
+    Eye& eye = f.eyes[0];
+    for (int a = 0; a < 3; ++a) eye.position[a] = p.position[a];
+    const double hy = 0.5 * p.yaw * kDeg, hp = 0.5 * p.pitch * kDeg;  // yaw about y, then pitch about x
+    eye.orientation[0] = float(std::cos(hy) * std::sin(hp));
+    eye.orientation[1] = float(std::sin(hy) * std::cos(hp));
+    eye.orientation[2] = float(-std::sin(hy) * std::sin(hp));
+    eye.orientation[3] = float(std::cos(hy) * std::cos(hp));
+    const Pose& q = poses[i > 0 ? i - 1 : 0];
+    for (int a = 0; a < 3; ++a) eye.velocity[a] = i > 0 ? float((p.position[a] - q.position[a]) / dt) : 0.0f;
+    eye.angular_velocity[0] = float((p.pitch - q.pitch) / dt);
+    eye.angular_velocity[1] = float((p.yaw - q.yaw) / dt);
+    eye.angular_velocity[2] = 0;
+    double now[3];
+    in_head(target, p.yaw, p.pitch, now);
+    if (saccade_left <= 0 && (t >= next_saccade || now[2] > -std::cos(30.0 * kDeg))) {
+      std::copy(target, target + 3, from);
+      const double az = (p.yaw + 24.0 * (u(rng) - 0.5)) * kDeg, el = 16.0 * (u(rng) - 0.5) * kDeg;
+      target[0] = -std::sin(az) * std::cos(el);
+      target[1] = std::sin(el);
+      target[2] = -std::cos(az) * std::cos(el);
+      saccade_left = 0.04;
+      next_saccade = t + 0.04 + 0.2 + 0.3 * u(rng);
+    }
+    if (saccade_left > 0) {  // along the great circle from the old point to the new one
+      const double s = 1.0 - std::max(saccade_left - dt, 0.0) / 0.04;
+      double w[3], len = 0;
+      for (int a = 0; a < 3; ++a) {
+        w[a] = from[a] + s * (target[a] - from[a]);
+        len += w[a] * w[a];
+      }
+      for (double& c : w) c /= std::sqrt(len);
+      in_head(w, p.yaw, p.pitch, now);
+      saccade_left -= dt;
+    }
+    Gaze& g = f.gaze[0];
+    g.valid = true;
+    g.has_velocity = true;
+    const double dot =
+        std::clamp(now[0] * direction[0] + now[1] * direction[1] + now[2] * direction[2], -1.0, 1.0);
+    double axis[3] = {direction[1] * now[2] - direction[2] * now[1],
+                      direction[2] * now[0] - direction[0] * now[2],
+                      direction[0] * now[1] - direction[1] * now[0]};
+    const double axis_len = std::sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    const double speed = i > 0 && axis_len > 0 ? std::acos(dot) / kDeg / dt / axis_len : 0.0;
+    for (int a = 0; a < 3; ++a) {
+      g.angular_velocity[a] = float(axis[a] * speed);
+      direction[a] = now[a];
+      g.direction[a] = float(now[a]);
+    }
+  }
+  return frames;
+}
+
 void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Evaluation evaluation = Evaluation::Tabulated, float head_turn_deg_s = 0,
                   Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
-                  int meshes = kProfiles, bool sweep = false, float tremble_m = 0) {
+                  int meshes = kProfiles, HeadMotion head = HeadMotion::Steady, float tremble_m = 0) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model, meshes);
   scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
   float yaw = 0;                                              // [deg]
+  const std::vector<Frame> track = head == HeadMotion::Track ? head_track(scene.frame) : std::vector<Frame>{};
+  std::size_t frame_index = 0;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> tremble(-tremble_m, tremble_m);
   for (auto _ : state) {
     if (tremble_m > 0)  // the eye's position each frame within +-tremble_m of the origin, per axis
       for (double& x : scene.frame.eyes[0].position) x = tremble(rng);
-    if (sweep) {  // the head yaws back and forth over +-15 deg, frame by frame
+    if (head == HeadMotion::Track) scene.frame = track[frame_index++ % track.size()];
+    if (head == HeadMotion::Sweep) {  // the head yaws back and forth over +-15 deg, frame by frame
       float& speed = scene.frame.eyes[0].angular_velocity[1];
       yaw += speed * scene.frame.dt;
       if (std::abs(yaw) > 15.0f) speed = yaw > 0 ? -head_turn_deg_s : head_turn_deg_s;
@@ -256,17 +370,25 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_turning, SelectionRule::Perceptu
 // The same head sweeping +-15 deg at 30 deg/s: each frame its own (the other cases repeat one frame,
 // so every remembered decision stands; here eccentricities change as a real head moves them).
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_sweeping, SelectionRule::Perceptual, 0.0f,
-                  Evaluation::Tabulated, 30.0f, Biases::None, ThresholdModel::Default, kProfiles, true)
+                  Evaluation::Tabulated, 30.0f, Biases::None, ThresholdModel::Default, kProfiles,
+                  HeadMotion::Sweep)
+    ->Apply(sizes);
+// The still scene through a recorded-like head track (head_track(): sway, turns, fixations and
+// saccades of the gaze, every velocity reported): what a headset's frames look like.
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_track, SelectionRule::Perceptual, 0.0f, Evaluation::Tabulated,
+                  0.0f, Biases::None, ThresholdModel::Default, kProfiles, HeadMotion::Track)
     ->Apply(sizes);
 // The still scene through a head held still: tracking noise moves the eye within +-0.2 mm a frame
 // (no velocity reported), so sizes and eccentricities change a little every frame.
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_trembling, SelectionRule::Perceptual, 0.0f,
-                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, kProfiles, false, 2e-4f)
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, kProfiles,
+                  HeadMotion::Steady, 2e-4f)
     ->Apply(sizes);
 // The still scene through an eye put anywhere within +-0.5 m each frame with no velocity reported: no
 // object stays at rest, so this is what looking for rests costs where none hold.
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_restless, SelectionRule::Perceptual, 0.0f,
-                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, kProfiles, false, 0.5f)
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, kProfiles,
+                  HeadMotion::Steady, 0.5f)
     ->Arg(100000)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_exact, SelectionRule::Perceptual, 0.0f, Evaluation::Exact)
