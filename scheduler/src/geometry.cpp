@@ -63,7 +63,7 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
   for (std::uint32_t j = 0; j < count; ++j) {
     const float radius_deg = angular_radius_deg(out_d[j], out_r[j]);
     out_radius[j] = radius_deg;
-    out_ln[j] = ln_positive(2.0f * radius_deg);
+    out_ln[j] = ln_angular_diameter(radius_deg);
   }
   const Vec3 eye_velocity = eye.velocity, omega = eye.omega, forward = eye.forward;
   const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
@@ -75,7 +75,6 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
     const Vec3 u = inv_d * Vec3{rx[j], ry[j], rz[j]};
     const Vec3 v_rel = Vec3{vx[j], vy[j], vz[j]} - eye_velocity;
     const Vec3 image = kDeg * (inv_d * (v_rel - dot(v_rel, u) * u) - cross(omega, u));
-    const float cos_phi = std::clamp(dot(u, forward), 0.05f, 1.0f);
     const Vec3 to_eye = rotate(-qx[j], -qy[j], -qz[j], qw[j], -1.0f * u);  // the inverse rotation
     b.u[0][j] = u.x;
     b.u[1][j] = u.y;
@@ -86,8 +85,8 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
     b.to_eye[0][j] = to_eye.x;
     b.to_eye[1][j] = to_eye.y;
     b.to_eye[2][j] = to_eye.z;
-    b.nyquist[j] = half_focal / (cos_phi * cos_phi);
-    b.e[j] = std::max(0.0f, angle_deg(u, gaze) - b.radius_deg[j] - offset);
+    b.nyquist[j] = nyquist_cpd(half_focal, dot(u, forward));
+    b.e[j] = nearest_eccentricity(angle_deg(u, gaze), b.radius_deg[j], offset);
   }
 }
 

@@ -60,6 +60,27 @@ struct Scheduler::Impl::Decisions {
 };
 
 namespace internal {
+// What look_block() computes per object and stands_at_rest() at the ends of a range of poses, written
+// once so that the two compute alike.
+// ln of the angular diameter [ln deg] of a sphere of angular radius radius_deg [deg].
+[[gnu::always_inline]] inline float ln_angular_diameter(float radius_deg) {
+  return ln_positive(2.0f * radius_deg);
+}
+// The eccentricity [deg] of a sphere's nearest point: its centre angle_deg from the gaze, less its
+// angular radius and the gaze's uncertainty offset_deg; 0 where the gaze falls inside.
+[[gnu::always_inline]] inline float nearest_eccentricity(float angle_deg, float radius_deg,
+                                                         float offset_deg) {
+  return std::max(0.0f, angle_deg - radius_deg - offset_deg);
+}
+// The display's Nyquist frequency [cpd] in a direction whose cosine to the view axis is cos_phi
+// (clamped to [0.05, 1]; pixels subtend less off axis): half_focal / cos^2, half_focal = focal
+// length [px] / 2 in radians per degree.
+constexpr float kLeastViewCosine = 0.05f;
+[[gnu::always_inline]] inline float nyquist_cpd(float half_focal, float cos_phi) {
+  const float c = std::clamp(cos_phi, kLeastViewCosine, 1.0f);
+  return half_focal / (c * c);
+}
+
 // Retinal slip of an image moving at `image` [deg/s]: against the measured gaze motion, or Daly's
 // pursuit model.
 inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const ModelParams& params) {

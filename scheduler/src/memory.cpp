@@ -57,15 +57,15 @@ bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestPr
   if (!(alpha + kRoomRelative < h.view_margin)) return false;
   const float radius_near = angular_radius_deg(d_near, h.r), radius_far = angular_radius_deg(d_far, h.r);
   // x: one table step of room each side (the box's ends past the entries need none).
-  const std::int32_t x_near = size_steps_above(ln_positive(2.0f * radius_near)),
-                     x_far = size_steps_above(ln_positive(2.0f * radius_far));
+  const std::int32_t x_near = size_steps_above(ln_angular_diameter(radius_near)),
+                     x_far = size_steps_above(ln_angular_diameter(radius_far));
   if (!(memo.x_from[id] == kLeastEntry || x_far > memo.x_from[id])) return false;
   if (!(memo.x_to[id] == Stand::kNoHigh || x_near < memo.x_to[id])) return false;
-  // Eccentricity: max(0, angle to the gaze - radius - offset).
+  // Eccentricity: at the nearest and the farthest angle to the gaze, each with room for rounding.
   const float turn = kDeg * alpha + t;
   const float room_e = kRoomEccentricity + kRoomRelative * (h.gaze_angle + radius_near);
-  const Cell low = e_cell<kStillE>(std::max(0.0f, h.gaze_angle - turn - radius_near - h.offset - room_e));
-  const Cell high = e_cell<kStillE>(std::max(0.0f, h.gaze_angle + turn - radius_far - h.offset + room_e));
+  const Cell low = e_cell<kStillE>(nearest_eccentricity(h.gaze_angle - turn - room_e, radius_near, h.offset));
+  const Cell high = e_cell<kStillE>(nearest_eccentricity(h.gaze_angle + turn + room_e, radius_far, h.offset));
   const std::uint32_t cell = memo.key[id] & 31u;
   if (low.j != cell || high.j != cell) return false;
   if (!(float(memo.w_from[id]) <= low.w * kWeightSteps && high.w * kWeightSteps <= float(memo.w_to[id])))
@@ -73,10 +73,10 @@ bool Scheduler::Impl::stands_at_rest(const Memo& memo, ObjectId id, const RestPr
   // The bands shown: f_lo / diameter <= Nyquist < f_hi / diameter over the range of both.
   const double phi_low = std::max(0.0, double(h.forward_angle) - turn - kRoomAngle) * kRad,
                phi_high = std::min(180.0, double(h.forward_angle) + turn + kRoomAngle) * kRad;
-  const float cos_most = std::clamp(float(std::cos(phi_low)) + kRoomCosine, 0.05f, 1.0f),
-              cos_least = std::clamp(float(std::cos(phi_high)) - kRoomCosine, 0.05f, 1.0f);
-  const float nyquist_least = h.half_focal / (cos_most * cos_most) * (1.0f - kRoomRelative),
-              nyquist_most = h.half_focal / (cos_least * cos_least) * (1.0f + kRoomRelative);
+  const float nyquist_least =
+                  nyquist_cpd(h.half_focal, float(std::cos(phi_low)) + kRoomCosine) * (1.0f - kRoomRelative),
+              nyquist_most =
+                  nyquist_cpd(h.half_focal, float(std::cos(phi_high)) - kRoomCosine) * (1.0f + kRoomRelative);
   const float inv_diam_most = 1.0f / (2.0f * radius_far) * (1.0f + kRoomRelative),
               inv_diam_least = 1.0f / (2.0f * radius_near) * (1.0f - kRoomRelative);
   return memo.f_lo[id] * inv_diam_most <= nyquist_least && memo.f_hi[id] * inv_diam_least > nyquist_most;
