@@ -110,7 +110,7 @@ void Scheduler::Impl::explain_level(const ProfileCache& pc, std::uint32_t view, 
   le.frequency_cpd = p.bands[le.band] * inv_diam;
   le.threshold = config_.rule == SelectionRule::Reddy
                      ? 0.0f
-                     : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], 80.0f));
+                     : std::exp(std::min(ln_ct[(arg / B) * stride + arg % B], kLnCeiling));
 }
 
 // The perceptual rule evaluated in full (and Reddy's rule):

@@ -346,8 +346,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
     e_to -= slack;
     if (!(e_from < b.e[j] && b.e[j] < e_to)) return;
   }
-  // A chord c between unit vectors spans 2 asin(c / 2) rad: at most the margin for c <= 0.98 of it
-  // (margins of at most 0.5 rad).
+  // The chord the direction may move by (margins of at most 0.5 rad).
   std::memcpy(h.direction, d, sizeof d);
   h.slip[0] = o.slip.x;
   h.slip[1] = o.slip.y;
@@ -355,7 +354,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
   h.reach = reach;
   h.e_from = e_from;
   h.e_to = e_to;
-  h.turn = 0.98f * margin;
+  h.turn = kChordOfAngle * margin;
 }
 
 }  // namespace acuity

@@ -14,6 +14,9 @@ constexpr double kRoomAngle = 1e-3;         // an angle from the fast atan2 [deg
 constexpr float kRoomCosine = 1e-6f;        // a cosine, and an eccentricity's weight per degree
 constexpr float kRoomSpeed = 1e-4f;         // a hold's speeds and cell weights, relative
 constexpr double kRoomPose = 1e-6;          // a pose's distance (relative) and turn [deg] in double
+// A chord c between unit vectors spans 2 asin(c / 2) rad: at most the angle for c up to this fraction
+// of it (angles of at most 0.5 rad).
+constexpr float kChordOfAngle = 0.98f;
 
 }  // namespace acuity::internal
 

@@ -33,6 +33,8 @@ constexpr float kDeg = 180.0f / std::numbers::pi_v<float>;
 constexpr float kRad = std::numbers::pi_v<float> / 180.0f;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// A score's or a threshold's ln is capped here before exp (e^80 ~ 5.5e34: finite, and "invisible").
+constexpr float kLnCeiling = 80.0f;
 
 struct Vec3 {
   float x, y, z;

@@ -643,7 +643,7 @@ Scheduler::Impl::Choice Scheduler::Impl::table_choice(const ProfileCache& pc, fl
   for (std::uint32_t k = 1; k <= L; ++k) {
     out.fine = x <= size[0][k] ? static_cast<std::uint8_t>(k) : out.fine;
     out.coarse = x <= coarse_size[k] ? static_cast<std::uint8_t>(k) : out.coarse;
-    if (scores) scores[k] = std::exp(std::min(x - size[0][k], 80.0f));
+    if (scores) scores[k] = std::exp(std::min(x - size[0][k], kLnCeiling));
   }
   return out;
 }
