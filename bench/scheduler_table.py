@@ -16,6 +16,7 @@ CASES = [  # (benchmark name prefix, label)
     ("BM_scheduler/perceptual_static_restless", "perceptual, still, eye jumping ±0.5 m (no rests), tabulated"),
     ("BM_scheduler/perceptual_head_turning", "perceptual, still, head turning 30 deg/s, tabulated"),
     ("BM_scheduler/perceptual_head_sweeping", "perceptual, still, head sweeping ±15° at 30 deg/s, tabulated"),
+    ("BM_scheduler/perceptual_head_track", "perceptual, still, head track (sway, turns, saccades), tabulated"),
     ("BM_scheduler/perceptual_static_exact", "perceptual, still, exact"),
     ("BM_scheduler/perceptual_all_moving_exact", "perceptual, all moving, exact"),
     ("BM_scheduler_2threads/perceptual_static", "perceptual, still, tabulated, 2 threads"),
@@ -26,14 +27,21 @@ SIZES = [1000, 10000, 100000, 1000000]
 
 def main():
     args = google_benchmark.arguments(__doc__, "bench_scheduler", min_time="0.2")
-    pattern = "^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?|BM_add_profile/.*)$"
+    pattern = ("^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?|BM_add_profile/.*"
+               "|BM_scene_ready/.*)$")
     ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
     setup = {}  # "tabulated" / "exact" -> (CPU ms per add_profile, table bytes)
+    scene = {}  # "tabulated" / "exact" -> (assets, CPU ms to the first frame, tables MiB, profiles MiB)
     for b in google_benchmark.run(args.bench, args.min_time, pattern):
         name = b["run_name"].removesuffix("/real_time")
         if name.startswith("BM_add_profile/"):
             scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
             setup[name.split("/")[1]] = (b["cpu_time"] * scale, b.get("table_bytes", 0))
+            continue
+        if name.startswith("BM_scene_ready/"):
+            scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
+            _, evaluation, assets = name.split("/")[:3]
+            scene[evaluation] = (int(assets), b["cpu_time"] * scale, b["tables_MiB"], b["profiles_MiB"])
             continue
         case, n = name.rsplit("/", 1)
         scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
@@ -64,6 +72,12 @@ def main():
         (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
         print(f"\nadd_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
               f"exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
+    for evaluation in ("exact", "tabulated"):
+        if evaluation in scene:
+            assets, t, tables, profiles = scene[evaluation]
+            print(f"\nscene ready, {assets:,} distinct 32-view assets, hysteresis margin 0.2, {evaluation}: "
+                  f"{t / 1000:.2f} s to the first frame, {tables:.1f} MiB of tables "
+                  f"({tables * 1024 / assets:.0f} KiB per asset), {profiles:.1f} MiB of profiles")
     return 0
 
 
