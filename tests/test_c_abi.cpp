@@ -60,7 +60,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   acuity_config_default(&c);
   const SchedulerConfig d;
   EXPECT_EQ(c.struct_size, sizeof(acuity_config));
-  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V4);
+  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V6);
   for (std::uint32_t i = 0; i < kMaxTabulatedBiases; ++i)
     EXPECT_EQ(c.tabulated_biases[i], d.tabulated_biases[i]);
   EXPECT_EQ(c.evaluation, uint32_t(ACUITY_EVALUATION_TABULATED));
@@ -68,6 +68,8 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.fallback_level, d.fallback_level);
   EXPECT_EQ(c.min_gaze_confidence, d.min_gaze_confidence);
   EXPECT_EQ(c.max_coarsen_wait, d.max_coarsen_wait);
+  EXPECT_EQ(c.hysteresis_seconds, d.hysteresis_seconds);
+  EXPECT_EQ(c.max_coarsen_wait_seconds, d.max_coarsen_wait_seconds);
   EXPECT_EQ(c.transition_seconds, d.transition_seconds);
   EXPECT_EQ(c.distance_scale, d.distance_scale);
   EXPECT_EQ(c.pixel_error, d.pixel_error);
@@ -75,7 +77,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 5);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 6);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -237,6 +239,64 @@ TEST(CAbi, TabulatedBiasesReachTheSchedulerAndV3CallersGetNone) {
   c.reserved4 = 1;
   acuity_scheduler* s = nullptr;
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+}
+
+// The version-6 fields: the waits in seconds of dt reach the scheduler (one object moved far waits
+// as a C++ scheduler configured alike); a version-4 caller (struct_size 184) keeps the frame counts;
+// negative or non-finite seconds are refused.
+TEST(CAbi, TimingSecondsReachTheSchedulerAndV4CallersKeepFrames) {
+  Fixture f;
+  const auto frames_to_coarsen = [&](const acuity_config& c) {
+    acuity_scheduler* s = create(c, f);
+    const int32_t profile = 0;
+    const double near[3] = {0, 0, -2}, far[3] = {0, 0, -300};
+    const float rotation[4] = {0, 0, 0, 1}, still[3] = {0, 0, 0};
+    uint32_t id = 0;
+    EXPECT_EQ(acuity_add_objects(s, 1, &profile, near, 0, rotation, 0, nullptr, &id), ACUITY_OK);
+    EXPECT_EQ(acuity_set_velocities(s, 1, &id, still, 0), ACUITY_OK);
+    acuity_eye eye;
+    acuity_eye_default(&eye);
+    eye.gaze_valid = 1;
+    eye.gaze_has_velocity = 1;  // a still gaze: no saccade
+    EXPECT_EQ(frame(s, eye, 1.0f / 60), ACUITY_OK);
+    uint8_t near_level = 0, level = 0;
+    EXPECT_EQ(acuity_get_levels(s, 1, &id, &near_level, nullptr), ACUITY_OK);
+    EXPECT_EQ(acuity_set_transforms(s, 1, &id, far, 0, rotation, 0, nullptr), ACUITY_OK);
+    int n = 0;
+    for (level = near_level; level == near_level && n < 200; ++n) {
+      EXPECT_EQ(frame(s, eye, 1.0f / 60), ACUITY_OK);
+      EXPECT_EQ(acuity_get_levels(s, 1, &id, &level, nullptr), ACUITY_OK);
+    }
+    acuity_destroy(s);
+    return n;
+  };
+  acuity_config c;
+  acuity_config_default(&c);
+  c.saccade_speed_deg_s = 200;
+  c.hysteresis_frames = 2;
+  c.max_coarsen_wait = 3;
+  c.hysteresis_seconds = 0.1f;        // 6 frames at 60 Hz ...
+  c.max_coarsen_wait_seconds = 0.2f;  // ... then 12 more
+  EXPECT_EQ(frames_to_coarsen(c), 18);
+  c.struct_size = ACUITY_CONFIG_SIZE_V4;  // the seconds lie past a version-4 caller's struct
+  EXPECT_EQ(frames_to_coarsen(c), 2 + 3);
+  acuity_config_default(&c);
+  c.saccade_speed_deg_s = 200;
+  c.max_coarsen_wait = 3;
+  c.hysteresis_seconds = 0.1f;  // seconds for one, frames (from the frame it was met) for the other
+  EXPECT_EQ(frames_to_coarsen(c), 6 + 3);
+  for (const float bad :
+       {-0.5f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    for (const bool wait : {false, true}) {
+      acuity_config_default(&c);
+      (wait ? c.max_coarsen_wait_seconds : c.hysteresis_seconds) = bad;
+      acuity_scheduler* s = nullptr;
+      EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT) << bad;
+      EXPECT_EQ(s, nullptr);
+      EXPECT_NE(std::strstr(acuity_last_error(), wait ? "max_coarsen_wait_seconds" : "hysteresis_seconds"),
+                nullptr);
+    }
+  }
 }
 
 // Every config field reaches the C++ scheduler: the C scheduler and a C++ one configured the same

@@ -35,8 +35,9 @@ extern "C" {
  * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls.
  * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner.
  * Version 4 appended acuity_config.tabulated_biases.
- * Version 5 added acuity_frame_stats and acuity_get_frame_stats. */
-#define ACUITY_C_API_VERSION 5
+ * Version 5 added acuity_frame_stats and acuity_get_frame_stats.
+ * Version 6 appended acuity_config.hysteresis_seconds and max_coarsen_wait_seconds. */
+#define ACUITY_C_API_VERSION 6
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -119,9 +120,9 @@ typedef struct acuity_config {
   float gaze_uncertainty_deg; /* tracker error [deg] */
   float no_gaze_radius_deg;   /* without gaze: where the gaze may be [deg] */
   float hysteresis_margin;    /* coarsening needs a score <= 1 - margin */
-  uint32_t hysteresis_frames; /* ... on this many consecutive frames */
+  uint32_t hysteresis_frames; /* ... on this many consecutive frames (alias of hysteresis_seconds) */
   float saccade_speed_deg_s;  /* > 0: coarsen only during saccades faster than this */
-  uint32_t max_coarsen_wait;  /* ... or after waiting this many frames */
+  uint32_t max_coarsen_wait;  /* ... or after waiting this many frames (alias, see version 6) */
   float transition_seconds;   /* cross-fade length (acuity_get_transitions) [s], >= 0 */
   uint64_t triangle_budget;   /* 0: none */
   float distance_scale;       /* ACUITY_RULE_DISTANCE: switch distances times this */
@@ -136,12 +137,18 @@ typedef struct acuity_config {
   float tabulated_biases[3]; /* per-object biases (acuity_set_bias) with tables of their own besides 1:
                                 each 0 (unused) or finite > 0; see SchedulerConfig::tabulated_biases */
   uint32_t reserved4;        /* must be 0 */
+  /* version 6 (appended): the waits in seconds of the frames' dt, finite and >= 0. A field > 0
+     replaces its frame count above; 0 (the default, and what an older caller gets) keeps the frame
+     count. How dt is summed: SchedulerConfig's timing in acuity/scheduler.hpp. */
+  float hysteresis_seconds;       /* coarsening needs the lower score for this long [s] */
+  float max_coarsen_wait_seconds; /* with saccade gating: or after waiting this long for one [s] */
 } acuity_config;
 /* The sizes of the version-2 layout (everything up to params: the smallest struct_size
- * acuity_create accepts), of the version-3 one and of the version-4 layout above. */
+ * acuity_create accepts), of the version-3, version-4 and version-6 layouts (this one). */
 #define ACUITY_CONFIG_SIZE_V2 160u
 #define ACUITY_CONFIG_SIZE_V3 168u
 #define ACUITY_CONFIG_SIZE_V4 184u
+#define ACUITY_CONFIG_SIZE_V6 192u
 
 typedef struct acuity_eye {
   double position[3];             /* world [m] */
@@ -194,7 +201,8 @@ void acuity_eye_default(acuity_eye* eye); /* origin, identity, 90 deg, 1920 px, 
  * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
  * unknown rule/model/view_blend/csf_fit/evaluation, reserved fields not 0, quality not finite and > 0,
  * a tabulated_biases entry neither 0 nor finite and > 0,
- * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds negative or not finite. *out is unchanged
+ * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds, hysteresis_seconds or
+ * max_coarsen_wait_seconds negative or not finite. *out is unchanged
  * on failure. */
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);
 /* Frees the scheduler and the profile copies. Null: no-op. */

@@ -51,7 +51,9 @@ static_assert(offsetof(acuity_config, evaluation) == ACUITY_CONFIG_SIZE_V2, "ver
 static_assert(offsetof(acuity_config, tabulated_biases) == ACUITY_CONFIG_SIZE_V3,
               "version 4 appends to version 3");
 static_assert(std::size(acuity_config{}.tabulated_biases) == acuity::kMaxTabulatedBiases);
-static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V4 && sizeof(acuity_config) % 8 == 0,
+static_assert(offsetof(acuity_config, hysteresis_seconds) == ACUITY_CONFIG_SIZE_V4,
+              "version 6 appends to version 4");
+static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V6 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
 static_assert(offsetof(acuity_frame_stats, struct_size) == 0 &&
@@ -166,10 +168,18 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
                                                ")");
   if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0 || k.reserved4 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
-  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS ||
-      !std::isfinite(k.transition_seconds) || k.transition_seconds < 0)
-    return fail(ACUITY_INVALID_ARGUMENT,
-                "acuity_create: quality, fallback_level or transition_seconds out of range");
+  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: quality or fallback_level out of range");
+  const struct {
+    const char* name;
+    float value;
+  } durations[] = {{"transition_seconds", k.transition_seconds},
+                   {"hysteresis_seconds", k.hysteresis_seconds},
+                   {"max_coarsen_wait_seconds", k.max_coarsen_wait_seconds}};
+  for (const auto& d : durations)
+    if (!std::isfinite(d.value) || d.value < 0)
+      return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: ") + d.name + " " +
+                                               std::to_string(d.value) + " is negative or not finite");
   for (const float b : k.tabulated_biases)
     if (b != 0 && !finite_positive(b))
       return fail(ACUITY_INVALID_ARGUMENT,
@@ -188,6 +198,8 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   sc.no_gaze_radius_deg = k.no_gaze_radius_deg;
   sc.hysteresis_margin = k.hysteresis_margin;
   sc.hysteresis_frames = k.hysteresis_frames;
+  sc.hysteresis_seconds = k.hysteresis_seconds;
+  sc.max_coarsen_wait_seconds = k.max_coarsen_wait_seconds;
   sc.saccade_speed = k.saccade_speed_deg_s;
   sc.max_coarsen_wait = k.max_coarsen_wait;
   sc.transition_seconds = k.transition_seconds;
@@ -233,6 +245,8 @@ void acuity_config_default(acuity_config* c) {
   c->no_gaze_radius_deg = d.no_gaze_radius_deg;
   c->hysteresis_margin = d.hysteresis_margin;
   c->hysteresis_frames = d.hysteresis_frames;
+  c->hysteresis_seconds = d.hysteresis_seconds;
+  c->max_coarsen_wait_seconds = d.max_coarsen_wait_seconds;
   c->saccade_speed_deg_s = d.saccade_speed;
   c->max_coarsen_wait = d.max_coarsen_wait;
   c->transition_seconds = d.transition_seconds;

@@ -161,7 +161,9 @@ struct Scheduler::Impl {
   std::vector<std::uint8_t> chosen_;              // perceptual choice after hysteresis (before the budget)
   std::vector<std::uint8_t> next_;                // this frame's level after the budget
   std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
-  std::vector<std::uint32_t> calm_frames_, wait_frames_;
+  // Per object, how long a coarser level has been wanted and waited for a saccade since the
+  // hysteresis was met (settle()), in the units of hold_step_ and wait_step_.
+  std::vector<float> calm_, wait_;
   std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
   std::vector<float> fade_, scores_;
   std::vector<std::uint8_t> rest_;  // 1: decided at rest this frame
@@ -176,6 +178,12 @@ struct Scheduler::Impl {
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
   float dt_ = 0;
+  // The hysteresis and the wait for a saccade: their lengths (a little under the seconds, or the
+  // frame counts; +inf: forever) and what each frame adds (its dt, or one frame). With the wait in
+  // seconds and the hysteresis in seconds or none, the wait is over when wanted for their sum,
+  // both_need_ (both_seconds_; else wait_ counts from the frame the hysteresis was met).
+  float hold_need_ = 0, wait_need_ = 0, both_need_ = 0, hold_step_ = 1, wait_step_ = 1;
+  bool both_seconds_ = false;
   bool saccade_ = false;
   std::uint32_t frame_ = 0;        // begin_frame's count
   bool resting_ = false;           // rests may be set this frame (a still eye)

@@ -77,14 +77,29 @@ struct SchedulerConfig {
   float gaze_uncertainty_deg = 1.0f;  // tracker error: subtracted from every eccentricity [deg]
   float no_gaze_radius_deg = 30.0f;   // without gaze the gaze may be anywhere this close to the
                                       // view centre: eccentricity is measured from that disc [deg]
-  // Hysteresis and timing
-  float hysteresis_margin = 0.0f;       // coarsening needs a score <= 1 - margin
-  std::uint32_t hysteresis_frames = 0;  // ... on this many consecutive frames
-  float saccade_speed = 0.0f;           // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
-                                        // such a saccade the eye counts as fixating (the level is seen
-                                        // after it, so the saccade's retinal blur is not spent) ...
-  std::uint32_t max_coarsen_wait = 30;  // ... or after waiting this many frames for a saccade
-  float transition_seconds = 0.0f;      // cross-fade length reported by transition() [s]
+  // Hysteresis and timing. A finer level applies at once; a coarser one once it has been wanted for
+  // hysteresis_seconds and, with saccade gating, then in a saccade or after waiting
+  // max_coarsen_wait_seconds more for one (kFlagHeld meanwhile): without a saccade it goes once
+  // wanted for the sum of the two. Time is the sum of the frames' dt (Frame::dt, the time since the
+  // previous frame; counted in full however large, while a dt that is 0, negative or not finite
+  // counts none) over the consecutive frames that wanted a coarser level, this one's included. A
+  // sum reaches a wait within a relative 1e-4 of it (float rounding of many dt) and never reaches
+  // +inf (forever). The same seconds give the same times at any frame rate, to within one frame.
+  // The frame counts are aliases for one release: a seconds field > 0 replaces its frame count,
+  // which is then ignored; at 0 (the default), negative or NaN the frame count applies, each frame
+  // counting one whatever its dt (so the defaults still wait 30 frames for a saccade). A wait after
+  // a hysteresis of n >= 2 frames counts from that frame (in frames or in the later frames' dt); a
+  // hysteresis of 0 or 1 frames is none. At a steady frame time dt, n frames wait as n x dt
+  // seconds. Frame counts above 2^24 act as 2^24.
+  float hysteresis_margin = 0.0f;         // coarsening needs a score <= 1 - margin
+  float hysteresis_seconds = 0.0f;        // ... held that long [s] (> 0; else hysteresis_frames)
+  std::uint32_t hysteresis_frames = 0;    // ... alias: on this many consecutive frames
+  float saccade_speed = 0.0f;             // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
+                                          // such a saccade the eye counts as fixating (the level is seen
+                                          // after it, so the saccade's retinal blur is not spent) ...
+  float max_coarsen_wait_seconds = 0.0f;  // ... or after waiting this long for one [s] (> 0; else ...)
+  std::uint32_t max_coarsen_wait = 30;    // ... alias: after waiting this many frames for a saccade
+  float transition_seconds = 0.0f;        // cross-fade length reported by transition() [s]
 
   // Budget (Funkhouser & Sequin): 0 = none; else coarsen greedily by least harm per triangle saved
   // (a budget turns keep_scores on: harm is the next level's score)
