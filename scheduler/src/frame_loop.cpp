@@ -14,27 +14,9 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
   many_at_rest_ = stats_.at_rest > 0 && stats_.at_rest >= alive / 8;  // last frame's stats
   stats_ = FrameStats{};
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
-    const Eye& e = frame.eyes[i];
     const Gaze& g = frame.gaze[i];
     EyeCache& c = eyes_[i];
-    for (int k = 0; k < 3; ++k) c.position[k] = e.position[k];
-    for (int k = 0; k < 4; ++k) c.rotation[k] = e.orientation[k];
-    const float qn = std::sqrt(e.orientation[0] * e.orientation[0] + e.orientation[1] * e.orientation[1] +
-                               e.orientation[2] * e.orientation[2] + e.orientation[3] * e.orientation[3]);
-    const float tan_l = std::tan(e.fov_deg[0] * kRad), tan_r = std::tan(e.fov_deg[1] * kRad);
-    const float tan_u = std::tan(e.fov_deg[2] * kRad), tan_d = std::tan(e.fov_deg[3] * kRad);
-    c.valid = std::isfinite(e.position[0]) && std::isfinite(e.position[1]) && std::isfinite(e.position[2]) &&
-              std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
-              tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
-              std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
-    if (c.valid)
-      for (float& q : c.rotation) q /= qn;
-    c.forward = rotate(c.rotation, {0, 0, -1});
-    c.velocity = load(e.velocity);
-    c.omega = kRad * load(e.angular_velocity);
-    c.focal_px = static_cast<float>(e.viewport[0]) / (tan_r - tan_l);
-    c.center_right = 0.5f * (tan_l + tan_r);
-    c.center_up = 0.5f * (tan_u + tan_d);
+    pose_eye(frame.eyes[i], &c);
     const Vec3 gd = load(g.direction);
     const float gl = length(gd);
     c.gaze = g.valid && g.confidence >= config_.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
@@ -61,6 +43,7 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
           threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], c.focal_px);
     }
   }
+  if (!views_.empty()) begin_views(frame);
   ++frame_;
   resting_ = memos_ != nullptr && !config_.keep_scores;
   // Objects are looked for at rest where an eighth were last frame, and every eighth frame.
@@ -69,6 +52,29 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
     memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
     if (i < eye_count_) resting_ = resting_ && memos_[i].usable;
   }
+}
+
+// An eye's pose, projection and validity as the frame reads them (its gaze is begin_frame's).
+void Scheduler::Impl::pose_eye(const Eye& e, EyeCache* out) {
+  EyeCache& c = *out;
+  for (int k = 0; k < 3; ++k) c.position[k] = e.position[k];
+  for (int k = 0; k < 4; ++k) c.rotation[k] = e.orientation[k];
+  const float qn = std::sqrt(e.orientation[0] * e.orientation[0] + e.orientation[1] * e.orientation[1] +
+                             e.orientation[2] * e.orientation[2] + e.orientation[3] * e.orientation[3]);
+  const float tan_l = std::tan(e.fov_deg[0] * kRad), tan_r = std::tan(e.fov_deg[1] * kRad);
+  const float tan_u = std::tan(e.fov_deg[2] * kRad), tan_d = std::tan(e.fov_deg[3] * kRad);
+  c.valid = std::isfinite(e.position[0]) && std::isfinite(e.position[1]) && std::isfinite(e.position[2]) &&
+            std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
+            tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
+            std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
+  if (c.valid)
+    for (float& q : c.rotation) q /= qn;
+  c.forward = rotate(c.rotation, {0, 0, -1});
+  c.velocity = load(e.velocity);
+  c.omega = kRad * load(e.angular_velocity);
+  c.focal_px = static_cast<float>(e.viewport[0]) / (tan_r - tan_l);
+  c.center_right = 0.5f * (tan_l + tan_r);
+  c.center_up = 0.5f * (tan_u + tan_d);
 }
 
 void Scheduler::Impl::update(std::uint32_t first, std::uint32_t count) {
@@ -130,6 +136,7 @@ void Scheduler::Impl::update(std::uint32_t first, std::uint32_t count) {
     choose_perceptual(start, n, looks, sights, &decisions);
     settle(start, n, decisions);
   }
+  if (!view_levels_.empty()) decide_views(first, end);
 }
 
 // The per-object arrays a frame reads, for the kBlock objects from `first`, asked for two blocks

@@ -35,6 +35,7 @@ struct Scheduler::Impl {
   // ---- Internals ----
   struct ProfileCache;
   struct EyeCache;
+  struct ViewCache;
   struct Precomputed;
   struct Curves;
   struct Sight;
@@ -117,6 +118,12 @@ struct Scheduler::Impl {
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
   struct Decisions;                            // one block's choices, both eyes combined
   void derive_velocities(std::uint32_t first, std::uint32_t count);
+  static void pose_eye(const Eye& e, EyeCache* c);  // an eye's pose, projection and validity (no gaze)
+  // Views beyond the eyes (views.cpp): the frame's views, then per block their levels per class.
+  void begin_views(const Frame& frame);
+  void decide_views(std::uint32_t first, std::uint32_t end);
+  void view_levels(const ViewCache& v, std::uint32_t first, std::uint32_t count, std::uint8_t* out) const;
+  std::uint8_t footprint_level(const ViewCache& v, ObjectId id) const;
   void prefetch_objects(std::uint32_t first) const;  // a block's per-object arrays, ahead of its turn
   void prefetch_holds(std::uint32_t first) const;    // a block's holds in use, a block ahead
   void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
@@ -177,6 +184,9 @@ struct Scheduler::Impl {
   std::uint32_t table_bias_count_ = 1;
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
+  std::vector<ViewCache> views_;  // [max_views]: this frame's, view_count_ of them
+  std::uint32_t view_count_ = 0;
+  std::vector<std::uint8_t> view_levels_;  // [max_view_classes][max_objects]
   float dt_ = 0;
   // The hysteresis and the wait for a saccade: their lengths (a little under the seconds, or the
   // frame counts; +inf: forever) and what each frame adds (its dt, or one frame). With the wait in

@@ -73,6 +73,8 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   for (std::uint32_t i = 0; i < n; ++i) free_list_.push_back(static_cast<std::uint32_t>(n - 1 - i));
   heap_.reserve(n);
   eyes_.resize(2);
+  views_.resize(config_.max_views);
+  view_levels_.assign(std::size_t(config_.max_view_classes) * n, 0);
   const std::size_t slots = std::size_t(config_.max_profiles) * kMaxLevels;
   level_count_.assign(config_.max_profiles, 1);
   band_frequency_.assign(std::size_t(config_.max_profiles) * kMaxBands, kInf);
@@ -349,6 +351,11 @@ const std::uint8_t* Scheduler::level_array() const { return impl_->level_.data()
 const std::uint8_t* Scheduler::flag_array() const { return impl_->flags_.data(); }
 const std::uint8_t* Scheduler::previous_level_array() const { return impl_->from_level_.data(); }
 const float* Scheduler::transition_array() const { return impl_->fade_.data(); }
+const std::uint8_t* Scheduler::view_level_array(std::uint32_t view_class) const {
+  return view_class < impl_->config_.max_view_classes
+             ? &impl_->view_levels_[std::size_t(view_class) * impl_->config_.max_objects]
+             : nullptr;
+}
 std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags_[id]; }
 std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->from_level_[id]; }
 float Scheduler::transition(ObjectId id) const { return impl_->fade_[id]; }

@@ -110,6 +110,11 @@ struct SchedulerConfig {
   float pixel_error = 1.0f;     // ScreenSize: allowed projected geometric error [px]
 
   bool keep_scores = false;  // keep every level's score for scores()
+
+  // Views beyond the eyes (View, below): how many a frame may carry, and how many view classes
+  // (each a level per object: view_level_array()). Both fixed at creation; 0: the eyes only.
+  std::uint32_t max_views = 0;
+  std::uint32_t max_view_classes = 0;
 };
 
 // Every selection rule, once, in SelectionRule order: its name (the one Python, the simulation's
@@ -145,11 +150,54 @@ struct Gaze {
   bool has_velocity = false;  // else retinal velocity follows Daly's pursuit model
 };
 
+// A view beyond the eyes: a shadow map's light view or a secondary camera (a mirror, a portal, a
+// spectator or recording camera). Nobody looks through it with a gaze: each object gets a level
+// for it from its geometry, and per view class (view_class) the finer need of the class's views
+// wins, as the two eyes' does (a shadow class of four cascades; a mirror class). The eyes' level,
+// hysteresis, budget and fades are untouched by views; a view's level applies at once, within the
+// object's clamps. Conventions as an Eye's: world metres, looks along its local -Z with +Y up.
+enum class ViewRule : std::uint8_t {
+  // The coarsest level whose geometric error, projected into this view, covers at most
+  // pixel_error texels (a shadow map) or pixels: a level never coarser than its footprint can show.
+  // Orthographic: error x max(viewport[0] / width, viewport[1] / height) texels, wherever the object
+  // lies. Perspective: the largest stretch of the projection anywhere in the bounding sphere, error
+  // x f / w x sqrt(1 + ((|x| + r) / w)^2 + ((|y| + r) / w)^2) with f the larger focal length [px],
+  // (x, y) the centre across the view axis and w = its depth - r; a sphere reaching the view's plane
+  // takes the finest level, one wholly behind it the coarsest (it is not in the view).
+  Footprint,
+  // As the scheduler's rule decides for an eye without gaze at this view's pose, field of view and
+  // resolution (the perceptual rules through the exact path: a view costs about what explain()
+  // does per object). Perspective views only: an orthographic one decides by Footprint.
+  AsEye,
+};
+enum class ViewProjection : std::uint8_t { Perspective, Orthographic };
+
+struct View {
+  std::uint32_t view_class = 0;  // < SchedulerConfig::max_view_classes
+  ViewProjection projection = ViewProjection::Perspective;
+  ViewRule rule = ViewRule::Footprint;
+  float pixel_error = 1.0f;        // Footprint: allowed projected error [texels or px]; <= 0 or NaN:
+                                   // only an error of 0 (0) or none (< 0, NaN) passes: finest
+  double position[3] = {0, 0, 0};  // world [m]: the light or camera (orthographic: any point on its axis)
+  float orientation[4] = {0, 0, 0, 1};       // unit quaternion x y z w, view to world
+  float fov_deg[4] = {-45, 45, 45, -45};     // perspective: half-angles left (<0), right, up, down (<0)
+  float extent_m[4] = {-10, 10, 10, -10};    // orthographic: left, right, top, bottom of the map [m]
+  std::uint32_t viewport[2] = {2048, 2048};  // the map's or image's width, height [texels or px]
+};
+
 struct Frame {
   Eye eyes[2];
   Gaze gaze[2];
   std::uint32_t eye_count = 1;  // 1 or 2
   float dt = 0;                 // since the previous frame [s]; 0 derives no velocity
+  // Views beyond the eyes, view_count of them (the caller's array, read in begin_frame only): at
+  // most SchedulerConfig::max_views are read (the first ones), and a view whose view_class is not
+  // below max_view_classes is skipped. A view with a non-finite value, a non-unit orientation, an
+  // empty field of view or extent, or a viewport of 0 is invalid: its objects take the fallback
+  // level (as for an invalid eye). A class no view names this frame gives every object its
+  // coarsest level allowed (nothing draws it there).
+  const View* views = nullptr;
+  std::uint32_t view_count = 0;
 };
 
 struct ObjectTransform {
@@ -245,6 +293,9 @@ class Scheduler {
   const std::uint8_t* flag_array() const;
   const std::uint8_t* previous_level_array() const;
   const float* transition_array() const;
+  // Each object's level for view class c (< max_view_classes; nullptr otherwise) this frame: the
+  // finest of the class's views' (View), within its clamps. Indexed by ObjectId as level_array().
+  const std::uint8_t* view_level_array(std::uint32_t view_class) const;
   const FrameStats& stats() const;
   const SchedulerConfig& config() const;
 
