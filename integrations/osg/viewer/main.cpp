@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <osg/ComputeBoundsVisitor>
+#include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/LightSource>
 #include <osg/LineWidth>
@@ -254,6 +256,15 @@ int run(const Options& o) {
     map->setLight(sun.get());
     shadowed->addChild(sun.get());
     shadowed->addChild(nodes.root.get());
+    // A ground under the objects (+Y up), half again as wide, to receive their shadows.
+    ::osg::ComputeBoundsVisitor bounds;
+    nodes.root->accept(bounds);
+    const ::osg::BoundingBox& b = bounds.getBoundingBox();
+    const float wide = 1.5f * std::max(b.xMax() - b.xMin(), b.zMax() - b.zMin());
+    ::osg::ref_ptr<::osg::Geode> ground = new ::osg::Geode;
+    ground->addDrawable(::osg::createTexturedQuadGeometry(
+        {b.center().x() - wide / 2, b.yMin(), b.center().z() + wide / 2}, {wide, 0, 0}, {0, 0, -wide}));
+    shadowed->addChild(ground.get());
     nodes.root->setStateSet(nullptr);
     top->setStateSet(shader.get());
     top->addChild(shadowed.get());
