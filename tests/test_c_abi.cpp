@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <set>
 #include <vector>
 
 #include "acuity.h"
@@ -45,6 +46,22 @@ acuity_scheduler* create(const acuity_config& c, const Fixture& f) {
   return s;
 }
 
+// Scene(16) added to the C scheduler s and to ref (profile 0 in both): the ids, the same in both.
+std::vector<uint32_t> add_scene_to_both(acuity_scheduler* s, Scheduler& ref) {
+  const Scene scene(16);
+  std::vector<uint32_t> ids(16);
+  EXPECT_EQ(acuity_add_objects(s, 16, scene.profiles.data(), scene.positions.data(), 0,
+                               scene.rotations.data(), 0, scene.scales.data(), ids.data()),
+            ACUITY_OK);
+  for (uint32_t i = 0; i < 16; ++i) {
+    ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = scene.positions[3 * i + k];
+    t.scale = scene.scales[i];
+    EXPECT_EQ(ref.add_object(0, t), ids[i]);
+  }
+  return ids;
+}
+
 acuity_status frame(acuity_scheduler* s, const acuity_eye& eye, float dt) {
   acuity_status st = acuity_begin_frame(s, &eye, 1, dt);
   if (st == ACUITY_OK) st = acuity_update_range(s, 0, 1u << 30);
@@ -60,7 +77,9 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   acuity_config_default(&c);
   const SchedulerConfig d;
   EXPECT_EQ(c.struct_size, sizeof(acuity_config));
-  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V4);
+  EXPECT_EQ(c.struct_size, ACUITY_CONFIG_SIZE_V7);
+  EXPECT_EQ(c.max_views, d.max_views);
+  EXPECT_EQ(c.max_view_classes, d.max_view_classes);
   for (std::uint32_t i = 0; i < kMaxTabulatedBiases; ++i)
     EXPECT_EQ(c.tabulated_biases[i], d.tabulated_biases[i]);
   EXPECT_EQ(c.evaluation, uint32_t(ACUITY_EVALUATION_TABULATED));
@@ -68,6 +87,8 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.fallback_level, d.fallback_level);
   EXPECT_EQ(c.min_gaze_confidence, d.min_gaze_confidence);
   EXPECT_EQ(c.max_coarsen_wait, d.max_coarsen_wait);
+  EXPECT_EQ(c.hysteresis_seconds, d.hysteresis_seconds);
+  EXPECT_EQ(c.max_coarsen_wait_seconds, d.max_coarsen_wait_seconds);
   EXPECT_EQ(c.transition_seconds, d.transition_seconds);
   EXPECT_EQ(c.distance_scale, d.distance_scale);
   EXPECT_EQ(c.pixel_error, d.pixel_error);
@@ -75,7 +96,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 5);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 7);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -239,6 +260,178 @@ TEST(CAbi, TabulatedBiasesReachTheSchedulerAndV3CallersGetNone) {
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
 }
 
+// The version-6 fields: the waits in seconds of dt reach the scheduler (one object moved far waits
+// as a C++ scheduler configured alike); a version-4 caller (struct_size 184) keeps the frame counts;
+// negative or non-finite seconds are refused.
+TEST(CAbi, TimingSecondsReachTheSchedulerAndV4CallersKeepFrames) {
+  Fixture f;
+  const auto frames_to_coarsen = [&](const acuity_config& c) {
+    acuity_scheduler* s = create(c, f);
+    const int32_t profile = 0;
+    const double near[3] = {0, 0, -2}, far[3] = {0, 0, -300};
+    const float rotation[4] = {0, 0, 0, 1}, still[3] = {0, 0, 0};
+    uint32_t id = 0;
+    EXPECT_EQ(acuity_add_objects(s, 1, &profile, near, 0, rotation, 0, nullptr, &id), ACUITY_OK);
+    EXPECT_EQ(acuity_set_velocities(s, 1, &id, still, 0), ACUITY_OK);
+    acuity_eye eye;
+    acuity_eye_default(&eye);
+    eye.gaze_valid = 1;
+    eye.gaze_has_velocity = 1;  // a still gaze: no saccade
+    EXPECT_EQ(frame(s, eye, 1.0f / 60), ACUITY_OK);
+    uint8_t near_level = 0, level = 0;
+    EXPECT_EQ(acuity_get_levels(s, 1, &id, &near_level, nullptr), ACUITY_OK);
+    EXPECT_EQ(acuity_set_transforms(s, 1, &id, far, 0, rotation, 0, nullptr), ACUITY_OK);
+    int n = 0;
+    for (level = near_level; level == near_level && n < 200; ++n) {
+      EXPECT_EQ(frame(s, eye, 1.0f / 60), ACUITY_OK);
+      EXPECT_EQ(acuity_get_levels(s, 1, &id, &level, nullptr), ACUITY_OK);
+    }
+    acuity_destroy(s);
+    return n;
+  };
+  acuity_config c;
+  acuity_config_default(&c);
+  c.saccade_speed_deg_s = 200;
+  c.hysteresis_frames = 2;
+  c.max_coarsen_wait = 3;
+  c.hysteresis_seconds = 0.1f;        // 6 frames at 60 Hz ...
+  c.max_coarsen_wait_seconds = 0.2f;  // ... then 12 more
+  EXPECT_EQ(frames_to_coarsen(c), 18);
+  c.struct_size = ACUITY_CONFIG_SIZE_V4;  // the seconds lie past a version-4 caller's struct
+  EXPECT_EQ(frames_to_coarsen(c), 2 + 3);
+  acuity_config_default(&c);
+  c.saccade_speed_deg_s = 200;
+  c.max_coarsen_wait = 3;
+  c.hysteresis_seconds = 0.1f;  // seconds for one, frames (from the frame it was met) for the other
+  EXPECT_EQ(frames_to_coarsen(c), 6 + 3);
+  for (const float bad :
+       {-0.5f, std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()}) {
+    for (const bool wait : {false, true}) {
+      acuity_config_default(&c);
+      (wait ? c.max_coarsen_wait_seconds : c.hysteresis_seconds) = bad;
+      acuity_scheduler* s = nullptr;
+      EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT) << bad;
+      EXPECT_EQ(s, nullptr);
+      EXPECT_NE(std::strstr(acuity_last_error(), wait ? "max_coarsen_wait_seconds" : "hysteresis_seconds"),
+                nullptr);
+    }
+  }
+}
+
+// Version 7: views beyond the eyes give the levels per class a C++ scheduler given the same views
+// gives (a shadow class of an orthographic and a perspective view, a mirror class AsEye); the checks
+// refuse a bad view before beginning anything; a version-6 caller (struct_size 192) has no views.
+TEST(CAbi, ViewLevelsAreTheCppSchedulers) {
+  Fixture f;
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 16;
+  c.max_views = 3;
+  c.max_view_classes = 2;
+  SchedulerConfig sc;
+  sc.max_objects = 16;
+  sc.max_views = 3;
+  sc.max_view_classes = 2;
+  acuity_scheduler* s = create(c, f);
+  Scheduler ref(sc);
+  ASSERT_EQ(ref.add_profile(f.profile), 0);
+  const std::vector<uint32_t> ids = add_scene_to_both(s, ref);
+  acuity_view views[3];
+  View cpp[3];
+  for (int i = 0; i < 3; ++i) {
+    const View d;
+    acuity_view& v = views[i];
+    v.view_class = i == 2 ? 1 : 0;
+    v.projection = i == 0 ? ACUITY_PROJECTION_ORTHOGRAPHIC : ACUITY_PROJECTION_PERSPECTIVE;
+    v.rule = i == 2 ? ACUITY_VIEW_RULE_AS_EYE : ACUITY_VIEW_RULE_FOOTPRINT;
+    v.pixel_error = 1.5f;
+    const double position[3] = {0.5 * i, 20.0 - 8 * i, 1.0 + i};
+    const float down[4] = {-0.7071068f, 0, 0, 0.7071068f};  // -Z turned to -Y: looking down
+    std::memcpy(v.position, position, sizeof position);
+    if (i < 2)
+      std::memcpy(v.orientation, down, sizeof down);
+    else
+      std::memcpy(v.orientation, d.orientation, sizeof d.orientation);
+    std::memcpy(v.fov_deg, d.fov_deg, sizeof v.fov_deg);
+    const float extent[4] = {-30, 30, 10, -60};
+    std::memcpy(v.extent_m, extent, sizeof extent);
+    v.viewport[0] = 512u << i;
+    v.viewport[1] = 512u;
+    View& w = cpp[i];
+    w.view_class = v.view_class;
+    w.projection = static_cast<ViewProjection>(v.projection);
+    w.rule = static_cast<ViewRule>(v.rule);
+    w.pixel_error = v.pixel_error;
+    std::memcpy(w.position, v.position, sizeof v.position);
+    std::memcpy(w.orientation, v.orientation, sizeof v.orientation);
+    std::memcpy(w.extent_m, v.extent_m, sizeof v.extent_m);
+    std::memcpy(w.viewport, v.viewport, sizeof v.viewport);
+  }
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  eye.gaze_valid = 1;
+  ASSERT_EQ(acuity_begin_frame_views(s, &eye, 1, 1 / 90.0f, views, 3, sizeof(acuity_view)), ACUITY_OK)
+      << acuity_last_error();
+  ASSERT_EQ(acuity_update_range(s, 0, 16), ACUITY_OK);
+  ASSERT_EQ(acuity_end_frame(s), ACUITY_OK);
+  Frame fr;
+  fr.gaze[0].valid = true;
+  fr.dt = 1 / 90.0f;
+  fr.views = cpp;
+  fr.view_count = 3;
+  ref.run_frame(fr);
+  std::set<int> seen;
+  for (uint32_t cls = 0; cls < 2; ++cls) {
+    std::vector<uint8_t> levels(16);
+    ASSERT_EQ(acuity_get_view_levels(s, cls, 16, ids.data(), levels.data()), ACUITY_OK);
+    for (uint32_t i = 0; i < 16; ++i) {
+      EXPECT_EQ(levels[i], ref.view_level_array(cls)[ids[i]]) << cls << " " << i;
+      seen.insert(levels[i]);
+    }
+  }
+  EXPECT_GE(seen.size(), 3u) << "the levels should differ across objects and classes";
+  // Refusals: nothing begun (a plain begin_frame works next).
+  const auto refused = [&](const acuity_view* v, uint32_t n, size_t size, const char* what) {
+    EXPECT_EQ(acuity_begin_frame_views(s, &eye, 1, 0.01f, v, n, size), ACUITY_INVALID_ARGUMENT) << what;
+    EXPECT_NE(std::strstr(acuity_last_error(), what), nullptr) << acuity_last_error();
+  };
+  refused(nullptr, 1, sizeof(acuity_view), "null views");
+  refused(views, 4, sizeof(acuity_view), "more than max_views");
+  refused(views, 1, ACUITY_VIEW_SIZE_V7 - 8, "view_size");
+  acuity_view bad = views[1];
+  bad.view_class = 2;
+  refused(&bad, 1, sizeof bad, "views[0]");
+  bad = views[1];
+  bad.projection = 2;
+  refused(&bad, 1, sizeof bad, "views[0]");
+  bad = views[1];
+  bad.rule = 9;
+  refused(&bad, 1, sizeof bad, "views[0]");
+  uint8_t level = 0;
+  EXPECT_EQ(acuity_get_view_levels(s, 2, 1, ids.data(), &level), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(frame(s, eye, 0.01f), ACUITY_OK) << acuity_last_error();
+  // A newer caller's larger views: the known fields read at its stride.
+  struct Newer {
+    acuity_view v;
+    uint64_t future;
+  } newer[3];
+  for (int i = 0; i < 3; ++i) newer[i] = {views[i], ~0ull};
+  ASSERT_EQ(acuity_begin_frame_views(s, &eye, 1, 0.01f, &newer[0].v, 3, sizeof(Newer)), ACUITY_OK);
+  ASSERT_EQ(acuity_update_range(s, 0, 16), ACUITY_OK);
+  ASSERT_EQ(acuity_end_frame(s), ACUITY_OK);
+  acuity_destroy(s);
+  // A version-6 caller: no views (max_views and max_view_classes are 0).
+  c.struct_size = ACUITY_CONFIG_SIZE_V6;
+  s = create(c, f);
+  EXPECT_EQ(acuity_begin_frame_views(s, &eye, 1, 0.01f, views, 1, sizeof(acuity_view)),
+            ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_get_view_levels(s, 0, 0, ids.data(), &level), ACUITY_INVALID_ARGUMENT);
+  acuity_destroy(s);
+  acuity_config_default(&c);
+  c.max_views = 1025;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+}
+
 // Every config field reaches the C++ scheduler: the C scheduler and a C++ one configured the same
 // way choose the same levels, fades and previous levels for a moving eye.
 TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
@@ -269,17 +462,7 @@ TEST(CAbi, SameLevelsAndTransitionsAsTheCppScheduler) {
   acuity_scheduler* s = create(c, f);
   Scheduler ref(sc);
   ASSERT_EQ(ref.add_profile(f.profile), 0);
-  Scene scene(16);
-  std::vector<uint32_t> ids(16);
-  ASSERT_EQ(acuity_add_objects(s, 16, scene.profiles.data(), scene.positions.data(), 0,
-                               scene.rotations.data(), 0, scene.scales.data(), ids.data()),
-            ACUITY_OK);
-  for (uint32_t i = 0; i < 16; ++i) {
-    ObjectTransform t;
-    for (int k = 0; k < 3; ++k) t.position[k] = scene.positions[3 * i + k];
-    t.scale = scene.scales[i];
-    ASSERT_EQ(ref.add_object(0, t), ids[i]);
-  }
+  const std::vector<uint32_t> ids = add_scene_to_both(s, ref);
   const float bias[2] = {2.0f, 0.5f};
   const uint8_t lo[2] = {1, 0}, hi[2] = {2, 0};
   ASSERT_EQ(acuity_set_bias(s, 2, &ids[3], bias), ACUITY_OK);

@@ -33,6 +33,27 @@ export const EYE_DOUBLES: 28;
 /** Writes `eye` at eyes[i * EYE_DOUBLES]. */
 export function writeEye(eyes: Float64Array, i: number, eye: EyeInput): void;
 
+/** A view's projection and rule (acuity_view; acuity::View in scheduler.hpp is the contract). */
+export const PROJECTION: Readonly<{ perspective: 0; orthographic: 1 }>;
+export const VIEW_RULE: Readonly<{ footprint: 0; asEye: 1 }>;
+/** A view beyond the eyes: a shadow map's light view or a secondary camera. */
+export interface ViewInput {
+  viewClass?: number;                   // < max_view_classes (default 0)
+  projection?: number;                  // PROJECTION (default perspective)
+  rule?: number;                        // VIEW_RULE (default footprint)
+  pixelError?: number;                  // footprint: allowed projected error [texels] (default 1)
+  position: ArrayLike<number>;          // 3, world [m]
+  orientation: ArrayLike<number>;       // 4, x y z w, view to world (looks along -Z)
+  fov?: ArrayLike<number>;              // 4, perspective half-angles [deg]
+  extent?: ArrayLike<number>;           // 4, orthographic left, right, top, bottom [m]
+  viewport: ArrayLike<number>;          // 2, [texels or px]
+}
+/** Doubles per view in the Float64Array that beginFrame/frame take; at most MAX_VIEWS views a frame. */
+export const VIEW_DOUBLES: 21;
+export const MAX_VIEWS: 64;
+/** Writes `view` at views[i * VIEW_DOUBLES]. */
+export function writeView(views: Float64Array, i: number, view: ViewInput): void;
+
 /** The module the 'acuity-web/wasm' factory makes (emscripten); opaque to callers. */
 export interface AcuityModule { readonly HEAPU8: Uint8Array }
 export interface ModuleOptions {
@@ -67,14 +88,16 @@ export class Scheduler {
   setTransforms(ids: Uint32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): void;
   /** velocities 3n [m/s]. */
   setVelocities(ids: Uint32Array, velocities: Float32Array): void;
-  /** eyes: eyeCount x EYE_DOUBLES (writeEye); dt [s]. */
-  beginFrame(eyes: Float64Array, eyeCount: number, dt: number): void;
+  /** eyes: eyeCount x EYE_DOUBLES (writeEye); dt [s]; views: viewCount x VIEW_DOUBLES (writeView). */
+  beginFrame(eyes: Float64Array, eyeCount: number, dt: number, views?: Float64Array | null, viewCount?: number): void;
   updateRange(first: number, count: number): void;
   endFrame(): void;
   /** beginFrame, updateRange over every object, endFrame. */
-  frame(eyes: Float64Array, eyeCount: number, dt: number): void;
+  frame(eyes: Float64Array, eyeCount: number, dt: number, views?: Float64Array | null, viewCount?: number): void;
   /** Writes each id's level (0 finest) and, when given, its FLAG bits. */
   getLevels(ids: Uint32Array, levels: Uint8Array, flags?: Uint8Array | null): void;
+  /** Writes each id's level for a view class (after frame/endFrame). */
+  getViewLevels(viewClass: number, ids: Uint32Array, levels: Uint8Array): void;
   frameTriangles(): number;
   frameStats(): FrameStats;
   destroy(): void;

@@ -10,6 +10,9 @@
 //   each frame: s.setTransforms(ids, positions, rotations, scales);
 //               s.frame(eyes, eyeCount, dt);                  // eyes: Float64Array, EYE_DOUBLES per eye
 //               s.getLevels(ids, levels, flags);              // Uint8Arrays of ids.length
+//   views beyond the eyes (a shadow map's light, a mirror): createScheduler({ max_views, max_view_classes }),
+//               s.frame(eyes, eyeCount, dt, views, viewCount); // views: Float64Array, VIEW_DOUBLES per view
+//               s.getViewLevels(viewClass, ids, levels);
 //   s.destroy();
 
 export const RULE = Object.freeze({ perceptual: 0, reddy: 1, distance: 2, screenSize: 3 });
@@ -46,6 +49,28 @@ export function writeEye(eyes, i, eye) {
   eyes[o + 27] = g && g.angularVelocity ? 1 : 0;
 }
 
+// One view beyond the eyes as VIEW_DOUBLES doubles (web/acuity_web.c), written at views[i * VIEW_DOUBLES]
+// (acuity_view, acuity::View). view: { viewClass, projection (PROJECTION), rule (VIEW_RULE),
+// pixelError (texels, default 1), position[3] m, orientation[4] x y z w (looks along -Z),
+// fov[4] deg (perspective), extent[4] m left right top bottom (orthographic), viewport[2] texels }.
+export const PROJECTION = Object.freeze({ perspective: 0, orthographic: 1 });
+export const VIEW_RULE = Object.freeze({ footprint: 0, asEye: 1 });
+export const VIEW_DOUBLES = 21;
+export const MAX_VIEWS = 64;  // per frame through acuity.js
+export function writeView(views, i, view) {
+  const o = i * VIEW_DOUBLES;
+  const put = (at, values, n, fallback) => { for (let k = 0; k < n; ++k) views[o + at + k] = values ? values[k] : fallback[k]; };
+  views[o] = view.viewClass ?? 0;
+  views[o + 1] = view.projection ?? PROJECTION.perspective;
+  views[o + 2] = view.rule ?? VIEW_RULE.footprint;
+  views[o + 3] = view.pixelError ?? 1;
+  put(4, view.position, 3);
+  put(7, view.orientation, 4);
+  put(11, view.fov, 4, [-45, 45, 45, -45]);
+  put(15, view.extent, 4, [-10, 10, 10, -10]);
+  put(19, view.viewport, 2);
+}
+
 export async function loadAcuity(factory, moduleOptions = {}) {
   const module = await factory(moduleOptions);
   return new Acuity(module);
@@ -54,8 +79,8 @@ export async function loadAcuity(factory, moduleOptions = {}) {
 export class Acuity {
   constructor(module) {
     this.m = module;
-    if (module._acuity_web_eye_doubles() !== EYE_DOUBLES)
-      throw new AcuityError(`acuity.js expects ${EYE_DOUBLES} doubles per eye, the module ${module._acuity_web_eye_doubles()}`, 5);
+    if (module._acuity_web_eye_doubles() !== EYE_DOUBLES || module._acuity_web_view_doubles() !== VIEW_DOUBLES)
+      throw new AcuityError(`acuity.js expects ${EYE_DOUBLES} doubles per eye and ${VIEW_DOUBLES} per view, the module ${module._acuity_web_eye_doubles()} and ${module._acuity_web_view_doubles()}`, 5);
     const v = module._acuity_version();
     this.version = `${Math.floor(v / 10000)}.${Math.floor(v / 100) % 100}.${v % 100}`;
   }
@@ -187,18 +212,23 @@ export class Scheduler {
     this.a.check(this.m._acuity_set_velocities(this.s, ids.length, i, v, 0), 'acuity_set_velocities');
   }
 
-  // eyes: Float64Array of eyeCount x EYE_DOUBLES (see writeEye); dt in seconds.
-  beginFrame(eyes, eyeCount, dt) {
+  // eyes: Float64Array of eyeCount x EYE_DOUBLES (see writeEye); dt in seconds; views: null, or a
+  // Float64Array of viewCount x VIEW_DOUBLES (see writeView), at most MAX_VIEWS.
+  beginFrame(eyes, eyeCount, dt, views = null, viewCount = 0) {
     this.need(eyes, Float64Array, EYE_DOUBLES * eyeCount, 'beginFrame eyes');
-    const [e] = this.stage([eyes]);
-    this.a.check(this.m._acuity_web_begin_frame(this.s, e, eyeCount, dt), 'acuity_begin_frame');
+    if (!(Number.isInteger(viewCount) && viewCount >= 0 && viewCount <= MAX_VIEWS))
+      throw new AcuityError(`beginFrame: viewCount ${viewCount} is not an integer 0..${MAX_VIEWS}`, 1);
+    if (viewCount > 0) this.need(views, Float64Array, VIEW_DOUBLES * viewCount, 'beginFrame views');
+    const [e, v] = this.stage(viewCount > 0 ? [eyes, views] : [eyes]);
+    this.a.check(this.m._acuity_web_begin_frame(this.s, e, eyeCount, dt, viewCount > 0 ? v : 0, viewCount),
+                 viewCount > 0 ? 'acuity_begin_frame_views' : 'acuity_begin_frame');
   }
   updateRange(first, count) { this.a.check(this.m._acuity_update_range(this.s, first, count), 'acuity_update_range'); }
   endFrame() { this.a.check(this.m._acuity_end_frame(this.s), 'acuity_end_frame'); }
 
   // begin, update every object, end.
-  frame(eyes, eyeCount, dt) {
-    this.beginFrame(eyes, eyeCount, dt);
+  frame(eyes, eyeCount, dt, views = null, viewCount = 0) {
+    this.beginFrame(eyes, eyeCount, dt, views, viewCount);
     this.updateRange(0, this.objectSlots);
     this.endFrame();
   }
@@ -213,6 +243,16 @@ export class Scheduler {
     this.a.check(this.m._acuity_get_levels(this.s, n, i, l, flags ? f : 0), 'acuity_get_levels');
     levels.set(new Uint8Array(this.m.HEAPU8.buffer, l, n));
     if (flags) flags.set(new Uint8Array(this.m.HEAPU8.buffer, f, n));
+  }
+
+  // levels: Uint8Array of ids.length, each id's level for view class viewClass (acuity_get_view_levels).
+  getViewLevels(viewClass, ids, levels) {
+    const n = ids.length;
+    this.need(ids, Uint32Array, n, 'getViewLevels ids');
+    this.need(levels, Uint8Array, n, 'getViewLevels levels');
+    const [i, l] = this.stage([ids], [levels]);
+    this.a.check(this.m._acuity_get_view_levels(this.s, viewClass, n, i, l), 'acuity_get_view_levels');
+    levels.set(new Uint8Array(this.m.HEAPU8.buffer, l, n));
   }
 
   frameTriangles() { return Number(this.m._acuity_frame_triangles(this.s)); }

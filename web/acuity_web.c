@@ -41,8 +41,13 @@ acuity_status acuity_web_config_set(acuity_config* c, const char* name, double v
   ACUITY_WEB_FLOAT(no_gaze_radius_deg)
   ACUITY_WEB_FLOAT(hysteresis_margin)
   ACUITY_WEB_UINT(hysteresis_frames, UINT32_MAX)
+  ACUITY_WEB_FLOAT(hysteresis_seconds)
   ACUITY_WEB_FLOAT(saccade_speed_deg_s)
+  ACUITY_WEB_UINT(max_coarsen_wait, UINT32_MAX)
+  ACUITY_WEB_FLOAT(max_coarsen_wait_seconds)
   ACUITY_WEB_UINT(triangle_budget, 9007199254740992.0) /* 2^53: exact in a double */
+  ACUITY_WEB_UINT(max_views, UINT32_MAX)
+  ACUITY_WEB_UINT(max_view_classes, UINT32_MAX)
 #undef ACUITY_WEB_FLOAT
 #undef ACUITY_WEB_UINT
   return ACUITY_INVALID_ARGUMENT;
@@ -52,11 +57,39 @@ static void copy_floats(float* out, const double* in, int n) {
   for (int k = 0; k < n; ++k) out[k] = (float)in[k];
 }
 
-/* acuity_begin_frame with eyes as eye_count x ACUITY_WEB_EYE_DOUBLES doubles. */
-acuity_status acuity_web_begin_frame(acuity_scheduler* s, const double* data, uint32_t eye_count, float dt) {
+/* One view beyond the eyes as ACUITY_WEB_VIEW_DOUBLES doubles, in this order: view_class,
+ * projection (ACUITY_PROJECTION_*), rule (ACUITY_VIEW_RULE_*), pixel_error, position[3] (world m),
+ * orientation[4] (x y z w, view to world), fov_deg[4] (left right up down), extent_m[4] (left right
+ * top bottom), viewport[2] (texels or px). Integers out of their range become values the C ABI
+ * refuses. */
+enum { ACUITY_WEB_VIEW_DOUBLES = 21, ACUITY_WEB_MAX_VIEWS = 64 };
+uint32_t acuity_web_view_doubles(void) { return ACUITY_WEB_VIEW_DOUBLES; }
+
+static uint32_t to_uint(double v) { return v >= 0 && v <= 4294967295.0 ? (uint32_t)v : UINT32_MAX; }
+
+/* acuity_begin_frame_views with eyes as eye_count x ACUITY_WEB_EYE_DOUBLES doubles and views as
+ * view_count x ACUITY_WEB_VIEW_DOUBLES (at most ACUITY_WEB_MAX_VIEWS). */
+acuity_status acuity_web_begin_frame(acuity_scheduler* s, const double* data, uint32_t eye_count, float dt,
+                                     const double* view_data, uint32_t view_count) {
   acuity_eye eyes[2];
+  acuity_view views[ACUITY_WEB_MAX_VIEWS];
   if (!data || eye_count < 1 || eye_count > 2)
     return acuity_begin_frame(s, NULL, eye_count, dt); /* its message */
+  if (view_count > ACUITY_WEB_MAX_VIEWS || (view_count > 0 && !view_data))
+    return ACUITY_INVALID_ARGUMENT; /* acuity.js says why before calling */
+  for (uint32_t i = 0; i < view_count; ++i) {
+    const double* d = view_data + i * ACUITY_WEB_VIEW_DOUBLES;
+    acuity_view* v = &views[i];
+    v->view_class = to_uint(d[0]);
+    v->projection = to_uint(d[1]);
+    v->rule = to_uint(d[2]);
+    v->pixel_error = (float)d[3];
+    for (int k = 0; k < 3; ++k) v->position[k] = d[4 + k];
+    copy_floats(v->orientation, d + 7, 4);
+    copy_floats(v->fov_deg, d + 11, 4);
+    copy_floats(v->extent_m, d + 15, 4);
+    for (int k = 0; k < 2; ++k) v->viewport[k] = d[19 + k] >= 0 && d[19 + k] <= 1e9 ? (uint32_t)d[19 + k] : 0;
+  }
   for (uint32_t i = 0; i < eye_count; ++i) {
     const double* d = data + i * ACUITY_WEB_EYE_DOUBLES;
     acuity_eye* e = &eyes[i];
@@ -76,5 +109,6 @@ acuity_status acuity_web_begin_frame(acuity_scheduler* s, const double* data, ui
     e->gaze_valid = d[26] != 0;
     e->gaze_has_velocity = d[27] != 0;
   }
-  return acuity_begin_frame(s, eyes, eye_count, dt);
+  if (view_count == 0) return acuity_begin_frame(s, eyes, eye_count, dt);
+  return acuity_begin_frame_views(s, eyes, eye_count, dt, views, view_count, sizeof(acuity_view));
 }

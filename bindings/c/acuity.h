@@ -35,8 +35,11 @@ extern "C" {
  * acuity_set_clamps, acuity_get_transitions, acuity_explain; all-or-nothing batch calls.
  * Version 3 appended acuity_config.evaluation (ACUITY_EVALUATION_*) and the foveation planner.
  * Version 4 appended acuity_config.tabulated_biases.
- * Version 5 added acuity_frame_stats and acuity_get_frame_stats. */
-#define ACUITY_C_API_VERSION 5
+ * Version 5 added acuity_frame_stats and acuity_get_frame_stats.
+ * Version 6 appended acuity_config.hysteresis_seconds and max_coarsen_wait_seconds.
+ * Version 7 added views beyond the eyes: acuity_config.max_views and max_view_classes, acuity_view,
+ * acuity_begin_frame_views and acuity_get_view_levels. */
+#define ACUITY_C_API_VERSION 7
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -119,9 +122,9 @@ typedef struct acuity_config {
   float gaze_uncertainty_deg; /* tracker error [deg] */
   float no_gaze_radius_deg;   /* without gaze: where the gaze may be [deg] */
   float hysteresis_margin;    /* coarsening needs a score <= 1 - margin */
-  uint32_t hysteresis_frames; /* ... on this many consecutive frames */
+  uint32_t hysteresis_frames; /* ... on this many consecutive frames (alias of hysteresis_seconds) */
   float saccade_speed_deg_s;  /* > 0: coarsen only during saccades faster than this */
-  uint32_t max_coarsen_wait;  /* ... or after waiting this many frames */
+  uint32_t max_coarsen_wait;  /* ... or after waiting this many frames (alias, see version 6) */
   float transition_seconds;   /* cross-fade length (acuity_get_transitions) [s], >= 0 */
   uint64_t triangle_budget;   /* 0: none */
   float distance_scale;       /* ACUITY_RULE_DISTANCE: switch distances times this */
@@ -136,12 +139,22 @@ typedef struct acuity_config {
   float tabulated_biases[3]; /* per-object biases (acuity_set_bias) with tables of their own besides 1:
                                 each 0 (unused) or finite > 0; see SchedulerConfig::tabulated_biases */
   uint32_t reserved4;        /* must be 0 */
+  /* version 6 (appended): the waits in seconds of the frames' dt, finite and >= 0. A field > 0
+     replaces its frame count above; 0 (the default, and what an older caller gets) keeps the frame
+     count. How dt is summed: SchedulerConfig's timing in acuity/scheduler.hpp. */
+  float hysteresis_seconds;       /* coarsening needs the lower score for this long [s] */
+  float max_coarsen_wait_seconds; /* with saccade gating: or after waiting this long for one [s] */
+  /* version 7 (appended): views beyond the eyes (acuity_view); an older caller gets 0 and 0. */
+  uint32_t max_views;        /* views a frame may carry (acuity_begin_frame_views), <= 1024 */
+  uint32_t max_view_classes; /* levels per object besides the eyes' (acuity_get_view_levels), <= 256 */
 } acuity_config;
 /* The sizes of the version-2 layout (everything up to params: the smallest struct_size
- * acuity_create accepts), of the version-3 one and of the version-4 layout above. */
+ * acuity_create accepts), of the version-3, version-4, version-6 and version-7 layouts (this one). */
 #define ACUITY_CONFIG_SIZE_V2 160u
 #define ACUITY_CONFIG_SIZE_V3 168u
 #define ACUITY_CONFIG_SIZE_V4 184u
+#define ACUITY_CONFIG_SIZE_V6 192u
+#define ACUITY_CONFIG_SIZE_V7 200u
 
 typedef struct acuity_eye {
   double position[3];             /* world [m] */
@@ -156,6 +169,28 @@ typedef struct acuity_eye {
   uint8_t gaze_valid;
   uint8_t gaze_has_velocity;
 } acuity_eye;
+
+/* A view beyond the eyes (acuity::View, whose comments in acuity/scheduler.hpp are the contract): a
+ * shadow map's light view or a secondary camera (mirror, portal, spectator). Each object gets a level
+ * per view class: the finest its class's views need this frame, within its clamps. */
+enum { ACUITY_PROJECTION_PERSPECTIVE = 0, ACUITY_PROJECTION_ORTHOGRAPHIC = 1 };
+enum {
+  ACUITY_VIEW_RULE_FOOTPRINT = 0, /* the coarsest level whose error covers <= pixel_error texels */
+  ACUITY_VIEW_RULE_AS_EYE = 1     /* the scheduler's rule for an eye without gaze (perspective) */
+};
+typedef struct acuity_view {
+  uint32_t view_class;  /* < acuity_config.max_view_classes */
+  uint32_t projection;  /* ACUITY_PROJECTION_* */
+  uint32_t rule;        /* ACUITY_VIEW_RULE_* (orthographic views: FOOTPRINT whatever this says) */
+  float pixel_error;    /* FOOTPRINT: allowed projected error [texels or px] */
+  double position[3];   /* world [m] */
+  float orientation[4]; /* unit quaternion x y z w, view to world; looks along -Z, +Y up */
+  float fov_deg[4];     /* perspective: half-angles left (<0), right, up, down (<0) [deg] */
+  float extent_m[4];    /* orthographic: left, right, top, bottom of the map [m] */
+  uint32_t viewport[2]; /* the map's or image's width, height [texels or px] */
+} acuity_view;
+/* The version-7 layout's size: acuity_begin_frame_views's smallest view_size. */
+#define ACUITY_VIEW_SIZE_V7 96u
 
 /* One level's score and what limits it (acuity::LevelExplain). */
 typedef struct acuity_level_explain {
@@ -194,7 +229,9 @@ void acuity_eye_default(acuity_eye* eye); /* origin, identity, 90 deg, 1920 px, 
  * INVALID_ARGUMENT: null config or out, struct_size outside the growth rule, max_objects 0, an
  * unknown rule/model/view_blend/csf_fit/evaluation, reserved fields not 0, quality not finite and > 0,
  * a tabulated_biases entry neither 0 nor finite and > 0,
- * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds negative or not finite. *out is unchanged
+ * fallback_level >= ACUITY_MAX_LEVELS, transition_seconds, hysteresis_seconds or
+ * max_coarsen_wait_seconds negative or not finite, max_views above 1024 or max_view_classes above
+ * 256. *out is unchanged
  * on failure. */
 acuity_status acuity_create(const acuity_config* config, acuity_scheduler** out);
 /* Frees the scheduler and the profile copies. Null: no-op. */
@@ -243,6 +280,16 @@ acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint3
  * update_range / end_frame INVALID_ARGUMENT: null s, no frame begun. A failed call leaves the frame
  * state as it was. Levels, flags and transitions read between frames are the last end_frame's. */
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt);
+/* acuity_begin_frame with views beyond the eyes: view_count views, each view_size bytes apart
+ * (sizeof(acuity_view) as the caller compiled it; the growth rule of acuity_config: at least
+ * ACUITY_VIEW_SIZE_V7, a multiple of 8, <= 65536, bytes past the known fields ignored). Views with
+ * non-finite values, a non-unit orientation, an empty field of view or extent, or a 0 viewport are
+ * accepted and give their objects the fallback level. INVALID_ARGUMENT as acuity_begin_frame, and
+ * for null views (view_count > 0), view_count above max_views, a bad view_size, a view_class not
+ * below max_view_classes, or an unknown projection or rule (views[i] named); nothing begun then. */
+acuity_status acuity_begin_frame_views(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count,
+                                       float dt, const acuity_view* views, uint32_t view_count,
+                                       size_t view_size);
 acuity_status acuity_update_range(acuity_scheduler* s, uint32_t first, uint32_t count);
 acuity_status acuity_end_frame(acuity_scheduler* s);
 
@@ -250,6 +297,11 @@ acuity_status acuity_end_frame(acuity_scheduler* s);
  * INVALID_ARGUMENT: null s, ids or levels_out (count > 0), an id not alive; outputs untouched then. */
 acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const uint32_t* ids,
                                 uint8_t* levels_out, uint8_t* flags_out);
+/* Each id's level for view class view_class this frame (after acuity_end_frame; a class no view
+ * named: the coarsest level its clamps allow). INVALID_ARGUMENT: null s, ids or levels_out
+ * (count > 0), view_class not below max_view_classes, an id not alive; outputs untouched then. */
+acuity_status acuity_get_view_levels(const acuity_scheduler* s, uint32_t view_class, uint32_t count,
+                                     const uint32_t* ids, uint8_t* levels_out);
 /* Cross-fade state per id: the level faded from and the fade to the current level, 0..1 (1 = done;
  * it rises by dt / transition_seconds per frame after a change; always 1 when transition_seconds is 0).
  * While fade < 1 draw both levels, the current one with weight fade. Either output may be null.

@@ -22,7 +22,8 @@ struct acuity_scheduler {
   acuity::Scheduler scheduler;
   std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
   bool in_frame = false;              // between begin_frame and end_frame
-  explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c) {}
+  std::vector<acuity::View> views;    // [max_views]: the frame's, copied (no allocation per frame)
+  explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c), views(c.max_views) {}
 };
 
 // The C names and layouts are the C++ ones.
@@ -51,7 +52,16 @@ static_assert(offsetof(acuity_config, evaluation) == ACUITY_CONFIG_SIZE_V2, "ver
 static_assert(offsetof(acuity_config, tabulated_biases) == ACUITY_CONFIG_SIZE_V3,
               "version 4 appends to version 3");
 static_assert(std::size(acuity_config{}.tabulated_biases) == acuity::kMaxTabulatedBiases);
-static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V4 && sizeof(acuity_config) % 8 == 0,
+static_assert(offsetof(acuity_config, hysteresis_seconds) == ACUITY_CONFIG_SIZE_V4,
+              "version 6 appends to version 4");
+static_assert(offsetof(acuity_config, max_views) == ACUITY_CONFIG_SIZE_V6, "version 7 appends to version 6");
+static_assert(sizeof(acuity_view) == ACUITY_VIEW_SIZE_V7 && sizeof(acuity_view) % 8 == 0,
+              "the version-7 view");
+static_assert(ACUITY_PROJECTION_PERSPECTIVE == int(acuity::ViewProjection::Perspective) &&
+              ACUITY_PROJECTION_ORTHOGRAPHIC == int(acuity::ViewProjection::Orthographic) &&
+              ACUITY_VIEW_RULE_FOOTPRINT == int(acuity::ViewRule::Footprint) &&
+              ACUITY_VIEW_RULE_AS_EYE == int(acuity::ViewRule::AsEye));
+static_assert(sizeof(acuity_config) == ACUITY_CONFIG_SIZE_V7 && sizeof(acuity_config) % 8 == 0,
               "acuity_config grows only by appending fields; then keep ACUITY_CONFIG_SIZE_V2 as the minimum");
 static_assert(offsetof(acuity_config, struct_size) == 0);
 static_assert(offsetof(acuity_frame_stats, struct_size) == 0 &&
@@ -166,10 +176,20 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
                                                ")");
   if (k.max_objects == 0 || k.reserved != 0 || k.params.reserved != 0 || k.reserved3 != 0 || k.reserved4 != 0)
     return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_objects 0 or a reserved field not 0");
-  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS ||
-      !std::isfinite(k.transition_seconds) || k.transition_seconds < 0)
-    return fail(ACUITY_INVALID_ARGUMENT,
-                "acuity_create: quality, fallback_level or transition_seconds out of range");
+  if (!finite_positive(k.quality) || k.fallback_level >= ACUITY_MAX_LEVELS)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: quality or fallback_level out of range");
+  const struct {
+    const char* name;
+    float value;
+  } durations[] = {{"transition_seconds", k.transition_seconds},
+                   {"hysteresis_seconds", k.hysteresis_seconds},
+                   {"max_coarsen_wait_seconds", k.max_coarsen_wait_seconds}};
+  for (const auto& d : durations)
+    if (!std::isfinite(d.value) || d.value < 0)
+      return fail(ACUITY_INVALID_ARGUMENT, std::string("acuity_create: ") + d.name + " " +
+                                               std::to_string(d.value) + " is negative or not finite");
+  if (k.max_views > 1024 || k.max_view_classes > 256)
+    return fail(ACUITY_INVALID_ARGUMENT, "acuity_create: max_views above 1024 or max_view_classes above 256");
   for (const float b : k.tabulated_biases)
     if (b != 0 && !finite_positive(b))
       return fail(ACUITY_INVALID_ARGUMENT,
@@ -188,6 +208,8 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   sc.no_gaze_radius_deg = k.no_gaze_radius_deg;
   sc.hysteresis_margin = k.hysteresis_margin;
   sc.hysteresis_frames = k.hysteresis_frames;
+  sc.hysteresis_seconds = k.hysteresis_seconds;
+  sc.max_coarsen_wait_seconds = k.max_coarsen_wait_seconds;
   sc.saccade_speed = k.saccade_speed_deg_s;
   sc.max_coarsen_wait = k.max_coarsen_wait;
   sc.transition_seconds = k.transition_seconds;
@@ -195,6 +217,8 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
   sc.distance_scale = k.distance_scale;
   sc.pixel_error = k.pixel_error;
   sc.keep_scores = k.keep_scores != 0;
+  sc.max_views = k.max_views;
+  sc.max_view_classes = k.max_view_classes;
   std::copy(std::begin(k.tabulated_biases), std::end(k.tabulated_biases), sc.tabulated_biases);
   const acuity_model_params& p = k.params;
   sc.params.ct0 = p.ct0;
@@ -233,6 +257,8 @@ void acuity_config_default(acuity_config* c) {
   c->no_gaze_radius_deg = d.no_gaze_radius_deg;
   c->hysteresis_margin = d.hysteresis_margin;
   c->hysteresis_frames = d.hysteresis_frames;
+  c->hysteresis_seconds = d.hysteresis_seconds;
+  c->max_coarsen_wait_seconds = d.max_coarsen_wait_seconds;
   c->saccade_speed_deg_s = d.saccade_speed;
   c->max_coarsen_wait = d.max_coarsen_wait;
   c->transition_seconds = d.transition_seconds;
@@ -240,6 +266,8 @@ void acuity_config_default(acuity_config* c) {
   c->distance_scale = d.distance_scale;
   c->pixel_error = d.pixel_error;
   c->keep_scores = d.keep_scores ? 1u : 0u;
+  c->max_views = d.max_views;
+  c->max_view_classes = d.max_view_classes;
   std::copy(std::begin(d.tabulated_biases), std::end(d.tabulated_biases), c->tabulated_biases);
   c->params.ct0 = d.params.ct0;
   c->params.alpha = d.params.alpha;
@@ -403,32 +431,66 @@ acuity_status acuity_set_clamps(acuity_scheduler* s, uint32_t count, const uint3
   });
 }
 
+namespace {
+// acuity_begin_frame and acuity_begin_frame_views: every check first, then the frame.
+acuity_status begin(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt,
+                    const acuity_view* views, uint32_t view_count, size_t view_size, const char* name) {
+  const auto where = [name] { return std::string(name); };  // built only for a message
+  if (!s || !eyes || eye_count < 1 || eye_count > 2)
+    return fail(ACUITY_INVALID_ARGUMENT, where() + ": one or two eyes");
+  if (s->in_frame) return fail(ACUITY_INVALID_ARGUMENT, where() + ": the previous frame was not ended");
+  const acuity::SchedulerConfig& config = s->scheduler.config();
+  if (view_count > 0 && !views) return fail(ACUITY_INVALID_ARGUMENT, where() + ": null views");
+  if (view_count > config.max_views)
+    return fail(ACUITY_INVALID_ARGUMENT, where() + ": " + std::to_string(view_count) +
+                                             " views, more than max_views " +
+                                             std::to_string(config.max_views));
+  if (view_count > 0 && (view_size < ACUITY_VIEW_SIZE_V7 || view_size % 8 != 0 || view_size > 65536))
+    return fail(ACUITY_INVALID_ARGUMENT,
+                where() + ": view_size " + std::to_string(view_size) + " is not sizeof(acuity_view)");
+  for (uint32_t i = 0; i < view_count; ++i) {
+    const acuity_view& v = *element(views, view_size, i, sizeof(acuity_view));
+    if (v.view_class >= config.max_view_classes || v.projection > ACUITY_PROJECTION_ORTHOGRAPHIC ||
+        v.rule > ACUITY_VIEW_RULE_AS_EYE)
+      return fail(ACUITY_INVALID_ARGUMENT, where() + ": views[" + std::to_string(i) +
+                                               "] has a view_class not below max_view_classes (" +
+                                               std::to_string(config.max_view_classes) +
+                                               ") or an unknown projection or rule; nothing was begun");
+  }
+  acuity::Frame f;
+  f.eye_count = eye_count;
+  f.dt = dt;
+  for (uint32_t i = 0; i < eye_count; ++i) eye_and_gaze(eyes[i], &f.eyes[i], &f.gaze[i]);
+  for (uint32_t i = 0; i < view_count; ++i) {
+    const acuity_view& v = *element(views, view_size, i, sizeof(acuity_view));
+    acuity::View& to = s->views[i];
+    to.view_class = v.view_class;
+    to.projection = static_cast<acuity::ViewProjection>(v.projection);
+    to.rule = static_cast<acuity::ViewRule>(v.rule);
+    to.pixel_error = v.pixel_error;
+    std::memcpy(to.position, v.position, sizeof v.position);
+    std::memcpy(to.orientation, v.orientation, sizeof v.orientation);
+    std::memcpy(to.fov_deg, v.fov_deg, sizeof v.fov_deg);
+    std::memcpy(to.extent_m, v.extent_m, sizeof v.extent_m);
+    std::memcpy(to.viewport, v.viewport, sizeof v.viewport);
+  }
+  f.views = s->views.data();
+  f.view_count = view_count;
+  s->scheduler.begin_frame(f);
+  s->in_frame = true;
+  return ACUITY_OK;
+}
+}  // namespace
+
 acuity_status acuity_begin_frame(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count, float dt) {
+  return guarded([&] { return begin(s, eyes, eye_count, dt, nullptr, 0, 0, "acuity_begin_frame"); });
+}
+
+acuity_status acuity_begin_frame_views(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_count,
+                                       float dt, const acuity_view* views, uint32_t view_count,
+                                       size_t view_size) {
   return guarded([&] {
-    if (!s || !eyes || eye_count < 1 || eye_count > 2)
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: one or two eyes");
-    if (s->in_frame)
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_begin_frame: the previous frame was not ended");
-    acuity::Frame f;
-    f.eye_count = eye_count;
-    f.dt = dt;
-    for (uint32_t i = 0; i < eye_count; ++i) {
-      const acuity_eye& e = eyes[i];
-      std::memcpy(f.eyes[i].position, e.position, sizeof e.position);
-      std::memcpy(f.eyes[i].orientation, e.orientation, sizeof e.orientation);
-      std::memcpy(f.eyes[i].fov_deg, e.fov_deg, sizeof e.fov_deg);
-      std::memcpy(f.eyes[i].viewport, e.viewport, sizeof e.viewport);
-      std::memcpy(f.eyes[i].velocity, e.velocity, sizeof e.velocity);
-      std::memcpy(f.eyes[i].angular_velocity, e.angular_velocity, sizeof e.angular_velocity);
-      std::memcpy(f.gaze[i].direction, e.gaze_direction, sizeof e.gaze_direction);
-      std::memcpy(f.gaze[i].angular_velocity, e.gaze_angular_velocity, sizeof e.gaze_angular_velocity);
-      f.gaze[i].confidence = e.gaze_confidence;
-      f.gaze[i].valid = e.gaze_valid != 0;
-      f.gaze[i].has_velocity = e.gaze_has_velocity != 0;
-    }
-    s->scheduler.begin_frame(f);
-    s->in_frame = true;
-    return ACUITY_OK;
+    return begin(s, eyes, eye_count, dt, views, view_count, view_size, "acuity_begin_frame_views");
   });
 }
 
@@ -469,6 +531,22 @@ acuity_status acuity_get_levels(const acuity_scheduler* s, uint32_t count, const
       levels[i] = level[ids[i]];
       if (flags) flags[i] = flag[ids[i]];
     }
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_get_view_levels(const acuity_scheduler* s, uint32_t view_class, uint32_t count,
+                                     const uint32_t* ids, uint8_t* levels) {
+  return guarded([&] {
+    if (!s || (count && (!ids || !levels)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_view_levels: null argument");
+    const uint8_t* level = s->scheduler.view_level_array(view_class);
+    if (!level)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_get_view_levels: view_class " +
+                                               std::to_string(view_class) + " is not below max_view_classes");
+    if (const acuity_status st = check_ids(s, count, ids, "acuity_get_view_levels"); st != ACUITY_OK)
+      return st;
+    for (uint32_t i = 0; i < count; ++i) levels[i] = level[ids[i]];
     return ACUITY_OK;
   });
 }

@@ -106,6 +106,22 @@ struct PyScheduler {
         throw py::index_error(std::string(function) + ": object " + std::to_string(id(i)) +
                               " does not exist (never added, or removed); nothing was changed");
   }
+  // The frame with `views` (checked as the C ABI checks them: count and classes).
+  Frame with_views(const Frame& f, const std::vector<View>& views, const char* function) const {
+    const SchedulerConfig& c = scheduler.config();
+    if (views.size() > c.max_views)
+      throw py::value_error(std::string(function) + ": " + std::to_string(views.size()) +
+                            " views, more than max_views " + std::to_string(c.max_views));
+    for (std::size_t i = 0; i < views.size(); ++i)
+      if (views[i].view_class >= c.max_view_classes)
+        throw py::value_error(std::string(function) + ": views[" + std::to_string(i) +
+                              "].view_class is not below max_view_classes " +
+                              std::to_string(c.max_view_classes));
+    Frame out = f;
+    out.views = views.data();
+    out.view_count = static_cast<std::uint32_t>(views.size());
+    return out;
+  }
   void require_alive(std::uint32_t id, const char* function) const {
     if (!scheduler.alive(id))
       throw py::index_error(std::string(function) + ": object " + std::to_string(id) +
@@ -282,14 +298,23 @@ void bind_scheduler(py::module_ m) {
       .def_readwrite("gaze_uncertainty_deg", &SchedulerConfig::gaze_uncertainty_deg)
       .def_readwrite("no_gaze_radius_deg", &SchedulerConfig::no_gaze_radius_deg)
       .def_readwrite("hysteresis_margin", &SchedulerConfig::hysteresis_margin)
-      .def_readwrite("hysteresis_frames", &SchedulerConfig::hysteresis_frames)
+      .def_readwrite("hysteresis_seconds", &SchedulerConfig::hysteresis_seconds,
+                     "[s] of the frames' dt; > 0 replaces hysteresis_frames")
+      .def_readwrite("hysteresis_frames", &SchedulerConfig::hysteresis_frames,
+                     "alias, used while hysteresis_seconds is 0")
       .def_readwrite("saccade_speed", &SchedulerConfig::saccade_speed)
-      .def_readwrite("max_coarsen_wait", &SchedulerConfig::max_coarsen_wait)
+      .def_readwrite("max_coarsen_wait_seconds", &SchedulerConfig::max_coarsen_wait_seconds,
+                     "[s] of the frames' dt; > 0 replaces max_coarsen_wait")
+      .def_readwrite("max_coarsen_wait", &SchedulerConfig::max_coarsen_wait,
+                     "alias, used while max_coarsen_wait_seconds is 0")
       .def_readwrite("transition_seconds", &SchedulerConfig::transition_seconds)
       .def_readwrite("triangle_budget", &SchedulerConfig::triangle_budget)
       .def_readwrite("distance_scale", &SchedulerConfig::distance_scale)
       .def_readwrite("pixel_error", &SchedulerConfig::pixel_error)
       .def_readwrite("keep_scores", &SchedulerConfig::keep_scores)
+      .def_readwrite("max_views", &SchedulerConfig::max_views, "views a frame may carry (View)")
+      .def_readwrite("max_view_classes", &SchedulerConfig::max_view_classes,
+                     "levels per object besides the eyes' (view_levels)")
       .def_property(
           "model", [](const SchedulerConfig& c) { return std::string(to_string(c.model)); },
           [](SchedulerConfig& c, const std::string& name) {
@@ -332,6 +357,26 @@ void bind_scheduler(py::module_ m) {
             for (std::size_t i = 0; i < gaze.size(); ++i) f.gaze[i] = gaze[i];
           })
       .def_readwrite("dt", &Frame::dt);
+
+  py::enum_<ViewProjection>(m, "ViewProjection", "A view's projection (acuity::ViewProjection).")
+      .value("perspective", ViewProjection::Perspective)
+      .value("orthographic", ViewProjection::Orthographic);
+  py::enum_<ViewRule>(m, "ViewRule", "How a view's levels are chosen (acuity::ViewRule).")
+      .value("footprint", ViewRule::Footprint, "the coarsest level whose error covers <= pixel_error texels")
+      .value("as_eye", ViewRule::AsEye, "the scheduler's rule for an eye without gaze (perspective)");
+  py::class_<View>(m, "View",
+                   "A view beyond the eyes: a shadow map's light view or a secondary camera (see "
+                   "acuity/scheduler.hpp). Passed to run_frame / begin_frame as views=[...].")
+      .def(py::init<>())
+      .def_readwrite("view_class", &View::view_class, "< SchedulerConfig.max_view_classes")
+      .def_readwrite("projection", &View::projection)
+      .def_readwrite("rule", &View::rule)
+      .def_readwrite("pixel_error", &View::pixel_error, "Footprint: allowed projected error [texels or px]")
+      .ACUITY_ARRAY_PROPERTY(View, position, double, 3, "world [m]")
+      .ACUITY_ARRAY_PROPERTY(View, orientation, float, 4, "unit quaternion x y z w, view to world")
+      .ACUITY_ARRAY_PROPERTY(View, fov_deg, float, 4, "perspective: left (<0), right, up, down (<0) [deg]")
+      .ACUITY_ARRAY_PROPERTY(View, extent_m, float, 4, "orthographic: left, right, top, bottom [m]")
+      .ACUITY_ARRAY_PROPERTY(View, viewport, std::uint32_t, 2, "width, height [texels or px]");
 
   py::class_<PyScheduler>(
       m, "Scheduler",
@@ -396,19 +441,20 @@ void bind_scheduler(py::module_ m) {
           "id"_a, "quality_bias"_a, "Multiply q for this object (> 1 coarser).")
       .def(
           "run_frame",
-          [](PyScheduler& s, const Frame& f) {
+          [](PyScheduler& s, const Frame& f, const std::vector<View>& views) {
             if (s.in_frame) throw py::value_error("run_frame: a frame was begun and not ended");
-            s.scheduler.run_frame(f);
+            s.scheduler.run_frame(s.with_views(f, views, "run_frame"));
           },
-          "frame"_a, "begin_frame, update every object, end_frame.")
+          "frame"_a, "views"_a = std::vector<View>{},
+          "begin_frame, update every object, end_frame. views: View objects beyond the eyes.")
       .def(
           "begin_frame",
-          [](PyScheduler& s, const Frame& f) {
+          [](PyScheduler& s, const Frame& f, const std::vector<View>& views) {
             if (s.in_frame) throw py::value_error("begin_frame: the previous frame was not ended");
-            s.scheduler.begin_frame(f);
+            s.scheduler.begin_frame(s.with_views(f, views, "begin_frame"));
             s.in_frame = true;
           },
-          "frame"_a)
+          "frame"_a, "views"_a = std::vector<View>{})
       .def(
           "update",
           [](PyScheduler& s, std::uint32_t first, std::uint32_t count) {
@@ -457,6 +503,14 @@ void bind_scheduler(py::module_ m) {
             return s.per_object(ids, [&](ObjectId i) { return s.scheduler.level(i); });
           },
           "ids"_a)
+      .def(
+          "view_levels",
+          [](const PyScheduler& s, std::uint32_t view_class, U32 ids) {
+            const std::uint8_t* level = s.scheduler.view_level_array(view_class);
+            if (!level) throw py::value_error("view_levels: view_class not below max_view_classes");
+            return s.per_object(ids, [&](ObjectId i) { return level[i]; });
+          },
+          "view_class"_a, "ids"_a, "Each id's level for a view class this frame (uint8).")
       .def(
           "flags",
           [](const PyScheduler& s, U32 ids) {

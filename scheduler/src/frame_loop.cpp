@@ -7,32 +7,16 @@ namespace acuity {
 void Scheduler::Impl::begin_frame(const Frame& frame) {
   eye_count_ = std::clamp<std::uint32_t>(frame.eye_count, 1, 2);
   dt_ = std::isfinite(frame.dt) && frame.dt > 0 ? frame.dt : 0.0f;
+  hold_step_ = config_.hysteresis_seconds > 0 || both_seconds_ ? dt_ : 1.0f;  // seconds, or frames
+  wait_step_ = config_.max_coarsen_wait_seconds > 0 ? dt_ : 1.0f;
   saccade_ = false;
   const std::size_t alive = config_.max_objects - free_list_.size();
   many_at_rest_ = stats_.at_rest > 0 && stats_.at_rest >= alive / 8;  // last frame's stats
   stats_ = FrameStats{};
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
-    const Eye& e = frame.eyes[i];
     const Gaze& g = frame.gaze[i];
     EyeCache& c = eyes_[i];
-    for (int k = 0; k < 3; ++k) c.position[k] = e.position[k];
-    for (int k = 0; k < 4; ++k) c.rotation[k] = e.orientation[k];
-    const float qn = std::sqrt(e.orientation[0] * e.orientation[0] + e.orientation[1] * e.orientation[1] +
-                               e.orientation[2] * e.orientation[2] + e.orientation[3] * e.orientation[3]);
-    const float tan_l = std::tan(e.fov_deg[0] * kRad), tan_r = std::tan(e.fov_deg[1] * kRad);
-    const float tan_u = std::tan(e.fov_deg[2] * kRad), tan_d = std::tan(e.fov_deg[3] * kRad);
-    c.valid = std::isfinite(e.position[0]) && std::isfinite(e.position[1]) && std::isfinite(e.position[2]) &&
-              std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
-              tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
-              std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
-    if (c.valid)
-      for (float& q : c.rotation) q /= qn;
-    c.forward = rotate(c.rotation, {0, 0, -1});
-    c.velocity = load(e.velocity);
-    c.omega = kRad * load(e.angular_velocity);
-    c.focal_px = static_cast<float>(e.viewport[0]) / (tan_r - tan_l);
-    c.center_right = 0.5f * (tan_l + tan_r);
-    c.center_up = 0.5f * (tan_u + tan_d);
+    pose_eye(frame.eyes[i], &c);
     const Vec3 gd = load(g.direction);
     const float gl = length(gd);
     c.gaze = g.valid && g.confidence >= config_.min_gaze_confidence && std::isfinite(gl) && gl > 0.5f;
@@ -59,6 +43,7 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
           threshold[p * kMaxLevels + k] = error_threshold(error_size_[p * kMaxLevels + k], c.focal_px);
     }
   }
+  if (!views_.empty()) begin_views(frame);
   ++frame_;
   resting_ = memos_ != nullptr && !config_.keep_scores;
   // Objects are looked for at rest where an eighth were last frame, and every eighth frame.
@@ -67,6 +52,29 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
     memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
     if (i < eye_count_) resting_ = resting_ && memos_[i].usable;
   }
+}
+
+// An eye's pose, projection and validity as the frame reads them (its gaze is begin_frame's).
+void Scheduler::Impl::pose_eye(const Eye& e, EyeCache* out) {
+  EyeCache& c = *out;
+  for (int k = 0; k < 3; ++k) c.position[k] = e.position[k];
+  for (int k = 0; k < 4; ++k) c.rotation[k] = e.orientation[k];
+  const float qn = std::sqrt(e.orientation[0] * e.orientation[0] + e.orientation[1] * e.orientation[1] +
+                             e.orientation[2] * e.orientation[2] + e.orientation[3] * e.orientation[3]);
+  const float tan_l = std::tan(e.fov_deg[0] * kRad), tan_r = std::tan(e.fov_deg[1] * kRad);
+  const float tan_u = std::tan(e.fov_deg[2] * kRad), tan_d = std::tan(e.fov_deg[3] * kRad);
+  c.valid = std::isfinite(e.position[0]) && std::isfinite(e.position[1]) && std::isfinite(e.position[2]) &&
+            std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
+            tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
+            std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
+  if (c.valid)
+    for (float& q : c.rotation) q /= qn;
+  c.forward = rotate(c.rotation, {0, 0, -1});
+  c.velocity = load(e.velocity);
+  c.omega = kRad * load(e.angular_velocity);
+  c.focal_px = static_cast<float>(e.viewport[0]) / (tan_r - tan_l);
+  c.center_right = 0.5f * (tan_l + tan_r);
+  c.center_up = 0.5f * (tan_u + tan_d);
 }
 
 void Scheduler::Impl::update(std::uint32_t first, std::uint32_t count) {
@@ -128,6 +136,7 @@ void Scheduler::Impl::update(std::uint32_t first, std::uint32_t count) {
     choose_perceptual(start, n, looks, sights, &decisions);
     settle(start, n, decisions);
   }
+  if (!view_levels_.empty()) decide_views(first, end);
 }
 
 // The per-object arrays a frame reads, for the kBlock objects from `first`, asked for two blocks
@@ -144,7 +153,7 @@ void Scheduler::Impl::prefetch_objects(std::uint32_t first) const {
   for (int k = 0; k < 4; ++k) lines(&rotation_[k][first], sizeof(float) * n);
   for (int k = 0; k < 4; ++k) lines(&sphere_[k][first], sizeof(float) * n);
   lines(&profile_of_[first], sizeof(int) * n);
-  for (const auto* a : {&calm_frames_, &wait_frames_}) lines(&(*a)[first], sizeof(std::uint32_t) * n);
+  for (const auto* a : {&calm_, &wait_}) lines(&(*a)[first], sizeof(float) * n);
   for (const auto* a :
        {&explicit_velocity_, &fresh_, &min_level_, &max_level_, &flags_, &chosen_, &next_, &bias_tables_})
     lines(&(*a)[first], n);
@@ -179,17 +188,20 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::derive_velocities(std::uint32_t first, 
 }
 
 // Clamps and hysteresis for a block, branch-free per object: a new object takes its first level at
-// once; a finer level (or the fallback) applies at once; a coarser one after hysteresis_frames
-// calm frames and, with saccade gating, in a saccade or after max_coarsen_wait frames (kFlagHeld
-// meanwhile). Free slots keep their state.
+// once; a finer level (or the fallback) applies at once; a coarser one once it has been wanted for
+// the hysteresis and, with saccade gating, in a saccade or after the wait (kFlagHeld meanwhile),
+// each measured in seconds of dt or in frames (SchedulerConfig's timing). Free slots keep their state.
 ACUITY_SIMD_CLONES void Scheduler::Impl::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
-  const std::uint32_t frames = config_.hysteresis_frames, max_wait = config_.max_coarsen_wait;
+  const float hold_need = hold_need_, wait_need = wait_need_, hold_step = hold_step_, wait_step = wait_step_;
+  const float both_need = both_need_;
+  const bool both_seconds = both_seconds_;
+  constexpr float kMost = std::numeric_limits<float>::max();  // sums stop here: +inf is never reached
   const std::uint32_t gate_open = config_.saccade_speed <= 0 || saccade_;
   const int* profile = &profile_of_[first];
   const std::uint8_t *max_level = &max_level_[first], *min_level = &min_level_[first];
   std::uint8_t *chosen = &chosen_[first], *next_level = &next_[first], *flags = &flags_[first],
                *fresh = &fresh_[first];
-  std::uint32_t *calm_frames = &calm_frames_[first], *wait_frames = &wait_frames_[first];
+  float *calm_of = &calm_[first], *wait_of = &wait_[first];
   // Plain arithmetic and selects (no short-circuits, every load unconditional): it vectorises.
   ACUITY_NO_ALIAS
   for (std::uint32_t j = 0; j < n; ++j) {
@@ -200,25 +212,31 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::settle(std::uint32_t first, std::uint32
     const std::uint32_t fine = want_fine < lo ? lo : want_fine > hi ? hi : want_fine;
     const std::uint32_t coarse = want_coarse < lo ? lo : want_coarse > hi ? hi : want_coarse;
     const std::uint32_t current = chosen[j];
-    const std::uint32_t calm = calm_frames[j], wait = wait_frames[j];
+    const float calm = calm_of[j], wait = wait_of[j];
     const std::uint32_t refine = std::uint32_t(fresh[j] != 0) |
                                  std::uint32_t((d.flags[j] & kFlagInvalidInput) != 0) |
                                  std::uint32_t(fine < current);
     const std::uint32_t coarsen = (refine ^ 1u) & std::uint32_t(coarse > current);
-    const std::uint32_t settled = calm + 1 >= frames;
-    const std::uint32_t go = coarsen & settled & (gate_open | std::uint32_t(wait >= max_wait));
+    // Wanted this long, this frame included; the wait counts from the moment the hysteresis was
+    // met (both in seconds: from the sum) or, in frames or after a frame-count hysteresis, from
+    // the frame it was met.
+    const float calm_now = std::min(calm + hold_step, kMost);
+    const std::uint32_t settled = calm_now >= hold_need;
+    const std::uint32_t was_settled = std::uint32_t(calm > 0.0f) & std::uint32_t(calm >= hold_need);
+    const float wait_now = std::min(wait + (was_settled ? wait_step : 0.0f), kMost);
+    const std::uint32_t waited = both_seconds ? calm_now >= both_need : wait_now >= wait_need;
+    const std::uint32_t go = coarsen & settled & (gate_open | waited);
     const std::uint32_t held = coarsen & (go ^ 1u);
     const auto level = static_cast<std::uint8_t>(refine ? fine : go ? coarse : current);
     const auto flag = static_cast<std::uint8_t>(d.flags[j] | (held ? kFlagHeld : 0));
     // A free slot keeps its state: masks, not selects (GCC turns those into conditional stores).
     const auto keep = static_cast<std::uint8_t>(alive - 1u), take = static_cast<std::uint8_t>(~keep);
-    const std::uint32_t keep_count = alive - 1u;
     chosen[j] = static_cast<std::uint8_t>((level & take) | (chosen[j] & keep));
     next_level[j] = static_cast<std::uint8_t>((level & take) | (next_level[j] & keep));
     flags[j] = static_cast<std::uint8_t>((flag & take) | (flags[j] & keep));
     fresh[j] = static_cast<std::uint8_t>(fresh[j] & keep);
-    calm_frames[j] = ((held ? calm + 1 : 0u) & ~keep_count) | (calm & keep_count);
-    wait_frames[j] = ((held ? wait + settled : 0u) & ~keep_count) | (wait & keep_count);
+    calm_of[j] = alive ? (held ? calm_now : 0.0f) : calm;
+    wait_of[j] = alive ? (held ? wait_now : 0.0f) : wait;
   }
 }
 

@@ -20,6 +20,20 @@ struct Scheduler::Impl::EyeCache {
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
 };
 
+// A view beyond the eyes (View) as a frame uses it (views.cpp): its pose as an eye without gaze (for
+// AsEye, and the pose and validity of every view), and what its footprint reads.
+struct Scheduler::Impl::ViewCache {
+  EyeCache eye;
+  float to_view[4];    // world to view: the inverse of the eye's rotation
+  float texels_per_m;  // orthographic: the larger of the map's texels per metre across either axis
+  float focal_px;      // perspective: the larger of the two focal lengths [px]
+  float pixel_error;   // Footprint's allowance [texels or px]
+  std::uint32_t view_class;
+  ViewRule rule;  // AsEye only for perspective views
+  ViewProjection projection;
+  bool valid;
+};
+
 // One eye's view of one object: everything the rules read.
 struct Scheduler::Impl::Sight {
   float d, r;  // distance to the sphere's centre, radius [m]

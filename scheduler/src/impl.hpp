@@ -35,6 +35,7 @@ struct Scheduler::Impl {
   // ---- Internals ----
   struct ProfileCache;
   struct EyeCache;
+  struct ViewCache;
   struct Precomputed;
   struct Curves;
   struct Sight;
@@ -117,6 +118,12 @@ struct Scheduler::Impl {
   static constexpr std::uint32_t kBlock = 64;  // objects per pass of the frame loop
   struct Decisions;                            // one block's choices, both eyes combined
   void derive_velocities(std::uint32_t first, std::uint32_t count);
+  static void pose_eye(const Eye& e, EyeCache* c);  // an eye's pose, projection and validity (no gaze)
+  // Views beyond the eyes (views.cpp): the frame's views, then per block their levels per class.
+  void begin_views(const Frame& frame);
+  void decide_views(std::uint32_t first, std::uint32_t end);
+  void view_levels(const ViewCache& v, std::uint32_t first, std::uint32_t count, std::uint8_t* out) const;
+  std::uint8_t footprint_level(const ViewCache& v, ObjectId id) const;
   void prefetch_objects(std::uint32_t first) const;  // a block's per-object arrays, ahead of its turn
   void prefetch_holds(std::uint32_t first) const;    // a block's holds in use, a block ahead
   void choose_perceptual(std::uint32_t first, std::uint32_t count, const Look (*looks)[kBlock],
@@ -161,7 +168,9 @@ struct Scheduler::Impl {
   std::vector<std::uint8_t> chosen_;              // perceptual choice after hysteresis (before the budget)
   std::vector<std::uint8_t> next_;                // this frame's level after the budget
   std::vector<std::uint8_t> level_, from_level_;  // drawn level and the one it fades from
-  std::vector<std::uint32_t> calm_frames_, wait_frames_;
+  // Per object, how long a coarser level has been wanted and waited for a saccade since the
+  // hysteresis was met (settle()), in the units of hold_step_ and wait_step_.
+  std::vector<float> calm_, wait_;
   std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
   std::vector<float> fade_, scores_;
   std::vector<std::uint8_t> rest_;  // 1: decided at rest this frame
@@ -175,7 +184,16 @@ struct Scheduler::Impl {
   std::uint32_t table_bias_count_ = 1;
   std::vector<EyeCache> eyes_;
   std::uint32_t eye_count_ = 0;
+  std::vector<ViewCache> views_;  // [max_views]: this frame's, view_count_ of them
+  std::uint32_t view_count_ = 0;
+  std::vector<std::uint8_t> view_levels_;  // [max_view_classes][max_objects]
   float dt_ = 0;
+  // The hysteresis and the wait for a saccade: their lengths (a little under the seconds, or the
+  // frame counts; +inf: forever) and what each frame adds (its dt, or one frame). With the wait in
+  // seconds and the hysteresis in seconds or none, the wait is over when wanted for their sum,
+  // both_need_ (both_seconds_; else wait_ counts from the frame the hysteresis was met).
+  float hold_need_ = 0, wait_need_ = 0, both_need_ = 0, hold_step_ = 1, wait_step_ = 1;
+  bool both_seconds_ = false;
   bool saccade_ = false;
   std::uint32_t frame_ = 0;        // begin_frame's count
   bool resting_ = false;           // rests may be set this frame (a still eye)

@@ -19,6 +19,15 @@
 
 namespace acuity {
 
+namespace {
+// A wait as settle() compares it (SchedulerConfig's timing): seconds > 0, less the relative room of
+// a float sum of many dt; else the frame count, at most 2^24 (a float counts frames exactly so far).
+float timing_need(float seconds, std::uint32_t frames) {
+  if (seconds > 0) return seconds * (1.0f - 1e-4f);
+  return static_cast<float>(std::min<std::uint32_t>(frames, 1u << 24));
+}
+}  // namespace
+
 Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
   const std::size_t n = config_.max_objects;
@@ -45,8 +54,18 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   level_.assign(n, 0);
   from_level_.assign(n, 0);
   flags_.assign(n, 0);
-  calm_frames_.assign(n, 0);
-  wait_frames_.assign(n, 0);
+  calm_.assign(n, 0.0f);
+  wait_.assign(n, 0.0f);
+  // The wait in seconds counts from the moment the hysteresis was met: one in seconds, or none (a
+  // frame count of 0 or 1, met at once) is a moment, and then the two are one sum of dt.
+  const bool hold_seconds = config_.hysteresis_seconds > 0;
+  both_seconds_ = config_.max_coarsen_wait_seconds > 0 && (hold_seconds || config_.hysteresis_frames <= 1);
+  hold_need_ = both_seconds_ && !hold_seconds
+                   ? 0.0f
+                   : timing_need(config_.hysteresis_seconds, config_.hysteresis_frames);
+  wait_need_ = timing_need(config_.max_coarsen_wait_seconds, config_.max_coarsen_wait);
+  both_need_ =
+      timing_need((hold_seconds ? config_.hysteresis_seconds : 0.0f) + config_.max_coarsen_wait_seconds, 0);
   fade_.assign(n, 1.0f);
   rest_.assign(n, 0);
   if (config_.keep_scores) scores_.assign(n * kMaxLevels, 0.0f);
@@ -54,6 +73,8 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   for (std::uint32_t i = 0; i < n; ++i) free_list_.push_back(static_cast<std::uint32_t>(n - 1 - i));
   heap_.reserve(n);
   eyes_.resize(2);
+  views_.resize(config_.max_views);
+  view_levels_.assign(std::size_t(config_.max_view_classes) * n, 0);
   const std::size_t slots = std::size_t(config_.max_profiles) * kMaxLevels;
   level_count_.assign(config_.max_profiles, 1);
   band_frequency_.assign(std::size_t(config_.max_profiles) * kMaxBands, kInf);
@@ -165,7 +186,7 @@ ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   drawn_triangles_ += triangles_[std::size_t(profile) * kMaxLevels + level_[id]];
   flags_[id] = 0;
-  calm_frames_[id] = wait_frames_[id] = 0;
+  calm_[id] = wait_[id] = 0.0f;
   fade_[id] = 1.0f;
   if (memos_) memos_[0].key[id] = memos_[1].key[id] = Memo::kNone;  // another profile's, maybe
   end_rests(id);
@@ -330,6 +351,11 @@ const std::uint8_t* Scheduler::level_array() const { return impl_->level_.data()
 const std::uint8_t* Scheduler::flag_array() const { return impl_->flags_.data(); }
 const std::uint8_t* Scheduler::previous_level_array() const { return impl_->from_level_.data(); }
 const float* Scheduler::transition_array() const { return impl_->fade_.data(); }
+const std::uint8_t* Scheduler::view_level_array(std::uint32_t view_class) const {
+  return view_class < impl_->config_.max_view_classes
+             ? &impl_->view_levels_[std::size_t(view_class) * impl_->config_.max_objects]
+             : nullptr;
+}
 std::uint8_t Scheduler::flags(ObjectId id) const { return impl_->flags_[id]; }
 std::uint8_t Scheduler::previous_level(ObjectId id) const { return impl_->from_level_[id]; }
 float Scheduler::transition(ObjectId id) const { return impl_->fade_[id]; }

@@ -2,7 +2,8 @@
 time by `acuity lodgen` from a CGAL mesh (MSFT_lod) and the same mesh as a plain OFF (chained on the
 fly), profiles built into a folder; the written PNGs are real pictures (not blank, the level colours
 and the gaze ring present), levels.csv holds one valid level per object and frame, frames.csv one
-frame-time line per frame, and a stereo run draws both halves.
+frame-time line per frame, and a stereo run draws both halves. A --shadow run draws a shadowed scene
+(osgShadow) and writes each object's level in the light's map to shadow_levels.csv.
 
 Also runs the hello_osg example on that scene and checks that docs/integrations.md shows it verbatim.
 
@@ -116,11 +117,31 @@ def main():
     _, threaded = read_csv(os.path.join(WORK, "threaded", "levels.csv"))
     assert single == threaded and len(single) == 20
 
-    # 4. A bad input fails loudly.
+    # 4. A shadowed scene: osgShadow's ShadowMap under a directional light, over a ground. Its light
+    #    camera is the kit's view of class 0; its orthographic map gives every object of the grid (the
+    #    same mesh at the same scale) one footprint level once the camera is placed (frame 1 on), and a
+    #    map of 64 texels a coarser one than a map of 512.
+    shadow = {}
+    for texels in (512, 64):
+        out3 = os.path.join(WORK, f"shadow{texels}")
+        run([VIEWER, glb, "--profiles", profiles, "--objects", "25", "--headless", "--frames", "6", "--out", out3,
+             "--shadow", str(texels), "--png-every", "5", "--width", "320", "--height", "180", "--gaze-source", "fixed",
+             "-q"])
+        header, rows = read_csv(os.path.join(out3, "shadow_levels.csv"))
+        assert header == read_csv(os.path.join(out3, "levels.csv"))[0] and len(rows) == 6
+        levels = np.array([[int(x) for x in r[1:]] for r in rows])
+        assert levels.min() >= 0 and levels.max() <= 3
+        assert np.all(levels[1:] == levels[1, 0]), f"one footprint level for every object: {levels}"
+        shadow[texels] = levels[1, 0]
+        img = imread(os.path.join(out3, "frame_00005.png"))[..., :3]
+        assert (np.abs(img - BACKGROUND).max(axis=2) > 0.03).mean() > 0.2, "the shadowed scene was drawn"
+    assert shadow[64] > shadow[512], shadow
+
+    # 5. A bad input fails loudly.
     r = subprocess.run([VIEWER, os.path.join(WORK, "profiles", "eight.acuity"), "--headless", "--frames", "1"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode != 0 and "acuity-osg:" in r.stderr, r.stderr
-    # 5. The documented example runs, and the documentation shows exactly its source.
+    # 6. The documented example runs, and the documentation shows exactly its source.
     stdout = run([HELLO, os.path.join(profiles, "eight.acuity"), glb, "--frames", "5"])
     assert "triangles" in stdout, stdout
     with open(os.path.join(SOURCE, "integrations", "osg", "examples", "hello_osg.cpp")) as f:

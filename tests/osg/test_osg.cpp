@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <set>
 
+#include <osg/LightSource>
 #include <osg/MatrixTransform>
 #include <osg/Uniform>
 #include <osgViewer/Viewer>
@@ -18,6 +19,7 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
+#include "acuity/osg/shadow_map.hpp"
 #include "acuity/sim/foveation_report.hpp"  // gazes_from
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/tracks.hpp"
@@ -79,7 +81,13 @@ struct World {
     ::osg::ref_ptr<::osg::StateSet> ss = acuity::osg::make_shader_state();
     ss->addUniform(debug.get(), ::osg::StateAttribute::OVERRIDE);
     root->setStateSet(ss.get());
+    realize(viewer, root.get(), capture.get(), stereo);
+    kit->attach(viewer);
+  }
 
+  // A single-threaded viewer of `root` in a kWidth x kHeight pbuffer, its master camera at kFovY
+  // (or two slaves side by side, eyes 64 mm apart), `capture` reading the frame (not stereo).
+  static void realize(osgViewer::Viewer& viewer, ::osg::Node* root, Capture* capture, bool stereo) {
     ::osg::ref_ptr<::osg::GraphicsContext::Traits> traits = new ::osg::GraphicsContext::Traits;
     traits->readDISPLAY();  // xvfb-run's $DISPLAY
     traits->setUndefinedScreenDetailsToDefaultScreen();
@@ -92,7 +100,7 @@ struct World {
     ::osg::ref_ptr<::osg::GraphicsContext> gc = ::osg::GraphicsContext::createGraphicsContext(traits.get());
     if (!gc) throw std::runtime_error("no pbuffer: is this running under xvfb-run with GLX?");
     viewer.setThreadingModel(osgViewer::ViewerBase::SingleThreaded);
-    viewer.setSceneData(root.get());
+    viewer.setSceneData(root);
     viewer.setCameraManipulator(nullptr);
     ::osg::Camera* master = viewer.getCamera();
     master->setProjectionMatrixAsPerspective(kFovY, double(kWidth) / kHeight, 0.1, 1000);
@@ -102,7 +110,7 @@ struct World {
       master->setViewport(0, 0, kWidth, kHeight);
       master->setDrawBuffer(GL_BACK);
       master->setReadBuffer(GL_BACK);
-      master->setFinalDrawCallback(capture.get());
+      master->setFinalDrawCallback(capture);
     } else {  // two slaves side by side, eyes 64 mm apart; each keeps the master's projection
       for (int e = 0; e < 2; ++e) {
         ::osg::ref_ptr<::osg::Camera> cam = new ::osg::Camera;
@@ -114,7 +122,6 @@ struct World {
         viewer.addSlave(cam.get(), ::osg::Matrixd(), ::osg::Matrixd::translate(e ? -0.032 : 0.032, 0, 0));
       }
     }
-    kit->attach(viewer);
     viewer.realize();
     if (!viewer.isRealized()) throw std::runtime_error("the viewer could not be realized");
   }
@@ -443,3 +450,69 @@ TEST(Osg, APngOfAFrameIsWrittenAndIsNotBlank) {
 }
 
 }  // namespace
+
+// A shadowed scene (osgShadow's ShadowMap, a directional light from above, 512 texels): an object
+// behind the eye, which the eye's pass culls, is drawn in the light's pass at its shadow level: the
+// footprint level of the map's texels, from the light camera's own projection and viewport (one
+// frame behind it, as the kit reads the camera before osgShadow places it), finer than the level the
+// eyes give it. An object in front is drawn in both passes.
+TEST(Osg, AnObjectOutsideTheEyesViewGetsItsShadowLevelInTheLightsPass) {
+  const acuity::Blob blob = acuity::spectra::encode_profile(acuity::testing::small_profile(4));
+  acuity::SchedulerConfig config;
+  config.max_objects = 2;
+  config.max_views = 1;
+  config.max_view_classes = 1;
+  ::osg::ref_ptr<Kit> kit = new Kit(config);
+  const int p = kit->add_profile(blob.data(), blob.size);
+  ::osg::ref_ptr<osgShadow::ShadowedScene> scene = new osgShadow::ShadowedScene;
+  ::osg::ref_ptr<acuity::osg::ShadowMap> map = new acuity::osg::ShadowMap;
+  map->setTextureSize(::osg::Vec2s(512, 512));
+  scene->setShadowTechnique(map.get());
+  ::osg::ref_ptr<::osg::LightSource> sun = new ::osg::LightSource;
+  sun->getLight()->setPosition(::osg::Vec4(0, 1, 0, 0));  // from straight above
+  map->setLight(sun.get());
+  scene->addChild(sun.get());
+  ::osg::ref_ptr<LodNode> nodes[2];
+  const double z[2] = {-6, 20};  // in front of the eye, and behind it
+  for (int i = 0; i < 2; ++i) {
+    nodes[i] = new LodNode;
+    for (int k = 0; k < 4; ++k) nodes[i]->addChild(acuity::osg::make_geometry(quad(1)));
+    kit->add(nodes[i].get(), p);
+    ::osg::ref_ptr<::osg::MatrixTransform> at =
+        new ::osg::MatrixTransform(::osg::Matrixd::translate(0, 0, z[i]));
+    at->addChild(nodes[i].get());
+    scene->addChild(at.get());
+  }
+  ASSERT_NE(map->camera(), nullptr);
+  kit->set_view_cameras({{map->camera(), acuity::View{}}});  // class 0, Footprint, 1 texel
+  EXPECT_EQ(kit->view_class_of(map->camera()), 0);
+  osgViewer::Viewer viewer;
+  ::osg::ref_ptr<Capture> capture = new Capture;
+  World::realize(viewer, scene.get(), capture.get(), false);
+  kit->attach(viewer);
+  EXPECT_EQ(kit->view_class_of(viewer.getCamera()), -1);
+  viewer.getCamera()->setViewMatrix(::osg::Matrixd::identity());  // at the origin, looking along -Z
+  for (int f = 0; f < 4; ++f) viewer.frame(f / kFps);
+  const unsigned frame = viewer.getFrameStamp()->getFrameNumber();
+  const acuity::Scheduler& s = kit->scheduler();
+  const LodNode::DrawnInView behind = nodes[1]->drawn_in_view(), ahead = nodes[0]->drawn_in_view();
+  EXPECT_EQ(behind.frame, frame) << "the light's pass drew the object behind the eye";
+  EXPECT_EQ(behind.view_class, 0u);
+  EXPECT_EQ(behind.level, s.view_level_array(0)[nodes[1]->id()]);
+  EXPECT_NE(nodes[1]->drawn().frame, frame) << "the eye's pass culled it";
+  EXPECT_EQ(ahead.frame, frame);
+  EXPECT_EQ(nodes[0]->drawn().frame, frame);
+  // The footprint, independently: the light camera's orthographic map, texels per metre along
+  // either axis (the larger), and small_profile's errors (0.01 k diameters of its 1.5 m sphere).
+  double left, right, bottom, top, znear, zfar;
+  ASSERT_TRUE(map->camera()->getProjectionMatrix().getOrtho(left, right, bottom, top, znear, zfar));
+  const ::osg::Viewport* vp = map->camera()->getViewport();
+  ASSERT_NE(vp, nullptr);
+  EXPECT_EQ(vp->width(), 512);
+  const double texels_per_m = std::max(vp->width() / (right - left), vp->height() / (top - bottom));
+  std::uint8_t want = 0;
+  while (want + 1 < 4 && 0.01 * (want + 1) * 3.0 * texels_per_m <= 1.0) ++want;
+  EXPECT_EQ(behind.level, want) << texels_per_m << " texels per metre";
+  EXPECT_LT(behind.level, s.level(nodes[1]->id())) << "finer than the eyes need behind them";
+  EXPECT_EQ(ahead.level, want) << "orthographic: the same footprint anywhere";
+}

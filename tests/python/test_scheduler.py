@@ -185,3 +185,76 @@ def test_table_bytes_per_profile():
     assert table_bytes(hysteresis_margin=0.3) == 2 * one_set
     assert table_bytes(tabulated_biases=[2.0, 0, 0]) == 2 * one_set
     assert table_bytes(tabulated_biases=[2.0, 0.5, 0], hysteresis_margin=0.3) == 6 * one_set
+
+
+@pytest.mark.parametrize("hz", [72, 90, 120])
+def test_hysteresis_and_wait_in_seconds_take_the_same_time_at_any_rate(hz):
+    """hysteresis_seconds and max_coarsen_wait_seconds sum dt: 0.1 s + 0.3 s is 0.4 s at every rate;
+    the frame counts (aliases) apply only while the seconds are 0."""
+    def frames_to_coarsen(config):
+        config.max_objects = 4
+        config.saccade_speed = 200  # gating on; the gaze stays still
+        s = acuity.Scheduler(config)
+        pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+        ids = s.add_objects([pid], [[0, 0, -2]], [[0, 0, 0, 1]], [1])
+        s.set_velocities(ids, [[0, 0, 0]])
+        f = frame_looking_forward()
+        f.dt = 1 / hz
+        s.run_frame(f)
+        near = s.levels(ids)[0]
+        s.set_transforms(ids, [[0, 0, -500]], [[0, 0, 0, 1]], [1])
+        for n in range(1, 400):
+            s.run_frame(f)
+            if s.levels(ids)[0] != near:
+                return n
+        return None
+
+    config = acuity.SchedulerConfig()
+    assert (config.hysteresis_seconds, config.max_coarsen_wait_seconds) == (0, 0)
+    config.hysteresis_seconds = 0.1
+    config.max_coarsen_wait_seconds = 0.3
+    config.hysteresis_frames, config.max_coarsen_wait = 50, 50  # ignored
+    n = frames_to_coarsen(config)
+    assert 0.4 * (1 - 1e-4) <= n / hz < 0.4 + 1 / hz
+    frames = acuity.SchedulerConfig()
+    frames.hysteresis_frames, frames.max_coarsen_wait = 4, 6
+    assert frames_to_coarsen(frames) == 10
+
+
+def test_views_beyond_the_eyes_get_their_own_levels():
+    """A shadow map's light view (orthographic, looking down) gives an object behind the eye a level
+    from its texel footprint; a finer map a finer level; a class no view named the coarsest."""
+    config = acuity.SchedulerConfig()
+    config.max_objects = 4
+    config.max_views = 2
+    config.max_view_classes = 2
+    s = acuity.Scheduler(config)
+    pid = s.add_profile(acuity.Profile.from_bytes(make_profile()))
+    ids = s.add_objects([pid, pid], [[0, 0, 30], [0, 0, -5]], [[0, 0, 0, 1]] * 2, [1, 1])
+    sun = acuity.View()
+    sun.projection = acuity.ViewProjection.orthographic
+    sun.orientation = [-0.70710678, 0, 0, 0.70710678]  # looking down
+    sun.position = [0, 50, 0]
+    sun.extent_m = [-40, 40, 40, -40]
+    levels = {}
+    for texels in (256, 4096):
+        sun.viewport = [texels, texels]
+        s.run_frame(frame_looking_forward(), views=[sun])
+        levels[texels] = s.view_levels(0, ids)
+        # orthographic: the same footprint wherever the object is (here, both the same object)
+        assert levels[texels][0] == levels[texels][1]
+        # level k's error (0.002 (2^k - 1) diameters of 2 m) covers at most 1 texel of 80 m / texels
+        k = int(levels[texels][0])
+        assert 0.004 * (2 ** k - 1) * texels / 80 <= 1
+        assert k == 4 or 0.004 * (2 ** (k + 1) - 1) * texels / 80 > 1
+    assert levels[4096][0] < levels[256][0]
+    assert s.levels(ids)[0] > levels[4096][0]  # the eye, facing away, does not need it
+    assert list(s.view_levels(1, ids)) == [4, 4]  # a class no view named: coarsest
+    with pytest.raises(ValueError, match="max_views"):
+        s.run_frame(frame_looking_forward(), views=[sun, sun, sun])
+    bad = acuity.View()
+    bad.view_class = 2
+    with pytest.raises(ValueError, match="max_view_classes"):
+        s.run_frame(frame_looking_forward(), views=[bad])
+    with pytest.raises(ValueError, match="max_view_classes"):
+        s.view_levels(2, ids)

@@ -5,7 +5,7 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 
-import { AcuityError, EYE_DOUBLES, FLAG, writeEye } from '../acuity.js';
+import { AcuityError, EYE_DOUBLES, FLAG, PROJECTION, VIEW_DOUBLES, writeEye, writeView } from '../acuity.js';
 import { env, loadWasm, readField } from './scene.mjs';
 
 const acuity = await loadWasm();
@@ -102,4 +102,66 @@ s.getLevels(ids.subarray(10), levels.subarray(10), flags.subarray(10));
 assert.ok(levels[10] > near, 'the moved object is coarser now');
 assert.ok(s.frameTriangles() > 0);
 s.destroy();
+
+// The waits in seconds of dt (C ABI 6): 0.1 s of hysteresis and 0.3 s of waiting for a saccade go
+// on the first frame at or past 0.4 s at 72 and 120 Hz; the frame counts apply while they are 0.
+throwsAcuity(() => acuity.createScheduler({ hysteresis_seconds: -1 }), 1, /hysteresis_seconds/);
+throwsAcuity(() => acuity.createScheduler({ max_coarsen_wait_seconds: NaN }), 1, /max_coarsen_wait_seconds/);
+function framesToCoarsen(options, hz) {
+  const t = acuity.createScheduler({ max_objects: 4, saccade_speed_deg_s: 200, ...options });
+  t.loadProfile(profile);
+  const id = t.addObjects(Int32Array.of(0), Float64Array.of(0, 0, -2), Float32Array.of(0, 0, 0, 1), null);
+  t.setVelocities(id, new Float32Array(3));
+  const eye = new Float64Array(EYE_DOUBLES);
+  writeEye(eye, 0, { position: [0, 0, 0], orientation: [0, 0, 0, 1], fov: [-45, 45, 45, -45], viewport: [1920, 1920],
+                     gaze: { angularVelocity: [0, 0, 0] } });  // a still gaze: no saccade
+  const level = new Uint8Array(1);
+  t.frame(eye, 1, 1 / hz);
+  t.getLevels(id, level);
+  const nearLevel = level[0];
+  t.setTransforms(id, Float64Array.of(0, 0, -500), Float32Array.of(0, 0, 0, 1), null);
+  let frames = 0;
+  while (level[0] === nearLevel && frames < 400) {
+    t.frame(eye, 1, 1 / hz);
+    t.getLevels(id, level);
+    ++frames;
+  }
+  t.destroy();
+  return frames;
+}
+for (const hz of [72, 120]) {
+  const frames = framesToCoarsen({ hysteresis_seconds: 0.1, max_coarsen_wait_seconds: 0.3, hysteresis_frames: 50 }, hz);
+  assert.ok(frames / hz >= 0.4 * (1 - 1e-4) && frames / hz < 0.4 + 1 / hz, `${frames} frames at ${hz} Hz`);
+  assert.equal(framesToCoarsen({ hysteresis_frames: 4, max_coarsen_wait: 6 }, hz), 10);
+}
+// Views beyond the eyes (C ABI 7): an orthographic sun over 80 m gives an object behind the eye a
+// shadow level from its texels, finer for a finer map; a class no view names: the coarsest.
+{
+  const t = acuity.createScheduler({ max_objects: 4, max_views: 2, max_view_classes: 2 });
+  t.loadProfile(profile);
+  const id = t.addObjects(Int32Array.of(0), Float64Array.of(0, 0, 30), Float32Array.of(0, 0, 0, 1), null);
+  const eye = new Float64Array(EYE_DOUBLES);
+  writeEye(eye, 0, { position: [0, 0, 0], orientation: [0, 0, 0, 1], fov: [-45, 45, 45, -45], viewport: [1920, 1920] });
+  const views = new Float64Array(VIEW_DOUBLES);
+  const shadow = {};
+  for (const texels of [128, 8192]) {
+    writeView(views, 0, { projection: PROJECTION.orthographic, position: [0, 50, 0], orientation: [-Math.SQRT1_2, 0, 0, Math.SQRT1_2],
+                          extent: [-40, 40, 40, -40], viewport: [texels, texels] });
+    t.frame(eye, 1, 1 / 72, views, 1);
+    const level = new Uint8Array(1);
+    t.getViewLevels(0, id, level);
+    shadow[texels] = level[0];
+  }
+  assert.ok(shadow[8192] < shadow[128], `a finer map, a finer shadow level (${shadow[8192]} < ${shadow[128]})`);
+  const none = new Uint8Array(1), eyeLevel = new Uint8Array(1);
+  t.getViewLevels(1, id, none);
+  t.getLevels(id, eyeLevel);
+  assert.ok(none[0] >= shadow[128] && none[0] >= eyeLevel[0], 'a class no view named: the coarsest');
+  throwsAcuity(() => t.getViewLevels(2, id, none), 1, /view_class/);
+  writeView(views, 0, { viewClass: 5, position: [0, 0, 0], orientation: [0, 0, 0, 1], viewport: [64, 64] });
+  throwsAcuity(() => t.frame(eye, 1, 1 / 72, views, 1), 1, /views\[0\]/);
+  throwsAcuity(() => t.frame(eye, 1, 1 / 72, views, 3), 1, /beginFrame views/);
+  t.frame(eye, 1, 1 / 72);  // still works
+  t.destroy();
+}
 console.log(`wasm api: errors as AcuityError with acuity_last_error(); ${n} objects, heap ${bufferBefore} -> ${acuity.m.HEAPU8.buffer.byteLength} bytes`);

@@ -29,8 +29,8 @@ for _name in ("models", "spectra", "lodgen", "foveation", "sim"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
 from ._acuity import (Eye, Evaluation, FileError, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
-                      ViewBlend, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
+                      View, ViewBlend, ViewProjection, ViewRule, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
 __all__ = ["models", "spectra", "lodgen", "foveation", "sim", "Eye", "FileError", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
-           "SelectionRule", "ViewBlend", "Evaluation", "__version__"]
+           "SelectionRule", "View", "ViewBlend", "ViewProjection", "ViewRule", "Evaluation", "__version__"]

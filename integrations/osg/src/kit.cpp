@@ -43,31 +43,62 @@ class Kit::CameraCallback : public ::osg::NodeCallback {
   ::osg::observer_ptr<Kit> kit_;
 };
 
-bool eye_from_camera(const ::osg::Camera& camera, Eye* eye) {
+namespace {
+// A camera's pose (from the inverse view matrix) and viewport (or its context's size); false when
+// it has neither.
+bool pose_and_viewport(const ::osg::Camera& camera, double position[3], float orientation[4],
+                       std::uint32_t viewport[2]) {
   const ::osg::Matrixd world = ::osg::Matrixd::inverse(camera.getViewMatrix());
   ::osg::Vec3d t, s;
   ::osg::Quat r, so;
   world.decompose(t, r, s, so);
-  for (int k = 0; k < 3; ++k) eye->position[k] = t[k];
+  for (int k = 0; k < 3; ++k) position[k] = t[k];
   const ::osg::Vec4d q = r.asVec4();
   const double n = q.length();
-  for (int k = 0; k < 4; ++k) eye->orientation[k] = float(n > 0 ? q[k] / n : (k == 3));
-  double left = 0, right = 0, bottom = 0, top = 0, znear = 0, zfar = 0;
-  if (!camera.getProjectionMatrix().getFrustum(left, right, bottom, top, znear, zfar) || !(znear > 0))
-    return false;
-  eye->fov_deg[0] = float(std::atan(left / znear) * kDeg);
-  eye->fov_deg[1] = float(std::atan(right / znear) * kDeg);
-  eye->fov_deg[2] = float(std::atan(top / znear) * kDeg);
-  eye->fov_deg[3] = float(std::atan(bottom / znear) * kDeg);
+  for (int k = 0; k < 4; ++k) orientation[k] = float(n > 0 ? q[k] / n : (k == 3));
   const ::osg::Viewport* vp = camera.getViewport();
   if (vp && vp->width() > 0 && vp->height() > 0) {
-    eye->viewport[0] = std::uint32_t(vp->width());
-    eye->viewport[1] = std::uint32_t(vp->height());
+    viewport[0] = std::uint32_t(vp->width());
+    viewport[1] = std::uint32_t(vp->height());
   } else if (const ::osg::GraphicsContext* gc = camera.getGraphicsContext(); gc && gc->getTraits()) {
-    eye->viewport[0] = std::uint32_t(std::max(1, gc->getTraits()->width));
-    eye->viewport[1] = std::uint32_t(std::max(1, gc->getTraits()->height));
+    viewport[0] = std::uint32_t(std::max(1, gc->getTraits()->width));
+    viewport[1] = std::uint32_t(std::max(1, gc->getTraits()->height));
+  } else {
+    return false;
   }
   return true;
+}
+// A perspective frustum's half-angles [deg] (left, right, up, down), or false.
+bool frustum_deg(const ::osg::Matrixd& projection, float fov_deg[4]) {
+  double left = 0, right = 0, bottom = 0, top = 0, znear = 0, zfar = 0;
+  if (!projection.getFrustum(left, right, bottom, top, znear, zfar) || !(znear > 0)) return false;
+  fov_deg[0] = float(std::atan(left / znear) * kDeg);
+  fov_deg[1] = float(std::atan(right / znear) * kDeg);
+  fov_deg[2] = float(std::atan(top / znear) * kDeg);
+  fov_deg[3] = float(std::atan(bottom / znear) * kDeg);
+  return true;
+}
+}  // namespace
+
+bool eye_from_camera(const ::osg::Camera& camera, Eye* eye) {
+  pose_and_viewport(camera, eye->position, eye->orientation, eye->viewport);
+  return frustum_deg(camera.getProjectionMatrix(), eye->fov_deg);
+}
+
+bool view_from_camera(const ::osg::Camera& camera, View* view) {
+  if (!pose_and_viewport(camera, view->position, view->orientation, view->viewport)) return false;
+  const ::osg::Matrixd& p = camera.getProjectionMatrix();
+  double left = 0, right = 0, bottom = 0, top = 0, znear = 0, zfar = 0;
+  if (p(3, 3) == 1.0 && p.getOrtho(left, right, bottom, top, znear, zfar)) {  // orthographic
+    view->projection = ViewProjection::Orthographic;
+    view->extent_m[0] = float(left);
+    view->extent_m[1] = float(right);
+    view->extent_m[2] = float(top);
+    view->extent_m[3] = float(bottom);
+    return true;
+  }
+  view->projection = ViewProjection::Perspective;
+  return frustum_deg(p, view->fov_deg);
 }
 
 Kit::Kit(const SchedulerConfig& config) : scheduler_(std::make_unique<Scheduler>(config)) {
@@ -189,6 +220,32 @@ void Kit::attach(::osgViewer::View& view) {
     set_cameras({view.getCamera()});
 }
 
+void Kit::set_view_cameras(const std::vector<ViewCamera>& cameras) {
+  const SchedulerConfig& c = scheduler_->config();
+  if (cameras.size() > c.max_views)
+    throw std::runtime_error("acuity::osg::Kit::set_view_cameras: more cameras than max_views");
+  for (const ViewCamera& v : cameras)
+    if (!v.camera || v.settings.view_class >= c.max_view_classes)
+      throw std::runtime_error(
+          "acuity::osg::Kit::set_view_cameras: a null camera or a class past max_view_classes");
+  std::lock_guard<std::mutex> lock(mutex_);
+  view_cameras_.clear();
+  view_settings_.clear();
+  for (const ViewCamera& v : cameras) {
+    view_cameras_.emplace_back(v.camera);
+    view_settings_.push_back(v.settings);
+  }
+  views_.assign(cameras.size(), View{});
+}
+
+int Kit::view_class_of(const ::osg::Camera* camera) {
+  if (!camera) return -1;
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (std::size_t i = 0; i < view_cameras_.size(); ++i)
+    if (view_cameras_[i].get() == camera) return int(view_settings_[i].view_class);
+  return -1;
+}
+
 void Kit::read_eyes(const ::osg::Camera* fallback, double dt) {
   std::vector<const ::osg::Camera*> cams;
   for (const auto& c : cameras_)
@@ -228,6 +285,14 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
   time_ = time;
   read_eyes(fallback, dt);
   frame_.dt = float(dt);
+  // The view cameras as they were last placed (views_ holds one per camera: no allocation).
+  std::uint32_t view_count = 0;
+  for (std::size_t i = 0; i < view_cameras_.size(); ++i) {
+    View v = view_settings_[i];
+    if (view_cameras_[i].valid() && view_from_camera(*view_cameras_[i], &v)) views_[view_count++] = v;
+  }
+  frame_.views = views_.data();
+  frame_.view_count = view_count;
   // World transforms from each node's parent path.
   for (LodNode* n : nodes_) {
     if (!n || (n->static_ && n->placed_)) continue;

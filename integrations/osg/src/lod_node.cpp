@@ -17,13 +17,26 @@ LodNode::Drawn LodNode::drawn() const {
   return drawn_;
 }
 
+LodNode::DrawnInView LodNode::drawn_in_view() const {
+  std::lock_guard<std::mutex> lock(drawn_mutex_);
+  return drawn_in_view_;
+}
+
 void LodNode::traverse(::osg::NodeVisitor& nv) {
   ::osg::ref_ptr<Kit> kit;
   const bool live = id_ != kInvalidObject && kit_.lock(kit);
   if (nv.getVisitorType() == ::osg::NodeVisitor::CULL_VISITOR && live && nv.getFrameStamp()) {
     auto* cv = nv.asCullVisitor();
-    kit->run_frame(*nv.getFrameStamp(), cv ? cv->getCurrentCamera() : nullptr);
+    const ::osg::Camera* camera = cv ? cv->getCurrentCamera() : nullptr;
+    kit->run_frame(*nv.getFrameStamp(), camera);
     const Scheduler& s = kit->scheduler();
+    if (const int view_class = kit->view_class_of(camera); view_class >= 0) {  // a shadow or mirror pass
+      const std::uint8_t level = s.view_level_array(std::uint32_t(view_class))[id_];
+      if (level < getNumChildren()) getChild(level)->accept(nv);
+      std::lock_guard<std::mutex> lock(drawn_mutex_);
+      drawn_in_view_ = {nv.getFrameStamp()->getFrameNumber(), std::uint32_t(view_class), level};
+      return;
+    }
     const std::uint8_t level = s.level(id_), previous = s.previous_level(id_);
     const float fade = Kit::quantise_fade(s.transition(id_));
     const bool both = fade < 1.0f && previous != level && previous < getNumChildren();

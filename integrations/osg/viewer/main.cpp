@@ -21,7 +21,10 @@
 #include <string>
 #include <vector>
 
+#include <osg/ComputeBoundsVisitor>
+#include <osg/Geode>
 #include <osg/Geometry>
+#include <osg/LightSource>
 #include <osg/LineWidth>
 #include <osg/MatrixTransform>
 #include <osg/Uniform>
@@ -31,6 +34,7 @@
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
+#include "acuity/osg/shadow_map.hpp"
 #include "acuity/sim/foveation_report.hpp"  // gazes_from
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/generators.hpp"
@@ -46,7 +50,7 @@ constexpr double kDeg = 57.295779513082320876;
 struct Options {
   std::string scene, profiles, head, gaze_file, gaze_mode = "auto", out, threading = "single";
   std::uint32_t frames = 0, skip = 1, png_every = 1, objects = 0, res = 256, width = 960, height = 540,
-                seed = 1;
+                seed = 1, shadow = 0;
   double seconds = 20, fps = 60, fov = 90, ipd = 0.064;
   float transition = 0.25f, quality = 1.0f;
   bool headless = false, stereo = false, debug = false, quiet = false, static_scene = false;
@@ -166,6 +170,7 @@ int run(const Options& o) {
   if (o.objects) assets->instances = grid(*assets, o.objects);
   config.max_objects = std::uint32_t(assets->instances.size());
   config.max_profiles = std::uint32_t(assets->assets.size());
+  config.max_views = config.max_view_classes = o.shadow ? 1 : 0;  // the light's view: class 0
   ::osg::ref_ptr<aosg::Kit> kit = new aosg::Kit(config);
   aosg::SceneNodes nodes = aosg::make_nodes(*assets, assets->instances, *kit);
   if (o.static_scene)
@@ -238,7 +243,35 @@ int run(const Options& o) {
     throw std::runtime_error(std::string("cannot open ") + (o.headless ? "a pbuffer" : "a window") +
                              " on DISPLAY (try xvfb-run -a)");
   ::osg::ref_ptr<::osg::Group> top = new ::osg::Group;
-  top->addChild(nodes.root.get());
+  if (o.shadow) {
+    // osgShadow's ShadowMap under a directional light from above: the kit's shader goes above it,
+    // so its shadow shader draws the objects (no debug palette or dither inside), and its light
+    // camera is the kit's view of class 0, whose levels the shadow pass draws.
+    ::osg::ref_ptr<osgShadow::ShadowedScene> shadowed = new osgShadow::ShadowedScene;
+    ::osg::ref_ptr<aosg::ShadowMap> map = new aosg::ShadowMap;
+    map->setTextureSize(::osg::Vec2s(short(o.shadow), short(o.shadow)));
+    shadowed->setShadowTechnique(map.get());
+    ::osg::ref_ptr<::osg::LightSource> sun = new ::osg::LightSource;
+    sun->getLight()->setPosition(::osg::Vec4(0.3f, 1.0f, 0.4f, 0.0f));  // directional
+    map->setLight(sun.get());
+    shadowed->addChild(sun.get());
+    shadowed->addChild(nodes.root.get());
+    // A ground under the objects (+Y up), half again as wide, to receive their shadows.
+    ::osg::ComputeBoundsVisitor bounds;
+    nodes.root->accept(bounds);
+    const ::osg::BoundingBox& b = bounds.getBoundingBox();
+    const float wide = 1.5f * std::max(b.xMax() - b.xMin(), b.zMax() - b.zMin());
+    ::osg::ref_ptr<::osg::Geode> ground = new ::osg::Geode;
+    ground->addDrawable(::osg::createTexturedQuadGeometry(
+        {b.center().x() - wide / 2, b.yMin(), b.center().z() + wide / 2}, {wide, 0, 0}, {0, 0, -wide}));
+    shadowed->addChild(ground.get());
+    nodes.root->setStateSet(nullptr);
+    top->setStateSet(shader.get());
+    top->addChild(shadowed.get());
+    kit->set_view_cameras({{map->camera(), View{}}});  // Footprint, 1 texel
+  } else {
+    top->addChild(nodes.root.get());
+  }
   viewer.setSceneData(top.get());
   ::osg::Camera* master = viewer.getCamera();
   const double aspect = o.stereo ? 0.5 * o.width / o.height : double(o.width) / o.height;
@@ -283,8 +316,8 @@ int run(const Options& o) {
   if (!viewer.isRealized()) throw std::runtime_error("the viewer could not be realized");
 
   // Outputs.
-  std::ofstream levels_csv, frames_csv;
-  std::string levels_tmp, frames_tmp;
+  std::ofstream levels_csv, frames_csv, shadow_csv;
+  std::string levels_tmp, frames_tmp, shadow_tmp;
   if (!o.out.empty()) {
     fs::create_directories(o.out);
     levels_tmp = (fs::path(o.out) / "levels.csv.tmp").string();
@@ -295,6 +328,14 @@ int run(const Options& o) {
     levels_csv << "frame";
     for (const auto& n : nodes.nodes) levels_csv << ',' << csv_name(n->getName());
     levels_csv << '\n';
+    if (o.shadow) {  // the same columns: each object's level in the shadow map
+      shadow_tmp = (fs::path(o.out) / "shadow_levels.csv.tmp").string();
+      shadow_csv.open(shadow_tmp);
+      if (!shadow_csv) throw std::runtime_error("cannot write into " + o.out);
+      shadow_csv << "frame";
+      for (const auto& n : nodes.nodes) shadow_csv << ',' << csv_name(n->getName());
+      shadow_csv << '\n';
+    }
     frames_csv << "frame,time_s,frame_ms,cull_ms,acuity_ms,transforms_ms,draw_ms,triangles,changed\n";
   }
   if (!o.quiet)
@@ -336,6 +377,12 @@ int run(const Options& o) {
       levels_csv << f;
       for (const auto& n : nodes.nodes) levels_csv << ',' << int(kit->scheduler().level(n->id()));
       levels_csv << '\n';
+      if (o.shadow) {
+        shadow_csv << f;
+        for (const auto& n : nodes.nodes)
+          shadow_csv << ',' << int(kit->scheduler().view_level_array(0)[n->id()]);
+        shadow_csv << '\n';
+      }
       frames_csv << f << ',' << t << ',' << frame_ms << ',' << cull << ',' << acuity_ms << ','
                  << kit->last_transforms_ms() << ',' << draw << ',' << kit->scheduler().stats().triangles
                  << ',' << kit->scheduler().stats().changed << '\n';
@@ -353,6 +400,11 @@ int run(const Options& o) {
     if (!levels_csv || !frames_csv) throw std::runtime_error("writing into " + o.out + " failed");
     fs::rename(levels_tmp, fs::path(o.out) / "levels.csv");
     fs::rename(frames_tmp, fs::path(o.out) / "frames.csv");
+    if (o.shadow) {
+      shadow_csv.close();
+      if (!shadow_csv) throw std::runtime_error("writing into " + o.out + " failed");
+      fs::rename(shadow_tmp, fs::path(o.out) / "shadow_levels.csv");
+    }
   }
   if (measured) {
     const double n = double(measured);
@@ -416,6 +468,10 @@ int main(int argc, char** argv) {
   app.add_option("--threading", o.threading,
                  "OSG threading model: single | cull-draw | draw | cull-per-camera")
       ->capture_default_str();
+  app.add_option("--shadow", o.shadow,
+                 "Draw shadows (osgShadow's ShadowMap, a directional light; TEXELS across its map; 0: none): "
+                 "each object's shadow level is its error's footprint in texels (shadow_levels.csv)")
+      ->check(CLI::Range(0u, 8192u));
   app.add_flag("--headless", o.headless, "Render into a pbuffer (under xvfb-run -a without a display)");
   app.add_flag("--stereo", o.stereo, "Two slave cameras side by side, one per eye");
   app.add_flag("--static", o.static_scene,

@@ -77,14 +77,29 @@ struct SchedulerConfig {
   float gaze_uncertainty_deg = 1.0f;  // tracker error: subtracted from every eccentricity [deg]
   float no_gaze_radius_deg = 30.0f;   // without gaze the gaze may be anywhere this close to the
                                       // view centre: eccentricity is measured from that disc [deg]
-  // Hysteresis and timing
-  float hysteresis_margin = 0.0f;       // coarsening needs a score <= 1 - margin
-  std::uint32_t hysteresis_frames = 0;  // ... on this many consecutive frames
-  float saccade_speed = 0.0f;           // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
-                                        // such a saccade the eye counts as fixating (the level is seen
-                                        // after it, so the saccade's retinal blur is not spent) ...
-  std::uint32_t max_coarsen_wait = 30;  // ... or after waiting this many frames for a saccade
-  float transition_seconds = 0.0f;      // cross-fade length reported by transition() [s]
+  // Hysteresis and timing. A finer level applies at once; a coarser one once it has been wanted for
+  // hysteresis_seconds and, with saccade gating, then in a saccade or after waiting
+  // max_coarsen_wait_seconds more for one (kFlagHeld meanwhile): without a saccade it goes once
+  // wanted for the sum of the two. Time is the sum of the frames' dt (Frame::dt, the time since the
+  // previous frame; counted in full however large, while a dt that is 0, negative or not finite
+  // counts none) over the consecutive frames that wanted a coarser level, this one's included. A
+  // sum reaches a wait within a relative 1e-4 of it (float rounding of many dt) and never reaches
+  // +inf (forever). The same seconds give the same times at any frame rate, to within one frame.
+  // The frame counts are aliases for one release: a seconds field > 0 replaces its frame count,
+  // which is then ignored; at 0 (the default), negative or NaN the frame count applies, each frame
+  // counting one whatever its dt (so the defaults still wait 30 frames for a saccade). A wait after
+  // a hysteresis of n >= 2 frames counts from that frame (in frames or in the later frames' dt); a
+  // hysteresis of 0 or 1 frames is none. At a steady frame time dt, n frames wait as n x dt
+  // seconds. Frame counts above 2^24 act as 2^24.
+  float hysteresis_margin = 0.0f;         // coarsening needs a score <= 1 - margin
+  float hysteresis_seconds = 0.0f;        // ... held that long [s] (> 0; else hysteresis_frames)
+  std::uint32_t hysteresis_frames = 0;    // ... alias: on this many consecutive frames
+  float saccade_speed = 0.0f;             // > 0: coarsen only while gaze speed exceeds it [deg/s]; during
+                                          // such a saccade the eye counts as fixating (the level is seen
+                                          // after it, so the saccade's retinal blur is not spent) ...
+  float max_coarsen_wait_seconds = 0.0f;  // ... or after waiting this long for one [s] (> 0; else ...)
+  std::uint32_t max_coarsen_wait = 30;    // ... alias: after waiting this many frames for a saccade
+  float transition_seconds = 0.0f;        // cross-fade length reported by transition() [s]
 
   // Budget (Funkhouser & Sequin): 0 = none; else coarsen greedily by least harm per triangle saved
   // (a budget turns keep_scores on: harm is the next level's score)
@@ -95,6 +110,11 @@ struct SchedulerConfig {
   float pixel_error = 1.0f;     // ScreenSize: allowed projected geometric error [px]
 
   bool keep_scores = false;  // keep every level's score for scores()
+
+  // Views beyond the eyes (View, below): how many a frame may carry, and how many view classes
+  // (each a level per object: view_level_array()). Both fixed at creation; 0: the eyes only.
+  std::uint32_t max_views = 0;
+  std::uint32_t max_view_classes = 0;
 };
 
 // Every selection rule, once, in SelectionRule order: its name (the one Python, the simulation's
@@ -130,11 +150,54 @@ struct Gaze {
   bool has_velocity = false;  // else retinal velocity follows Daly's pursuit model
 };
 
+// A view beyond the eyes: a shadow map's light view or a secondary camera (a mirror, a portal, a
+// spectator or recording camera). Nobody looks through it with a gaze: each object gets a level
+// for it from its geometry, and per view class (view_class) the finer need of the class's views
+// wins, as the two eyes' does (a shadow class of four cascades; a mirror class). The eyes' level,
+// hysteresis, budget and fades are untouched by views; a view's level applies at once, within the
+// object's clamps. Conventions as an Eye's: world metres, looks along its local -Z with +Y up.
+enum class ViewRule : std::uint8_t {
+  // The coarsest level whose geometric error, projected into this view, covers at most
+  // pixel_error texels (a shadow map) or pixels: a level never coarser than its footprint can show.
+  // Orthographic: error x max(viewport[0] / width, viewport[1] / height) texels, wherever the object
+  // lies. Perspective: the largest stretch of the projection anywhere in the bounding sphere, error
+  // x f / w x sqrt(1 + ((|x| + r) / w)^2 + ((|y| + r) / w)^2) with f the larger focal length [px],
+  // (x, y) the centre across the view axis and w = its depth - r; a sphere reaching the view's plane
+  // takes the finest level, one wholly behind it the coarsest (it is not in the view).
+  Footprint,
+  // As the scheduler's rule decides for an eye without gaze at this view's pose, field of view and
+  // resolution (the perceptual rules through the exact path: a view costs about what explain()
+  // does per object). Perspective views only: an orthographic one decides by Footprint.
+  AsEye,
+};
+enum class ViewProjection : std::uint8_t { Perspective, Orthographic };
+
+struct View {
+  std::uint32_t view_class = 0;  // < SchedulerConfig::max_view_classes
+  ViewProjection projection = ViewProjection::Perspective;
+  ViewRule rule = ViewRule::Footprint;
+  float pixel_error = 1.0f;        // Footprint: allowed projected error [texels or px]; <= 0 or NaN:
+                                   // only an error of 0 (0) or none (< 0, NaN) passes: finest
+  double position[3] = {0, 0, 0};  // world [m]: the light or camera (orthographic: any point on its axis)
+  float orientation[4] = {0, 0, 0, 1};       // unit quaternion x y z w, view to world
+  float fov_deg[4] = {-45, 45, 45, -45};     // perspective: half-angles left (<0), right, up, down (<0)
+  float extent_m[4] = {-10, 10, 10, -10};    // orthographic: left, right, top, bottom of the map [m]
+  std::uint32_t viewport[2] = {2048, 2048};  // the map's or image's width, height [texels or px]
+};
+
 struct Frame {
   Eye eyes[2];
   Gaze gaze[2];
   std::uint32_t eye_count = 1;  // 1 or 2
   float dt = 0;                 // since the previous frame [s]; 0 derives no velocity
+  // Views beyond the eyes, view_count of them (the caller's array, read in begin_frame only): at
+  // most SchedulerConfig::max_views are read (the first ones), and a view whose view_class is not
+  // below max_view_classes is skipped. A view with a non-finite value, a non-unit orientation, an
+  // empty field of view or extent, or a viewport of 0 is invalid: its objects take the fallback
+  // level (as for an invalid eye). A class no view names this frame gives every object its
+  // coarsest level allowed (nothing draws it there).
+  const View* views = nullptr;
+  std::uint32_t view_count = 0;
 };
 
 struct ObjectTransform {
@@ -230,6 +293,9 @@ class Scheduler {
   const std::uint8_t* flag_array() const;
   const std::uint8_t* previous_level_array() const;
   const float* transition_array() const;
+  // Each object's level for view class c (< max_view_classes; nullptr otherwise) this frame: the
+  // finest of the class's views' (View), within its clamps. Indexed by ObjectId as level_array().
+  const std::uint8_t* view_level_array(std::uint32_t view_class) const;
   const FrameStats& stats() const;
   const SchedulerConfig& config() const;
 

@@ -17,6 +17,10 @@
 // culled draws the scheduler's level; while a transition fades (transition_seconds > 0) it draws
 // both levels, the new one where an 8x8 ordered dither is below the fade and the old one elsewhere.
 // Thread-safe for OSG's threading models: the frame runs under a mutex, once per frame number.
+//
+// Views beyond the eyes (acuity::View): set_view_cameras() names cameras that render the scene for
+// something else, osgShadow's light camera or a mirror's render-to-texture camera; a cull under one
+// of them draws its view class's level (Scheduler::view_level_array), not the eyes'.
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -48,6 +52,10 @@ class GazeSource : public ::osg::Referenced {
 // The eye space of a camera: pose from the inverse view matrix, FOV half-angles from the projection
 // frustum (false for a projection that is not a perspective frustum), viewport in pixels.
 bool eye_from_camera(const ::osg::Camera& camera, Eye* eye);
+// A camera as a View (beside the eye's pose: an orthographic projection's extents or a perspective
+// one's half-angles, and its viewport); the other fields are left as given. False for a projection
+// that is neither, or a camera without a viewport.
+bool view_from_camera(const ::osg::Camera& camera, View* view);
 
 // One acuity object: children are its levels, finest first (as many as its profile has levels; a
 // level without a child draws nothing). One parent path: its first parents give its world transform.
@@ -83,6 +91,13 @@ class LodNode : public ::osg::Group {
     std::uint32_t culls = 0;               // culls of that frame that drew the node (cameras)
   };
   Drawn drawn() const;
+  // What the last cull under a view camera (Kit::set_view_cameras) drew: its frame and level.
+  struct DrawnInView {
+    std::uint32_t frame = 0xffffffffu;
+    std::uint32_t view_class = 0;
+    std::uint8_t level = 0;
+  };
+  DrawnInView drawn_in_view() const;
 
   // In a cull traversal: the scheduler's level (and the faded-out one); other visitors traverse the
   // active level (TRAVERSE_ACTIVE_CHILDREN) or every level. Before Kit::add (or after its kit is
@@ -99,6 +114,7 @@ class LodNode : public ::osg::Group {
   bool static_ = false, placed_ = false;  // placed_: a static node's transform was read
   mutable std::mutex drawn_mutex_;
   Drawn drawn_;
+  DrawnInView drawn_in_view_;
 };
 
 class Kit : public ::osg::Referenced {
@@ -125,6 +141,19 @@ class Kit : public ::osg::Referenced {
   void set_cameras(const std::vector<::osg::Camera*>& cameras);
   // The view's two slave cameras when it has two (stereo), else its master camera.
   void attach(::osgViewer::View& view);
+  // Views beyond the eyes: each camera becomes, every frame, a View with `settings`' view_class,
+  // rule and pixel_error, and its own pose, projection and viewport as of its last cull (for a
+  // camera placed during the cull, as osgShadow's light camera is, the previous frame's: a frame
+  // behind; none before its first). A cull under one of them draws that class's level, without
+  // cross-fades. At most SchedulerConfig::max_views cameras; a second call replaces the first.
+  // Throws std::runtime_error for a null camera, too many, or a class not below max_view_classes.
+  struct ViewCamera {
+    ::osg::Camera* camera;
+    View settings;
+  };
+  void set_view_cameras(const std::vector<ViewCamera>& cameras);
+  // The view class whose camera `camera` is, or -1 (an eye, or no view camera).
+  int view_class_of(const ::osg::Camera* camera);
   void set_gaze_source(GazeSource* source) { gaze_ = source; }
   GazeSource* gaze_source() const { return gaze_.get(); }
 
@@ -159,6 +188,8 @@ class Kit : public ::osg::Referenced {
   std::deque<Blob> profiles_;
   std::vector<LodNode*> nodes_;
   std::vector<::osg::observer_ptr<::osg::Camera>> cameras_;
+  std::vector<::osg::observer_ptr<::osg::Camera>> view_cameras_;
+  std::vector<View> view_settings_, views_;   // per view camera; the frame's (frame_.views)
   ::osg::ref_ptr<::osg::Callback> callback_;  // the cull callback added to each eye camera
   ::osg::ref_ptr<GazeSource> gaze_;
   std::mutex mutex_;
