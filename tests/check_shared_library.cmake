@@ -35,12 +35,13 @@ foreach(line ${lines})
   string(REGEX REPLACE "^[0-9a-fA-F]* *[A-Za-z] +([^@ ]+).*$" "\\1" name "${line}")
   list(APPEND exported ${name})
 endforeach()
-# Declared: each function prototype of acuity.h ("type acuity_name(" at a line's start).
-file(STRINGS ${HEADER} prototypes REGEX "^[a-z][a-z_0-9 ]*[ *]+acuity_[a-z_0-9]+\\(")
+# Declared: each function prototype of acuity.h ("type acuity_name(" at a line's start, or
+# "type(acuity_name)(" where a macro of the same name stands in front of the function).
+file(STRINGS ${HEADER} prototypes REGEX "^[a-z][a-z_0-9 ]*[ *(]+acuity_[a-z_0-9]+\\)?\\(")
 set(declared)
 foreach(p ${prototypes})
-  string(REGEX MATCH "acuity_[a-z_0-9]+\\(" name "${p}")
-  string(REPLACE "(" "" name "${name}")
+  string(REGEX MATCH "acuity_[a-z_0-9]+\\)?\\(" name "${p}")
+  string(REGEX REPLACE "[()]" "" name "${name}")
   list(APPEND declared ${name})
 endforeach()
 list(SORT exported)

@@ -143,6 +143,61 @@ TEST(CAbi, StructSizeGrowthRule) {
   EXPECT_EQ(acuity_create(nullptr, &s), ACUITY_INVALID_ARGUMENT);
 }
 
+// acuity_config_default writes only the caller's struct: an older caller's smaller struct (here the
+// version-2 layout) is not written past, a newer one's larger struct gets zeros past the fields this
+// library knows, a size off the growth rule writes nothing; the same for the foveation config.
+TEST(CAbi, DefaultsNeverWritePastTheCallersStruct) {
+  constexpr unsigned char kGuard = 0xA5;
+  unsigned char buffer[sizeof(acuity_config) + 64];
+  const auto fill = [&](std::size_t size) {
+    std::memset(buffer, kGuard, sizeof buffer);
+    acuity_config_default_sized(reinterpret_cast<acuity_config*>(buffer), size);
+  };
+  const auto untouched = [&](std::size_t from) {
+    for (std::size_t i = from; i < sizeof buffer; ++i)
+      if (buffer[i] != kGuard) return false;
+    return true;
+  };
+  acuity_config full;
+  acuity_config_default(&full);
+  EXPECT_EQ(full.struct_size, sizeof full);
+  fill(ACUITY_CONFIG_SIZE_V2);  // an older caller
+  EXPECT_TRUE(untouched(ACUITY_CONFIG_SIZE_V2));
+  uint32_t size = 0;
+  std::memcpy(&size, buffer, sizeof size);
+  EXPECT_EQ(size, ACUITY_CONFIG_SIZE_V2);
+  EXPECT_EQ(
+      std::memcmp(buffer + 4, reinterpret_cast<const unsigned char*>(&full) + 4, ACUITY_CONFIG_SIZE_V2 - 4),
+      0);
+  acuity_scheduler* s = nullptr;  // and it creates a scheduler with the defaults
+  ASSERT_EQ(acuity_create(reinterpret_cast<acuity_config*>(buffer), &s), ACUITY_OK) << acuity_last_error();
+  acuity_destroy(s);
+  fill(sizeof(acuity_config) + 32);  // a newer caller
+  EXPECT_TRUE(untouched(sizeof(acuity_config) + 32));
+  for (std::size_t i = sizeof(acuity_config); i < sizeof(acuity_config) + 32; ++i)
+    EXPECT_EQ(buffer[i], 0) << i;
+  for (const std::size_t bad : {std::size_t(0), std::size_t(4), std::size_t(ACUITY_CONFIG_SIZE_V2 - 8),
+                                std::size_t(ACUITY_CONFIG_SIZE_V2 + 4), std::size_t(65544)}) {
+    fill(bad);
+    EXPECT_TRUE(untouched(0)) << bad;
+  }
+  acuity_config_default_sized(nullptr, sizeof(acuity_config));  // a no-op
+  // The foveation config: at least this version's size.
+  unsigned char fov[sizeof(acuity_foveation_config) + 16];
+  std::memset(fov, kGuard, sizeof fov);
+  acuity_foveation_config_default_sized(reinterpret_cast<acuity_foveation_config*>(fov),
+                                        sizeof(acuity_foveation_config) - 8);
+  for (const unsigned char byte : fov) EXPECT_EQ(byte, kGuard);
+  acuity_foveation_config_default_sized(reinterpret_cast<acuity_foveation_config*>(fov),
+                                        sizeof(acuity_foveation_config) + 8);
+  EXPECT_EQ(fov[sizeof(acuity_foveation_config) + 8], kGuard);
+  EXPECT_EQ(fov[sizeof(acuity_foveation_config)], 0);
+  acuity_foveation_config plain;
+  acuity_foveation_config_default(&plain);
+  EXPECT_EQ(plain.struct_size, sizeof plain);
+  EXPECT_EQ(std::memcmp(fov + 4, reinterpret_cast<const unsigned char*>(&plain) + 4, sizeof plain - 4), 0);
+}
+
 // n objects on a spiral 0.5 .. 150 m away, 0..40 deg off axis, seen by a default eye with gaze;
 // levels() runs one frame of a scheduler created from c (every object's bias set to `bias`).
 struct Spiral {

@@ -38,7 +38,8 @@ extern "C" {
  * Version 5 added acuity_frame_stats and acuity_get_frame_stats.
  * Version 6 appended acuity_config.hysteresis_seconds and max_coarsen_wait_seconds.
  * Version 7 added views beyond the eyes: acuity_config.max_views and max_view_classes, acuity_view,
- * acuity_begin_frame_views and acuity_get_view_levels. */
+ * acuity_begin_frame_views and acuity_get_view_levels; and acuity_config_default_sized and
+ * acuity_foveation_config_default_sized (the _default macros pass the caller's sizeof). */
 #define ACUITY_C_API_VERSION 7
 
 typedef struct acuity_scheduler acuity_scheduler;
@@ -222,7 +223,18 @@ uint32_t acuity_version(void);       /* ACUITY_VERSION of the library; any threa
 const char* acuity_last_error(void); /* this thread's last message, "" if none; valid
                                                      until this thread's next acuity_ call */
 /* Fills every field with the C++ defaults and struct_size = sizeof(acuity_config). Null: no-op. */
-void acuity_config_default(acuity_config* config);
+/* Fills the first `size` bytes of *config with the C++ defaults and sets struct_size = size, where
+ * size is sizeof(acuity_config) as the caller compiled it: a caller built against an older, smaller
+ * acuity_config is never written past (and a newer, larger one gets zeros past the fields this
+ * library knows). size must follow the growth rule (>= ACUITY_CONFIG_SIZE_V2, a multiple of 8,
+ * <= 65536); otherwise, or for a null config, nothing is written. C and C++ callers write
+ * acuity_config_default(&c) (the macro below passes sizeof c); FFI callers (ctypes, C#, Rust) call
+ * acuity_config_default_sized with their struct's size. */
+void acuity_config_default_sized(acuity_config* config, size_t size);
+/* The function form fills sizeof(acuity_config) of *this* library: only for callers built with this
+ * very header and library together (the web module); everyone else goes through the macro. */
+void(acuity_config_default)(acuity_config* config);
+#define acuity_config_default(config) acuity_config_default_sized((config), sizeof *(config))
 void acuity_eye_default(acuity_eye* eye); /* origin, identity, 90 deg, 1920 px, no gaze */
 
 /* Creates a scheduler; *out receives it (the caller owns it: acuity_destroy).
@@ -385,7 +397,12 @@ typedef struct acuity_guenter_layers {
   double speedup;       /* display pixels / layer pixels */
 } acuity_guenter_layers;
 
-void acuity_foveation_config_default(acuity_foveation_config* config);
+/* As acuity_config_default_sized: the first `size` bytes (at least this version's size and at most
+ * 65536; else nothing is written), struct_size = size; the macro passes sizeof. */
+void acuity_foveation_config_default_sized(acuity_foveation_config* config, size_t size);
+void(acuity_foveation_config_default)(acuity_foveation_config* config);
+#define acuity_foveation_config_default(config) \
+  acuity_foveation_config_default_sized((config), sizeof *(config))
 /* INVALID_ARGUMENT for a null pointer, a struct_size smaller than this version's, an unknown model
  * or out-of-range values; OUT_OF_MEMORY when the ~125 KB of tables cannot be allocated. */
 acuity_status acuity_foveation_create(const acuity_foveation_config* config, acuity_foveation_planner** out);

@@ -159,7 +159,7 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
                 "acuity_create: struct_size " + std::to_string(size) +
                     " is not sizeof(acuity_config) (call acuity_config_default first)");
   acuity_config k;
-  acuity_config_default(&k);
+  (acuity_config_default)(&k);
   std::memcpy(&k, c, std::min<std::size_t>(size, sizeof k));
   const struct {
     const char* name;
@@ -239,7 +239,29 @@ extern "C" {
 uint32_t acuity_version(void) { return ACUITY_VERSION; }
 const char* acuity_last_error(void) { return g_error.c_str(); }
 
-void acuity_config_default(acuity_config* c) {
+namespace {
+// Writes `full` (the library's whole struct of full_size bytes) over the caller's first `size` bytes,
+// zeros past it, struct_size (the first field) = size: the caller's struct is never written past.
+void write_defaults(const void* full, std::size_t full_size, void* out, std::size_t size) {
+  unsigned char* bytes = static_cast<unsigned char*>(out);
+  std::memcpy(bytes, full, std::min(size, full_size));
+  if (size > full_size) std::memset(bytes + full_size, 0, size - full_size);
+  const auto size32 = static_cast<uint32_t>(size);
+  std::memcpy(bytes, &size32, sizeof size32);
+}
+bool default_size_ok(std::size_t size, std::size_t least, std::size_t multiple) {
+  return size >= least && size % multiple == 0 && size <= 65536;
+}
+}  // namespace
+
+void acuity_config_default_sized(acuity_config* c, size_t size) {
+  if (!c || !default_size_ok(size, ACUITY_CONFIG_SIZE_V2, 8)) return;
+  acuity_config full;
+  (acuity_config_default)(&full);
+  write_defaults(&full, sizeof full, c, size);
+}
+
+void(acuity_config_default)(acuity_config* c) {
   if (!c) return;
   const acuity::SchedulerConfig d;
   std::memset(c, 0, sizeof *c);
@@ -630,7 +652,14 @@ struct acuity_foveation_planner {
 
 extern "C" {
 
-void acuity_foveation_config_default(acuity_foveation_config* c) {
+void acuity_foveation_config_default_sized(acuity_foveation_config* c, size_t size) {
+  if (!c || !default_size_ok(size, sizeof *c, 1)) return;
+  acuity_foveation_config full;
+  (acuity_foveation_config_default)(&full);
+  write_defaults(&full, sizeof full, c, size);
+}
+
+void(acuity_foveation_config_default)(acuity_foveation_config* c) {
   if (!c) return;
   const acuity::FoveationConfig d;
   std::memset(c, 0, sizeof *c);
