@@ -353,7 +353,7 @@ TEST(Inverse, FloatPathToo) {
       }
 }
 
-// The downward scan's 1/8-octave steps miss no visible frequency above the one found: a 1/64-octave
+// The downward scan's quarter-octave steps miss no visible frequency above the one found: a 1/64-octave
 // scan from 2^-10 to 4096 cpd finds none.
 TEST(Inverse, StelaScanMissesNothing) {
   int checked = 0;

@@ -294,29 +294,48 @@ T log_stela_threshold(T f, T e, T v_retinal, const ModelParams& p) {
                     use_nasal ? T(c.ecc_drop_f_nasal) : T(c.ecc_drop_f), c);
 }
 
-// Highest f with ln CT(f) <= ln c for StelaCsf (see max_visible_frequency in models.hpp).
+// Highest f with ln CT(f) <= ln c for StelaCsf (see max_visible_frequency in models.hpp): works on
+// h(x) = ln CT(e^x) - ln c, x = ln f.
 template <class T>
 T stela_max_visible_frequency(T log_c, T e, T v_retinal, const ModelParams& p) {
-  auto visible = [&](T f) { return log_stela_threshold(f, e, v_retinal, p) <= log_c; };
-  const T step = std::exp2(T(0.125)), bottom = std::exp2(T(-10));
-  T hi = T(64);
-  if (std::isnan(log_stela_threshold(hi, e, v_retinal, p))) return kNaN<T>;  // a NaN luminance or area
-  while (visible(hi)) {  // ln CT grows without bound in f (the log-parabola), so this ends
-    if (hi > std::numeric_limits<T>::max() / T(2)) return hi;
-    hi *= T(2);
+  auto h = [&](T x) { return log_stela_threshold(std::exp(x), e, v_retinal, p) - log_c; };
+  const T step = std::log(T(2)) / T(4), bottom = std::log(T(2)) * T(-10);
+  T x_hi = std::log(T(64)), h_hi = h(x_hi);
+  if (std::isnan(h_hi)) return kNaN<T>;  // a NaN luminance or area
+  while (h_hi <= T(0)) {                 // ln CT grows without bound in f (the log-parabola), so this ends
+    if (x_hi > std::log(std::numeric_limits<T>::max()) - T(1)) return std::exp(x_hi);
+    x_hi += std::log(T(2));
+    h_hi = h(x_hi);
   }
-  T lo = hi / step;
-  while (!visible(lo)) {
-    if (lo < bottom) return T(0);
-    hi = lo;
-    lo /= step;
+  T x_lo = x_hi - step, h_lo = h(x_lo);
+  while (h_lo > T(0)) {  // down in quarter octaves to the first visible frequency
+    if (x_lo < bottom) return T(0);
+    x_hi = x_lo;
+    h_hi = h_lo;
+    x_lo -= step;
+    h_lo = h(x_lo);
   }
-  for (int i = 0; i < 200; ++i) {  // bisection in ln f: lo visible, hi not
-    const T mid = std::sqrt(lo * hi);
-    if (!(mid > lo && mid < hi)) break;
-    (visible(mid) ? lo : hi) = mid;
+  // Illinois (regula falsi that halves the stale end's value): keeps h(x_lo) <= 0 < h(x_hi) and
+  // converges superlinearly; h_hi may be +inf (S = 0), which falls back to bisection.
+  const T tol = T(16) * std::numeric_limits<T>::epsilon();
+  int side = 0;
+  for (int i = 0; i < 100 && x_hi - x_lo > tol * std::max(T(1), std::abs(x_lo)); ++i) {
+    T x = x_hi - h_hi * (x_hi - x_lo) / (h_hi - h_lo);
+    if (!(x > x_lo && x < x_hi)) x = T(0.5) * (x_lo + x_hi);
+    const T hx = h(x);
+    if (hx <= T(0)) {
+      x_lo = x;
+      h_lo = hx;
+      if (side == -1) h_hi *= T(0.5);
+      side = -1;
+    } else {
+      x_hi = x;
+      h_hi = hx;
+      if (side == 1) h_lo *= T(0.5);
+      side = 1;
+    }
   }
-  return lo;
+  return std::exp(x_lo);
 }
 }  // namespace
 

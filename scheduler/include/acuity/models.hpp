@@ -190,10 +190,10 @@ T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Defaul
 // Closed form for GeislerPerry, Reddy and the Default model's plateau; for KellyDaly and Default
 // above the plateau a monotone Newton solve in log frequency, bracketed from above (the log
 // threshold is convex there). StelaCsf (not convex: two mechanisms): from an upper bracket (64 cpd,
-// doubled while visible) a downward scan in 1/8-octave steps to the first visible frequency, then
-// bisection in ln f; frequencies below 2^-10 cpd are not searched (0 when none above is visible), and
-// a visible band narrower than 1/8 octave above the one found could be missed (none is: the test
-// Inverse.StelaScanMissesNothing scans 1/64 octave).
+// doubled while visible) a downward scan in quarter-octave steps to the first visible frequency, then
+// Illinois false position in ln f; frequencies below 2^-10 cpd are not searched (0 when none above
+// is visible), and a visible band narrower than a quarter octave above the one found could be missed
+// (none is: the test Inverse.StelaScanMissesNothing scans 1/64 octave).
 // For the continuous models threshold(max_visible_frequency(c, e, v), e, v) == c to ~1e-12 relative.
 template <class T>
 T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
