@@ -193,7 +193,7 @@ T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Defaul
 // doubled while visible) a downward scan in quarter-octave steps to the first visible frequency, then
 // Illinois false position in ln f; frequencies below 2^-10 cpd are not searched (0 when none above
 // is visible), and a visible band narrower than a quarter octave above the one found could be missed
-// (none is: the test Inverse.StelaScanMissesNothing scans 1/64 octave).
+// (Inverse.StelaScanMissesNothing finds none on its grid of c, e, v against a 1/64-octave scan).
 // For the continuous models threshold(max_visible_frequency(c, e, v), e, v) == c to ~1e-12 relative.
 template <class T>
 T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
