@@ -225,17 +225,13 @@ T log_add(T a, T b) {
   return hi + std::log1p(std::exp(lo - hi));
 }
 
-// ln of one mechanism's S_LP(rho) sqrt(A_c A / (A_c + A)) rho, without S_max: the truncated
-// log-parabola around ln_fmax, Rovamo's area model, and rho. rho finite > 0; area >= 0.
+// ln of one mechanism's S_LP(rho): the log-parabola around ln_fmax, truncated at 1 - a below it.
 template <class T>
-T log_stela_shape(T rho, T ln_rho, T ln_fmax, T bw, T a, T area, const StelaConstants& c) {
+T log_stela_parabola(T ln_rho, T ln_fmax, T bw, T a) {
   constexpr T kLn10 = std::numbers::ln10_v<T>;
-  const T d = (ln_rho - ln_fmax) / kLn10;                 // log10(rho / f_max)
-  T ln_lp = -d * d / std::exp2(bw) * kLn10;               // ln 10^(-d^2 / 2^bw)
-  if (d < T(0)) ln_lp = std::max(ln_lp, std::log1p(-a));  // truncated at 1 - a below f_max
-  const T x = rho / T(c.f0);
-  const T inv_area = (T(1) + x * x) / T(c.a0) + T(1) / area;  // 1 / A_c + 1 / A (may be +inf)
-  return ln_lp - T(0.5) * std::log(inv_area) + ln_rho;
+  const T d = (ln_rho - ln_fmax) / kLn10;          // log10(rho / f_max)
+  const T ln_lp = -d * d / std::exp2(bw) * kLn10;  // ln 10^(-d^2 / 2^bw)
+  return d < T(0) ? std::max(ln_lp, std::log1p(-a)) : ln_lp;
 }
 
 // ln S before the eccentricity drop: rho finite > 0, omega >= 0, luminance in the fit's range.
@@ -252,11 +248,13 @@ T log_stela_foveal(T rho, T omega, T luminance, T area, const StelaConstants& c)
   const T ln_r_sust = -std::pow(omega, T(c.beta_sust)) / T(c.sigma_sust);
   const T dt = std::pow(omega, T(c.beta_trans)) - std::pow(T(c.omega0), T(c.beta_trans));
   const T ln_r_trans = -dt * dt / T(c.sigma_trans);
-  const T sust =
-      ln_r_sust + ln_s_sust + log_stela_shape(rho, ln_rho, ln_f_sust, T(c.sust_bw), T(c.sust_a), area, c);
-  const T trans = ln_r_trans + ln_s_trans +
-                  log_stela_shape(rho, ln_rho, ln_f_trans, T(c.trans_bw), T(c.trans_a), area, c);
-  return log_add(sust, trans);
+  const T sust = ln_r_sust + ln_s_sust + log_stela_parabola(ln_rho, ln_f_sust, T(c.sust_bw), T(c.sust_a));
+  const T trans =
+      ln_r_trans + ln_s_trans + log_stela_parabola(ln_rho, ln_f_trans, T(c.trans_bw), T(c.trans_a));
+  // Both mechanisms share Rovamo's area term sqrt(A_c A / (A_c + A)) and the factor rho: finite or -inf.
+  const T x = rho / T(c.f0);
+  const T inv_area = (T(1) + x * x) / T(c.a0) + T(1) / area;  // 1 / A_c + 1 / A (may be +inf)
+  return log_add(sust, trans) - T(0.5) * std::log(inv_area) + ln_rho;
 }
 
 // Magnitudes of a stimulus' inputs; false when any is NaN.
