@@ -84,6 +84,14 @@ void BM_init_planner(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(init_foveation_planner(FoveationConfig{}, planner.get()));
 }
 BENCHMARK(BM_init_planner)->Unit(benchmark::kMillisecond);
+// The same with stelaCSF, whose inverse is a scan and a root search (models.hpp).
+void BM_init_planner_stela(benchmark::State& state) {
+  auto planner = std::make_unique<FoveationPlanner>();
+  FoveationConfig config;
+  config.model = ThresholdModel::StelaCsf;
+  for (auto _ : state) benchmark::DoNotOptimize(init_foveation_planner(config, planner.get()));
+}
+BENCHMARK(BM_init_planner_stela)->Unit(benchmark::kMillisecond);
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -68,7 +68,7 @@ void BM_max_visible_frequency(benchmark::State& state) {
 }
 
 void models(benchmark::internal::Benchmark* b) {
-  for (int m = 0; m < 4; ++m) b->Arg(m);
+  for (int m = 0; m <= int(ThresholdModel::StelaCsf); ++m) b->Arg(m);
 }
 }  // namespace
 

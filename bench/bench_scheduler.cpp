@@ -503,6 +503,16 @@ BENCHMARK_CAPTURE(BM_scheduler, perceptual_reddy_model_all_moving_exact, Selecti
                   Evaluation::Exact, 0.0f, Biases::None, ThresholdModel::Reddy)
     ->Arg(100000)
     ->Unit(benchmark::kMillisecond);
+// The perceptual rule with stelaCSF: never through tables (its threshold falls with speed at low
+// frequencies), so Tabulated evaluates it exactly; against perceptual_static/_all_moving(_exact).
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_stela_model_static, SelectionRule::Perceptual, 0.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::StelaCsf)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_scheduler, perceptual_stela_model_all_moving, SelectionRule::Perceptual, 1.0f,
+                  Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::StelaCsf)
+    ->Arg(100000)
+    ->Unit(benchmark::kMillisecond);
 // Every object an instance of one mesh (foliage, rocks): one profile's tables instead of 100 profiles'.
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static_one_mesh, SelectionRule::Perceptual, 0.0f,
                   Evaluation::Tabulated, 0.0f, Biases::None, ThresholdModel::Default, 1)

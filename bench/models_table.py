@@ -8,7 +8,8 @@ Geisler-Perry's closed form measured in the same run; then the inverse, max_visi
 import google_benchmark
 
 ORDER = [("geisler-perry", "geisler-perry (baseline)"), ("reddy", "reddy (step)"),
-         ("default", "default (low-pass Daly × GP eccentricity)"), ("kelly-daly", "kelly-daly (band-pass)")]
+         ("default", "default (low-pass Daly × GP eccentricity)"), ("kelly-daly", "kelly-daly (band-pass)"),
+         ("stela-csf", "stela-csf (two mechanisms, data-fitted)")]
 COLUMNS = [("BM_threshold_scalar<double>", "double, scalar"), ("BM_threshold_scalar<float>", "float, scalar"),
            ("BM_threshold_batch<double>", "double, batch of 4096"), ("BM_threshold_batch<float>", "float, batch")]
 

@@ -128,6 +128,11 @@ TEST(CAbi, StructSizeGrowthRule) {
   acuity_config_default(&c);
   c.model = 9;
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  c.model = ACUITY_MODEL_STELA_CSF + 1;  // the last model is the largest value
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
+  c.model = ACUITY_MODEL_STELA_CSF;
+  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK) << acuity_last_error();
+  acuity_destroy(s);
   acuity_config_default(&c);
   c.quality = std::numeric_limits<float>::quiet_NaN();
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);

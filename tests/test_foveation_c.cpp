@@ -95,6 +95,12 @@ TEST(FoveationC, Contract) {
   acuity_foveation_config_default(&config);
   config.threshold_model = 9;
   EXPECT_EQ(acuity_foveation_create(&config, &planner), ACUITY_INVALID_ARGUMENT);
+  config.threshold_model = ACUITY_MODEL_STELA_CSF + 1;  // the last model is the largest value
+  EXPECT_EQ(acuity_foveation_create(&config, &planner), ACUITY_INVALID_ARGUMENT);
+  config.threshold_model = ACUITY_MODEL_STELA_CSF;
+  ASSERT_EQ(acuity_foveation_create(&config, &planner), ACUITY_OK) << acuity_last_error();
+  acuity_foveation_destroy(planner);
+  planner = nullptr;
   acuity_foveation_config_default(&config);
   config.max_rate = 3;
   EXPECT_EQ(acuity_foveation_create(&config, &planner), ACUITY_INVALID_ARGUMENT);

@@ -18,9 +18,10 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr ThresholdModel kContinuous[] = {ThresholdModel::Default, ThresholdModel::GeislerPerry,
-                                          ThresholdModel::KellyDaly};
+                                          ThresholdModel::KellyDaly, ThresholdModel::StelaCsf};
 constexpr ThresholdModel kAll[] = {ThresholdModel::Default, ThresholdModel::GeislerPerry,
-                                   ThresholdModel::KellyDaly, ThresholdModel::Reddy};
+                                   ThresholdModel::KellyDaly, ThresholdModel::Reddy,
+                                   ThresholdModel::StelaCsf};
 
 // Reference formulas, plain double arithmetic, no log domain.
 double ref_kelly(double f, double v) {
@@ -84,6 +85,58 @@ TEST(Published, KellyPeak) {
 }
 
 TEST(Published, ReddyEccentricityAt45) { EXPECT_DOUBLE_EQ(reddy_eccentricity(45.0), 0.035624256837098696); }
+
+// stelaCSF: the authors' MATLAB (gfxdisp/stelaCSF 052b15e, CSF_stelaCSF.m) run under GNU Octave, as
+// tabulated in shared/reference/vision-models.md section 4.1 (6 significant digits; vis_field 0).
+TEST(Published, StelaCsfAuthorsCode) {
+  struct Case {
+    double rho, omega, luminance, area, e, s;
+  };
+  const Case cases[] = {
+      {4, 0, 100, 1, 0, 157.000},   {1, 0, 100, 1, 0, 59.1348},  {8, 0, 100, 1, 0, 120.603},
+      {16, 0, 100, 1, 0, 49.5496},  {32, 0, 100, 1, 0, 11.0234}, {4, 8, 100, 1, 0, 84.4718},
+      {4, 0, 10, 1, 0, 90.3300},    {4, 0, 1, 1, 0, 30.6402},    {4, 0, 100, 1, 10, 13.7718},
+      {4, 0, 100, 1, 30, 0.105967}, {2, 5, 50, kPi, 5, 76.8853}};
+  for (const Case& c : cases) {
+    EXPECT_NEAR(stela_csf(c.rho, c.omega, c.luminance, c.area, c.e) / c.s, 1, 4e-6)
+        << c.rho << " " << c.omega;
+    EXPECT_NEAR(
+        float(stela_csf(float(c.rho), float(c.omega), float(c.luminance), float(c.area), float(c.e))) / c.s,
+        1, 2e-5);
+  }
+}
+
+// Conditions the Octave table lacks (meridians, flicker, luminance and area extremes): the values of
+// tests/python/stela_reference.py, an independent numpy transcription of the same MATLAB in the
+// linear domain, which tests/python/test_stela.py checks against the Octave table. Regenerate with
+// /usr/bin/python3 tests/python/stela_reference.py.
+TEST(Published, StelaCsfTranscription) {
+  struct Case {
+    double rho, omega, luminance, area, e, vis_field, s;
+  };
+  const Case cases[] = {
+      {0.1, 0.0, 100.0, 1.0, 0.0, 0.0, 5.7130118651955115},
+      {0.5, 2.0, 100.0, 10.0, 0.0, 0.0, 256.89786648697543},
+      {4.0, 20.0, 100.0, 1.0, 0.0, 0.0, 21.882684223441959},
+      {4.0, 60.0, 100.0, 1.0, 0.0, 0.0, 0.37071586808920443},
+      {2.0, 0.0, 1000.0, 1.0, 0.0, 0.0, 130.88901182328533},
+      {2.0, 0.0, 10000.0, 1.0, 0.0, 0.0, 58.850710701067101},
+      {2.0, 0.0, 0.01, 1.0, 0.0, 0.0, 3.2024146224825598},
+      {8.0, 0.0, 100.0, 0.01, 0.0, 0.0, 15.043697012229014},
+      {1.0, 0.0, 100.0, 1000000.0, 0.0, 0.0, 532.82658274068103},
+      {4.0, 0.0, 100.0, 1.0, 10.0, 180.0, 20.268939485798086},
+      {4.0, 0.0, 100.0, 1.0, 10.0, 90.0, 13.771810115900749},
+      {4.0, 0.0, 100.0, 1.0, 10.0, 240.0, 15.665263079499731},
+      {1.0, 3.0, 30.0, 4.0, 40.0, 180.0, 8.9099464778075852},
+      {16.0, 1.0, 100.0, 2.0, 2.0, 0.0, 11.9194944745061},
+  };
+  for (const Case& c : cases)
+    // Above 100 cd/m^2 the MATLAB form (1 + s3/L)^-s4 (s3/L < 1e-9) rounds 1 + s3/L and is off by up
+    // to 1e-6 relative (at 10000 cd/m^2); acuity computes exp(-s4 log1p(s3/L)).
+    EXPECT_NEAR(stela_csf(c.rho, c.omega, c.luminance, c.area, c.e, c.vis_field) / c.s, 1,
+                c.luminance > 100 ? 2e-6 : 1e-12)
+        << c.rho << " " << c.omega << " " << c.luminance << " " << c.area << " " << c.e << " " << c.vis_field;
+}
 
 // ---- Formulas, evaluated independently ---------------------------------------------------------------
 
@@ -180,6 +233,92 @@ TEST(Formula, ParametersOverride) {
   EXPECT_EQ(threshold(4.0, 0.0, 0.0, ThresholdModel::Default, p), threshold(4.0, 0.0, 0.5));
 }
 
+// The threshold model is stela_csf at temporal frequency f (v - drift), the configured luminance and
+// area, and the more sensitive of the nasal and temporal meridians (nasal below 48.2 cpd).
+TEST(Formula, StelaCsfThresholdModel) {
+  const ModelParams p;
+  EXPECT_EQ(p.luminance, 100.0);
+  EXPECT_EQ(p.area, kInf);
+  for (double f : logspace(0.05, 60, 20))
+    for (double e : {0.0, 3.0, 20.0})
+      for (double v : {0.0, 0.15, 1.0, 3.0, 20.0}) {
+        const double omega = f * (std::max(v, 0.15) - 0.15);
+        const double meridian = f < 48.2 ? 180 : 0;
+        const double s = stela_csf(f, omega, 100.0, kInf, e, meridian);
+        EXPECT_NEAR(threshold(f, e, v, ThresholdModel::StelaCsf) * s, 1, 1e-12) << f << " " << e << " " << v;
+        // The other meridians are never more sensitive.
+        for (double vf : {0.0, 90.0, 240.0, 270.0})
+          EXPECT_LE(stela_csf(f, omega, 100.0, kInf, e, vf), s * (1 + 1e-12));
+      }
+  // A still object (v at or below the drift) is stelaCSF's static stimulus.
+  EXPECT_EQ(threshold(4.0, 0.0, 0.0, ThresholdModel::StelaCsf),
+            threshold(4.0, 0.0, 0.15, ThresholdModel::StelaCsf));
+  EXPECT_NEAR(threshold(4.0, 0.0, 0.0, ThresholdModel::StelaCsf, ModelParams{}),
+              1 / stela_csf(4.0, 0.0, 100.0, kInf), 1e-15);
+  // Luminance and area come from the parameters; drift 0 gives omega = f v exactly.
+  ModelParams q;
+  q.luminance = 50;
+  q.area = kPi;
+  q.drift = 0;
+  EXPECT_NEAR(threshold(2.0, 5.0, 2.5, ThresholdModel::StelaCsf, q) * 76.8853 *
+                  (stela_csf(2.0, 5.0, 50.0, kPi, 5.0, 180.0) / stela_csf(2.0, 5.0, 50.0, kPi, 5.0, 0.0)),
+              1, 4e-6);  // the Octave table's (2, 5, 50, pi, 5) at the nasal meridian
+  // The fitted constants are parameters too.
+  q = {};
+  q.stela.sust_s_max[0] *= 2;
+  q.stela.trans_s_max[1] *= 2;
+  EXPECT_NEAR(threshold(3.0, 1.0, 2.0, ThresholdModel::StelaCsf, q) * 2,
+              threshold(3.0, 1.0, 2.0, ThresholdModel::StelaCsf), 1e-15);
+}
+
+// Luminance is clamped to the fit's range [0.001, 10000] cd/m^2; area 0 is invisible, +inf the
+// critical-area limit; signs are ignored; NaN parameters give NaN.
+TEST(HardCases, StelaCsfParameterEdges) {
+  auto ct = [](double luminance, double area, double f = 4, double e = 0, double v = 0) {
+    ModelParams p;
+    p.luminance = luminance;
+    p.area = area;
+    return threshold(f, e, v, ThresholdModel::StelaCsf, p);
+  };
+  EXPECT_EQ(ct(0.0, 1.0), ct(0.001, 1.0));
+  EXPECT_EQ(ct(1e-30, 1.0), ct(0.001, 1.0));
+  EXPECT_EQ(ct(1e30, 1.0), ct(1e4, 1.0));
+  EXPECT_EQ(ct(kInf, 1.0), ct(1e4, 1.0));
+  EXPECT_EQ(ct(-50.0, -2.0), ct(50.0, 2.0));
+  EXPECT_EQ(ct(100.0, 0.0), DBL_MAX);
+  EXPECT_GT(ct(100.0, 1e-300), 1e100);
+  EXPECT_NEAR(ct(100.0, 1e300), ct(100.0, kInf), 1e-15);
+  EXPECT_NEAR(ct(100.0, 1.0, 4, 0, 0) * 157.000, 1, 4e-6);  // the Octave table's (4, 0, 100, 1, 0)
+  EXPECT_TRUE(std::isnan(ct(kNaN, 1.0)));
+  EXPECT_TRUE(std::isnan(ct(100.0, kNaN)));
+  ModelParams p;
+  p.luminance = kNaN;
+  EXPECT_TRUE(std::isnan(max_visible_frequency(0.1, 0.0, 0.0, ThresholdModel::StelaCsf, p)));
+  // Every combination of extremes stays finite, in float and double.
+  for (double luminance : {0.0, 1e-3, 100.0, 1e4, 1e30})
+    for (double area : {0.0, 1e-300, 1.0, 1e300, kInf})
+      for (double f : {0.0, 1e-300, 1e-3, 4.0, 1e6, DBL_MAX})
+        for (double e : {0.0, 120.0, 1e6, DBL_MAX})
+          for (double v : {0.0, 3.0, 1e6, DBL_MAX}) {
+            ModelParams q;
+            q.luminance = luminance;
+            q.area = area;
+            EXPECT_TRUE(std::isfinite(threshold(f, e, v, ThresholdModel::StelaCsf, q)));
+            auto finite_float = [](double x) { return float(std::min(x, double(FLT_MAX))); };
+            EXPECT_TRUE(std::isfinite(
+                threshold(finite_float(f), finite_float(e), finite_float(v), ThresholdModel::StelaCsf, q)));
+            EXPECT_GT(threshold(f, e, v, ThresholdModel::StelaCsf, q), 0.0);
+          }
+  // stela_csf itself: 0 at the limits, NaN for NaN, signs ignored.
+  EXPECT_EQ(stela_csf(0.0, 0.0, 100.0, 1.0), 0.0);
+  EXPECT_EQ(stela_csf(kInf, 0.0, 100.0, 1.0), 0.0);
+  EXPECT_EQ(stela_csf(4.0, kInf, 100.0, 1.0), 0.0);
+  EXPECT_EQ(stela_csf(4.0, 0.0, 100.0, 1.0, kInf), 0.0);
+  EXPECT_EQ(stela_csf(-4.0, -8.0, 100.0, 1.0, -10.0), stela_csf(4.0, 8.0, 100.0, 1.0, 10.0));
+  EXPECT_TRUE(std::isnan(stela_csf(4.0, 0.0, 100.0, 1.0, 0.0, kNaN)));
+  EXPECT_TRUE(std::isnan(stela_csf(kNaN, 0.0, 100.0, 1.0)));
+}
+
 // ---- The inverse -------------------------------------------------------------------------------------
 
 TEST(Inverse, ThresholdOfMaxVisibleFrequencyIsTheContrast) {
@@ -214,6 +353,24 @@ TEST(Inverse, FloatPathToo) {
       }
 }
 
+// The downward scan's quarter-octave steps miss no visible frequency above the one found: a 1/64-octave
+// scan from 2^-10 to 4096 cpd finds none.
+TEST(Inverse, StelaScanMissesNothing) {
+  int checked = 0;
+  for (double c : logspace(1e-3, 10, 13))
+    for (double e : {0.0, 2.0, 10.0, 40.0})
+      for (double v : {0.0, 0.5, 2.0, 8.0, 30.0}) {
+        const double f = max_visible_frequency(c, e, v, ThresholdModel::StelaCsf);
+        for (double g = std::exp2(-10.0); g < 4096; g *= std::exp2(1.0 / 64))
+          if (g > f * (1 + 1e-9)) {
+            EXPECT_GT(threshold(g, e, v, ThresholdModel::StelaCsf), c)
+                << c << " " << e << " " << v << " " << g;
+            ++checked;
+          }
+      }
+  EXPECT_GT(checked, 100000);
+}
+
 // ---- Monotonicity ------------------------------------------------------------------------------------
 
 TEST(Monotone, DefaultThresholdOverRandomGrids) {
@@ -236,6 +393,26 @@ TEST(Monotone, MaxVisibleFrequency) {
     EXPECT_LE(max_visible_frequency(c, e + ud(rng), v), max_visible_frequency(c, e, v));
     EXPECT_LE(max_visible_frequency(c, e, v + ud(rng)), max_visible_frequency(c, e, v));
   }
+}
+
+// stelaCSF's threshold rises with eccentricity at every frequency and speed, but not with speed: at
+// low frequencies the transient mechanism makes a drifting pattern more visible (so the scheduler
+// never reads it from its tables), and it is band-pass in frequency.
+TEST(Monotone, StelaCsfInEccentricityNotInSpeed) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> uf(0, 60), ue(0, 90), uv(0, 100);
+  for (int i = 0; i < 20000; ++i) {
+    const double f = uf(rng), e = ue(rng), v = uv(rng), de = ue(rng) / 10;
+    EXPECT_GE(threshold(f, e + de, v, ThresholdModel::StelaCsf),
+              threshold(f, e, v, ThresholdModel::StelaCsf));
+  }
+  const auto m = ThresholdModel::StelaCsf;
+  EXPECT_LT(threshold(0.5, 0.0, 8.0, m),
+            threshold(0.5, 0.0, 0.15, m) / 3);  // 102 vs 28.5 (stela_reference.py)
+  EXPECT_LT(threshold(1.0, 10.0, 3.0, m), threshold(1.0, 10.0, 0.15, m));
+  EXPECT_GT(threshold(8.0, 0.0, 3.0, m),
+            threshold(8.0, 0.0, 0.15, m));                              // high frequencies: faster is coarser
+  EXPECT_GT(threshold(0.2, 0.0, 0.0, m), threshold(2.0, 0.0, 0.0, m));  // band-pass in f
 }
 
 // ---- Hard cases (vision-models.md section 8) -------------------------------------------------------
@@ -328,8 +505,14 @@ TEST(Precision, FloatMatchesDouble) {
 TEST(Batch, MatchesScalar) {
   const std::vector<double> f = {0.5, 4, 16, 1e6}, e = {0, 5, 20, 180}, v = {0.15, 1, 10, 0};
   std::vector<double> out(4);
-  threshold_batch(4, f.data(), e.data(), v.data(), out.data());
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], threshold(f[i], e[i], v[i]));
+  for (ThresholdModel m : kAll) {
+    threshold_batch(4, f.data(), e.data(), v.data(), out.data(), m);
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(out[i], threshold(f[i], e[i], v[i], m)) << to_string(m);
+  }
+  const std::vector<float> ff = {0.5f, 4, 16}, ef = {0, 5, 20}, vf = {0.15f, 1, 10};
+  std::vector<float> outf(3);
+  threshold_batch(3, ff.data(), ef.data(), vf.data(), outf.data(), ThresholdModel::StelaCsf);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(outf[i], threshold(ff[i], ef[i], vf[i], ThresholdModel::StelaCsf));
 }
 
 TEST(Names, RoundTrip) {
@@ -342,6 +525,8 @@ TEST(Names, RoundTrip) {
   EXPECT_FALSE(parse_threshold_model("kelly", &m));
   EXPECT_FALSE(parse_threshold_model(nullptr, &m));
   EXPECT_EQ(m, ThresholdModel::Reddy);
+  EXPECT_STREQ(to_string(ThresholdModel::StelaCsf), "stela-csf");
+  EXPECT_STREQ(threshold_model_names(), "default, geisler-perry, kelly-daly, reddy, stela-csf");
   CsfFit fit{};
   EXPECT_TRUE(parse_csf_fit("laird2006", &fit));
   EXPECT_EQ(fit, CsfFit::Laird2006);

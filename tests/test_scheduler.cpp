@@ -1145,6 +1145,7 @@ TEST(SchedulerTabulated, NeverCoarserThanExactAndRarelyDifferent) {
       {"default margin 0.3", ThresholdModel::Default, 1.0f, ViewBlend::Nearest, 50, true, false, 0.3f},
       {"geisler-perry", ThresholdModel::GeislerPerry, 1.0f, ViewBlend::Nearest, 50, true, false},
       {"kelly-daly", ThresholdModel::KellyDaly, 1.0f, ViewBlend::Nearest, 50, true, false},
+      {"stela-csf", ThresholdModel::StelaCsf, 1.0f, ViewBlend::Nearest, 50, true, false},
       {"reddy model", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 50, true, false},
       {"reddy still", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 0, true, false},
       {"reddy moving", ThresholdModel::Reddy, 1.0f, ViewBlend::Nearest, 100, true, false},

@@ -23,8 +23,7 @@ void report(double contrast, const std::string& model_name, const std::string& f
   ModelParams p;
   ThresholdModel model{};
   if (!parse_threshold_model(model_name.c_str(), &model))
-    throw std::runtime_error("unknown model '" + model_name +
-                             "' (default, geisler-perry, kelly-daly, reddy)");
+    throw std::runtime_error("unknown model '" + model_name + "' (" + threshold_model_names() + ")");
   if (!parse_csf_fit(fit_name.c_str(), &p.fit))
     throw std::runtime_error("unknown CSF fit '" + fit_name + "' (daly1998, laird2006)");
 
@@ -84,7 +83,7 @@ void add_models_report(CLI::App& app) {
   cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")
       ->check(Finite)
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--model", opts->model, "default | geisler-perry | kelly-daly | reddy");
+  cmd->add_option("--model", opts->model, threshold_model_names());
   cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
   cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });
 }

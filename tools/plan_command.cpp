@@ -40,7 +40,7 @@ struct Options {
 void run(const Options& o) {
   FoveationConfig config;
   if (!parse_threshold_model(o.model.c_str(), &config.model))
-    throw std::runtime_error("unknown model '" + o.model + "' (default, geisler-perry, kelly-daly, reddy)");
+    throw std::runtime_error("unknown model '" + o.model + "' (" + threshold_model_names() + ")");
   config.quality = o.quality;
   config.gaze_uncertainty_deg = o.uncertainty;
   config.no_gaze_radius_deg = o.no_gaze_radius;
@@ -124,7 +124,7 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--tile", o->tile, "Tile size [px]")
       ->capture_default_str()
       ->check(CLI::IsMember({8u, 16u, 32u}));
-  cmd->add_option("--model", o->model, "Threshold model: default, geisler-perry, kelly-daly, reddy")
+  cmd->add_option("--model", o->model, std::string("Threshold model: ") + threshold_model_names())
       ->capture_default_str();
   add_number(cmd, "--quality", o->quality, "q: invisible when lost contrast <= q CT", 0.01f, 100.0f);
   add_number(cmd, "--uncertainty", o->uncertainty, "Gaze uncertainty [deg]", 0.0f, 90.0f);

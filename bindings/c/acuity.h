@@ -60,12 +60,15 @@ enum {
   ACUITY_RULE_DISTANCE = 2,
   ACUITY_RULE_SCREEN_SIZE = 3
 };
-/* acuity_config.model (acuity::ThresholdModel) */
+/* acuity_config.model (acuity::ThresholdModel); values are only ever appended. ACUITY_MODEL_STELA_CSF
+ * uses ModelParams' default luminance (100 cd/m^2) and area (+inf), which acuity_model_params does
+ * not carry (see acuity/models.hpp). */
 enum {
   ACUITY_MODEL_DEFAULT = 0,
   ACUITY_MODEL_GEISLER_PERRY = 1,
   ACUITY_MODEL_KELLY_DALY = 2,
-  ACUITY_MODEL_REDDY = 3
+  ACUITY_MODEL_REDDY = 3,
+  ACUITY_MODEL_STELA_CSF = 4
 };
 /* acuity_config.view_blend (acuity::ViewBlend) */
 enum { ACUITY_VIEW_BLEND_NEAREST = 0, ACUITY_VIEW_BLEND_MAX3 = 1 };
@@ -362,7 +365,7 @@ typedef struct acuity_foveation_planner acuity_foveation_planner;
 
 typedef struct acuity_foveation_config {
   uint32_t struct_size;       /* sizeof(acuity_foveation_config): set by _default */
-  uint32_t threshold_model;   /* 0 default, 1 geisler-perry, 2 kelly-daly, 3 reddy */
+  uint32_t threshold_model;   /* ACUITY_MODEL_*: 0 default .. 4 stela-csf */
   float quality;              /* q: a lost component is invisible at contrast <= q CT */
   float min_gaze_confidence;  /* below it (or gaze_valid == 0, or a non-finite gaze) there is no gaze */
   float gaze_uncertainty_deg; /* subtracted from every eccentricity */

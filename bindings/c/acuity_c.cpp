@@ -34,7 +34,8 @@ static_assert(ACUITY_RULE_PERCEPTUAL == int(acuity::SelectionRule::Perceptual) &
 static_assert(ACUITY_MODEL_DEFAULT == int(acuity::ThresholdModel::Default) &&
               ACUITY_MODEL_GEISLER_PERRY == int(acuity::ThresholdModel::GeislerPerry) &&
               ACUITY_MODEL_KELLY_DALY == int(acuity::ThresholdModel::KellyDaly) &&
-              ACUITY_MODEL_REDDY == int(acuity::ThresholdModel::Reddy));
+              ACUITY_MODEL_REDDY == int(acuity::ThresholdModel::Reddy) &&
+              ACUITY_MODEL_STELA_CSF == int(acuity::ThresholdModel::StelaCsf));
 static_assert(ACUITY_VIEW_BLEND_NEAREST == int(acuity::ViewBlend::Nearest) &&
               ACUITY_VIEW_BLEND_MAX3 == int(acuity::ViewBlend::Max3));
 static_assert(ACUITY_CSF_DALY1998 == int(acuity::CsfFit::Daly1998) &&
@@ -165,7 +166,7 @@ acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) 
     const char* name;
     uint32_t value, largest;
   } enums[] = {{"rule", k.rule, ACUITY_RULE_SCREEN_SIZE},
-               {"model", k.model, ACUITY_MODEL_REDDY},
+               {"model", k.model, ACUITY_MODEL_STELA_CSF},
                {"view_blend", k.view_blend, ACUITY_VIEW_BLEND_MAX3},
                {"params.csf_fit", k.params.csf_fit, ACUITY_CSF_LAIRD2006},
                {"evaluation", k.evaluation, ACUITY_EVALUATION_EXACT}};
@@ -680,7 +681,7 @@ acuity_status acuity_foveation_create(const acuity_foveation_config* c, acuity_f
     *out = nullptr;
     if (c->struct_size < sizeof *c)
       return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: struct_size too small");
-    if (c->threshold_model > 3)
+    if (c->threshold_model > ACUITY_MODEL_STELA_CSF)
       return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: unknown threshold_model");
     if (c->max_rate > 4)
       return fail(ACUITY_INVALID_ARGUMENT, "acuity_foveation_create: max_rate must be 1, 2 or 4");

@@ -89,7 +89,7 @@ void bind_foveation(py::module_ m) {
             if (!parse_threshold_model(name.c_str(), &c.model))
               throw py::value_error("unknown model '" + name + "'");
           },
-          "threshold model name: default, geisler-perry, kelly-daly, reddy")
+          threshold_model_doc())
       .def_readwrite("params", &FoveationConfig::params)
       .def_readwrite("quality", &FoveationConfig::quality,
                      "q: a lost component is invisible at contrast <= q CT")

@@ -23,8 +23,7 @@ using Params = std::optional<ModelParams>;
 ThresholdModel model_from(const std::string& name) {
   ThresholdModel m{};
   if (!parse_threshold_model(name.c_str(), &m))
-    throw py::value_error("unknown model '" + name +
-                          "': expected default, geisler-perry, kelly-daly or reddy");
+    throw py::value_error("unknown model '" + name + "': expected one of " + threshold_model_names());
   return m;
 }
 
@@ -43,6 +42,11 @@ auto vec(Fn fn) {
 
 }  // namespace
 
+const char* threshold_model_doc() {
+  static const std::string doc = std::string("threshold model name: ") + threshold_model_names();
+  return doc.c_str();
+}
+
 void bind_models(py::module_ m) {
   py::enum_<CsfFit>(m, "CsfFit").value("daly1998", CsfFit::Daly1998).value("laird2006", CsfFit::Laird2006);
 
@@ -57,7 +61,12 @@ void bind_models(py::module_ m) {
       .def_readwrite("drift", &ModelParams::drift, "retinal velocity floor [deg/s] (0.15)")
       .def_readwrite("fit", &ModelParams::fit, "CSF fit used by daly_csf and the Daly-based models")
       .def_readwrite("reddy_contrast", &ModelParams::reddy_contrast,
-                     "threshold contrast inside the Reddy step model (1/64)");
+                     "threshold contrast inside the Reddy step model (1/64)")
+      .def_readwrite("luminance", &ModelParams::luminance,
+                     "stela-csf: adapting (display) luminance [cd/m^2] (100), clamped to 0.001..10000")
+      .def_readwrite("area", &ModelParams::area,
+                     "stela-csf: area of the lost detail [deg^2] (inf: the critical-area limit, the most "
+                     "sensitive)");
 
   m.def(
       "geisler_perry_threshold",
@@ -153,6 +162,19 @@ void bind_models(py::module_ m) {
       "Minimum angle of resolution [deg per cycle] = slope e + omega0 (Guenter et al. 2012, Eq. 1).");
 
   m.def(
+      "stela_csf",
+      [](Array rho, Array omega, Array luminance, Array area, Array e, Array vis_field) {
+        return vec([](double rho, double omega, double luminance, double area, double e, double vis_field) {
+          return stela_csf(rho, omega, luminance, area, e, vis_field);
+        })(rho, omega, luminance, area, e, vis_field);
+      },
+      "rho"_a, "omega"_a, "luminance"_a, "area"_a, "e"_a = 0.0, "vis_field"_a = 0.0,
+      "stelaCSF sensitivity (1 / threshold contrast; Mantiuk, Ashraf, Chapiro 2022) at spatial frequency\n"
+      "rho [cpd], temporal frequency omega [Hz], luminance [cd/m^2] (clamped to 0.001..10000), area\n"
+      "[deg^2], eccentricity e [deg] and vis_field [deg] (0 temporal, 90 superior, 180 nasal, 270 "
+      "inferior).");
+
+  m.def(
       "log_threshold",
       [](Array f, Array e, Array v, const std::string& model, Params p) {
         const ModelParams q = p.value_or(ModelParams{});
@@ -173,7 +195,8 @@ void bind_models(py::module_ m) {
       "f"_a, "e"_a, "v_retinal"_a, "model"_a = "default", "params"_a = py::none(),
       "Threshold contrast at f [cpd], eccentricity e [deg], retinal velocity [deg/s].\n"
       "model: 'default' (Daly CSF held at its peak below the peak frequency x exp(alpha f e / e2)),\n"
-      "'geisler-perry', 'kelly-daly' (exact band-pass) or 'reddy' (step, unverified).\n"
+      "'geisler-perry', 'kelly-daly' (exact band-pass), 'reddy' (step, unverified) or 'stela-csf'\n"
+      "(stelaCSF, Mantiuk et al. 2022, at params.luminance and params.area; band-pass in f and v).\n"
       "Saturates at the largest float64 instead of overflowing; NaN in -> NaN out.");
 
   m.def(

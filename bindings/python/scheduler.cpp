@@ -321,7 +321,7 @@ void bind_scheduler(py::module_ m) {
             if (!parse_threshold_model(name.c_str(), &c.model))
               throw py::value_error("unknown model '" + name + "'");
           },
-          "threshold model name: default, geisler-perry, kelly-daly, reddy");
+          threshold_model_doc());
 
   py::class_<Eye>(
       m, "Eye",

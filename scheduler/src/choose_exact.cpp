@@ -35,7 +35,7 @@ Scheduler::Impl::Choice Scheduler::Impl::evaluate(ObjectId id, Look look, const 
 
 // ln CT per (orientation, band) of one object seen as s (ln_ct: [rows][B]; Reddy: each row's visible
 // limit [cpod]). A static object's velocity is the drift floor in every orientation, so one row serves
-// all of them. Returns the number of rows: T, or 1.
+// all of them, whatever the model. Returns the number of rows: T, or 1.
 std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const {
   const Profile& p = pc.profile;
   const std::uint32_t T = p.meta.orientation_count, B = p.meta.band_count;
@@ -46,7 +46,7 @@ std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Si
   const float inv_diam = 1.0f / diameter_deg, ln_diam = s.ln_diam;
   const float a = pre.ecc_slope * e;  // ln CT grows by a per cpd with eccentricity
   float v_t[kMaxOrientations];
-  const std::uint32_t rows = moving || config_.model != ThresholdModel::Default ? T : 1;
+  const std::uint32_t rows = moving ? T : 1;
   for (std::uint32_t t = 0; t < rows; ++t) {
     v_t[t] = moving ? std::max(std::abs(vx * pc.cos_t[t] + vy * pc.sin_t[t]), pre.floor_velocity)
                     : pre.floor_velocity;

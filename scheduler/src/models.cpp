@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <string>
 
 namespace acuity {
 namespace {
@@ -209,6 +210,142 @@ T reddy_cutoff(T v, T e) {
   return reddy_velocity(v) * reddy_eccentricity(e);
 }
 
+// ---- stelaCSF ------------------------------------------------------------------------------------
+
+namespace {
+// The fit's luminance range (CSF_stelaCSF.m Y_min, Y_max): outside it the transient S_max grows
+// without bound and the sustained one falls to 0, so luminance is clamped to it.
+constexpr double kStelaMinLuminance = 0.001, kStelaMaxLuminance = 10000.0;
+
+// ln(x + y) from ln x and ln y (either may be -inf).
+template <class T>
+T log_add(T a, T b) {
+  const T hi = std::max(a, b), lo = std::min(a, b);
+  if (hi == -kInf<T>) return hi;
+  return hi + std::log1p(std::exp(lo - hi));
+}
+
+// ln of one mechanism's S_LP(rho): the log-parabola around ln_fmax, truncated at 1 - a below it.
+template <class T>
+T log_stela_parabola(T ln_rho, T ln_fmax, T bw, T a) {
+  constexpr T kLn10 = std::numbers::ln10_v<T>;
+  const T d = (ln_rho - ln_fmax) / kLn10;          // log10(rho / f_max)
+  const T ln_lp = -d * d / std::exp2(bw) * kLn10;  // ln 10^(-d^2 / 2^bw)
+  return d < T(0) ? std::max(ln_lp, std::log1p(-a)) : ln_lp;
+}
+
+// ln S before the eccentricity drop: rho finite > 0, omega >= 0, luminance in the fit's range.
+template <class T>
+T log_stela_foveal(T rho, T omega, T luminance, T area, const StelaConstants& c) {
+  const T ln_rho = std::log(rho), L = luminance;
+  // Luminance dependences (CSF_base.m get_lum_dep): 5, 3, 2 and 1 parameters.
+  const T ln_s_sust = std::log(T(c.sust_s_max[0])) - T(c.sust_s_max[2]) * std::log1p(T(c.sust_s_max[1]) / L) +
+                      std::log(-std::expm1(-T(c.sust_s_max[4]) * std::log1p(T(c.sust_s_max[3]) / L)));
+  const T ln_f_sust = std::log(T(c.sust_f_max[0])) - T(c.sust_f_max[2]) * std::log1p(T(c.sust_f_max[1]) / L);
+  const T ln_s_trans = std::log(T(c.trans_s_max[1])) + T(c.trans_s_max[0]) * std::log(L);
+  const T ln_f_trans = std::log(T(c.trans_f_max));
+  // Temporal responses (ln R): 0^beta = 0 at omega = 0; omega = +inf gives -inf.
+  const T ln_r_sust = -std::pow(omega, T(c.beta_sust)) / T(c.sigma_sust);
+  const T dt = std::pow(omega, T(c.beta_trans)) - std::pow(T(c.omega0), T(c.beta_trans));
+  const T ln_r_trans = -dt * dt / T(c.sigma_trans);
+  const T sust = ln_r_sust + ln_s_sust + log_stela_parabola(ln_rho, ln_f_sust, T(c.sust_bw), T(c.sust_a));
+  const T trans =
+      ln_r_trans + ln_s_trans + log_stela_parabola(ln_rho, ln_f_trans, T(c.trans_bw), T(c.trans_a));
+  // Both mechanisms share Rovamo's area term sqrt(A_c A / (A_c + A)) and the factor rho: finite or -inf.
+  const T x = rho / T(c.f0);
+  const T inv_area = (T(1) + x * x) / T(c.a0) + T(1) / area;  // 1 / A_c + 1 / A (may be +inf)
+  return log_add(sust, trans) - T(0.5) * std::log(inv_area) + ln_rho;
+}
+
+// Magnitudes of a stimulus' inputs; false when any is NaN.
+template <class T>
+bool stela_inputs(T* rho, T* omega, T* luminance, T* area, T* e) {
+  *rho = std::abs(*rho);
+  *omega = std::abs(*omega);
+  *area = std::abs(*area);
+  *e = std::abs(*e);
+  *luminance = std::clamp(std::abs(*luminance), T(kStelaMinLuminance), T(kStelaMaxLuminance));  // NaN kept
+  return !(std::isnan(*rho) || std::isnan(*omega) || std::isnan(*luminance) || std::isnan(*area) ||
+           std::isnan(*e));
+}
+
+// ln S with the eccentricity drop (d + rho d_f) e, d and d_f > 0. NaN-free inputs (stela_inputs).
+template <class T>
+T log_stela(T rho, T omega, T luminance, T area, T e, T d, T d_f, const StelaConstants& c) {
+  if (rho == T(0) || std::isinf(rho) || area == T(0)) return -kInf<T>;
+  const T drop = e == T(0) ? T(0) : std::numbers::ln10_v<T> * (d + rho * d_f) * e;  // never 0 * inf
+  return log_stela_foveal(rho, omega, luminance, area, c) - drop;
+}
+
+// The threshold model's ln CT: the most sensitive meridian's drop, omega = f (max(v, drift) - drift).
+template <class T>
+T log_stela_threshold(T f, T e, T v_retinal, const ModelParams& p) {
+  // f = 0 keeps omega at 0 (never 0 * inf); f = 0 is invisible anyway (log_stela).
+  T omega = f == T(0) ? T(0) : f * (floored_velocity(v_retinal, p.drift) - T(p.drift));
+  T luminance = T(p.luminance), area = T(p.area);
+  if (!stela_inputs(&f, &omega, &luminance, &area, &e)) return kNaN<T>;
+  const StelaConstants& c = p.stela;
+  const T temporal = T(c.ecc_drop) + f * T(c.ecc_drop_f),
+          nasal = T(c.ecc_drop_nasal) + f * T(c.ecc_drop_f_nasal);
+  const bool use_nasal = nasal < temporal;
+  return -log_stela(f, omega, luminance, area, e, use_nasal ? T(c.ecc_drop_nasal) : T(c.ecc_drop),
+                    use_nasal ? T(c.ecc_drop_f_nasal) : T(c.ecc_drop_f), c);
+}
+
+// Highest f with ln CT(f) <= ln c for StelaCsf (see max_visible_frequency in models.hpp): works on
+// h(x) = ln CT(e^x) - ln c, x = ln f.
+template <class T>
+T stela_max_visible_frequency(T log_c, T e, T v_retinal, const ModelParams& p) {
+  auto h = [&](T x) { return log_stela_threshold(std::exp(x), e, v_retinal, p) - log_c; };
+  const T step = std::log(T(2)) / T(4), bottom = std::log(T(2)) * T(-10);
+  T x_hi = std::log(T(64)), h_hi = h(x_hi);
+  if (std::isnan(h_hi)) return kNaN<T>;  // a NaN luminance or area
+  while (h_hi <= T(0)) {                 // ln CT grows without bound in f (the log-parabola), so this ends
+    if (x_hi > std::log(std::numeric_limits<T>::max()) - T(1)) return std::exp(x_hi);
+    x_hi += std::log(T(2));
+    h_hi = h(x_hi);
+  }
+  T x_lo = x_hi - step, h_lo = h(x_lo);
+  while (h_lo > T(0)) {  // down in quarter octaves to the first visible frequency
+    if (x_lo < bottom) return T(0);
+    x_hi = x_lo;
+    h_hi = h_lo;
+    x_lo -= step;
+    h_lo = h(x_lo);
+  }
+  // Illinois (regula falsi that halves the stale end's value): keeps h(x_lo) <= 0 < h(x_hi) and
+  // converges superlinearly; h_hi may be +inf (S = 0), which falls back to bisection.
+  const T tol = T(16) * std::numeric_limits<T>::epsilon();
+  int side = 0;
+  for (int i = 0; i < 100 && x_hi - x_lo > tol * std::max(T(1), std::abs(x_lo)); ++i) {
+    T x = x_hi - h_hi * (x_hi - x_lo) / (h_hi - h_lo);
+    if (!(x > x_lo && x < x_hi)) x = T(0.5) * (x_lo + x_hi);
+    const T hx = h(x);
+    if (hx <= T(0)) {
+      x_lo = x;
+      h_lo = hx;
+      if (side == -1) h_hi *= T(0.5);
+      side = -1;
+    } else {
+      x_hi = x;
+      h_hi = hx;
+      if (side == 1) h_lo *= T(0.5);
+      side = 1;
+    }
+  }
+  return std::exp(x_lo);
+}
+}  // namespace
+
+template <class T>
+T stela_csf(T rho, T omega, T luminance, T area, T e, T vis_field, const StelaConstants& c) {
+  if (!stela_inputs(&rho, &omega, &luminance, &area, &e) || std::isnan(vis_field)) return kNaN<T>;
+  const T alpha = std::min(T(1), std::abs(vis_field - T(180)) / T(90));  // 1: temporal constants
+  const T d = alpha * T(c.ecc_drop) + (T(1) - alpha) * T(c.ecc_drop_nasal);
+  const T d_f = alpha * T(c.ecc_drop_f) + (T(1) - alpha) * T(c.ecc_drop_f_nasal);
+  return std::exp(log_stela(rho, omega, luminance, area, e, d, d_f, c));
+}
+
 // ---- MAR ------------------------------------------------------------------------------------------
 
 template <class T>
@@ -238,6 +375,8 @@ T log_threshold_unsaturated(T f, T e, T v_retinal, ThresholdModel model, const M
       const T rho = model == ThresholdModel::Default ? std::max(f, daly_peak(v, c)) : f;
       return -log_daly_csf(rho, v, c) + eccentricity_exponent(f, e, p);
     }
+    case ThresholdModel::StelaCsf:
+      return log_stela_threshold(f, e, v_retinal, p);
   }
   return kNaN<T>;
 }
@@ -287,6 +426,9 @@ T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model, cons
       if (-log_daly_csf(rho_min, v, c) + a * rho_min > log_c) return T(0);
       return solve_above(rho_min, log_c, v, a, c);
     }
+    case ThresholdModel::StelaCsf:
+      if (std::isinf(e) || std::isinf(v_retinal)) return T(0);  // sensitivity 0 at every f > 0
+      return stela_max_visible_frequency(std::log(contrast), e, v_retinal, p);
   }
   return kNaN<T>;
 }
@@ -307,7 +449,8 @@ struct ModelName {
 constexpr ModelName kModelNames[] = {{"default", ThresholdModel::Default},
                                      {"geisler-perry", ThresholdModel::GeislerPerry},
                                      {"kelly-daly", ThresholdModel::KellyDaly},
-                                     {"reddy", ThresholdModel::Reddy}};
+                                     {"reddy", ThresholdModel::Reddy},
+                                     {"stela-csf", ThresholdModel::StelaCsf}};
 }  // namespace
 
 bool parse_threshold_model(const char* name, ThresholdModel* out) {
@@ -323,6 +466,15 @@ const char* to_string(ThresholdModel model) {
   for (const ModelName& m : kModelNames)
     if (m.model == model) return m.name;
   return "unknown";
+}
+
+const char* threshold_model_names() {
+  static const std::string names = [] {
+    std::string out;
+    for (const ModelName& m : kModelNames) out += (out.empty() ? "" : ", ") + std::string(m.name);
+    return out;
+  }();
+  return names.c_str();
 }
 
 bool parse_csf_fit(const char* name, CsfFit* out) {
@@ -354,6 +506,7 @@ const char* to_string(CsfFit fit) { return fit == CsfFit::Laird2006 ? "laird2006
   template T reddy_eccentricity<T>(T);                                                            \
   template T reddy_velocity<T>(T);                                                                \
   template T reddy_cutoff<T>(T, T);                                                               \
+  template T stela_csf<T>(T, T, T, T, T, T, const StelaConstants&);                               \
   template T mar<T>(T, T, T);                                                                     \
   template T log_threshold<T>(T, T, T, ThresholdModel, const ModelParams&);                       \
   template T threshold<T>(T, T, T, ThresholdModel, const ModelParams&);                           \

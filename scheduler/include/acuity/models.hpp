@@ -17,6 +17,7 @@
 // Every function is instantiated for float and double; the float path computes in float.
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 namespace acuity {
 
@@ -33,6 +34,36 @@ enum class ThresholdModel : std::uint8_t {
   GeislerPerry,  // Geisler & Perry 1998 alone: CT0 exp(alpha f (e + e2) / e2); ignores velocity
   KellyDaly,     // Daly's CSF, the exact band-pass surface, x the same eccentricity factor
   Reddy,         // step: CT = reddy_contrast up to reddy_cutoff(v, e), invisible above [unverified]
+  StelaCsf,      // stelaCSF (Mantiuk, Ashraf, Chapiro 2022), fitted to 11 data sets: 1 / stela_csf() at
+                 // ModelParams::luminance and ::area, the most sensitive meridian, temporal frequency
+                 // f (v - drift); band-pass in f and in v (see log_threshold); docs/design.md section 5
+};
+
+// stelaCSF's fitted constants: gfxdisp/stelaCSF matlab/CSF_stelaCSF.m get_default_par() at commit
+// 052b15e (fit "stela-csf_all_2022-04-16"), and the fixed ones of its get_sust_trans_resp() and
+// csf_achrom() (Rovamo et al. 1993's A0, f0). The luminance dependences are those of CSF_base.m
+// get_lum_dep() for these vector lengths. [checked: shared/reference/vision-models.md section 4.1's
+// table of the authors' code run under Octave, tests/test_models.cpp]
+struct StelaConstants {
+  // Sustained mechanism: S_max(L) = s0 (1 + s1/L)^-s2 (1 - (1 + s3/L)^-s4), f_max(L) = m0 (1 + m1/L)^-m2 [cpd]
+  double sust_s_max[5] = {68.9501, 59.5023, 0.164274, 7.54866e-07, 7.77268e+09};
+  double sust_f_max[3] = {1.62144, 36.6565, 0.255823};
+  double sust_bw = 0.000219263;  // log-parabola bandwidth (divides by 2^bw)
+  double sust_a = 0.103686;      // below f_max the parabola is truncated at 1 - a
+  // Transient mechanism: S_max(L) = t1 L^t0, f_max constant [cpd]
+  double trans_s_max[2] = {0.500846, 57.3469};
+  double trans_f_max = 0.0267489;
+  double trans_bw = 1.75147;
+  double trans_a = 0.000273289;
+  // Temporal responses: R_sust = exp(-w^beta_sust / sigma_sust),
+  // R_trans = exp(-|w^beta_trans - omega0^beta_trans|^2 / sigma_trans), w [Hz]
+  double sigma_sust = 5.79336, beta_sust = 1.3314;
+  double sigma_trans = 0.12314, beta_trans = 0.1898, omega0 = 5.0;
+  // Area (Rovamo, Luntinen, Nasanen 1993): critical area A_c = a0 / (1 + (rho/f0)^2) [deg^2]
+  double a0 = 270.0, f0 = 0.65;
+  // Eccentricity: S x 10^(-(d + rho d_f) e); temporal/superior/inferior d, nasal d (vis_field 180)
+  double ecc_drop = 0.0296662, ecc_drop_nasal = 0.0113638;
+  double ecc_drop_f = 0.0190062, ecc_drop_f_nasal = 0.0193858;
 };
 
 // Every constant of every model, overridable. Defaults are the published values.
@@ -49,6 +80,18 @@ struct ModelParams {
   CsfFit fit = CsfFit::Daly1998;  // the CSF used by daly_csf() and the Default/KellyDaly models
   // Reddy: the threshold contrast inside the visible region of the step model
   double reddy_contrast = 1.0 / 64.0;
+  // stelaCSF (ThresholdModel::StelaCsf): the fitted constants, and the two stimulus properties the
+  // model needs besides f, e and v, one value for the whole configuration:
+  StelaConstants stela;
+  // Adapting (display) luminance [cd/m^2], clamped to the fit's range [0.001, 10000]. 100: the SDR
+  // reference white and the authors' example condition; above a typical scene's mean, so it errs
+  // towards sensitivity (stelaCSF's sensitivity rises with luminance up to ~1000 cd/m^2).
+  double luminance = 100.0;
+  // Area of the lost detail [deg^2] (0: invisible). +inf: the detail covers at least Rovamo's
+  // critical area A_c at every frequency, the most sensitive case (at 1 cpd, 9x the sensitivity of a
+  // 1 deg^2 patch; at 16 cpd 1.2x), because the chain does not know the detail's extent yet. A caller
+  // that knows it (e.g. the object's projected area, an upper bound) may set it.
+  double area = std::numeric_limits<double>::infinity();
 };
 
 // ---- Geisler & Perry 1998 -----------------------------------------------------------------------
@@ -104,6 +147,21 @@ T reddy_velocity(T v);
 template <class T>
 T reddy_cutoff(T v, T e);
 
+// ---- stelaCSF (Mantiuk, Ashraf, Chapiro, ACM TOG 41(4):145, 2022) -------------------------------
+// Sensitivity S = 1 / threshold luminance contrast of a Gabor patch: spatial frequency rho [cpd],
+// temporal frequency omega [Hz], adapting luminance [cd/m^2] (clamped to [0.001, 10000]), area
+// [deg^2], eccentricity e [deg] and vis_field [deg] (0 temporal, 90 superior, 180 nasal, 270
+// inferior; the drop interpolates linearly between the temporal and the nasal constants by
+// min(1, |vis_field - 180| / 90), as the reference code does):
+//   S = R_sust(omega) S_sust + R_trans(omega) S_trans, S_x = S_max(L) S_LP(rho) sqrt(A_c A / (A_c + A)) rho,
+//   then S x 10^(-(d + rho d_f) e).
+// Computed in the log domain (ln S may be -inf: S = 0). rho = 0 or +inf, area 0, omega or e = +inf
+// give S = 0. Signs of rho, omega, e, luminance and area are ignored. Source: gfxdisp/stelaCSF
+// matlab/CSF_stelaCSF.m sensitivity() at 052b15e; vision-models.md section 4.1.
+template <class T>
+T stela_csf(T rho, T omega, T luminance, T area, T e = T(0), T vis_field = T(0),
+            const StelaConstants& c = {});
+
 // ---- Minimum angle of resolution (Guenter et al. 2012, Eq. 1) ------------------------------------
 // MAR [deg per cycle] = slope e + omega0. Acuity frequency is 1 / MAR [cpd].
 template <class T>
@@ -112,6 +170,15 @@ T mar(T e, T slope = T(0.022), T omega0 = T(1.0 / 48.0));
 // ---- Combined threshold models ------------------------------------------------------------------
 // Natural log of the threshold contrast at frequency f [cpd], eccentricity e [deg] and retinal
 // velocity v_retinal [deg/s] (floored at p.drift). Saturates at ln(largest finite T).
+// StelaCsf: -ln stela_csf(f, f (v - drift), p.luminance, p.area, e) with v floored at p.drift, at the
+// most sensitive meridian (the smaller of the temporal and nasal drops at f: nasal below 48.2 cpd;
+// with two eyes open a horizontal offset is temporal for one eye and nasal for the other; the
+// vertical meridians take the temporal drop, so there this errs towards sensitivity). The drift is
+// subtracted because stelaCSF's static data (omega = 0) were measured with the eyes' natural drift:
+// a still object (v = drift) is stelaCSF's static stimulus, and one moving at v on the retina has
+// omega = f (v - drift) (set drift = 0 for omega = f v exactly). The threshold rises with e at every
+// f but is band-pass in f and in v: at low f it falls as speed rises (transient mechanism, peak near
+// omega = 5 Hz), so the scheduler evaluates it exactly, never from its tables.
 template <class T>
 T log_threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
                 const ModelParams& p = {});
@@ -120,8 +187,13 @@ template <class T>
 T threshold(T f, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default, const ModelParams& p = {});
 // The inverse: the highest frequency [cpd] whose threshold is at most `contrast`.
 // Returns 0 when no frequency above 0 is visible at that contrast, +inf when contrast is +inf.
-// Closed form for GeislerPerry, Reddy and the Default model's plateau; elsewhere a monotone Newton
-// solve in log frequency, bracketed from above (the log threshold is convex there).
+// Closed form for GeislerPerry, Reddy and the Default model's plateau; for KellyDaly and Default
+// above the plateau a monotone Newton solve in log frequency, bracketed from above (the log
+// threshold is convex there). StelaCsf (not convex: two mechanisms): from an upper bracket (64 cpd,
+// doubled while visible) a downward scan in quarter-octave steps to the first visible frequency, then
+// Illinois false position in ln f; frequencies below 2^-10 cpd are not searched (0 when none above
+// is visible), and a visible band narrower than a quarter octave above the one found could be missed
+// (Inverse.StelaScanMissesNothing finds none on its grid of c, e, v against a 1/64-octave scan).
 // For the continuous models threshold(max_visible_frequency(c, e, v), e, v) == c to ~1e-12 relative.
 template <class T>
 T max_visible_frequency(T contrast, T e, T v_retinal, ThresholdModel model = ThresholdModel::Default,
@@ -132,11 +204,14 @@ template <class T>
 void threshold_batch(std::size_t count, const T* f, const T* e, const T* v_retinal, T* out,
                      ThresholdModel model = ThresholdModel::Default, const ModelParams& p = {});
 
-// Names used by the command line and Python: "default", "geisler-perry", "kelly-daly", "reddy";
-// "daly1998", "laird2006". Return false for an unknown name (the output is left unchanged).
+// Names used by the command line and Python: "default", "geisler-perry", "kelly-daly", "reddy",
+// "stela-csf"; "daly1998", "laird2006". Return false for an unknown name (the output is left
+// unchanged). threshold_model_names() lists the model names for help texts: "default, geisler-perry,
+// kelly-daly, reddy, stela-csf".
 bool parse_threshold_model(const char* name, ThresholdModel* out);
 bool parse_csf_fit(const char* name, CsfFit* out);
 const char* to_string(ThresholdModel model);
+const char* threshold_model_names();
 const char* to_string(CsfFit fit);
 
 }  // namespace acuity

@@ -244,8 +244,8 @@ struct FrameStats {
 // view's hold, 40; a rest with a still eye, 12; allocated at creation): while the inputs stay inside,
 // later frames take the same decision, bit for bit, without reading a table, and objects at rest
 // without their geometry (FrameStats::at_rest). keep_scores or a triangle budget make every object
-// read its tables instead. KellyDaly (its threshold falls with speed at low frequencies) and objects
-// of an unlisted bias evaluate exactly. How it works: docs/design.md section 6.
+// read its tables instead. KellyDaly and StelaCsf (their thresholds fall with speed at low
+// frequencies) and objects of an unlisted bias evaluate exactly. How it works: docs/design.md section 6.
 class Scheduler {
  public:
   explicit Scheduler(const SchedulerConfig& config);
