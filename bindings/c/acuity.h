@@ -39,7 +39,8 @@ extern "C" {
  * Version 6 appended acuity_config.hysteresis_seconds and max_coarsen_wait_seconds.
  * Version 7 added views beyond the eyes: acuity_config.max_views and max_view_classes, acuity_view,
  * acuity_begin_frame_views and acuity_get_view_levels; and acuity_config_default_sized and
- * acuity_foveation_config_default_sized (the _default macros pass the caller's sizeof). */
+ * acuity_foveation_config_default_sized (the _default macros pass the caller's sizeof); and
+ * ACUITY_MODEL_STELA_CSF (appended). */
 #define ACUITY_C_API_VERSION 7
 
 typedef struct acuity_scheduler acuity_scheduler;
