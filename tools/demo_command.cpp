@@ -78,8 +78,18 @@ void add_demo_command(CLI::App& app, const std::string& program) {
                 "Flat-shaded chains and profiles (every edge a crease), as an engine drawing faceted "
                 "meshes shows them, kept apart from the smooth ones");
   cmd->add_option("--res", d.pixels, "Snapshot pixels of the profiles")->capture_default_str();
+  add_number(
+      cmd, "--ratio", d.ratio,
+      "Triangles of each level over the previous; the chains span 1/16 of the finest whatever the step "
+      "(0.5: 5 levels, 0.707: 9); with no --cache, the cache folder's name + '-ratio-' + the ratio",
+      0.3, 0.9);
   cmd->callback([o, cmd, program] {
     if (o->demo.flat && cmd->count("--cache") == 0) o->demo.cache += "-flat";  // never over the smooth cache
+    if (o->demo.ratio != 0.5 && cmd->count("--cache") == 0) {  // nor over the halving chains' cache
+      char suffix[32];
+      std::snprintf(suffix, sizeof suffix, "-ratio-%g", o->demo.ratio);
+      o->demo.cache += suffix;
+    }
     run(*o, program);
   });
 }

@@ -1,6 +1,7 @@
 #include "acuity/sim/demo.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "acuity/bake/chains.hpp"
@@ -13,10 +14,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// lodgen's options for the demo's chains: 5 levels, creases at 45 degrees (or every edge, flat).
+// lodgen's options for the demo's chains: levels down to 1/16 of level 0 at o.ratio (5 at 0.5),
+// creases at 45 degrees (or every edge, flat).
 lodgen::ChainOptions chain_options(const DemoOptions& o) {
   lodgen::ChainOptions c;
-  c.levels = 5;
+  c.ratio = o.ratio;
+  c.levels = 1 + static_cast<std::size_t>(std::lround(std::log(1.0 / 16) / std::log(o.ratio)));
   if (o.flat) c.decimate.crease_degrees = 0;
   return c;
 }
@@ -47,7 +50,11 @@ DemoScene build_demo(const DemoOptions& o, const std::function<void(const std::s
   const std::vector<DemoMesh> meshes = demo_meshes(o.meshes, o.assimp_models, o.webxr_profiles);
   std::vector<std::string> names;
   for (const DemoMesh& m : meshes) names.push_back(m.name);
-  const std::string settings = "profile pixels " + std::to_string(o.pixels) + (o.flat ? ", flat-shaded" : "");
+  if (!(o.ratio > 0.0 && o.ratio < 1.0))
+    throw std::runtime_error("demo: the chain's ratio must lie in (0, 1)");
+  const std::string settings = "profile pixels " + std::to_string(o.pixels) +
+                               (o.flat ? ", flat-shaded" : "") +
+                               (o.ratio != 0.5 ? ", ratio " + std::to_string(o.ratio) : "");
   if (!bake::refresh_cache(o.cache, names, settings))
     progress("(" + o.cache + ": cached chains and profiles of another version or settings removed)\n");
   DemoScene out;

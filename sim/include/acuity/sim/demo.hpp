@@ -24,7 +24,10 @@ struct DemoOptions {
   std::string cache;
   std::uint32_t pixels = 256;  // snapshot pixels of the profiles
   bool flat = false;           // every level flat-shaded (every edge a crease), as a faceted engine draws
-  SimulationOptions sim;       // the run; sim.seed also lays out the field
+  // Triangles of each level over the previous, in (0, 1); the chain spans the same 1/16 of level 0's
+  // triangles whatever the step (0.5: 5 levels; 0.707: 9), so that steps compare over one range.
+  double ratio = 0.5;
+  SimulationOptions sim;  // the run; sim.seed also lays out the field
 };
 
 // The demo's field, ready to run.
