@@ -651,7 +651,27 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
   }
   EXPECT_EQ(run.rules[0].name, "perceptual");
   EXPECT_FALSE(run.rules[0].sweep);
+  // Each margin change counted from its levels; removing a margin never makes a decision finer, and
+  // adding one (Max3) never makes one coarser; the tables never decide coarser than exact.
+  ASSERT_EQ(run.margins.size(), 4u);
+  for (const SampledRun::MarginChange& m : run.margins) {
+    double triangles = 0;
+    std::uint32_t losses = 0;
+    for (std::uint32_t i = 0; i < o.count; ++i) {
+      const std::uint8_t level = m.levels[i];
+      triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[level].triangles;
+      losses += run.judged[i].scores[level] > 1.0f;
+      if (m.name.find("Max3") != std::string::npos) {
+        EXPECT_LE(level, run.levels[0][i]) << m.name << " decision " << i;
+      } else {
+        EXPECT_GE(level, run.levels[0][i]) << m.name << " decision " << i;
+      }
+    }
+    EXPECT_DOUBLE_EQ(m.triangles, triangles) << m.name;
+    EXPECT_EQ(m.visible, losses) << m.name;
+  }
   const std::string text = sampled_text(scene, run);
+  EXPECT_NE(text.find("safety margins"), std::string::npos) << text;
   EXPECT_NE(text.find(std::to_string(o.count) + " decisions sampled"), std::string::npos) << text;
   EXPECT_NE(text.find("Against the oracle"), std::string::npos) << text;
   // Bad options are named.

@@ -29,6 +29,40 @@ void check(const SampleOptions& o) {
 // min (max / min)^u: log-uniform on [min, max] for u uniform on [0, 1).
 double log_uniform(double min, double max, double u) { return min * std::pow(max / min, u); }
 
+// The perceptual rule's safety margins the configuration names, each changed alone: removed (the
+// gaze tracker's uncertainty, the tables' rounding and interpolation) or added (the largest loss of
+// the three nearest views instead of the nearest's).
+struct MarginToggle {
+  const char* name;
+  void (*change)(SchedulerConfig*);
+};
+constexpr MarginToggle kMarginToggles[] = {
+    {"gaze uncertainty 1 deg -> 0", [](SchedulerConfig* c) { c->gaze_uncertainty_deg = 0; }},
+    {"tables -> exact evaluation", [](SchedulerConfig* c) { c->evaluation = Evaluation::Exact; }},
+    {"nearest view -> Max3 of three", [](SchedulerConfig* c) { c->view_blend = ViewBlend::Max3; }},
+    {"all but Max3 removed", [](SchedulerConfig* c) {
+       c->gaze_uncertainty_deg = 0;
+       c->evaluation = Evaluation::Exact;
+     }}};
+
+// Every decision's level under configuration c (one frame: objects new to the scheduler take their
+// level at once) and the triangles they draw.
+std::vector<std::uint8_t> choose(const SceneAssets& scene, const SampledRun& run, const SchedulerConfig& c,
+                                 double* triangles) {
+  Scheduler s(c);
+  for (const Asset& a : scene.assets) s.add_profile(a.profile);
+  for (const SampledDecision& d : run.decisions)
+    s.set_velocity(s.add_object(d.asset, d.transform), d.velocity);
+  s.run_frame(run.frame);
+  std::vector<std::uint8_t> levels;
+  *triangles = 0;
+  for (std::uint32_t i = 0; i < run.decisions.size(); ++i) {
+    levels.push_back(s.level(i));
+    *triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[levels.back()].triangles;
+  }
+  return levels;
+}
+
 // Two octaves more of the perceptual rule's q (to 4) and of screen-size's pixel error (to 1/128 px)
 // than the simulation sweeps: sampled decisions are in the periphery and moving more often.
 constexpr int kWider = 8;
@@ -107,19 +141,16 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
     c.hysteresis_frames = 0;
     tune(&c, t.rule, t.parameter);
     if (run.levels.empty()) perceptual = c;  // the first, q = 1: its thresholds judge
-    Scheduler s(c);
-    for (const Asset& a : scene.assets) s.add_profile(a.profile);
-    for (const SampledDecision& d : run.decisions)
-      s.set_velocity(s.add_object(d.asset, d.transform), d.velocity);
-    s.run_frame(frame);
-    std::vector<std::uint8_t> levels;
     double triangles = 0;
-    for (std::uint32_t i = 0; i < o.count; ++i) {
-      levels.push_back(s.level(i));
-      triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[levels.back()].triangles;
-    }
-    run.levels.push_back(std::move(levels));
+    run.levels.push_back(choose(scene, run, c, &triangles));
     run.rules.push_back({t.name, run.rules.size() >= main_rules, {0, triangles, t.parameter}});
+  }
+  for (const MarginToggle& m : kMarginToggles) {
+    SchedulerConfig c = perceptual;
+    m.change(&c);
+    SampledRun::MarginChange change{m.name, {}, 0, 0};
+    change.levels = choose(scene, run, c, &change.triangles);
+    run.margins.push_back(std::move(change));
   }
 
   // Every decision judged at its exact view, by the perceptual rule's thresholds.
@@ -139,6 +170,8 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
     run.visible.push_back(losses);
     run.rules[r].point.rate = double(losses) / double(o.count);
   }
+  for (SampledRun::MarginChange& m : run.margins)
+    for (std::uint32_t i = 0; i < o.count; ++i) m.visible += run.judged[i].scores[m.levels[i]] > 1.0f;
   return run;
 }
 
@@ -208,6 +241,23 @@ std::string sampled_text(const SceneAssets& scene, const SampledRun& run) {
             "  allowing %zu of the %zu decisions (1%%) a visible loss, no rule can draw fewer than %.0f "
             "triangles;\n  screen-size at 1%% draws %.0f, %.2fx that\n",
             losses, n, least, screen_at_one.triangles, screen_at_one.triangles / least);
+  appendf(
+      &out,
+      "\nThe perceptual rule's safety margins, each changed alone over the same judged decisions (losses: "
+      "decisions\njudged visible that the rule at q = 1 keeps invisible, and the reverse):\n");
+  appendf(&out, "  %-32s %12s %14s %18s %16s\n", "change", "triangles", "of perceptual", "visible losses",
+          "losses +new -gone");
+  for (const SampledRun::MarginChange& m : run.margins) {
+    std::uint32_t added = 0, gone = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool before = run.judged[i].scores[run.levels[0][i]] > 1.0f,
+                 after = run.judged[i].scores[m.levels[i]] > 1.0f;
+      added += after && !before;
+      gone += before && !after;
+    }
+    appendf(&out, "  %-32s %12.0f %13.3fx %10.1f%% (%u/%zu) %11s+%u -%u\n", m.name.c_str(), m.triangles,
+            m.triangles / perceptual, 100.0 * m.visible / double(n), m.visible, n, "", added, gone);
+  }
   return out;
 }
 

@@ -43,6 +43,15 @@ struct SampledRun {
   std::vector<std::vector<std::uint8_t>> levels;  // [rule][decision]
   std::vector<std::uint32_t> visible;             // [rule] decisions judged a visible loss
   double all_finest = 0;                          // every decision at level 0
+  // The perceptual rule (q = 1) with one safety margin changed at a time (margin_changes()), over
+  // the same judged decisions: what each margin costs in triangles and which losses it prevents.
+  struct MarginChange {
+    std::string name;
+    std::vector<std::uint8_t> levels;  // [decision]
+    double triangles = 0;
+    std::uint32_t visible = 0;
+  };
+  std::vector<MarginChange> margins;
 };
 
 // Samples, chooses and judges (the judging renders every decision: seconds each on 2 cores).
