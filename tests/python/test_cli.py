@@ -95,6 +95,41 @@ def test_lodgen_output_passes_the_khronos_validator(tmp_path):
     assert len(top["extras"]["MSFT_screencoverage"]) == 4
 
 
+def test_lodgen_clusters_output_passes_the_khronos_validator(tmp_path):
+    """`lodgen --clusters`: ACUITY_cluster_hierarchy beside the finest mesh, no validator error or
+    warning (the extension is optional: a reader without it draws the primitive, the finest mesh)."""
+    assert shutil.which("node"), "node is needed (scripts/bootstrap.sh)"
+    assert os.path.isdir(os.path.join(NODE_MODULES, "gltf-validator")), f"{NODE_MODULES}/gltf-validator: run scripts/bootstrap.sh deps"
+    outputs = []
+    for i, name in enumerate(("fandisk.off", "camel.off")):
+        out = tmp_path / f"clusters{i}.glb"
+        r = run("lodgen", os.path.join(MESHES, name), "--clusters", "-o", out, "-q")
+        assert r.returncode == 0, r.stderr
+        outputs.append(str(out))
+        summary = json.load(open(f"{out}.json"))["meshes"][0]["clusters"]
+        assert summary["groups"] > 10 and summary["levels"] >= 4, summary
+    env = dict(os.environ, NODE_PATH=NODE_MODULES)
+    res = subprocess.run(["node", VALIDATE, *outputs], capture_output=True, text=True, env=env, timeout=300)
+    assert res.returncode == 0, res.stderr
+    reports = [json.loads(line) for line in res.stdout.splitlines()]
+    assert len(reports) == len(outputs)
+    for rep in reports:
+        assert rep["errors"] == 0 and rep["warnings"] == 0, rep
+    data = open(outputs[0], "rb").read()
+    length = struct.unpack_from("<I", data, 12)[0]
+    doc = json.loads(data[20:20 + length])
+    assert "ACUITY_cluster_hierarchy" in doc["extensionsUsed"]
+    assert "ACUITY_cluster_hierarchy" not in doc.get("extensionsRequired", [])
+    prim = doc["meshes"][0]["primitives"][0]
+    ext = prim["extensions"]["ACUITY_cluster_hierarchy"]
+    assert doc["accessors"][ext["indices"]]["count"] > doc["accessors"][prim["indices"]]["count"]
+    assert doc["bufferViews"][ext["clusters"]]["byteLength"] == 16 * ext["clusterCount"]
+    assert doc["bufferViews"][ext["groups"]]["byteLength"] == 32 * ext["groupCount"]
+    # --clusters and --refine exclude each other.
+    r = run("lodgen", os.path.join(MESHES, "fandisk.off"), "--clusters", "--refine", "1", "-o", tmp_path / "x.glb")
+    assert r.returncode != 0
+
+
 @pytest.mark.parametrize("name,text", [
     ("truncated.off", "OFF\n3 1 0\n0 0 0\n1 0"),
     ("absurd.off", "OFF\n3 1000000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
