@@ -17,18 +17,14 @@
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/clusters.hpp"
 #include "acuity/lodgen/gltf.hpp"
+#include "scratch_dir.hpp"
 
 using namespace acuity::lodgen;
+using acuity::testing::scratch;
 namespace fs = std::filesystem;
 
 namespace {
 const fs::path kMeshes = ACUITY_MESH_DIR;
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "acuity_clusters_test";
-  fs::create_directories(dir);
-  return dir / name;
-}
 
 // Level 0 as `acuity lodgen` makes it (repaired, split at 45° creases), and its hierarchy.
 struct Built {
