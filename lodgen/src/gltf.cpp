@@ -190,6 +190,7 @@ std::array<double, 16> local_matrix(const tinygltf::Node& n) {
 // The extension that stores a primitive's cluster hierarchy (docs/lodgen.md).
 constexpr const char* kClusterExtension = "ACUITY_cluster_hierarchy";
 constexpr std::size_t kClusterBytes = 16, kGroupBytes = 32;  // on-disk records (cluster_hierarchy.hpp)
+static_assert(sizeof(Cluster) == kClusterBytes, "Cluster is copied as its four uint32");
 
 // A whole number in [0, max] under `key` of the extension object.
 std::uint64_t extension_count(const tinygltf::Value& ext, const char* key, std::uint64_t max,

@@ -79,7 +79,7 @@ struct ClusterLimits {
 // the group it feeds), a non-finite or negative error or radius, errors that are not monotone (a
 // group's error below that of a group that made one of its members), a sphere that does not contain
 // such a group's sphere, finest clusters after coarser ones, a wrong level or one past
-// limits.max_levels. Linear in the hierarchy's size, no allocation beyond one flag per cluster.
+// limits.max_levels. Linear in the hierarchy's size; allocates only the message.
 std::string check_cluster_hierarchy(const ClusterHierarchy& h, std::size_t vertex_count,
                                     const ClusterLimits& limits = {});
 
