@@ -449,3 +449,30 @@ TEST(ClusterGltf, ReaderRejectsBrokenHierarchiesNamingThem) {
     EXPECT_HAS(load_fault(g, "finest.glb"), "finest clusters");
   }
 }
+
+TEST(ClusterBuild, SmallOpenAndBadInput) {
+  // One triangle: one finest cluster, which is the root; no group.
+  Mesh one;
+  one.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  one.indices = {0, 1, 2};
+  const ClusterHierarchy h = build_clusters(one, "one");
+  ASSERT_EQ(h.clusters.size(), 1u);
+  EXPECT_TRUE(h.groups.empty());
+  EXPECT_EQ(h.clusters[0].group, kNoGroup);
+  EXPECT_EQ(check_cluster_hierarchy(h, 3), "");
+  // An open mesh (a border of its own): valid, simplified up the levels, its border kept.
+  const Built open = build("plane.off");
+  EXPECT_EQ(check_cluster_hierarchy(open.h, open.mesh.vertex_count()), "");
+  EXPECT_GE(open.h.levels(), 2u);
+  // Bad input and options.
+  Mesh bad = one;
+  bad.indices[2] = 3;
+  EXPECT_THROW(build_clusters(bad, "bad"), InputError);
+  EXPECT_THROW(build_clusters(Mesh{}, "empty"), InputError);
+  ClusterOptions o;
+  o.max_triangles = 130;
+  EXPECT_THROW(build_clusters(one, "one", o), std::invalid_argument);
+  o = {};
+  o.max_kept = 0.4;
+  EXPECT_THROW(build_clusters(one, "one", o), std::invalid_argument);
+}
