@@ -32,3 +32,8 @@ find_library(STB_LIBRARY stb REQUIRED)
 # shared library and header without a CMake config.
 find_path(MESHOPTIMIZER_INCLUDE_DIR meshoptimizer.h REQUIRED)
 find_library(MESHOPTIMIZER_LIBRARY meshoptimizer REQUIRED)
+
+# METIS (lodgen's cluster hierarchies group neighbouring clusters by graph partitioning): Debian's
+# libmetis-dev ships the library and header without a CMake config.
+find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(METIS_LIBRARY metis REQUIRED)

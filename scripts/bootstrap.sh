@@ -20,6 +20,7 @@ PACKAGES=(
   pybind11-dev python3-dev python3-numpy python3-matplotlib python3-pytest   # bindings/
   libgtest-dev libgmock-dev libbenchmark-dev  # tests/, bench/
   libcgal-demo libmeshoptimizer-dev           # real meshes for tests and benchmarks; meshoptimizer as the reference
+  libmetis-dev                                # lodgen --clusters: groups of neighbouring clusters by graph partitioning
   emscripten chromium                         # web/: the runtime in WebAssembly, the page tested in headless Chromium
   assimp-testmodels                           # broken glTFs that seed the glTF fuzzer (tests/fuzz/); real assets (lodgen's tests, the demo's Wuson)
   libopenscenegraph-dev xvfb xauth libgl1-mesa-dri   # integrations/osg/: the OSG kit, rendered headless (llvmpipe) under xvfb-run

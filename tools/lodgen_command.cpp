@@ -1,4 +1,5 @@
-// `acuity lodgen INPUT -o OUTPUT`: a measured chain of levels, written as glTF with MSFT_lod.
+// `acuity lodgen INPUT -o OUTPUT`: a measured chain of levels, written as glTF with MSFT_lod; with
+// --clusters, level 0 and its cluster hierarchy (ACUITY_cluster_hierarchy) instead.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,6 +20,7 @@ struct LodgenOptions {
   std::string input, output;
   bake::BakeOptions chain;  // the chain options acuity bake takes too (its profile options unused)
   int refine = 0;
+  bool clusters = false;
   bool quiet = false;
 };
 
@@ -34,6 +36,7 @@ void run(const LodgenOptions& o) {
     request = bake::chain_request(o.input, o.chain);
   } catch (const lodgen::InputError& e) { throw std::runtime_error(std::string("--") + e.what()); }
   request.refine = o.refine;
+  request.clusters = o.clusters;
   const bake::WrittenChains w = bake::write_scene_chains(
       request, o.output, o.chain.reference_height, o.refine > 0 ? "opensubdiv" : o.chain.backend,
       o.quiet ? lodgen::ChainProgress{} : lodgen::ChainProgress(progress));
@@ -55,6 +58,11 @@ void add_lodgen_command(CLI::App& app) {
   cmd->add_option("-o,--output", o->output, "Output .glb (or .gltf)")->required();
   add_chain_options(cmd, o->chain);
   add_number(cmd, "--refine", o->refine, "OpenSubdiv refinements of a coarse cage (finer levels)", 0, 6);
+  cmd->add_flag(
+         "--clusters", o->clusters,
+         "Instead of a chain: the finest level and its cluster hierarchy (clusters of <= 128 triangles, "
+         "simplified groups up to a root; ACUITY_cluster_hierarchy, docs/lodgen.md)")
+      ->excludes("--refine");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress");
   cmd->callback([o] { run(*o); });
 }

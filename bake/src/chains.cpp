@@ -32,17 +32,37 @@ void place_objects(SceneChains& out, const std::string& where) {
     obj.matrix = p.world;
     obj.chain = out.chains[std::size_t(node.mesh)];
     obj.material = obj.chain.levels[0].mesh.material;
+    if (std::size_t(node.mesh) < out.clusters.size()) obj.clusters = out.clusters[std::size_t(node.mesh)];
     out.objects.push_back(std::move(obj));
   }
   if (out.objects.empty()) throw lodgen::InputError(where + ": the scene draws no mesh");
 }
 
+// What the table and the JSON say of a hierarchy: its roots (clusters in no group), their
+// triangles, and the largest error a root carries [object diameters].
+struct ClusterSummary {
+  std::size_t roots = 0, root_triangles = 0;
+  double root_error = 0;
+};
+ClusterSummary summarise(const lodgen::ClusterHierarchy& h, double diameter) {
+  ClusterSummary s;
+  for (const lodgen::Cluster& c : h.clusters) {
+    if (c.group != lodgen::kNoGroup) continue;
+    ++s.roots;
+    s.root_triangles += c.triangle_count;
+    if (c.refined != lodgen::kNoGroup && diameter > 0)
+      s.root_error = std::max(s.root_error, double(h.groups[c.refined].error) / diameter);
+  }
+  return s;
+}
+
 }  // namespace
 
 SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodgen::ChainOptions options,
-                            const lodgen::ChainProgress& progress, double measure_seconds) {
+                            const lodgen::ChainProgress& progress, double measure_seconds, bool clusters) {
   SceneChains out;
   out.scene = std::move(scene);
+  if (clusters) options.levels = 1;  // level 0 only: the hierarchy holds the coarser geometry
   // One measurement budget for the asset: each measured side of a coarser level gets an equal part
   // of what is left (a side's samples follow the mesh's size, not its triangle count, up to the
   // sample cap; decimation itself is bounded by meshoptimizer's speed).
@@ -60,7 +80,15 @@ SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodge
     sides_left -= sides(out.scene.meshes[m]);
     out.chains.push_back(lodgen::build_chain(
         out.scene.meshes[m], where + ": mesh '" + out.scene.mesh_names[m] + "'", options, progress));
+    if (clusters) {
+      if (progress) progress("clusters", m, out.scene.meshes.size());
+      out.cluster_stats.emplace_back();
+      out.clusters.push_back(lodgen::build_clusters(out.chains.back().levels[0].mesh,
+                                                    where + ": mesh '" + out.scene.mesh_names[m] + "'", {},
+                                                    &out.cluster_stats.back()));
+    }
   }
+  if (clusters && progress) progress("clusters", out.scene.meshes.size(), out.scene.meshes.size());
   place_objects(out, where);
   return out;
 }
@@ -69,8 +97,11 @@ SceneChains build_scene_chains(const ChainRequest& r, const lodgen::ChainProgres
   if (r.refine <= 0) {
     lodgen::LoadOptions lo;
     lo.asset_root = r.asset_root;
-    return chains_of_scene(lodgen::load_scene(r.input, lo), r.input, r.chain, progress, r.measure_seconds);
+    return chains_of_scene(lodgen::load_scene(r.input, lo), r.input, r.chain, progress, r.measure_seconds,
+                           r.clusters);
   }
+  if (r.clusters)
+    throw lodgen::InputError(r.input + ": cluster hierarchies are built from a mesh, not a cage to refine");
   SceneChains out;
   const lodgen::PolygonMesh cage = lodgen::load_polygon_mesh(r.input);
   out.chains.push_back(lodgen::measure_chain(lodgen::refine(cage, r.refine), progress));
@@ -146,6 +177,19 @@ std::string chains_table(const SceneChains& sc) {
                     l.hausdorff, l.normal_deviation, l.seconds);
       out += line;
     }
+  if (!sc.clusters.empty()) {
+    std::snprintf(line, sizeof line, "%-24s %8s %7s %6s %6s %10s %12s %8s\n", "mesh", "clusters", "groups",
+                  "levels", "roots", "root_tris", "root_error", "seconds");
+    out += line;
+  }
+  for (std::size_t m = 0; m < sc.clusters.size(); ++m) {
+    const ClusterSummary s = summarise(sc.clusters[m], sc.chains[m].diameter);
+    std::snprintf(line, sizeof line, "%-24.24s %8zu %7zu %6zu %6zu %10zu %12.6f %8.3f\n",
+                  sc.scene.mesh_names[m].c_str(), sc.clusters[m].clusters.size(),
+                  sc.clusters[m].groups.size(), sc.clusters[m].levels(), s.roots, s.root_triangles,
+                  s.root_error, sc.cluster_stats[m].seconds);
+    out += line;
+  }
   return out;
 }
 
@@ -164,6 +208,18 @@ std::string chains_json(const SceneChains& sc, const std::string& input, const s
                               {"normal_deviation_max_degrees", l.normal_deviation_max},
                               {"measured_fully", l.measured_fully},
                               {"seconds", l.seconds}});
+    if (m < sc.clusters.size()) {
+      const lodgen::ClusterHierarchy& h = sc.clusters[m];
+      const ClusterSummary s = summarise(h, sc.chains[m].diameter);
+      jm["clusters"] = {{"clusters", h.clusters.size()},
+                        {"groups", h.groups.size()},
+                        {"levels", h.levels()},
+                        {"roots", s.roots},
+                        {"root_triangles", s.root_triangles},
+                        {"root_error_diameters", s.root_error},
+                        {"stuck_groups", sc.cluster_stats[m].stuck_groups},
+                        {"seconds", sc.cluster_stats[m].seconds}};
+    }
     summary["meshes"].push_back(jm);
   }
   summary["seconds"] = seconds;

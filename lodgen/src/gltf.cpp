@@ -61,16 +61,24 @@ struct Span {
   std::size_t stride = 0, count = 0;
 };
 
-Span accessor_span(const Model& m, const Accessor& a, std::size_t element, const std::string& at) {
-  if (a.sparse.isSparse) fail(at, "sparse accessors are not supported");
-  if (a.bufferView < 0 || a.bufferView >= int(m.bufferViews.size())) fail(at, "no valid bufferView");
-  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
-  const std::string view = at + ", bufferView " + std::to_string(a.bufferView);
+// The bytes bufferView `index` holds, checked against its buffer.
+const unsigned char* view_bytes(const Model& m, int index, const std::string& at) {
+  if (index < 0 || index >= int(m.bufferViews.size())) fail(at, "no valid bufferView");
+  const tinygltf::BufferView& v = m.bufferViews[std::size_t(index)];
+  const std::string view = at + ", bufferView " + std::to_string(index);
   if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) fail(view, "names no valid buffer");
   const std::vector<unsigned char>& buf = m.buffers[std::size_t(v.buffer)].data;
   if (checked_add(v.byteOffset, v.byteLength, view) > buf.size())
     fail(view, "bytes " + std::to_string(v.byteOffset) + " + " + std::to_string(v.byteLength) +
                    " reach past its buffer's " + std::to_string(buf.size()) + " bytes");
+  return buf.data() + v.byteOffset;
+}
+
+Span accessor_span(const Model& m, const Accessor& a, std::size_t element, const std::string& at) {
+  if (a.sparse.isSparse) fail(at, "sparse accessors are not supported");
+  const unsigned char* bytes = view_bytes(m, a.bufferView, at);
+  const tinygltf::BufferView& v = m.bufferViews[std::size_t(a.bufferView)];
+  const std::string view = at + ", bufferView " + std::to_string(a.bufferView);
   const std::size_t stride = v.byteStride ? v.byteStride : element;
   if (stride < element)
     fail(view, "byteStride " + std::to_string(stride) + " is smaller than an element (" +
@@ -85,7 +93,7 @@ Span accessor_span(const Model& m, const Accessor& a, std::size_t element, const
     fail(at, std::to_string(a.count) + " elements from byteOffset " + std::to_string(a.byteOffset) +
                  " need " + std::to_string(need) + " bytes; its bufferView has " +
                  std::to_string(v.byteLength));
-  s.base = buf.data() + v.byteOffset + a.byteOffset;  // both sums were checked above
+  s.base = bytes + a.byteOffset;  // both sums were checked above
   return s;
 }
 
@@ -179,7 +187,75 @@ std::array<double, 16> local_matrix(const tinygltf::Node& n) {
   return m;
 }
 
-Scene convert(const Model& model, const std::string& path, Budget& budget) {
+// The extension that stores a primitive's cluster hierarchy (docs/lodgen.md).
+constexpr const char* kClusterExtension = "ACUITY_cluster_hierarchy";
+constexpr std::size_t kClusterBytes = 16, kGroupBytes = 32;  // on-disk records (cluster_hierarchy.hpp)
+static_assert(sizeof(Cluster) == kClusterBytes, "Cluster is copied as its four uint32");
+
+// A whole number in [0, max] under `key` of the extension object.
+std::uint64_t extension_count(const tinygltf::Value& ext, const char* key, std::uint64_t max,
+                              const std::string& at, const std::string& limit) {
+  const double x =
+      ext.IsObject() && ext.Has(key) && ext.Get(key).IsNumber() ? ext.Get(key).GetNumberAsDouble() : -1;
+  if (!(x >= 0 && x == std::floor(x))) fail(at, std::string(key) + " is missing or not a whole number >= 0");
+  if (x > double(max))
+    fail(at, std::string(key) + " " + std::to_string(x) + " is more than the limit " + limit + " (" +
+                 std::to_string(max) + ")");
+  return std::uint64_t(x);
+}
+
+// The records of bufferView `key`: exactly count x record_bytes bytes.
+const unsigned char* extension_records(const Model& m, const tinygltf::Value& ext, const char* key,
+                                       std::uint64_t count, std::size_t record_bytes, const std::string& at,
+                                       Budget& budget) {
+  const std::uint64_t view = extension_count(ext, key, m.bufferViews.size(), at, "of the file's bufferViews");
+  const unsigned char* bytes = view_bytes(m, int(std::min<std::uint64_t>(view, INT32_MAX)), at + ", " + key);
+  const std::size_t length = m.bufferViews[std::size_t(view)].byteLength;
+  if (length != count * record_bytes)
+    fail(at, std::string(key) + " bufferView holds " + std::to_string(length) + " bytes, not " +
+                 std::to_string(count) + " x " + std::to_string(record_bytes));
+  budget.charge(length, at + ", " + key);
+  return bytes;
+}
+
+ClusterHierarchy read_clusters(const Model& m, const tinygltf::Value& ext, const Mesh& mesh,
+                               const std::string& where, const ClusterLimits& limits, Budget& budget) {
+  const std::string at = where + ", " + kClusterExtension;
+  const std::uint64_t clusters =
+      extension_count(ext, "clusterCount", limits.max_clusters, at, "max_clusters");
+  const std::uint64_t groups = extension_count(ext, "groupCount", limits.max_groups, at, "max_groups");
+  ClusterHierarchy h;
+  const unsigned char* c = extension_records(m, ext, "clusters", clusters, kClusterBytes, at, budget);
+  const unsigned char* g = extension_records(m, ext, "groups", groups, kGroupBytes, at, budget);
+  const std::uint64_t accessor =
+      extension_count(ext, "indices", m.accessors.size(), at, "of the file's accessors");
+  h.indices =
+      read_indices(m, int(std::min<std::uint64_t>(accessor, INT32_MAX)), mesh.vertex_count(), at, budget);
+  h.clusters.resize(clusters);
+  for (std::size_t i = 0; i < clusters; ++i)  // little-endian, as read_indices assumes
+    std::memcpy(&h.clusters[i], c + i * kClusterBytes, kClusterBytes);
+  h.groups.resize(groups);
+  for (std::size_t i = 0; i < groups; ++i) {
+    ClusterGroup& x = h.groups[i];
+    std::memcpy(x.center, g + i * kGroupBytes, 12);
+    std::memcpy(&x.radius, g + i * kGroupBytes + 12, 4);
+    std::memcpy(&x.error, g + i * kGroupBytes + 16, 4);
+    std::memcpy(&x.first_member, g + i * kGroupBytes + 20, 4);
+    std::memcpy(&x.member_count, g + i * kGroupBytes + 24, 4);
+    std::memcpy(&x.level, g + i * kGroupBytes + 28, 4);
+  }
+  if (const std::string fault = check_cluster_hierarchy(h, mesh.vertex_count(), limits); !fault.empty())
+    fail(at, fault);
+  const std::size_t finest = 3 * h.finest_triangles();
+  if (mesh.indices.size() != finest ||
+      !std::equal(mesh.indices.begin(), mesh.indices.end(), h.indices.begin()))
+    fail(at,
+         "the primitive's indices are not the hierarchy's finest clusters (an engine without the extension "
+         "would draw another mesh)");
+  return h;
+}
+
+Scene convert(const Model& model, const std::string& path, const LoadLimits& limits, Budget& budget) {
   Scene scene;
   for (const tinygltf::Material& src : model.materials) {
     Material mat;
@@ -238,6 +314,10 @@ Scene convert(const Model& model, const std::string& path, Budget& budget) {
       if (m.indices.size() % 3)
         fail(where, "index count " + std::to_string(m.indices.size()) + " is not a multiple of 3");
       m.material = prim.material >= 0 && prim.material < int(scene.materials.size()) ? prim.material : -1;
+      const auto ext = prim.extensions.find(kClusterExtension);
+      scene.clusters.push_back(ext == prim.extensions.end()
+                                   ? ClusterHierarchy{}
+                                   : read_clusters(model, ext->second, m, where, limits.clusters, budget));
       scene.meshes.push_back(std::move(m));
       scene.mesh_names.push_back(src.name.empty() ? "mesh" + std::to_string(mi) : src.name);
     }
@@ -345,15 +425,49 @@ struct BufferWriter {
     return int(model.accessors.size() - 1);
   }
   int indices(const std::vector<std::uint32_t>& values) {
+    return index_accessor(view(values.data(), values.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                          values.size());
+  }
+  // The first `count` indices of bufferView `view`.
+  int index_accessor(int view, std::size_t count) {
     tinygltf::Accessor a;
-    a.bufferView = view(values.data(), values.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    a.bufferView = view;
     a.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
-    a.count = values.size();
+    a.count = count;
     a.type = TINYGLTF_TYPE_SCALAR;
     model.accessors.push_back(a);
     return int(model.accessors.size() - 1);
   }
 };
+
+// Level 0's primitive with a cluster hierarchy: its indices are the finest clusters', a prefix of
+// one bufferView that holds every cluster's; the extension names that whole view's accessor and the
+// records' bufferViews (docs/lodgen.md).
+void write_clusters(BufferWriter& w, const ClusterHierarchy& h, tinygltf::Primitive& prim) {
+  const int view = w.view(h.indices.data(), h.indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+  prim.indices = w.index_accessor(view, 3 * h.finest_triangles());
+  std::vector<unsigned char> clusters(h.clusters.size() * kClusterBytes),
+      groups(h.groups.size() * kGroupBytes);
+  for (std::size_t i = 0; i < h.clusters.size(); ++i)  // little-endian, as the reader takes them
+    std::memcpy(&clusters[i * kClusterBytes], &h.clusters[i], kClusterBytes);
+  for (std::size_t i = 0; i < h.groups.size(); ++i) {
+    const ClusterGroup& x = h.groups[i];
+    unsigned char* g = &groups[i * kGroupBytes];
+    std::memcpy(g, x.center, 12);
+    std::memcpy(g + 12, &x.radius, 4);
+    std::memcpy(g + 16, &x.error, 4);
+    std::memcpy(g + 20, &x.first_member, 4);
+    std::memcpy(g + 24, &x.member_count, 4);
+    std::memcpy(g + 28, &x.level, 4);
+  }
+  tinygltf::Value::Object ext;
+  ext["indices"] = tinygltf::Value(w.index_accessor(view, h.indices.size()));
+  ext["clusters"] = tinygltf::Value(w.view(clusters.data(), clusters.size(), 0));
+  ext["clusterCount"] = tinygltf::Value(int(h.clusters.size()));
+  ext["groups"] = tinygltf::Value(w.view(groups.data(), groups.size(), 0));
+  ext["groupCount"] = tinygltf::Value(int(h.groups.size()));
+  prim.extensions[kClusterExtension] = tinygltf::Value(ext);
+}
 
 void append_png(void* context, void* data, int size) {
   auto* out = static_cast<std::vector<unsigned char>*>(context);
@@ -737,7 +851,7 @@ Scene load_gltf(const std::string& path, const LoadOptions& options) {
   if (!ok)
     throw InputError(path + ": not a readable glTF 2.0 file: " + (err.empty() ? "unknown error" : err));
   bytes = {};  // tinygltf checked each buffer's byteLength; accessor_span checks against the bytes held
-  return convert(model, path, r.budget);
+  return convert(model, path, r.limits, r.budget);
 }
 
 }  // namespace
@@ -878,6 +992,7 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
   }
   // Meshes once per object and level; nodes once per instance (instances share the meshes).
   std::vector<std::vector<int>> mesh_ids(objects.size());
+  bool any_clusters = false;
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const LodObject& o = objects[i];
     for (std::size_t k = 0; k < o.chain.levels.size(); ++k) {
@@ -887,7 +1002,18 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
       prim.attributes["POSITION"] = w.accessor(mesh.positions, 3, true);
       if (!mesh.normals.empty()) prim.attributes["NORMAL"] = w.accessor(mesh.normals, 3, false);
       if (!mesh.texcoords.empty()) prim.attributes["TEXCOORD_0"] = w.accessor(mesh.texcoords, 2, false);
-      prim.indices = w.indices(mesh.indices);
+      if (k == 0 && !o.clusters.empty()) {
+        if (const std::string fault = check_cluster_hierarchy(o.clusters, mesh.vertex_count());
+            !fault.empty())
+          throw std::runtime_error("object '" + o.name + "': its cluster hierarchy is invalid: " + fault);
+        if (3 * o.clusters.finest_triangles() != mesh.indices.size())
+          throw std::runtime_error("object '" + o.name +
+                                   "': its cluster hierarchy's finest clusters are not level 0");
+        write_clusters(w, o.clusters, prim);
+        any_clusters = true;
+      } else {
+        prim.indices = w.indices(mesh.indices);
+      }
       if (o.material >= 0 && o.material < int(materials.size())) prim.material = o.material;
       tinygltf::Mesh gm;
       gm.name = o.name + (k ? "_LOD" + std::to_string(k) : std::string());
@@ -940,6 +1066,7 @@ std::string encode_lod_gltf(const std::vector<LodObject>& objects, const std::ve
   model.scenes.push_back(scene);
   model.defaultScene = 0;
   model.extensionsUsed.push_back("MSFT_lod");
+  if (any_clusters) model.extensionsUsed.push_back(kClusterExtension);  // optional: not required
   model.buffers[0].uri.clear();
 
   std::ostringstream stream;

@@ -1,5 +1,6 @@
 // libFuzzer: glTF and GLB through lodgen's one resolving reader (confined uris, JSON depth scan,
-// tree and size limits, then tinygltf) must give a scene whose indices are valid or an InputError:
+// tree and size limits, then tinygltf, then the ACUITY_cluster_hierarchy checks) must give a scene
+// whose indices and cluster hierarchies are valid or an InputError:
 // never a crash, a hang, a read outside the asset folder or another exception. The input is the
 // whole file (GLB when it starts with "glTF"); uris resolve in a private folder holding one
 // valid buffer (buffer.bin) and, outside it, a secret the reader must never return.
@@ -54,6 +55,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (i >= m.vertex_count()) __builtin_trap();  // the reader promised valid indices
       for (float x : m.positions)
         if (x == 1234.5f) __builtin_trap();  // the secret beside the asset folder was read
+    }
+    for (std::size_t m = 0; m < s.clusters.size(); ++m) {  // ACUITY_cluster_hierarchy: checked whole
+      const acuity::lodgen::ClusterHierarchy& h = s.clusters[m];
+      if (!acuity::lodgen::check_cluster_hierarchy(h, s.meshes[m].vertex_count()).empty()) __builtin_trap();
+      if (s.meshes[m].indices.size() != 3 * h.finest_triangles() && !h.empty()) __builtin_trap();
     }
     for (const auto& n : s.nodes)
       if (n.lods.size() + 1 > 32) __builtin_trap();  // max_levels

@@ -64,10 +64,27 @@ def textured_gltf(path):
     path.write_text(json.dumps(doc))
 
 
-def test_lodgen_output_passes_the_khronos_validator(tmp_path):
-    # node and tests/node's gltf-validator (scripts/bootstrap.sh installs both): missing means failing
+def validator_reports(outputs):
+    """The Khronos validator's report on each file (node and tests/node's gltf-validator, which
+    scripts/bootstrap.sh installs: missing means failing)."""
     assert shutil.which("node"), "node is needed (scripts/bootstrap.sh)"
     assert os.path.isdir(os.path.join(NODE_MODULES, "gltf-validator")), f"{NODE_MODULES}/gltf-validator: run scripts/bootstrap.sh deps"
+    env = dict(os.environ, NODE_PATH=NODE_MODULES)
+    res = subprocess.run(["node", VALIDATE, *outputs], capture_output=True, text=True, env=env, timeout=300)
+    assert res.returncode == 0, res.stderr
+    reports = [json.loads(line) for line in res.stdout.splitlines()]
+    assert len(reports) == len(outputs)
+    return reports
+
+
+def glb_json(path):
+    """A .glb's JSON chunk."""
+    data = open(path, "rb").read()
+    length = struct.unpack_from("<I", data, 12)[0]
+    return json.loads(data[20:20 + length])
+
+
+def test_lodgen_output_passes_the_khronos_validator(tmp_path):
     inputs = [os.path.join(MESHES, m) for m in ("elephant.off", "camel.off", "fandisk.off", "ChineseDragon-10kv.off", "cow.off")]
     textured = tmp_path / "textured.gltf"
     textured_gltf(textured)
@@ -77,22 +94,41 @@ def test_lodgen_output_passes_the_khronos_validator(tmp_path):
         r = run("lodgen", src, "-o", out, "--levels", "4", "-q")
         assert r.returncode == 0, r.stderr
         outputs.append(str(out))
-    env = dict(os.environ, NODE_PATH=NODE_MODULES)
-    res = subprocess.run(["node", VALIDATE, *outputs], capture_output=True, text=True, env=env, timeout=300)
-    assert res.returncode == 0, res.stderr
-    reports = [json.loads(line) for line in res.stdout.splitlines()]
-    assert len(reports) == len(outputs)
-    for rep in reports:
+    for rep in validator_reports(outputs):
         assert rep["errors"] == 0, rep
     # The textured scene keeps its texture and both instances.
-    data = open(outputs[-1], "rb").read()
-    length = struct.unpack_from("<I", data, 12)[0]
-    doc = json.loads(data[20:20 + length])
+    doc = glb_json(outputs[-1])
     assert len(doc["images"]) == 1 and len(doc["scenes"][0]["nodes"]) == 2
     assert "MSFT_lod" in doc["extensionsUsed"]
     top = doc["nodes"][doc["scenes"][0]["nodes"][0]]
     assert len(top["extensions"]["MSFT_lod"]["ids"]) == 3
     assert len(top["extras"]["MSFT_screencoverage"]) == 4
+
+
+def test_lodgen_clusters_output_passes_the_khronos_validator(tmp_path):
+    """`lodgen --clusters`: ACUITY_cluster_hierarchy beside the finest mesh, no validator error or
+    warning (the extension is optional: a reader without it draws the primitive, the finest mesh)."""
+    outputs = []
+    for i, name in enumerate(("fandisk.off", "camel.off")):
+        out = tmp_path / f"clusters{i}.glb"
+        r = run("lodgen", os.path.join(MESHES, name), "--clusters", "-o", out, "-q")
+        assert r.returncode == 0, r.stderr
+        outputs.append(str(out))
+        summary = json.load(open(f"{out}.json"))["meshes"][0]["clusters"]
+        assert summary["groups"] > 10 and summary["levels"] >= 4, summary
+    for rep in validator_reports(outputs):
+        assert rep["errors"] == 0 and rep["warnings"] == 0, rep
+    doc = glb_json(outputs[0])
+    assert "ACUITY_cluster_hierarchy" in doc["extensionsUsed"]
+    assert "ACUITY_cluster_hierarchy" not in doc.get("extensionsRequired", [])
+    prim = doc["meshes"][0]["primitives"][0]
+    ext = prim["extensions"]["ACUITY_cluster_hierarchy"]
+    assert doc["accessors"][ext["indices"]]["count"] > doc["accessors"][prim["indices"]]["count"]
+    assert doc["bufferViews"][ext["clusters"]]["byteLength"] == 16 * ext["clusterCount"]
+    assert doc["bufferViews"][ext["groups"]]["byteLength"] == 32 * ext["groupCount"]
+    # --clusters and --refine exclude each other.
+    r = run("lodgen", os.path.join(MESHES, "fandisk.off"), "--clusters", "--refine", "1", "-o", tmp_path / "x.glb")
+    assert r.returncode != 0
 
 
 @pytest.mark.parametrize("name,text", [

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/clusters.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/spectra/render.hpp"
@@ -22,12 +23,17 @@ struct ChainRequest {
   lodgen::ChainOptions chain;                // decimation (ignored when refine > 0)
   int refine = 0;                            // > 0: the input is a cage refined this many times (OpenSubdiv)
   double measure_seconds = kMeasureSeconds;  // error-measurement budget for all the scene's meshes [s]
+  // Instead of a chain: level 0 only (repaired, split at creases) with its cluster hierarchy
+  // (lodgen::build_clusters; `acuity lodgen --clusters`). Not with refine.
+  bool clusters = false;
 };
 
 struct SceneChains {
-  lodgen::Scene scene;                     // as loaded (a cage: one node, identity matrix)
-  std::vector<lodgen::Chain> chains;       // one per scene mesh; instances share it
-  std::vector<lodgen::LodObject> objects;  // one per node drawing a mesh, at its world matrix
+  lodgen::Scene scene;                              // as loaded (a cage: one node, identity matrix)
+  std::vector<lodgen::Chain> chains;                // one per scene mesh; instances share it
+  std::vector<lodgen::LodObject> objects;           // one per node drawing a mesh, at its world matrix
+  std::vector<lodgen::ClusterHierarchy> clusters;   // one per scene mesh when asked for (else empty)
+  std::vector<lodgen::ClusterStats> cluster_stats;  // likewise
 };
 
 // Loads `request.input` and builds every mesh's chain; one object per node that draws a mesh
@@ -35,14 +41,17 @@ struct SceneChains {
 // the file for bad input, and when the scene draws no mesh.
 SceneChains build_scene_chains(const ChainRequest& request, const lodgen::ChainProgress& progress = {});
 // The same from a scene already loaded from `where` (decimation only).
+// With `clusters`, as ChainRequest::clusters says.
 SceneChains chains_of_scene(lodgen::Scene scene, const std::string& where, lodgen::ChainOptions options,
                             const lodgen::ChainProgress& progress = {},
-                            double measure_seconds = kMeasureSeconds);
+                            double measure_seconds = kMeasureSeconds, bool clusters = false);
 
 // What `acuity lodgen` reports of the chains it built: a table (one row per mesh and level: target and
 // result triangles, Hausdorff error in diameters, 99th-percentile normal deviation in degrees,
-// seconds), and the same as the JSON it writes beside its output ({input, output, backend, seconds,
-// meshes: [{name, diameter, warnings, levels: [...]}]}).
+// seconds; with cluster hierarchies, one more row per mesh: clusters, groups, levels, root clusters
+// and their triangles, the root error in diameters, seconds), and the same as the JSON it writes
+// beside its output ({input, output, backend, seconds, meshes: [{name, diameter, warnings,
+// levels: [...], clusters: {...} when built}]}).
 std::string chains_table(const SceneChains& chains);
 std::string chains_json(const SceneChains& chains, const std::string& input, const std::string& output,
                         const std::string& backend, double seconds);

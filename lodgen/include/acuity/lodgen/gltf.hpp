@@ -23,6 +23,10 @@ struct LodObject {
   Chain chain;
   std::array<double, 16> matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   int material = -1;  // into the materials passed to write_lod_gltf
+  // The cluster hierarchy of chain.levels[0].mesh (build_clusters), or empty. When set, level 0's
+  // primitive is written with its indices in the hierarchy's order (its finest clusters) and the
+  // hierarchy as the primitive's ACUITY_cluster_hierarchy extension (docs/lodgen.md).
+  ClusterHierarchy clusters;
 };
 
 // One placement of objects[object]: a node group of its own (the finest level's node with MSFT_lod,

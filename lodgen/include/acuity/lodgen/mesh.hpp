@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "acuity/lodgen/cluster_hierarchy.hpp"
+
 namespace acuity::lodgen {
 
 // Indexed triangle mesh in object space. Units are the asset's own (metres in glTF).
@@ -46,6 +48,10 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Node> nodes;
   std::vector<int> roots;
+  // clusters[m]: mesh m's cluster hierarchy (a glTF primitive's ACUITY_cluster_hierarchy, checked
+  // by check_cluster_hierarchy, its finest clusters being the mesh's own indices), empty when it has
+  // none; meshes past the vector's end have none.
+  std::vector<ClusterHierarchy> clusters;
 };
 
 // Bad input: says what is wrong and where (file, mesh, element).
@@ -81,6 +87,7 @@ struct LoadLimits {
   std::uint32_t max_children = 10000;               // per node
   std::uint32_t max_levels = 32;                    // per MSFT_lod node: itself + its ids (kMaxLevels)
   std::uint64_t max_image_pixels = 8192ull * 8192;  // per image, read from its header before decoding
+  ClusterLimits clusters;  // per ACUITY_cluster_hierarchy: counts checked before its records are read
 };
 
 struct LoadOptions {
