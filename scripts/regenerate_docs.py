@@ -111,6 +111,8 @@ FIGURES = [
     Figure("lodgen-sweep", "lodgen.md",
            lambda b: [PY, os.path.join(ROOT, "scripts", "lodgen_sweep.py"), acuity(b), os.path.join(b, "lodgen-sweep")],
            measured=True),
+    Figure("calibration", "spectra.md",
+           lambda b: [PY, os.path.join(ROOT, "scripts", "calibration.py")], measured=False, slow=True),
     Figure("profile-bench", "spectra.md",
            lambda b: [os.path.join(b, "bench", "bench_profile"), meshes(b), "48"], measured=True),
 ]
