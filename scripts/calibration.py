@@ -79,14 +79,17 @@ def true_threshold(f, sigma, e_near, v):
     return 1.0 / s if s > 0 else math.inf
 
 
-def one_view_profile(lost, bands, radius):
-    """A two-level profile of one view looking from +Z: level 1 loses `lost` ([orientations, bands])."""
+def one_view_profile(lost, bands, radius, detail=None):
+    """A two-level profile of one view looking from +Z: level 1 loses `lost` ([orientations, bands]);
+    detail: (area, offset) for its Detail section, or None for none."""
     t, b = lost.shape
+    extra = {} if detail is None else {"detail_area": detail[0].reshape(1, 1, t, b),
+                                       "detail_offset": detail[1].reshape(1, 1, t, b)}
     return acuity.Profile.from_bytes(acuity.spectra.encode_profile(
         sphere=[0, 0, 0, radius], triangles=[2000, 1000], geometric_error=[0.0, 0.001],
         view_directions=np.array([[0, 0, 1]], np.float32),
         orientations=np.arange(t) * 180.0 / t, bands=np.asarray(bands, np.float32),
-        lost=lost.reshape(1, 1, t, b), features=np.zeros((2, 1, t), np.float32), snapshot_pixels=PIXELS))
+        lost=lost.reshape(1, 1, t, b), features=np.zeros((2, 1, t), np.float32), snapshot_pixels=PIXELS, **extra))
 
 
 def chain_config(evaluation, params=None):
@@ -109,12 +112,12 @@ def radius_for(size_deg):
     return DISTANCE * math.sin(math.radians(size_deg / 2))
 
 
-def score(lost, bands, size_deg, e_centre, v, evaluation, params=None):
-    """The chain's level-1 score and explain() of a patch whose loss is `lost`, seen at e_centre [deg]
-    from the gaze, drifting at v [deg/s] along image +x on the retina."""
+def score(lost, bands, size_deg, e_centre, v, evaluation, params=None, detail=None):
+    """The chain's level-1 score and explain() of a patch whose loss is `lost` (and `detail`), seen at
+    e_centre [deg] from the gaze, drifting at v [deg/s] along image +x on the retina."""
     s = acuity.Scheduler(chain_config(evaluation, params))
     radius = radius_for(size_deg)
-    pid = s.add_profile(one_view_profile(lost, bands, radius))
+    pid = s.add_profile(one_view_profile(lost, bands, radius, detail))
     ids = s.add_objects(np.array([pid]), np.array([[0.0, 0.0, -DISTANCE]]), np.array([[0, 0, 0, 1]], np.float32),
                         np.array([1.0]))
     s.set_velocities(ids, np.array([[DISTANCE * math.radians(v), 0.0, 0.0]]))
@@ -137,8 +140,9 @@ def score(lost, bands, size_deg, e_centre, v, evaluation, params=None):
     return float(s.scores(int(ids[0]))[1]), s.explain(int(ids[0]))
 
 
-def measure(f, size_deg, e_centre, v, contrast=None, params=None, evaluations=("exact", "tabulated")):
-    """One condition through the chain: dict with the true threshold, the contrast shown and each path's score."""
+def measure(f, size_deg, e_centre, v, contrast=None, params=None, evaluations=("exact", "tabulated"), detail=True):
+    """One condition through the chain: dict with the true threshold, the contrast shown and each path's
+    score. detail=False leaves the profile's Detail section out (the chain before issue 47's fix)."""
     sigma = size_deg / 6.0
     e_near = max(0.0, e_centre - size_deg / 2)
     ct = true_threshold(f, sigma, e_near, v)
@@ -147,9 +151,11 @@ def measure(f, size_deg, e_centre, v, contrast=None, params=None, evaluations=("
     if contrast is None and not ct <= 1.0:
         return out  # no contrast shows it
     patch, background = gabor(f, size_deg, c)
-    lost, bands = acuity.spectra.lost_contrast(patch, background, orientations=ORIENTATIONS)
+    lost, bands, area, offset = acuity.spectra.lost_contrast(patch, background, orientations=ORIENTATIONS,
+                                                             with_detail=True)
     for ev in evaluations:
-        sc, ex = score(lost, bands, size_deg, e_centre, v, getattr(acuity.Evaluation, ev), params)
+        sc, ex = score(lost, bands, size_deg, e_centre, v, getattr(acuity.Evaluation, ev), params,
+                       (area, offset) if detail else None)
         out[ev] = sc
         out[ev + "_explain"] = ex
     return out
