@@ -24,7 +24,8 @@ using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast
 
 ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 view_directions,
                          F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels,
-                         const py::object& detail_area = py::none(), const py::object& detail_offset = py::none()) {
+                         const py::object& detail_area = py::none(),
+                         const py::object& detail_offset = py::none()) {
   spectra::ProfileData d;
   if (sphere.size() != 4) throw py::value_error("sphere: expected 4 values (centre xyz, radius)");
   std::memcpy(d.sphere, sphere.data(), 4 * sizeof(float));
@@ -137,7 +138,8 @@ void bind_spectra(py::module_ m) {
       "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
       "with_detail"_a = false,
       "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
-      "(array [orientations, bands] of maxima over the image, band centres [cycles per image]); with_detail:\n"
+      "(array [orientations, bands] of maxima over the image, band centres [cycles per image]); "
+      "with_detail:\n"
       "also each band's extent of the loss (sum of c^2 / max c^2 as a fraction of the image) and its\n"
       "frequency offset from the band's centre [octaves], each [orientations, bands].");
 
@@ -202,9 +204,9 @@ void bind_spectra(py::module_ m) {
       "encode_profile",
       [](F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations, F32 bands, F32 lost,
          F32 features, std::uint32_t snapshot_pixels, py::object detail_area, py::object detail_offset) {
-        const Blob b =
-            spectra::encode_profile(profile_data(sphere, triangles, geometric_error, views, orientations, bands,
-                                                 lost, features, snapshot_pixels, detail_area, detail_offset));
+        const Blob b = spectra::encode_profile(profile_data(sphere, triangles, geometric_error, views,
+                                                            orientations, bands, lost, features,
+                                                            snapshot_pixels, detail_area, detail_offset));
         return py::bytes(static_cast<const char*>(b.data()), b.size);
       },
       "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a, "bands"_a,

@@ -103,10 +103,11 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
       const float offset = detail_frequency_octaves(d);
       const float f = centre * std::exp2(offset);
       const float area = detail_area(d) * diam2;
-      const float penalty = area < config_area ? stela_log_area_penalty(f, area, c) -
-                                                     stela_log_area_penalty(f, config_area, c)
-                                               : 0.0f;
-      const float shortfall = std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(offset) / spacing, 0.5f)));
+      const float penalty =
+          area < config_area ? stela_log_area_penalty(f, area, c) - stela_log_area_penalty(f, config_area, c)
+                             : 0.0f;
+      const float shortfall =
+          std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(offset) / spacing, 0.5f)));
       ln_ct[t * B + b] = centre > s.nyquist_cpd
                              ? kInf
                              : log_threshold(f, s.e, v, config_.model, config_.params) + penalty + shortfall;
@@ -178,7 +179,7 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
   float ln_ct[kMaxOrientations * kMaxBands];
   const std::uint32_t rows = exact_thresholds(pc, s, ln_ct);
   const std::uint32_t stride = rows == 1 ? 0 : B;  // a static object's one row serves every orientation
-  const bool detail = uses_detail(p);                // StelaCsf with Detail: per level (detail_thresholds)
+  const bool detail = uses_detail(p);              // StelaCsf with Detail: per level (detail_thresholds)
   float ln_ct_detail[kMaxOrientations * kMaxBands];
 
   // ln(score_k q) = max over (t, b) of ln lost - ln CT. Levels are scanned from the coarsest; without
@@ -210,7 +211,8 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
         const std::uint32_t w = blended == 1 ? view : cand[j];
         if (detail) {  // thresholds per level, view and orientation: every orientation's own loss
           detail_thresholds(pc, s, k, w, ln_ct_detail);
-          m = std::max(m, max_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B, B));
+          m = std::max(
+              m, max_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B, B));
           continue;
         }
         m = std::max(m,

@@ -341,7 +341,7 @@ template <class T>
 T stela_log_area_penalty(T rho, T area, const StelaConstants& c) {
   if (std::isnan(rho) || std::isnan(area)) return kNaN<T>;
   const T x = std::abs(rho) / T(c.f0);
-  const T critical = T(c.a0) / (T(1) + x * x);  // A_c [deg^2]
+  const T critical = T(c.a0) / (T(1) + x * x);            // A_c [deg^2]
   return T(0.5) * std::log1p(critical / std::abs(area));  // area 0: +inf; +inf: 0
 }
 

@@ -228,7 +228,8 @@ std::vector<float> LostContrast::measure(const Image& level, const Image& refere
   std::vector<float> out(std::size_t(settings_.orientations) * band_count());
   if (area) area->assign(out.size(), 0.0f);
   if (offset) offset->assign(out.size(), 0.0f);
-  measure(level, *prepare(reference), out.data(), area ? area->data() : nullptr, offset ? offset->data() : nullptr);
+  measure(level, *prepare(reference), out.data(), area ? area->data() : nullptr,
+          offset ? offset->data() : nullptr);
   return out;
 }
 

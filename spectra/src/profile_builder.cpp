@@ -260,7 +260,8 @@ struct BoundState {
 // over the view and every member (each member's over all its orientations: their frames differ by a
 // roll) and the frequency is the band's centre (offset 0), as without the section.
 std::vector<ProfileDetail> view_detail(const std::vector<ViewMeasurement>& data, std::size_t v,
-                                       const std::vector<std::size_t>* members, std::size_t T, std::size_t B) {
+                                       const std::vector<std::size_t>* members, std::size_t T,
+                                       std::size_t B) {
   const ViewMeasurement& own = data[v];
   std::vector<ProfileDetail> out(own.lost.size());
   for (std::size_t i = 0; i < out.size(); ++i) {

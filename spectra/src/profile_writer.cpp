@@ -91,8 +91,8 @@ Blob encode_profile(const ProfileData& data) {
   require(data.features.size() == K * V * T, "features has " + std::to_string(data.features.size()) +
                                                  " values, expected K V T = " + std::to_string(K * V * T));
   require(data.detail.empty() || data.detail.size() == data.lost.size(),
-          "detail has " + std::to_string(data.detail.size()) + " entries, expected none or one per lost value (" +
-              std::to_string(data.lost.size()) + ")");
+          "detail has " + std::to_string(data.detail.size()) +
+              " entries, expected none or one per lost value (" + std::to_string(data.lost.size()) + ")");
   for (const ProfileDetail& d : data.detail)
     require(d.frequency_code != -128, "detail: frequency code -128 is invalid (-127..127)");
   std::uint32_t r = data.lookup_resolution;
