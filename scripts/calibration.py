@@ -216,6 +216,8 @@ def main():
     print()
     print(f"- exact: {statistics([r['exact'] for r in shown])}")
     print(f"- tabulated: {statistics([r['tabulated'] for r in shown])}")
+    print(f"- exact, the patches of at least 2/3 cycle per sigma (f D >= 4): "
+          f"{statistics([r['exact'] for r in shown if r['f'] * r['size'] >= MIN_CYCLES * 0.9999])}")
     before = [measure(r["f"], r["size"], r["e_centre"], r["v"], evaluations=("exact",), detail=False)["exact"]
               for r in shown]
     print(f"- exact, the profile without its Detail section (band centres, unbounded area: the chain before "

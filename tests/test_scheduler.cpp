@@ -1000,10 +1000,13 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
 
 // A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
 // less the band filter's shortfall; the other models ignore it.
-TEST(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
+// Offset 0 takes the path that reuses the band centre's thresholds.
+class SchedulerDetail : public ::testing::TestWithParam<float> {};
+
+TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
   const TestProfile plain;
   TestProfile detailed;
-  const float area = 0.02f, offset = 0.375f;  // exact in the codes: 2^(-45/8) rounds up; 48 / 128
+  const float area = 0.02f, offset = GetParam();  // offsets exact in the code (n / 128); the area rounds up
   for (std::size_t i = 0; i < detailed.data.lost.size(); ++i)
     detailed.data.detail.push_back(spectra::encode_detail(area, offset));
   detailed.blob = spectra::encode_profile(detailed.data);
@@ -1048,6 +1051,7 @@ TEST(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
     }
   }
 }
+INSTANTIATE_TEST_SUITE_P(Offsets, SchedulerDetail, ::testing::Values(0.375f, 0.0f, -0.5f));
 
 TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
   // Smallest features: level j's are 256 / 2^j cycles per diameter (plus 10 or 20% at some

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 
 #include "acuity/spectra/analyze.hpp"
@@ -85,8 +86,10 @@ Image to_image(const F32& a) {
   return im;
 }
 
-AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float bands_per_octave,
+                          float lowest_band = AnalysisSettings{}.lowest_band) {
   AnalysisSettings s;
+  s.lowest_band = lowest_band;
   s.orientations = orientations;
   s.bands = bands;
   s.bands_per_octave = bands_per_octave;
@@ -121,9 +124,11 @@ void bind_spectra(py::module_ m) {
   m.def(
       "lost_contrast",
       [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave,
-         bool with_detail) -> py::tuple {
+         bool with_detail, float lowest_band) -> py::tuple {
         const Image a = to_image(level), b = to_image(reference);
-        const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave));
+        if (!(lowest_band > 0) || !std::isfinite(lowest_band))
+          throw py::value_error("lowest_band: a positive number of cycles per image expected");
+        const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave, lowest_band));
         std::vector<float> area, offset;
         const std::vector<float> v =
             analyzer.measure(a, b, with_detail ? &area : nullptr, with_detail ? &offset : nullptr);
@@ -136,12 +141,13 @@ void bind_spectra(py::module_ m) {
         return py::make_tuple(array(v), analyzer.bands());
       },
       "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
-      "with_detail"_a = false,
+      "with_detail"_a = false, "lowest_band"_a = AnalysisSettings{}.lowest_band,
       "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
       "(array [orientations, bands] of maxima over the image, band centres [cycles per image]); "
       "with_detail:\n"
       "also each band's extent of the loss (sum of c^2 / max c^2 as a fraction of the image) and its\n"
-      "frequency offset from the band's centre [octaves], each [orientations, bands].");
+      "frequency offset from the band's centre [octaves], each [orientations, bands]. lowest_band: the\n"
+      "lowest band's centre [cycles per image] (2).");
 
   m.def(
       "reddy_features",

@@ -84,9 +84,12 @@ bool Scheduler::Impl::uses_detail(const Profile& p) const {
 // own area (the smaller of the measured extent, times the squared angular diameter, and
 // ModelParams::area), less the analyzer's shortfall there (its radial window passes cos(pi/2 d) of
 // a grating d band spacings off the centre, d clamped to 1/2: at most a factor sqrt 2). The Nyquist
-// cut stays the band centre's, as without Detail.
+// cut stays the band centre's, as without Detail. An entry at its band's centre (frequency code 0,
+// every entry of a cell-bounded profile) reuses exact_thresholds()' ln CT there (`centre`, rows of
+// `stride`) and adds only the area term.
 void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k,
-                                        std::uint32_t view, float* ln_ct) const {
+                                        std::uint32_t view, const float* centre_ln_ct, std::uint32_t stride,
+                                        float* ln_ct) const {
   const Profile& p = pc.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const ProfileDetail* detail = &p.detail[((k - 1) * std::size_t(V) + view) * T * B];
@@ -100,6 +103,15 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
     for (std::uint32_t b = 0; b < B; ++b) {
       const ProfileDetail d = detail[t * B + b];
       const float centre = p.bands[b] * inv_diam;
+      if (d.frequency_code == 0) {
+        const float area = detail_area(d) * diam2;
+        const float base = centre_ln_ct[t * stride + b];
+        ln_ct[t * B + b] = area < config_area && base < kInf
+                               ? base + stela_log_area_penalty(centre, area, c) -
+                                     stela_log_area_penalty(centre, config_area, c)
+                               : base;
+        continue;
+      }
       const float offset = detail_frequency_octaves(d);
       const float f = centre * std::exp2(offset);
       const float area = detail_area(d) * diam2;
@@ -210,7 +222,7 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
       for (std::uint32_t j = 0; j < blended; ++j) {
         const std::uint32_t w = blended == 1 ? view : cand[j];
         if (detail) {  // thresholds per level, view and orientation: every orientation's own loss
-          detail_thresholds(pc, s, k, w, ln_ct_detail);
+          detail_thresholds(pc, s, k, w, ln_ct, stride, ln_ct_detail);
           m = std::max(
               m, max_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B, B));
           continue;
@@ -226,7 +238,7 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
     if (out.coarse == 0 && m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
     if (scores_out) scores_out[k] = std::exp(m - ln_q);
     if (ex && detail) {
-      detail_thresholds(pc, s, k, view, ln_ct_detail);
+      detail_thresholds(pc, s, k, view, ln_ct, stride, ln_ct_detail);
       explain_level(pc, view, k, ln_ct_detail, B, inv_diam, m - ln_q, &ex->levels[k]);
     } else if (ex) {
       explain_level(pc, view, k, ln_ct, stride, inv_diam, m - ln_q, &ex->levels[k]);
