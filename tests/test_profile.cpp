@@ -72,7 +72,7 @@ TEST(Profile, DetailSectionIsOptionalAndChecked) {
     EXPECT_EQ(detail_area(p.detail[i]), std::ldexp(1.0f, -int(i % 20)));  // powers of 2^(1/8) are exact
     EXPECT_NEAR(detail_frequency_octaves(p.detail[i]), 0.01f * float(int(i % 90) - 45), 0.5f / 128);
   }
-  EXPECT_EQ(with.size, without.size + sizeof(ProfileSectionEntry) + (d.lost.size() * 2 + 7) / 8 * 8);
+  EXPECT_EQ(with.size, without.size + sizeof(ProfileSectionEntry) + (d.lost.size() * 3 + 7) / 8 * 8);
   // Areas round up (never under-stating it), and decode within 2^(1/8) above; offsets clamp.
   for (float a : {0.3f, 0.01f, 1e-6f, 1.0f}) {
     const float back = detail_area(spectra::encode_detail(a, 0));
@@ -82,13 +82,15 @@ TEST(Profile, DetailSectionIsOptionalAndChecked) {
   EXPECT_EQ(spectra::encode_detail(0.0f, 5.0f).area_code, 255);
   EXPECT_EQ(spectra::encode_detail(0.5f, 5.0f).frequency_code, 127);
   EXPECT_EQ(spectra::encode_detail(0.5f, -5.0f).frequency_code, -127);
+  EXPECT_EQ(spectra::encode_detail(0.5f, 0.0f, -0.25f).orientation_code, -32);
+  EXPECT_EQ(detail_turn(spectra::encode_detail(0.5f, 0.0f, 0.5f)), 0.5f);
   {  // an invalid frequency code
     Blob b = with;
     const std::int8_t bad = -128;
-    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Detail) + 2 * 7 + 1, &bad, 1);
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Detail) + 3 * 7 + 2, &bad, 1);
     refresh_checksum(b);
     EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
-    EXPECT_NE(std::string(e.message).find("Detail: entry 7"), std::string::npos) << e.message;
+    EXPECT_NE(std::string(e.message).find("Detail: entry 7 has a code -128"), std::string::npos) << e.message;
   }
   {  // a section of the wrong size: the table's entry shrunk by 8 bytes
     Blob b = with;

@@ -11,6 +11,7 @@
 #include <memory>
 #include <new>
 #include <random>
+#include <utility>
 
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_writer.hpp"
@@ -1001,14 +1002,16 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
 // A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
 // less the band filter's shortfall; the other models ignore it.
 // Offset 0 takes the path that reuses the band centre's thresholds.
-class SchedulerDetail : public ::testing::TestWithParam<float> {};
+// Params: frequency offset [octaves], turn [orientation spacings].
+class SchedulerDetail : public ::testing::TestWithParam<std::pair<float, float>> {};
 
 TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
   const TestProfile plain;
   TestProfile detailed;
-  const float area = 0.02f, offset = GetParam();  // offsets exact in the code (n / 128); the area rounds up
+  const float area = 0.02f, offset = GetParam().first,
+              turn = GetParam().second;  // offsets exact in the code (n / 128); the area rounds up
   for (std::size_t i = 0; i < detailed.data.lost.size(); ++i)
-    detailed.data.detail.push_back(spectra::encode_detail(area, offset));
+    detailed.data.detail.push_back(spectra::encode_detail(area, offset, turn));
   detailed.blob = spectra::encode_profile(detailed.data);
   ASSERT_EQ(open_profile(detailed.blob.data(), detailed.blob.size, &detailed.profile), ProfileStatus::Ok);
   ASSERT_NE(detailed.profile.detail, nullptr);
@@ -1043,7 +1046,8 @@ TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
       const float d = ex[1].angular_diameter_deg;
       const double expected = std::exp(
           log_threshold<double>(f, ex[1].eccentricity_deg, 0.15, model, ModelParams{}) +
-          stela_log_area_penalty<double>(f, decoded_area * d * d) + std::log(std::cos(0.5 * kPi * offset)));
+          stela_log_area_penalty<double>(f, decoded_area * d * d) + std::log(std::cos(0.5 * kPi * offset)) +
+          std::log(std::cos(0.5 * kPi * std::min(std::abs(turn), 0.5f))));
       EXPECT_NEAR(le.threshold / expected, 1.0, 1e-3) << k;
       const float lost = detailed.profile.lost_contrast(k, ex[1].view, le.orientation, le.band);
       EXPECT_NEAR(lost / le.threshold, le.score, 1e-3f * le.score) << k;
@@ -1051,7 +1055,9 @@ TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
     }
   }
 }
-INSTANTIATE_TEST_SUITE_P(Offsets, SchedulerDetail, ::testing::Values(0.375f, 0.0f, -0.5f));
+INSTANTIATE_TEST_SUITE_P(Offsets, SchedulerDetail,
+                         ::testing::Values(std::pair{0.375f, 0.0f}, std::pair{0.0f, 0.0f},
+                                           std::pair{-0.5f, 0.25f}, std::pair{0.0f, -0.75f}));
 
 TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
   // Smallest features: level j's are 256 / 2^j cycles per diameter (plus 10 or 20% at some

@@ -111,10 +111,21 @@ TEST(LostContrast, AreaAndFrequencyOfTheLoss) {
       EXPECT_NEAR(area[b], 1.0f, 0.02f);  // a grating fills the image
     }
   }
+  {  // a grating near half-way between orientations 0 and 1 reads its angle in both: (31, 6) cycles
+     // across, 10.95 deg up from +x (0.487 orientation spacings), 31.6 cycles (at the band of 32)
+    const double angle = std::atan2(6.0, 31.0) * 180 / kPi / 22.5;
+    std::vector<float> area, offset, turn;
+    const std::vector<float> lost = analyzer.measure(grating(31, 6, 0.2f), reference, &area, &offset, &turn);
+    const std::size_t B = bands.size(), b = std::size_t(band_of(bands, 32));
+    EXPECT_NEAR(turn[0 * B + b], angle, 0.01);
+    EXPECT_NEAR(turn[1 * B + b], angle - 1, 0.01);
+    EXPECT_NEAR(offset[b], std::log2(std::hypot(31.0, 6.0) / 32), 0.01);
+    EXPECT_NEAR(lost[0 * B + b], 0.2 * std::cos(0.5 * kPi * angle) * std::cos(0.5 * kPi * offset[b]), 0.005);
+  }
   {  // nothing lost: 0 everywhere
-    std::vector<float> area, offset;
-    analyzer.measure(reference, reference, &area, &offset);
-    for (std::size_t i = 0; i < area.size(); ++i) EXPECT_EQ(area[i] + offset[i], 0.0f);
+    std::vector<float> area, offset, turn;
+    analyzer.measure(reference, reference, &area, &offset, &turn);
+    for (std::size_t i = 0; i < area.size(); ++i) EXPECT_EQ(area[i] + offset[i] + turn[i], 0.0f);
   }
 }
 

@@ -82,11 +82,11 @@ bool Scheduler::Impl::uses_detail(const Profile& p) const {
 // StelaCsf on a profile with a Detail section: ln CT per (orientation, band) [T][B] of level k's loss
 // seen from `view`, at the loss's own frequency (the band's centre shifted by its offset) and its
 // own area (the smaller of the measured extent, times the squared angular diameter, and
-// ModelParams::area), less the analyzer's shortfall there (its radial window passes cos(pi/2 d) of
-// a grating d band spacings off the centre, d clamped to 1/2: at most a factor sqrt 2). The Nyquist
-// cut stays the band centre's, as without Detail. An entry at its band's centre (frequency code 0,
-// every entry of a cell-bounded profile) reuses exact_thresholds()' ln CT there (`centre`, rows of
-// `stride`) and adds only the area term.
+// ModelParams::area), less the analyzer's shortfall there: its radial and angular windows pass
+// cos(pi/2 d) of a grating d band (orientation) spacings off their centres, d clamped to 1/2 (at most
+// a factor sqrt 2 each). The Nyquist cut stays the band centre's, as without Detail. An entry at its
+// band's centre (frequency code 0, every entry of a cell-bounded profile) reuses exact_thresholds()'
+// ln CT there (`centre_ln_ct`, rows of `stride`).
 void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k,
                                         std::uint32_t view, const float* centre_ln_ct, std::uint32_t stride,
                                         float* ln_ct) const {
@@ -98,31 +98,26 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
   const auto config_area = static_cast<float>(config_.params.area);
   const StelaConstants& c = config_.params.stela;
   const float floor_v = pre_->floor_velocity;
+  auto ln_pass = [](float d) {  // ln of the window's gain d spacings off its centre, d clamped to 1/2
+    return std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(d), 0.5f)));
+  };
   for (std::uint32_t t = 0; t < T; ++t) {
     const float v = s.moving ? std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor_v) : floor_v;
     for (std::uint32_t b = 0; b < B; ++b) {
       const ProfileDetail d = detail[t * B + b];
-      const float centre = p.bands[b] * inv_diam;
-      if (d.frequency_code == 0) {
-        const float area = detail_area(d) * diam2;
-        const float base = centre_ln_ct[t * stride + b];
-        ln_ct[t * B + b] = area < config_area && base < kInf
-                               ? base + stela_log_area_penalty(centre, area, c) -
-                                     stela_log_area_penalty(centre, config_area, c)
-                               : base;
+      const float centre = p.bands[b] * inv_diam, offset = detail_frequency_octaves(d);
+      const float base = centre_ln_ct[t * stride + b];
+      if (base >= kInf) {  // above the display's Nyquist frequency
+        ln_ct[t * B + b] = kInf;
         continue;
       }
-      const float offset = detail_frequency_octaves(d);
-      const float f = centre * std::exp2(offset);
+      const float f = d.frequency_code ? centre * std::exp2(offset) : centre;
       const float area = detail_area(d) * diam2;
       const float penalty =
           area < config_area ? stela_log_area_penalty(f, area, c) - stela_log_area_penalty(f, config_area, c)
                              : 0.0f;
-      const float shortfall =
-          std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(offset) / spacing, 0.5f)));
-      ln_ct[t * B + b] = centre > s.nyquist_cpd
-                             ? kInf
-                             : log_threshold(f, s.e, v, config_.model, config_.params) + penalty + shortfall;
+      const float at_f = d.frequency_code ? log_threshold(f, s.e, v, config_.model, config_.params) : base;
+      ln_ct[t * B + b] = at_f + penalty + ln_pass(offset / spacing) + ln_pass(detail_turn(d));
     }
   }
 }

@@ -95,9 +95,8 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
     return fail(error, ProfileStatus::BadValue, "Features: value %zu is negative or not finite", bad);
   if (p.detail)
     for (std::uint64_t i = 0; i < (K - 1) * V * T * B; ++i)
-      if (p.detail[i].frequency_code == -128)
-        return fail(error, ProfileStatus::BadValue,
-                    "Detail: entry %llu has frequency code -128 (allowed -127..127)",
+      if (p.detail[i].frequency_code == -128 || p.detail[i].orientation_code == -128)
+        return fail(error, ProfileStatus::BadValue, "Detail: entry %llu has a code -128 (allowed -127..127)",
                     static_cast<unsigned long long>(i));
   return ProfileStatus::Ok;
 }

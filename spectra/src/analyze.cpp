@@ -45,6 +45,7 @@ struct LostContrast::Plans {
   std::vector<std::vector<float>> band_filter;   // [b * T + t] on the crop grid: radial x angular x 2
   std::vector<std::vector<float>> lowpass;       // [b] on the crop grid
   std::vector<std::vector<float>> log_offset;    // [b] log2(f / band centre) on the crop grid (0 at f = 0)
+  std::vector<std::vector<float>> angle;         // [b] the frequency vector's angle [deg] on the crop grid
   ~Plans() {
     std::lock_guard<std::mutex> lock(planner_mutex());
     if (forward) fftwf_destroy_plan(forward);
@@ -77,6 +78,7 @@ LostContrast::LostContrast(std::uint32_t pixels, const AnalysisSettings& setting
     : n_(pixels),
       settings_(settings),
       bands_(band_centres(pixels, settings)),
+      spacing_(180.0f / float(std::max(1u, settings.orientations))),
       plans_(std::make_unique<Plans>()) {
   if (n_ < 8 || (n_ & (n_ - 1)) != 0)
     throw std::invalid_argument("analysis needs a power-of-two image size >= 8");
@@ -118,6 +120,7 @@ LostContrast::LostContrast(std::uint32_t pixels, const AnalysisSettings& setting
       }
     plans_->lowpass.push_back(std::move(low));
     plans_->log_offset.push_back(std::move(offset));
+    plans_->angle.push_back(angle);
     for (std::uint32_t t = 0; t < T; ++t) {
       std::vector<float> h(std::size_t(m) * m);
       for (std::size_t i = 0; i < h.size(); ++i) {
@@ -182,7 +185,7 @@ std::shared_ptr<const LostContrast::Reference> LostContrast::prepare(const Image
 }
 
 void LostContrast::measure(const Image& level, const Reference& ref, float* result, float* area,
-                           float* offset) const {
+                           float* offset, float* turn) const {
   Buffer diff(std::size_t(n_) * n_);
   forward(plans_->forward, level, n_, diff);
   for (std::size_t i = 0; i < diff.n; ++i) {  // linearity: FFT(level - reference)
@@ -197,15 +200,22 @@ void LostContrast::measure(const Image& level, const Reference& ref, float* resu
     const std::vector<float>& mean = ref.mean[b];
     for (std::uint32_t t = 0; t < T; ++t) {
       crop(diff, n_, m, plans_->band_filter[std::size_t(b) * T + t], in);
-      if (offset) {  // before the inverse transform overwrites nothing: `in` is its input
-        double power = 0, weighted = 0;
+      if (offset || turn) {  // the filtered spectrum's energy-weighted mean position (`in`)
+        double power = 0, weighted = 0, turned = 0;
         const std::vector<float>& lo = plans_->log_offset[b];
+        const std::vector<float>& angle = plans_->angle[b];
+        const float centre = spacing_ * float(t);
         for (std::size_t i = 0; i < lo.size(); ++i) {
           const double p = double(in.p[i][0]) * in.p[i][0] + double(in.p[i][1]) * in.p[i][1];
+          if (p == 0) continue;
+          float delta = angle[i] - centre;
+          delta -= 360.0f * std::round(delta / 360.0f);
           power += p;
           weighted += p * lo[i];
+          turned += p * delta;
         }
-        offset[std::size_t(t) * B + b] = power > 0 ? float(weighted / power) : 0.0f;
+        if (offset) offset[std::size_t(t) * B + b] = power > 0 ? float(weighted / power) : 0.0f;
+        if (turn) turn[std::size_t(t) * B + b] = power > 0 ? float(turned / power) / spacing_ : 0.0f;
       }
       fftwf_execute_dft(plans_->backward.at(m), in.p, out.p);
       float best = 0;
@@ -224,12 +234,12 @@ void LostContrast::measure(const Image& level, const Reference& ref, float* resu
 }
 
 std::vector<float> LostContrast::measure(const Image& level, const Image& reference, std::vector<float>* area,
-                                         std::vector<float>* offset) const {
+                                         std::vector<float>* offset, std::vector<float>* turn) const {
   std::vector<float> out(std::size_t(settings_.orientations) * band_count());
-  if (area) area->assign(out.size(), 0.0f);
-  if (offset) offset->assign(out.size(), 0.0f);
+  for (std::vector<float>* v : {area, offset, turn})
+    if (v) v->assign(out.size(), 0.0f);
   measure(level, *prepare(reference), out.data(), area ? area->data() : nullptr,
-          offset ? offset->data() : nullptr);
+          offset ? offset->data() : nullptr, turn ? turn->data() : nullptr);
   return out;
 }
 

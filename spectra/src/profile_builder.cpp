@@ -81,13 +81,14 @@ ViewMeasurement ProfileMeasurer::measure(const ProfileView& view, bool features)
   m.lost.assign((K - 1) * T * B, 0.0f);
   m.area.assign((K - 1) * T * B, 0.0f);
   m.offset.assign((K - 1) * T * B, 0.0f);
+  m.turn.assign((K - 1) * T * B, 0.0f);
   const Image reference = render_snapshot(levels_[0].mesh, material_, view, render_);
   if (features) m.features = reddy_features(reference, analysis_);
   const auto prepared = analyzer_.prepare(reference);
   for (std::size_t k = 1; k < K; ++k) {
     const Image image = render_snapshot(levels_[k].mesh, material_, view, render_);
     analyzer_.measure(image, *prepared, &m.lost[(k - 1) * T * B], &m.area[(k - 1) * T * B],
-                      &m.offset[(k - 1) * T * B]);
+                      &m.offset[(k - 1) * T * B], &m.turn[(k - 1) * T * B]);
     m.switching.push_back(switching_angle(&m.lost[(k - 1) * T * B], T, analyzer_.bands()));
     if (!features) continue;
     const std::vector<float> f = reddy_features(image, analysis_);
@@ -258,7 +259,7 @@ struct BoundState {
 // The Detail entries of kept view v ([(K-1) T B]). Its own measurement's area and frequency; with
 // cell bounds the bound's loss may come from a member measured elsewhere, so the area is the largest
 // over the view and every member (each member's over all its orientations: their frames differ by a
-// roll) and the frequency is the band's centre (offset 0), as without the section.
+// roll) and the frequency and orientation are the centres' (offset and turn 0), as without the section.
 std::vector<ProfileDetail> view_detail(const std::vector<ViewMeasurement>& data, std::size_t v,
                                        const std::vector<std::size_t>* members, std::size_t T,
                                        std::size_t B) {
@@ -272,7 +273,7 @@ std::vector<ProfileDetail> view_detail(const std::vector<ViewMeasurement>& data,
           const std::size_t kb = i / (T * B) * T * B + i % B;  // level k, band b, orientation 0
           for (std::size_t t = 0; t < T; ++t) area = std::max(area, data[s].area[kb + t * B]);
         }
-    out[i] = encode_detail(area, members ? 0.0f : own.offset[i]);
+    out[i] = members ? encode_detail(area, 0.0f, 0.0f) : encode_detail(area, own.offset[i], own.turn[i]);
   }
   return out;
 }

@@ -66,13 +66,17 @@ ProfileView make_view(float x, float y, float z) {
   return v;
 }
 
-ProfileDetail encode_detail(float area, float offset_octaves) {
+ProfileDetail encode_detail(float area, float offset_octaves, float turn) {
   ProfileDetail d;
   // 2^(-code / 8) >= area: the code is floor(-8 log2 area), clamped (NaN or 0: nothing lost, 255).
   const float code = area > 0 ? std::floor(-8.0f * std::log2(area)) : 255.0f;
   d.area_code = static_cast<std::uint8_t>(std::clamp(code == code ? code : 255.0f, 0.0f, 255.0f));
-  const float f = std::round(128.0f * offset_octaves);
-  d.frequency_code = static_cast<std::int8_t>(std::clamp(f == f ? f : 0.0f, -127.0f, 127.0f));
+  auto signed_code = [](float x) {
+    const float c = std::round(128.0f * x);
+    return static_cast<std::int8_t>(std::clamp(c == c ? c : 0.0f, -127.0f, 127.0f));
+  };
+  d.frequency_code = signed_code(offset_octaves);
+  d.orientation_code = signed_code(turn);
   return d;
 }
 
@@ -94,7 +98,8 @@ Blob encode_profile(const ProfileData& data) {
           "detail has " + std::to_string(data.detail.size()) +
               " entries, expected none or one per lost value (" + std::to_string(data.lost.size()) + ")");
   for (const ProfileDetail& d : data.detail)
-    require(d.frequency_code != -128, "detail: frequency code -128 is invalid (-127..127)");
+    require(d.frequency_code != -128 && d.orientation_code != -128,
+            "detail: a code -128 is invalid (-127..127)");
   std::uint32_t r = data.lookup_resolution;
   if (r == 0)
     r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);

@@ -20,7 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (std::size_t i = 0; i < std::size_t(p.meta.level_count - 1) * p.meta.view_count *
                                       p.meta.orientation_count * p.meta.band_count;
            ++i)
-        sum = sum + acuity::detail_area(p.detail[i]) + acuity::detail_frequency_octaves(p.detail[i]);
+        sum = sum + acuity::detail_area(p.detail[i]) + acuity::detail_frequency_octaves(p.detail[i]) +
+              acuity::detail_turn(p.detail[i]);
   }
   return 0;
 }

@@ -59,8 +59,8 @@ def test_profile_detail_round_trip():
         view_directions=dirs, orientations=np.arange(8) * 22.5, bands=2.0 * 2.0 ** np.arange(8, dtype=np.float32),
         lost=np.full(lost_shape, 0.01, np.float32), features=np.zeros((5, 6, 8), np.float32),
         detail_area=area, detail_offset=offset)
-    a, o = acuity.Profile.from_bytes(data).detail
-    assert a.shape == lost_shape and np.all(a == 0.25) and np.all(o == -0.25)
+    a, o, t = acuity.Profile.from_bytes(data).detail
+    assert a.shape == lost_shape and np.all(a == 0.25) and np.all(o == -0.25) and np.all(t == 0)
     with pytest.raises(ValueError, match="one value per lost value"):
         acuity.spectra.encode_profile(
             sphere=[0, 0, 0, 1], triangles=[2, 1], geometric_error=[0, 0.1], view_directions=dirs[:1],

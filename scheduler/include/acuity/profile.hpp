@@ -122,7 +122,9 @@ struct ProfileMeta {
 // Section Detail (optional), one entry per Lost entry: where in the band and over how much of the
 // image the loss lies (acuity::spectra::LostContrast::measure's area and frequency), so a threshold
 // model can be evaluated at the loss's own frequency and area rather than the band's centre and an
-// unbounded area. 2 bytes; decode with detail_area() and detail_frequency_octaves().
+// unbounded area, and undo the band filter's shortfall where the loss lies off a band's or an
+// orientation's centre. 3 bytes; decode with detail_area(), detail_frequency_octaves() and
+// detail_turn().
 struct ProfileDetail {
   // Extent of the loss (sum of c^2 / max c^2) as a fraction of the squared diameter: 2^(-area_code / 8),
   // rounded up when written (255: 2^-31.9, nothing lost).
@@ -130,11 +132,17 @@ struct ProfileDetail {
   // Energy-weighted mean frequency of the loss relative to the band's centre: frequency_code / 128
   // octaves, in [-127, 127] (-128 is invalid).
   std::int8_t frequency_code;
+  // Energy-weighted mean angle of the loss's frequency vector from the orientation's centre:
+  // orientation_code / 128 orientation spacings, in [-127, 127] (-128 is invalid).
+  std::int8_t orientation_code;
 };
-static_assert(sizeof(ProfileDetail) == 2, "ProfileDetail is part of the file format");
-// Decoded area [fraction of the diameter squared] and frequency offset [octaves].
+static_assert(sizeof(ProfileDetail) == 3, "ProfileDetail is part of the file format");
+// Decoded area [fraction of the diameter squared], frequency offset [octaves] and turn.
 inline float detail_area(ProfileDetail d) { return std::exp2(-0.125f * float(d.area_code)); }
 inline float detail_frequency_octaves(ProfileDetail d) { return float(d.frequency_code) / 128.0f; }
+inline float detail_turn(ProfileDetail d) {
+  return float(d.orientation_code) / 128.0f;
+}  // [orientation spacings]
 
 static_assert(sizeof(ProfileMeta) == 48 && offsetof(ProfileMeta, lookup_resolution) == 16 &&
                   offsetof(ProfileMeta, snapshot_pixels) == 20 && offsetof(ProfileMeta, sphere) == 24 &&

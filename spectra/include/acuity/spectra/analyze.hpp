@@ -56,11 +56,13 @@ class LostContrast {
   // offset, when given, receives the energy-weighted mean of log2 of the frequency of each band's
   // filtered loss, minus log2 of the band's centre [octaves] (0 where nothing is lost): a grating
   // half-way between two centres reads +-1/2 of the spacing, where the filter passes 0.71 of it.
+  // turn, when given, receives the same mean of the frequency vector's angle from the orientation's
+  // centre, in orientation spacings (a grating half-way between two orientations: +-1/2).
   void measure(const Image& level, const Reference& reference, float* out, float* area = nullptr,
-               float* offset = nullptr) const;
-  // The same in one call (area, offset: as above, [T * B], when given).
+               float* offset = nullptr, float* turn = nullptr) const;
+  // The same in one call (area, offset, turn: as above, [T * B], when given).
   std::vector<float> measure(const Image& level, const Image& reference, std::vector<float>* area = nullptr,
-                             std::vector<float>* offset = nullptr) const;
+                             std::vector<float>* offset = nullptr, std::vector<float>* turn = nullptr) const;
 
  private:
   struct Plans;
@@ -68,6 +70,7 @@ class LostContrast {
   AnalysisSettings settings_;
   std::vector<float> bands_;
   std::vector<std::uint32_t> crop_;  // per band: the size of the cropped inverse FFT
+  float spacing_;                    // between orientations [deg]
   std::unique_ptr<Plans> plans_;
 };
 

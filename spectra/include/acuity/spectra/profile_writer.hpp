@@ -33,8 +33,9 @@ struct InvalidProfile : std::invalid_argument {
 ProfileView make_view(float x, float y, float z);
 
 // A Detail entry from an area [fraction of the diameter squared] (rounded up: the code never
-// under-states the area) and a frequency offset [octaves] (rounded to 1/128, clamped to +-127/128).
-ProfileDetail encode_detail(float area, float offset_octaves);
+// under-states the area), a frequency offset [octaves] and a turn [orientation spacings] (each
+// rounded to 1/128 and clamped to +-127/128).
+ProfileDetail encode_detail(float area, float offset_octaves, float turn = 0.0f);
 
 // Encodes data as a version-kProfileVersion blob (8-byte aligned sizes, checksummed). Throws
 // InvalidProfile naming the first inconsistency; the result always passes open_profile().
