@@ -113,6 +113,8 @@ FIGURES = [
            measured=True),
     Figure("chain-step", "lodgen.md",
            lambda b: [PY, os.path.join(ROOT, "scripts", "chain_step.py"), b], measured=True),
+    Figure("calibration", "spectra.md",
+           lambda b: [PY, os.path.join(ROOT, "scripts", "calibration.py")], measured=False, slow=True),
     Figure("profile-bench", "spectra.md",
            lambda b: [os.path.join(b, "bench", "bench_profile"), meshes(b), "48"], measured=True),
 ]

@@ -273,6 +273,20 @@ TEST(Formula, StelaCsfThresholdModel) {
 
 // Luminance is clamped to the fit's range [0.001, 10000] cd/m^2; area 0 is invisible, +inf the
 // critical-area limit; signs are ignored; NaN parameters give NaN.
+// The area term the scheduler adds per band from a profile's Detail: exactly stelaCSF's own.
+TEST(Formula, StelaAreaPenaltyIsTheModelsAreaTerm) {
+  for (double rho : {0.5, 2.0, 8.0, 24.0})
+    for (double area : {0.01, 0.3, 5.0, 400.0})
+      for (double omega : {0.0, 6.0})
+        EXPECT_NEAR(std::log(stela_csf(rho, omega, 50.0, kInf, 3.0) / stela_csf(rho, omega, 50.0, area, 3.0)),
+                    stela_log_area_penalty(rho, area), 1e-12)
+            << rho << " " << area << " " << omega;
+  EXPECT_EQ(stela_log_area_penalty(4.0, kInf), 0.0);
+  EXPECT_EQ(stela_log_area_penalty(4.0, 0.0), kInf);
+  EXPECT_TRUE(std::isnan(stela_log_area_penalty(std::nan(""), 1.0)));
+  EXPECT_GT(stela_log_area_penalty(1.0f, 0.5f), stela_log_area_penalty(1.0f, 2.0f));  // float too
+}
+
 TEST(HardCases, StelaCsfParameterEdges) {
   auto ct = [](double luminance, double area, double f = 4, double e = 0, double v = 0) {
     ModelParams p;

@@ -53,6 +53,65 @@ TEST(Profile, RoundTrip) {
   EXPECT_EQ(p.feature_frequency(3, 5, 2), d.features[(3 * 6 + 5) * 4 + 2]);
 }
 
+// The optional Detail section (issue 47): written only when given, read back exactly, absent for
+// older writers' profiles, and a damaged one rejected with a message naming it.
+TEST(Profile, DetailSectionIsOptionalAndChecked) {
+  spectra::ProfileData d = small_profile();
+  Profile p;
+  ProfileError e;
+  const Blob without = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(without.data(), without.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.detail, nullptr);
+  for (std::size_t i = 0; i < d.lost.size(); ++i)
+    d.detail.push_back(
+        spectra::encode_detail(std::ldexp(1.0f, -int(i % 20)), 0.01f * float(int(i % 90) - 45)));
+  Blob with = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(with.data(), with.size, &p, &e), ProfileStatus::Ok) << e.message;
+  ASSERT_NE(p.detail, nullptr);
+  for (std::size_t i = 0; i < d.lost.size(); ++i) {
+    EXPECT_EQ(detail_area(p.detail[i]), std::ldexp(1.0f, -int(i % 20)));  // powers of 2^(1/8) are exact
+    EXPECT_NEAR(detail_frequency_octaves(p.detail[i]), 0.01f * float(int(i % 90) - 45), 0.5f / 128);
+  }
+  EXPECT_EQ(with.size, without.size + sizeof(ProfileSectionEntry) + (d.lost.size() * 3 + 7) / 8 * 8);
+  // Areas round up (never under-stating it), and decode within 2^(1/8) above; offsets clamp.
+  for (float a : {0.3f, 0.01f, 1e-6f, 1.0f}) {
+    const float back = detail_area(spectra::encode_detail(a, 0));
+    EXPECT_GE(back, a);
+    EXPECT_LE(back, a * std::exp2(0.125f) * 1.0001f);
+  }
+  EXPECT_EQ(spectra::encode_detail(0.0f, 5.0f).area_code, 255);
+  EXPECT_EQ(spectra::encode_detail(0.5f, 5.0f).frequency_code, 127);
+  EXPECT_EQ(spectra::encode_detail(0.5f, -5.0f).frequency_code, -127);
+  EXPECT_EQ(spectra::encode_detail(0.5f, 0.0f, -0.25f).orientation_code, -32);
+  EXPECT_EQ(detail_turn(spectra::encode_detail(0.5f, 0.0f, 0.5f)), 0.5f);
+  {  // an invalid frequency code
+    Blob b = with;
+    const std::int8_t bad = -128;
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Detail) + 3 * 7 + 2, &bad, 1);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
+    EXPECT_NE(std::string(e.message).find("Detail: entry 7 has a code -128"), std::string::npos) << e.message;
+  }
+  {  // a section of the wrong size: the table's entry shrunk by 8 bytes
+    Blob b = with;
+    ProfileHeader h;
+    std::memcpy(&h, bytes(b), sizeof h);
+    for (std::uint32_t i = 0; i < h.section_count; ++i) {
+      ProfileSectionEntry s;
+      unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
+      std::memcpy(&s, at, sizeof s);
+      if (s.id != static_cast<std::uint32_t>(ProfileSection::Detail)) continue;
+      s.size -= 8;
+      std::memcpy(at, &s, sizeof s);
+    }
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadSize);
+    EXPECT_NE(std::string(e.message).find("section Detail"), std::string::npos) << e.message;
+  }
+  d.detail.pop_back();  // the writer wants none or one per lost value
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+}
+
 TEST(Profile, LookupFindsTheNearestView) {
   const spectra::ProfileData d = small_profile(2, 18);
   const Blob blob = spectra::encode_profile(d);

@@ -11,6 +11,7 @@
 #include <memory>
 #include <new>
 #include <random>
+#include <utility>
 
 #include "acuity/scheduler.hpp"
 #include "acuity/spectra/profile_writer.hpp"
@@ -997,6 +998,66 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
   }
   EXPECT_LE(ex.levels[ex.level].score, 1.0f);
 }
+
+// A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
+// less the band filter's shortfall; the other models ignore it.
+// Offset 0 takes the path that reuses the band centre's thresholds.
+// Params: frequency offset [octaves], turn [orientation spacings].
+class SchedulerDetail : public ::testing::TestWithParam<std::pair<float, float>> {};
+
+TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
+  const TestProfile plain;
+  TestProfile detailed;
+  const float area = 0.02f, offset = GetParam().first,
+              turn = GetParam().second;  // offsets exact in the code (n / 128); the area rounds up
+  for (std::size_t i = 0; i < detailed.data.lost.size(); ++i)
+    detailed.data.detail.push_back(spectra::encode_detail(area, offset, turn));
+  detailed.blob = spectra::encode_profile(detailed.data);
+  ASSERT_EQ(open_profile(detailed.blob.data(), detailed.blob.size, &detailed.profile), ProfileStatus::Ok);
+  ASSERT_NE(detailed.profile.detail, nullptr);
+  const float decoded_area = detail_area(detailed.profile.detail[0]);
+  EXPECT_GE(decoded_area, area);
+  for (const ThresholdModel model : {ThresholdModel::StelaCsf, ThresholdModel::Default}) {
+    float scores[2][kMaxLevels];
+    ObjectExplain ex[2];
+    for (int with = 0; with < 2; ++with) {
+      SchedulerConfig c;
+      c.max_objects = 2;
+      c.keep_scores = true;
+      c.model = model;
+      c.gaze_uncertainty_deg = 0;
+      c.evaluation = Evaluation::Exact;
+      Scheduler s(c);
+      const ObjectId id = s.add_object(s.add_profile(with ? detailed.profile : plain.profile), at(1, 0, -12));
+      Frame f = looking_forward();
+      gaze_at(f, 0, 0, -1);
+      s.run_frame(f);
+      ASSERT_TRUE(s.explain(id, &ex[with]));
+      std::copy_n(s.scores(id), kMaxLevels, scores[with]);
+    }
+    for (int k = 1; k < 6; ++k) {
+      if (model != ThresholdModel::StelaCsf) {
+        EXPECT_EQ(scores[0][k], scores[1][k]) << k;
+        continue;
+      }
+      // The limiting component's threshold, computed here from the model's functions.
+      const LevelExplain& le = ex[1].levels[k];
+      const float f = le.frequency_cpd * std::exp2(offset);  // explain names the band's centre
+      const float d = ex[1].angular_diameter_deg;
+      const double expected = std::exp(
+          log_threshold<double>(f, ex[1].eccentricity_deg, 0.15, model, ModelParams{}) +
+          stela_log_area_penalty<double>(f, decoded_area * d * d) + std::log(std::cos(0.5 * kPi * offset)) +
+          std::log(std::cos(0.5 * kPi * std::min(std::abs(turn), 0.5f))));
+      EXPECT_NEAR(le.threshold / expected, 1.0, 1e-3) << k;
+      const float lost = detailed.profile.lost_contrast(k, ex[1].view, le.orientation, le.band);
+      EXPECT_NEAR(lost / le.threshold, le.score, 1e-3f * le.score) << k;
+      EXPECT_NE(scores[0][k], scores[1][k]) << k;
+    }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Offsets, SchedulerDetail,
+                         ::testing::Values(std::pair{0.375f, 0.0f}, std::pair{0.0f, 0.0f},
+                                           std::pair{-0.5f, 0.25f}, std::pair{0.0f, -0.75f}));
 
 TEST(SchedulerReddy, FeaturesAgainstTheCutoff) {
   // Smallest features: level j's are 256 / 2^j cycles per diameter (plus 10 or 20% at some

@@ -70,6 +70,65 @@ TEST(LostContrast, GratingsAtBandCentres) {
   }
 }
 
+// The Detail a profile keeps (issue 47): a Gabor patch's loss covers pi sigma^2 (stelaCSF's area of
+// the patch) in its band, and a grating between two band centres reads its own frequency in both.
+TEST(LostContrast, AreaAndFrequencyOfTheLoss) {
+  const LostContrast analyzer(N, AnalysisSettings{});
+  const auto& bands = analyzer.bands();
+  const Image reference = constant(0.5f);
+  {  // Gabor: 32 cycles across, sigma = N / 6
+    Image im = constant(0.5f);
+    const double sigma = N / 6.0;
+    for (std::uint32_t r = 0; r < N; ++r)
+      for (std::uint32_t c = 0; c < N; ++c) {
+        const double x = c + 0.5 - N / 2.0, y = r + 0.5 - N / 2.0;
+        im.pixels[std::size_t(r) * N + c] =
+            float(0.5 * (1 + 0.01 * std::exp(-(x * x + y * y) / (2 * sigma * sigma)) *
+                                 std::cos(2 * kPi * 32 * x / N)));
+      }
+    std::vector<float> area, offset;
+    const std::vector<float> lost = analyzer.measure(im, reference, &area, &offset);
+    const int b = band_of(bands, 32);
+    EXPECT_NEAR(lost[b], 0.01f, 0.0005f);
+    EXPECT_NEAR(area[b], kPi / 36.0, 0.03 * kPi / 36.0);  // pi sigma^2 / D^2
+    EXPECT_NEAR(offset[b], 0.0f, 0.02f);
+    for (std::size_t i = 0; i < area.size(); ++i) {
+      EXPECT_GE(area[i], 0.0f);
+      EXPECT_LE(area[i], 1.0f);
+    }
+  }
+  {  // a grating at 8 sqrt 2 cycles: half-way between the bands at 8 and 16, read at its frequency
+    const float contrast = 0.2f;
+    const int u = 11;  // 11 cycles across: log2(11 / 8) = 0.46 octaves above 8
+    std::vector<float> area, offset;
+    const std::vector<float> lost = analyzer.measure(grating(u, 0, contrast), reference, &area, &offset);
+    for (const float centre : {8.0f, 16.0f}) {
+      const int b = band_of(bands, centre);
+      EXPECT_NEAR(offset[b], std::log2(11.0f / centre), 0.01f) << centre;
+      // the filter passes cos(pi/2 d) of it, d the offset in band spacings
+      EXPECT_NEAR(lost[b], contrast * std::cos(0.5 * kPi * std::abs(std::log2(11.0 / centre))), 0.01f)
+          << centre;
+      EXPECT_NEAR(area[b], 1.0f, 0.02f);  // a grating fills the image
+    }
+  }
+  {  // a grating near half-way between orientations 0 and 1 reads its angle in both: (31, 6) cycles
+     // across, 10.95 deg up from +x (0.487 orientation spacings), 31.6 cycles (at the band of 32)
+    const double angle = std::atan2(6.0, 31.0) * 180 / kPi / 22.5;
+    std::vector<float> area, offset, turn;
+    const std::vector<float> lost = analyzer.measure(grating(31, 6, 0.2f), reference, &area, &offset, &turn);
+    const std::size_t B = bands.size(), b = std::size_t(band_of(bands, 32));
+    EXPECT_NEAR(turn[0 * B + b], angle, 0.01);
+    EXPECT_NEAR(turn[1 * B + b], angle - 1, 0.01);
+    EXPECT_NEAR(offset[b], std::log2(std::hypot(31.0, 6.0) / 32), 0.01);
+    EXPECT_NEAR(lost[0 * B + b], 0.2 * std::cos(0.5 * kPi * angle) * std::cos(0.5 * kPi * offset[b]), 0.005);
+  }
+  {  // nothing lost: 0 everywhere
+    std::vector<float> area, offset, turn;
+    analyzer.measure(reference, reference, &area, &offset, &turn);
+    for (std::size_t i = 0; i < area.size(); ++i) EXPECT_EQ(area[i] + offset[i] + turn[i], 0.0f);
+  }
+}
+
 TEST(LostContrast, DiagonalGratingWithHalfOctaveBands) {
   AnalysisSettings s;
   s.bands_per_octave = 2;  // centres 2, 2.83, 4, 5.66, 8, 11.3, ...: 11.31 = |(8, 8)|

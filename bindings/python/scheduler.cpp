@@ -266,6 +266,23 @@ void bind_scheduler(py::module_ m) {
             return a;
           },
           "lost contrast, shape (levels - 1, views, orientations, bands); index 0 is level 1")
+      .def_property_readonly(
+          "detail",
+          [](const OwnedProfile& p) -> py::object {
+            const auto& m = p.view.meta;
+            if (!p.view.detail) return py::none();
+            const std::vector<py::ssize_t> shape{py::ssize_t(m.level_count - 1), py::ssize_t(m.view_count),
+                                                 py::ssize_t(m.orientation_count), py::ssize_t(m.band_count)};
+            py::array_t<float> area(shape), offset(shape), turn(shape);
+            for (py::ssize_t i = 0; i < area.size(); ++i) {
+              area.mutable_data()[i] = detail_area(p.view.detail[i]);
+              offset.mutable_data()[i] = detail_frequency_octaves(p.view.detail[i]);
+              turn.mutable_data()[i] = detail_turn(p.view.detail[i]);
+            }
+            return py::make_tuple(area, offset, turn);
+          },
+          "the optional Detail section decoded, (area [fraction of the diameter squared], frequency offset\n"
+          "[octaves], turn [orientation spacings]) shaped as lost, or None")
       .def("to_bytes", [](const OwnedProfile& p) {
         return py::bytes(static_cast<const char*>(p.blob.data()), p.blob.size);
       });

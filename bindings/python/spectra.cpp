@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <cmath>
 #include <cstring>
 
 #include "acuity/spectra/analyze.hpp"
@@ -23,7 +24,10 @@ using F32 = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using U32 = py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>;
 
 ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 view_directions,
-                         F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels) {
+                         F32 orientations, F32 bands, F32 lost, F32 features, std::uint32_t snapshot_pixels,
+                         const py::object& detail_area = py::none(),
+                         const py::object& detail_offset = py::none(),
+                         const py::object& detail_turn = py::none()) {
   spectra::ProfileData d;
   if (sphere.size() != 4) throw py::value_error("sphere: expected 4 values (centre xyz, radius)");
   std::memcpy(d.sphere, sphere.data(), 4 * sizeof(float));
@@ -42,6 +46,20 @@ ProfileData profile_data(F32 sphere, U32 triangles, F32 geometric_error, F32 vie
   d.bands.assign(bands.data(), bands.data() + bands.size());
   d.lost.assign(lost.data(), lost.data() + lost.size());
   d.features.assign(features.data(), features.data() + features.size());
+  if (detail_area.is_none() != detail_offset.is_none())
+    throw py::value_error("detail_area and detail_offset go together");
+  if (!detail_area.is_none()) {
+    const F32 a = detail_area.cast<F32>(), o = detail_offset.cast<F32>();
+    F32 u(lost.size());
+    if (detail_turn.is_none())
+      std::fill(u.mutable_data(), u.mutable_data() + u.size(), 0.0f);
+    else
+      u = detail_turn.cast<F32>();
+    if (a.size() != lost.size() || o.size() != lost.size() || u.size() != lost.size())
+      throw py::value_error("detail_area, detail_offset, detail_turn: one value per lost value expected");
+    for (py::ssize_t i = 0; i < a.size(); ++i)
+      d.detail.push_back(encode_detail(a.data()[i], o.data()[i], u.data()[i]));
+  }
   return d;
 }
 
@@ -75,8 +93,10 @@ Image to_image(const F32& a) {
   return im;
 }
 
-AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+AnalysisSettings analysis(std::uint32_t orientations, std::uint32_t bands, float bands_per_octave,
+                          float lowest_band = AnalysisSettings{}.lowest_band) {
   AnalysisSettings s;
+  s.lowest_band = lowest_band;
   s.orientations = orientations;
   s.bands = bands;
   s.bands_per_octave = bands_per_octave;
@@ -110,17 +130,34 @@ void bind_spectra(py::module_ m) {
 
   m.def(
       "lost_contrast",
-      [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave) {
+      [](F32 level, F32 reference, std::uint32_t orientations, std::uint32_t bands, float bands_per_octave,
+         bool with_detail, float lowest_band) -> py::tuple {
         const Image a = to_image(level), b = to_image(reference);
-        const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave));
-        const std::vector<float> v = analyzer.measure(a, b);
-        py::array_t<float> out({py::ssize_t(orientations), py::ssize_t(analyzer.band_count())});
-        std::memcpy(out.mutable_data(), v.data(), v.size() * sizeof(float));
-        return py::make_tuple(out, analyzer.bands());
+        if (!(lowest_band > 0) || !std::isfinite(lowest_band))
+          throw py::value_error("lowest_band: a positive number of cycles per image expected");
+        const LostContrast analyzer(a.width, analysis(orientations, bands, bands_per_octave, lowest_band));
+        std::vector<float> area, offset, turn;
+        const std::vector<float> v =
+            analyzer.measure(a, b, with_detail ? &area : nullptr, with_detail ? &offset : nullptr,
+                             with_detail ? &turn : nullptr);
+        auto array = [&](const std::vector<float>& x) {
+          py::array_t<float> out({py::ssize_t(orientations), py::ssize_t(analyzer.band_count())});
+          std::memcpy(out.mutable_data(), x.data(), x.size() * sizeof(float));
+          return out;
+        };
+        if (with_detail)
+          return py::make_tuple(array(v), analyzer.bands(), array(area), array(offset), array(turn));
+        return py::make_tuple(array(v), analyzer.bands());
       },
       "level"_a, "reference"_a, "orientations"_a = 8, "bands"_a = 0, "bands_per_octave"_a = 1.0f,
+      "with_detail"_a = false, "lowest_band"_a = AnalysisSettings{}.lowest_band,
       "Peli band-limited contrast lost by `level` against `reference` (square, power-of-two images):\n"
-      "(array [orientations, bands] of maxima over the image, band centres [cycles per image]).");
+      "(array [orientations, bands] of maxima over the image, band centres [cycles per image]); "
+      "with_detail:\n"
+      "also each band's extent of the loss (sum of c^2 / max c^2 as a fraction of the image) and its\n"
+      "frequency offset from the band's centre [octaves] and its angle from the orientation's centre\n"
+      "[orientation spacings], each [orientations, bands]. lowest_band: the\n"
+      "lowest band's centre [cycles per image] (2).");
 
   m.def(
       "reddy_features",
@@ -182,13 +219,23 @@ void bind_spectra(py::module_ m) {
   m.def(
       "encode_profile",
       [](F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations, F32 bands, F32 lost,
-         F32 features, std::uint32_t snapshot_pixels) {
-        const Blob b = spectra::encode_profile(profile_data(
-            sphere, triangles, geometric_error, views, orientations, bands, lost, features, snapshot_pixels));
+         F32 features, std::uint32_t snapshot_pixels, py::object detail_area, py::object detail_offset,
+         py::object detail_turn) {
+        const Blob b = spectra::encode_profile(
+            profile_data(sphere, triangles, geometric_error, views, orientations, bands, lost, features,
+                         snapshot_pixels, detail_area, detail_offset, detail_turn));
         return py::bytes(static_cast<const char*>(b.data()), b.size);
       },
       "sphere"_a, "triangles"_a, "geometric_error"_a, "view_directions"_a, "orientations"_a, "bands"_a,
-      "lost"_a, "features"_a, "snapshot_pixels"_a = 256, doc);
+      "lost"_a, "features"_a, "snapshot_pixels"_a = 256, "detail_area"_a = py::none(),
+      "detail_offset"_a = py::none(), "detail_turn"_a = py::none(),
+      (std::string(doc) + "\ndetail_area, detail_offset, detail_turn (optional, shaped as lost; detail_turn "
+                          "may be left out: 0):\n"
+                          "the Detail section, each loss's extent [fraction of the diameter squared], "
+                          "frequency offset from its\n"
+                          "band's centre [octaves] and angle from its orientation [spacings] "
+                          "(lost_contrast(..., with_detail=True)).")
+          .c_str());
   m.def(
       "write_profile",
       [](const std::string& path, F32 sphere, U32 triangles, F32 geometric_error, F32 views, F32 orientations,

@@ -2,6 +2,8 @@
 // the threshold model (Evaluation::Exact, explain(), and objects the tables do not cover).
 #include "tables.hpp"
 
+#include <numbers>
+
 namespace acuity {
 
 // One eye's view of one object (sight() and aim() done) through the configured rule, exactly.
@@ -73,6 +75,53 @@ std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Si
   return rows;
 }
 
+bool Scheduler::Impl::uses_detail(const Profile& p) const {
+  return p.detail && config_.rule == SelectionRule::Perceptual && config_.model == ThresholdModel::StelaCsf;
+}
+
+// StelaCsf on a profile with a Detail section: ln CT per (orientation, band) [T][B] of level k's loss
+// seen from `view`, at the loss's own frequency (the band's centre shifted by its offset) and its
+// own area (the smaller of the measured extent, times the squared angular diameter, and
+// ModelParams::area), less the analyzer's shortfall there: its radial and angular windows pass
+// cos(pi/2 d) of a grating d band (orientation) spacings off their centres, d clamped to 1/2 (at most
+// a factor sqrt 2 each). The Nyquist cut stays the band centre's, as without Detail. An entry at its
+// band's centre (frequency code 0, every entry of a cell-bounded profile) reuses exact_thresholds()'
+// ln CT there (`centre_ln_ct`, rows of `stride`).
+void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k,
+                                        std::uint32_t view, const float* centre_ln_ct, std::uint32_t stride,
+                                        float* ln_ct) const {
+  const Profile& p = pc.profile;
+  const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count;
+  const ProfileDetail* detail = &p.detail[((k - 1) * std::size_t(V) + view) * T * B];
+  const float inv_diam = 1.0f / s.diameter_deg, diam2 = s.diameter_deg * s.diameter_deg;
+  const float spacing = B > 1 ? std::log2(p.bands[1] / p.bands[0]) : 1.0f;  // [octaves]
+  const auto config_area = static_cast<float>(config_.params.area);
+  const StelaConstants& c = config_.params.stela;
+  const float floor_v = pre_->floor_velocity;
+  auto ln_pass = [](float d) {  // ln of the window's gain d spacings off its centre, d clamped to 1/2
+    return std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(d), 0.5f)));
+  };
+  for (std::uint32_t t = 0; t < T; ++t) {
+    const float v = s.moving ? std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor_v) : floor_v;
+    for (std::uint32_t b = 0; b < B; ++b) {
+      const ProfileDetail d = detail[t * B + b];
+      const float centre = p.bands[b] * inv_diam, offset = detail_frequency_octaves(d);
+      const float base = centre_ln_ct[t * stride + b];
+      if (base >= kInf) {  // above the display's Nyquist frequency
+        ln_ct[t * B + b] = kInf;
+        continue;
+      }
+      const float f = d.frequency_code ? centre * std::exp2(offset) : centre;
+      const float area = detail_area(d) * diam2;
+      const float penalty =
+          area < config_area ? stela_log_area_penalty(f, area, c) - stela_log_area_penalty(f, config_area, c)
+                             : 0.0f;
+      const float at_f = d.frequency_code ? log_threshold(f, s.e, v, config_.model, config_.params) : base;
+      ln_ct[t * B + b] = at_f + penalty + ln_pass(offset / spacing) + ln_pass(detail_turn(d));
+    }
+  }
+}
+
 // explain()'s pass over the same arithmetic: level k's score (ln_excess = ln(score)) and the component
 // that limits it, found again from choose_exact()'s thresholds (ln_ct, rows of `stride`).
 void Scheduler::Impl::explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k,
@@ -137,6 +186,8 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
   float ln_ct[kMaxOrientations * kMaxBands];
   const std::uint32_t rows = exact_thresholds(pc, s, ln_ct);
   const std::uint32_t stride = rows == 1 ? 0 : B;  // a static object's one row serves every orientation
+  const bool detail = uses_detail(p);              // StelaCsf with Detail: per level (detail_thresholds)
+  float ln_ct_detail[kMaxOrientations * kMaxBands];
 
   // ln(score_k q) = max over (t, b) of ln lost - ln CT. Levels are scanned from the coarsest; without
   // scores or explain, the scan stops at the first level that passes even the hysteresis margin.
@@ -165,6 +216,12 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
       const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
       for (std::uint32_t j = 0; j < blended; ++j) {
         const std::uint32_t w = blended == 1 ? view : cand[j];
+        if (detail) {  // thresholds per level, view and orientation: every orientation's own loss
+          detail_thresholds(pc, s, k, w, ln_ct, stride, ln_ct_detail);
+          m = std::max(
+              m, max_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B, B));
+          continue;
+        }
         m = std::max(m,
                      max_excess(&lost[((k - 1) * std::size_t(V) + w) * per_view], ln_ct, t_count, B, stride));
       }
@@ -175,7 +232,12 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
     }
     if (out.coarse == 0 && m <= ln_q_coarse) out.coarse = static_cast<std::uint8_t>(k);
     if (scores_out) scores_out[k] = std::exp(m - ln_q);
-    if (ex) explain_level(pc, view, k, ln_ct, stride, inv_diam, m - ln_q, &ex->levels[k]);
+    if (ex && detail) {
+      detail_thresholds(pc, s, k, view, ln_ct, stride, ln_ct_detail);
+      explain_level(pc, view, k, ln_ct_detail, B, inv_diam, m - ln_q, &ex->levels[k]);
+    } else if (ex) {
+      explain_level(pc, view, k, ln_ct, stride, inv_diam, m - ln_q, &ex->levels[k]);
+    }
     if (out.coarse != 0 && !all_levels) break;
   }
   if (ex) {

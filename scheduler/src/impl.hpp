@@ -65,6 +65,9 @@ struct Scheduler::Impl {
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
+  bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
+  void detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
+                         const float* centre_ln_ct, std::uint32_t stride, float* ln_ct) const;
   void explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
                      std::uint32_t stride, float inv_diam, float ln_excess, LevelExplain* out) const;
   struct Probe;   // tabulated path: one object's table position

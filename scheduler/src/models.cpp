@@ -338,6 +338,14 @@ T stela_max_visible_frequency(T log_c, T e, T v_retinal, const ModelParams& p) {
 }  // namespace
 
 template <class T>
+T stela_log_area_penalty(T rho, T area, const StelaConstants& c) {
+  if (std::isnan(rho) || std::isnan(area)) return kNaN<T>;
+  const T x = std::abs(rho) / T(c.f0);
+  const T critical = T(c.a0) / (T(1) + x * x);            // A_c [deg^2]
+  return T(0.5) * std::log1p(critical / std::abs(area));  // area 0: +inf; +inf: 0
+}
+
+template <class T>
 T stela_csf(T rho, T omega, T luminance, T area, T e, T vis_field, const StelaConstants& c) {
   if (!stela_inputs(&rho, &omega, &luminance, &area, &e) || std::isnan(vis_field)) return kNaN<T>;
   const T alpha = std::min(T(1), std::abs(vis_field - T(180)) / T(90));  // 1: temporal constants
@@ -507,6 +515,7 @@ const char* to_string(CsfFit fit) { return fit == CsfFit::Laird2006 ? "laird2006
   template T reddy_velocity<T>(T);                                                                \
   template T reddy_cutoff<T>(T, T);                                                               \
   template T stela_csf<T>(T, T, T, T, T, T, const StelaConstants&);                               \
+  template T stela_log_area_penalty<T>(T, T, const StelaConstants&);                              \
   template T mar<T>(T, T, T);                                                                     \
   template T log_threshold<T>(T, T, T, ThresholdModel, const ModelParams&);                       \
   template T threshold<T>(T, T, T, ThresholdModel, const ModelParams&);                           \

@@ -13,9 +13,10 @@ namespace acuity {
 namespace {
 
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
-constexpr std::uint32_t kSectionIds = 8;
+constexpr std::uint32_t kSectionIds = 9;
+constexpr std::uint32_t kRequiredSections = 8;  // ids 1..8; Detail (9) is optional
 const char* const kSectionNames[kSectionIds + 1] = {
-    "?", "Meta", "Levels", "Views", "Lookup", "Orientations", "Bands", "Lost", "Features"};
+    "?", "Meta", "Levels", "Views", "Lookup", "Orientations", "Bands", "Lost", "Features", "Detail"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -92,6 +93,11 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
     return fail(error, ProfileStatus::BadValue, "Lost: value %zu is negative or not finite", bad);
   if (!finite_nonnegative(p.features, K * V * T, &bad))
     return fail(error, ProfileStatus::BadValue, "Features: value %zu is negative or not finite", bad);
+  if (p.detail)
+    for (std::uint64_t i = 0; i < (K - 1) * V * T * B; ++i)
+      if (p.detail[i].frequency_code == -128 || p.detail[i].orientation_code == -128)
+        return fail(error, ProfileStatus::BadValue, "Detail: entry %llu has a code -128 (allowed -127..127)",
+                    static_cast<unsigned long long>(i));
   return ProfileStatus::Ok;
 }
 }  // namespace
@@ -150,7 +156,7 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
       found[s.id] = s;
     }
   }
-  for (std::uint32_t id = 1; id <= kSectionIds; ++id)
+  for (std::uint32_t id = 1; id <= kRequiredSections; ++id)
     if (!found[id].id)
       return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
 
@@ -195,6 +201,9 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
       !check_size(ProfileSection::Lost, (K - 1) * V * T * B * sizeof(float)) ||
       !check_size(ProfileSection::Features, K * V * T * sizeof(float)))
     return error ? error->status : ProfileStatus::BadSize;
+  const bool has_detail = found[static_cast<std::uint32_t>(ProfileSection::Detail)].id != 0;
+  if (has_detail && !check_size(ProfileSection::Detail, (K - 1) * V * T * B * sizeof(ProfileDetail)))
+    return error ? error->status : ProfileStatus::BadSize;
 
   p.levels = reinterpret_cast<const ProfileLevel*>(at(ProfileSection::Levels));
   p.views = reinterpret_cast<const ProfileView*>(at(ProfileSection::Views));
@@ -203,6 +212,7 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   p.bands = reinterpret_cast<const float*>(at(ProfileSection::Bands));
   p.lost = reinterpret_cast<const float*>(at(ProfileSection::Lost));
   p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
+  p.detail = has_detail ? reinterpret_cast<const ProfileDetail*>(at(ProfileSection::Detail)) : nullptr;
 
   const ProfileStatus values = check_values(p, error);
   if (values != ProfileStatus::Ok) return values;

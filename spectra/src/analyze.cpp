@@ -44,6 +44,8 @@ struct LostContrast::Plans {
   std::map<std::uint32_t, fftwf_plan> backward;  // m x m per crop size
   std::vector<std::vector<float>> band_filter;   // [b * T + t] on the crop grid: radial x angular x 2
   std::vector<std::vector<float>> lowpass;       // [b] on the crop grid
+  std::vector<std::vector<float>> log_offset;    // [b] log2(f / band centre) on the crop grid (0 at f = 0)
+  std::vector<std::vector<float>> angle;         // [b] the frequency vector's angle [deg] on the crop grid
   ~Plans() {
     std::lock_guard<std::mutex> lock(planner_mutex());
     if (forward) fftwf_destroy_plan(forward);
@@ -76,6 +78,7 @@ LostContrast::LostContrast(std::uint32_t pixels, const AnalysisSettings& setting
     : n_(pixels),
       settings_(settings),
       bands_(band_centres(pixels, settings)),
+      spacing_(180.0f / float(std::max(1u, settings.orientations))),
       plans_(std::make_unique<Plans>()) {
   if (n_ < 8 || (n_ & (n_ - 1)) != 0)
     throw std::invalid_argument("analysis needs a power-of-two image size >= 8");
@@ -102,18 +105,22 @@ LostContrast::LostContrast(std::uint32_t pixels, const AnalysisSettings& setting
   for (std::size_t b = 0; b < bands_.size(); ++b) {
     const std::uint32_t m = crop_[b];
     const float log_fb = std::log2(bands_[b]);
-    std::vector<float> radial(std::size_t(m) * m), angle(std::size_t(m) * m), low(std::size_t(m) * m);
+    std::vector<float> radial(std::size_t(m) * m), angle(std::size_t(m) * m), low(std::size_t(m) * m),
+        offset(std::size_t(m) * m);
     for (std::uint32_t ky = 0; ky < m; ++ky)
       for (std::uint32_t kx = 0; kx < m; ++kx) {
         const float u = float(signed_frequency(kx, m)), v = float(signed_frequency(ky, m));
         const float f = std::sqrt(u * u + v * v);
         const std::size_t i = std::size_t(ky) * m + kx;
         const float d = f > 0 ? (std::log2(f) - log_fb) / width : -1e9f;  // in band spacings
+        offset[i] = f > 0 ? std::log2(f) - log_fb : 0.0f;
         radial[i] = std::abs(d) < 1.0f ? std::cos(0.5f * kPi * d) : 0.0f;
         low[i] = d <= -1.0f ? 1.0f : (d < 0.0f ? std::pow(std::cos(0.5f * kPi * (d + 1.0f)), 2.0f) : 0.0f);
         angle[i] = std::atan2(-v, u) * 180.0f / kPi;  // image y runs down; orientation is measured upwards
       }
     plans_->lowpass.push_back(std::move(low));
+    plans_->log_offset.push_back(std::move(offset));
+    plans_->angle.push_back(angle);
     for (std::uint32_t t = 0; t < T; ++t) {
       std::vector<float> h(std::size_t(m) * m);
       for (std::size_t i = 0; i < h.size(); ++i) {
@@ -177,7 +184,8 @@ std::shared_ptr<const LostContrast::Reference> LostContrast::prepare(const Image
   return ref;
 }
 
-void LostContrast::measure(const Image& level, const Reference& ref, float* result) const {
+void LostContrast::measure(const Image& level, const Reference& ref, float* result, float* area,
+                           float* offset, float* turn) const {
   Buffer diff(std::size_t(n_) * n_);
   forward(plans_->forward, level, n_, diff);
   for (std::size_t i = 0; i < diff.n; ++i) {  // linearity: FFT(level - reference)
@@ -192,18 +200,46 @@ void LostContrast::measure(const Image& level, const Reference& ref, float* resu
     const std::vector<float>& mean = ref.mean[b];
     for (std::uint32_t t = 0; t < T; ++t) {
       crop(diff, n_, m, plans_->band_filter[std::size_t(b) * T + t], in);
+      if (offset || turn) {  // the filtered spectrum's energy-weighted mean position (`in`)
+        double power = 0, weighted = 0, turned = 0;
+        const std::vector<float>& lo = plans_->log_offset[b];
+        const std::vector<float>& angle = plans_->angle[b];
+        const float centre = spacing_ * float(t);
+        for (std::size_t i = 0; i < lo.size(); ++i) {
+          const double p = double(in.p[i][0]) * in.p[i][0] + double(in.p[i][1]) * in.p[i][1];
+          if (p == 0) continue;
+          float delta = angle[i] - centre;
+          delta -= 360.0f * std::round(delta / 360.0f);
+          power += p;
+          weighted += p * lo[i];
+          turned += p * delta;
+        }
+        if (offset) offset[std::size_t(t) * B + b] = power > 0 ? float(weighted / power) : 0.0f;
+        if (turn) turn[std::size_t(t) * B + b] = power > 0 ? float(turned / power) / spacing_ : 0.0f;
+      }
       fftwf_execute_dft(plans_->backward.at(m), in.p, out.p);
       float best = 0;
-      for (std::size_t i = 0; i < mean.size(); ++i)
-        best = std::max(best, std::hypot(out.p[i][0], out.p[i][1]) * norm / mean[i]);
+      double energy = 0;
+      for (std::size_t i = 0; i < mean.size(); ++i) {
+        const float c = std::hypot(out.p[i][0], out.p[i][1]) * norm / mean[i];
+        best = std::max(best, c);
+        energy += double(c) * c;
+      }
       result[std::size_t(t) * B + b] = best;
+      if (area)
+        area[std::size_t(t) * B + b] =
+            best > 0 ? float(std::min(1.0, energy / (double(best) * best) / double(mean.size()))) : 0.0f;
     }
   }
 }
 
-std::vector<float> LostContrast::measure(const Image& level, const Image& reference) const {
+std::vector<float> LostContrast::measure(const Image& level, const Image& reference, std::vector<float>* area,
+                                         std::vector<float>* offset, std::vector<float>* turn) const {
   std::vector<float> out(std::size_t(settings_.orientations) * band_count());
-  measure(level, *prepare(reference), out.data());
+  for (std::vector<float>* v : {area, offset, turn})
+    if (v) v->assign(out.size(), 0.0f);
+  measure(level, *prepare(reference), out.data(), area ? area->data() : nullptr,
+          offset ? offset->data() : nullptr, turn ? turn->data() : nullptr);
   return out;
 }
 

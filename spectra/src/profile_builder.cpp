@@ -79,12 +79,16 @@ ViewMeasurement ProfileMeasurer::measure(const ProfileView& view, bool features)
   const std::size_t K = levels_.size(), T = analyzer_.orientation_count(), B = analyzer_.band_count();
   ViewMeasurement m;
   m.lost.assign((K - 1) * T * B, 0.0f);
+  m.area.assign((K - 1) * T * B, 0.0f);
+  m.offset.assign((K - 1) * T * B, 0.0f);
+  m.turn.assign((K - 1) * T * B, 0.0f);
   const Image reference = render_snapshot(levels_[0].mesh, material_, view, render_);
   if (features) m.features = reddy_features(reference, analysis_);
   const auto prepared = analyzer_.prepare(reference);
   for (std::size_t k = 1; k < K; ++k) {
     const Image image = render_snapshot(levels_[k].mesh, material_, view, render_);
-    analyzer_.measure(image, *prepared, &m.lost[(k - 1) * T * B]);
+    analyzer_.measure(image, *prepared, &m.lost[(k - 1) * T * B], &m.area[(k - 1) * T * B],
+                      &m.offset[(k - 1) * T * B], &m.turn[(k - 1) * T * B]);
     m.switching.push_back(switching_angle(&m.lost[(k - 1) * T * B], T, analyzer_.bands()));
     if (!features) continue;
     const std::vector<float> f = reddy_features(image, analysis_);
@@ -251,6 +255,28 @@ struct BoundState {
   std::vector<std::vector<float>> lost;           // per kept view: [(K-1) T B]
   std::vector<std::vector<float>> switching;      // per kept view: [K-1]
 };
+
+// The Detail entries of kept view v ([(K-1) T B]). Its own measurement's area and frequency; with
+// cell bounds the bound's loss may come from a member measured elsewhere, so the area is the largest
+// over the view and every member (each member's over all its orientations: their frames differ by a
+// roll) and the frequency and orientation are the centres' (offset and turn 0), as without the section.
+std::vector<ProfileDetail> view_detail(const std::vector<ViewMeasurement>& data, std::size_t v,
+                                       const std::vector<std::size_t>* members, std::size_t T,
+                                       std::size_t B) {
+  const ViewMeasurement& own = data[v];
+  std::vector<ProfileDetail> out(own.lost.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    float area = own.area[i];
+    if (members)
+      for (std::size_t s : *members)
+        if (s != v) {
+          const std::size_t kb = i / (T * B) * T * B + i % B;  // level k, band b, orientation 0
+          for (std::size_t t = 0; t < T; ++t) area = std::max(area, data[s].area[kb + t * B]);
+        }
+    out[i] = members ? encode_detail(area, 0.0f, 0.0f) : encode_detail(area, own.offset[i], own.turn[i]);
+  }
+  return out;
+}
 
 BoundState bound_state(const std::vector<ProfileView>& views, const std::vector<ViewMeasurement>& data,
                        const std::vector<std::size_t>& kept, const std::vector<float>& bands, std::size_t T) {
@@ -424,12 +450,17 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
   const std::size_t K = levels.size(), B = out.bands.size();
   out.lost.resize((K - 1) * kept.size() * T * B);
   out.features.resize(K * kept.size() * T);
+  out.detail.resize(out.lost.size());
   for (std::size_t j = 0; j < kept.size(); ++j) {
     const ViewMeasurement& m = data[kept[j]];
     const std::vector<float>& lost = settings.bound_cells ? bound.lost[j] : m.lost;
+    const std::vector<ProfileDetail> detail =
+        view_detail(data, kept[j], settings.bound_cells ? &bound.members[j] : nullptr, T, B);
     out.views.push_back(views[kept[j]]);
-    for (std::size_t k = 1; k < K; ++k)
+    for (std::size_t k = 1; k < K; ++k) {
       std::copy_n(&lost[(k - 1) * T * B], T * B, &out.lost[((k - 1) * kept.size() + j) * T * B]);
+      std::copy_n(&detail[(k - 1) * T * B], T * B, &out.detail[((k - 1) * kept.size() + j) * T * B]);
+    }
     for (std::size_t k = 0; k < K; ++k)
       std::copy_n(&m.features[k * T], T, &out.features[(k * kept.size() + j) * T]);
   }

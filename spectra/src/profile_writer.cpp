@@ -66,6 +66,20 @@ ProfileView make_view(float x, float y, float z) {
   return v;
 }
 
+ProfileDetail encode_detail(float area, float offset_octaves, float turn) {
+  ProfileDetail d;
+  // 2^(-code / 8) >= area: the code is floor(-8 log2 area), clamped (NaN or 0: nothing lost, 255).
+  const float code = area > 0 ? std::floor(-8.0f * std::log2(area)) : 255.0f;
+  d.area_code = static_cast<std::uint8_t>(std::clamp(code == code ? code : 255.0f, 0.0f, 255.0f));
+  auto signed_code = [](float x) {
+    const float c = std::round(128.0f * x);
+    return static_cast<std::int8_t>(std::clamp(c == c ? c : 0.0f, -127.0f, 127.0f));
+  };
+  d.frequency_code = signed_code(offset_octaves);
+  d.orientation_code = signed_code(turn);
+  return d;
+}
+
 Blob encode_profile(const ProfileData& data) {
   const std::size_t K = data.levels.size(), V = data.views.size(), T = data.orientations.size(),
                     B = data.bands.size();
@@ -80,6 +94,12 @@ Blob encode_profile(const ProfileData& data) {
               " values, expected (K-1) V T B = " + std::to_string((K - 1) * V * T * B));
   require(data.features.size() == K * V * T, "features has " + std::to_string(data.features.size()) +
                                                  " values, expected K V T = " + std::to_string(K * V * T));
+  require(data.detail.empty() || data.detail.size() == data.lost.size(),
+          "detail has " + std::to_string(data.detail.size()) +
+              " entries, expected none or one per lost value (" + std::to_string(data.lost.size()) + ")");
+  for (const ProfileDetail& d : data.detail)
+    require(d.frequency_code != -128 && d.orientation_code != -128,
+            "detail: a code -128 is invalid (-127..127)");
   std::uint32_t r = data.lookup_resolution;
   if (r == 0)
     r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
@@ -96,10 +116,10 @@ Blob encode_profile(const ProfileData& data) {
   const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
 
   // Header and table are written last, once the offsets are known.
-  constexpr std::size_t kSections = 8;
-  constexpr std::size_t kTableEnd = sizeof(ProfileHeader) + kSections * sizeof(ProfileSectionEntry);
-  std::vector<unsigned char> body(kTableEnd, 0);
-  ProfileSectionEntry table[kSections] = {};
+  const std::size_t section_count = data.detail.empty() ? 8 : 9;
+  const std::size_t table_end = sizeof(ProfileHeader) + section_count * sizeof(ProfileSectionEntry);
+  std::vector<unsigned char> body(table_end, 0);
+  ProfileSectionEntry table[9] = {};
   std::size_t n = 0;
   auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
     const std::size_t offset = body.size();
@@ -114,11 +134,12 @@ Blob encode_profile(const ProfileData& data) {
   section(ProfileSection::Bands, data.bands.data(), B);
   section(ProfileSection::Lost, data.lost.data(), data.lost.size());
   section(ProfileSection::Features, data.features.data(), data.features.size());
+  if (!data.detail.empty()) section(ProfileSection::Detail, data.detail.data(), data.detail.size());
 
   ProfileHeader header{
-      kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(kSections), 0, 0};
+      kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(section_count), 0, 0};
   std::memcpy(&body[0], &header, sizeof header);
-  std::memcpy(&body[sizeof header], table, sizeof table);
+  std::memcpy(&body[sizeof header], table, section_count * sizeof(ProfileSectionEntry));
   header.checksum = profile_checksum(body.data(), body.size());
   std::memcpy(&body[0], &header, sizeof header);
 

@@ -93,6 +93,7 @@ ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSe
   out.bands = analyzer.bands();
   const std::size_t T = out.orientations.size(), B = out.bands.size(), V = j["views"].size();
   out.lost.assign((K - 1) * V * T * B, 0.0f);
+  out.detail.assign((K - 1) * V * T * B, ProfileDetail{255, 0, 0});
   out.features.assign(K * V * T, 0.0f);
   for (std::size_t v = 0; v < V; ++v) {
     const auto& view = j["views"][v];
@@ -127,7 +128,13 @@ ProfileData profile_from_snapshots(const std::string& manifest, const AnalysisSe
     }
     const auto reference = analyzer.prepare(images[0]);
     for (std::size_t k = 0; k < K; ++k) {
-      if (k > 0) analyzer.measure(images[k], *reference, &out.lost[((k - 1) * V + v) * T * B]);
+      if (k > 0) {
+        const std::size_t at = ((k - 1) * V + v) * T * B;
+        std::vector<float> area(T * B), offset(T * B), turn(T * B);
+        analyzer.measure(images[k], *reference, &out.lost[at], area.data(), offset.data(), turn.data());
+        for (std::size_t i = 0; i < T * B; ++i)
+          out.detail[at + i] = encode_detail(area[i], offset[i], turn[i]);
+      }
       const std::vector<float> f = reddy_features(images[k], settings);
       std::copy(f.begin(), f.end(), &out.features[(k * V + v) * T]);
     }

@@ -16,6 +16,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (std::uint32_t v = 0; v < p.meta.view_count; ++v)
         for (std::uint32_t t = 0; t < p.meta.orientation_count; ++t)
           for (std::uint32_t b = 0; b < p.meta.band_count; ++b) sum = sum + p.lost_contrast(k, v, t, b);
+    if (p.detail)  // the optional Detail section: one entry per lost value, each decodable
+      for (std::size_t i = 0; i < std::size_t(p.meta.level_count - 1) * p.meta.view_count *
+                                      p.meta.orientation_count * p.meta.band_count;
+           ++i)
+        sum = sum + acuity::detail_area(p.detail[i]) + acuity::detail_frequency_octaves(p.detail[i]) +
+              acuity::detail_turn(p.detail[i]);
   }
   return 0;
 }

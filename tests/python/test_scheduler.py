@@ -47,6 +47,26 @@ def test_profile_round_trip(tmp_path):
         acuity.Profile.load(str(tmp_path))
 
 
+def test_profile_detail_round_trip():
+    """The optional Detail section: absent unless given, decoded as written (areas rounded up)."""
+    assert acuity.Profile.from_bytes(make_profile()).detail is None
+    lost_shape = (4, 6, 8, 8)
+    area = np.full(lost_shape, 0.25, np.float32)
+    offset = np.full(lost_shape, -0.25, np.float32)
+    dirs = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float32)
+    data = acuity.spectra.encode_profile(
+        sphere=[0, 0, 0, 1], triangles=[10000 >> i for i in range(5)], geometric_error=[0.002 * i for i in range(5)],
+        view_directions=dirs, orientations=np.arange(8) * 22.5, bands=2.0 * 2.0 ** np.arange(8, dtype=np.float32),
+        lost=np.full(lost_shape, 0.01, np.float32), features=np.zeros((5, 6, 8), np.float32),
+        detail_area=area, detail_offset=offset)
+    a, o, t = acuity.Profile.from_bytes(data).detail
+    assert a.shape == lost_shape and np.all(a == 0.25) and np.all(o == -0.25) and np.all(t == 0)
+    with pytest.raises(ValueError, match="one value per lost value"):
+        acuity.spectra.encode_profile(
+            sphere=[0, 0, 0, 1], triangles=[2, 1], geometric_error=[0, 0.1], view_directions=dirs[:1],
+            orientations=[0], bands=[2], lost=[0.1], features=[0, 0], detail_area=[0.1, 0.2], detail_offset=[0, 0])
+
+
 def objects_in_a_row(z):
     """A scheduler of 64 slots with one object of make_profile() at each depth z [m] straight ahead."""
     config = acuity.SchedulerConfig()

@@ -162,6 +162,13 @@ template <class T>
 T stela_csf(T rho, T omega, T luminance, T area, T e = T(0), T vis_field = T(0),
             const StelaConstants& c = {});
 
+// stelaCSF's area term (Rovamo et al. 1993; both mechanisms share it): how much ln CT at rho [cpd]
+// rises for a stimulus of area [deg^2] over one of unbounded area, 0.5 ln(1 + A_c(rho) / area) >= 0
+// (0 at area +inf, +inf at area 0). ln CT(area) = ln CT(inf) + this, exactly; the scheduler adds it
+// per band from a profile's Detail section (the lost detail's own extent). NaN in -> NaN out.
+template <class T>
+T stela_log_area_penalty(T rho, T area, const StelaConstants& c = {});
+
 // ---- Minimum angle of resolution (Guenter et al. 2012, Eq. 1) ------------------------------------
 // MAR [deg per cycle] = slope e + omega0. Acuity frequency is 1 / MAR [cpd].
 template <class T>

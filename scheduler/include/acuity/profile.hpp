@@ -10,11 +10,12 @@
 //   ProfileSectionEntry  section_count x 24 bytes, right after the header
 //   sections             Meta, Levels, Views, Lookup, Orientations, Bands, Lost, Features (any order;
 //                        unknown ids are skipped so a newer writer may add sections without a
-//                        version bump)
+//                        version bump), and the optional Detail (issue 47: older readers skip it)
 // checksum: FNV-1a 64 over the whole blob with the checksum field read as zero.
 // Compatibility: a reader accepts versions <= its own and rejects newer ones (re-bake on upgrade).
 // tests/data/profile_v1.acuity is a version-1 profile that every later reader must still open
 // (tests/test_profile.cpp, ProfileGolden).
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -70,6 +71,7 @@ enum class ProfileSection : std::uint32_t {
   Bands = 6,
   Lost = 7,
   Features = 8,
+  Detail = 9,  // optional: the loss's extent and frequency within each band (ProfileDetail)
 };
 
 enum class ProfileStatus : std::uint8_t {
@@ -94,7 +96,8 @@ struct ProfileError {
 
 // Sections other than Meta are arrays; their element types and orders are those of Profile below:
 //   Levels ProfileLevel[K], Views ProfileView[V], Lookup u16[6 R R][kLookupCandidates],
-//   Orientations f32[T], Bands f32[B], Lost f32[(K-1) V T B], Features f32[K V T].
+//   Orientations f32[T], Bands f32[B], Lost f32[(K-1) V T B], Features f32[K V T],
+//   Detail (optional) ProfileDetail[(K-1) V T B].
 struct ProfileLevel {
   std::uint32_t triangles;  // cost of drawing this level
   float geometric_error;    // Hausdorff distance to level 0 [object diameters]
@@ -116,6 +119,31 @@ struct ProfileMeta {
   float sphere[4];                  // bounding sphere: centre xyz, radius [object units]
   std::uint32_t reserved[2];        // 0
 };
+// Section Detail (optional), one entry per Lost entry: where in the band and over how much of the
+// image the loss lies (acuity::spectra::LostContrast::measure's area and frequency), so a threshold
+// model can be evaluated at the loss's own frequency and area rather than the band's centre and an
+// unbounded area, and undo the band filter's shortfall where the loss lies off a band's or an
+// orientation's centre. 3 bytes; decode with detail_area(), detail_frequency_octaves() and
+// detail_turn().
+struct ProfileDetail {
+  // Extent of the loss (sum of c^2 / max c^2) as a fraction of the squared diameter: 2^(-area_code / 8),
+  // rounded up when written (255: 2^-31.9, nothing lost).
+  std::uint8_t area_code;
+  // Energy-weighted mean frequency of the loss relative to the band's centre: frequency_code / 128
+  // octaves, in [-127, 127] (-128 is invalid).
+  std::int8_t frequency_code;
+  // Energy-weighted mean angle of the loss's frequency vector from the orientation's centre:
+  // orientation_code / 128 orientation spacings, in [-127, 127] (-128 is invalid).
+  std::int8_t orientation_code;
+};
+static_assert(sizeof(ProfileDetail) == 3, "ProfileDetail is part of the file format");
+// Decoded area [fraction of the diameter squared], frequency offset [octaves] and turn.
+inline float detail_area(ProfileDetail d) { return std::exp2(-0.125f * float(d.area_code)); }
+inline float detail_frequency_octaves(ProfileDetail d) { return float(d.frequency_code) / 128.0f; }
+inline float detail_turn(ProfileDetail d) {
+  return float(d.orientation_code) / 128.0f;
+}  // [orientation spacings]
+
 static_assert(sizeof(ProfileMeta) == 48 && offsetof(ProfileMeta, lookup_resolution) == 16 &&
                   offsetof(ProfileMeta, snapshot_pixels) == 20 && offsetof(ProfileMeta, sphere) == 24 &&
                   offsetof(ProfileMeta, reserved) == 40,
@@ -135,6 +163,7 @@ struct Profile {
   const float* bands;           // [B] band centre frequencies [cycles per object diameter], increasing
   const float* lost;            // [(K-1) V T B] lost contrast of level k >= 1 against level 0
   const float* features;  // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
+  const ProfileDetail* detail = nullptr;  // [(K-1) V T B] as lost, or nullptr (the section is optional)
 
   // Lost contrast of level k (1 <= k < K) seen from view v, orientation t, band b.
   float lost_contrast(std::uint32_t k, std::uint32_t v, std::uint32_t t, std::uint32_t b) const {

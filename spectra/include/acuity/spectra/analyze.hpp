@@ -48,10 +48,21 @@ class LostContrast {
   struct Reference;
   std::shared_ptr<const Reference> prepare(const Image& reference) const;
   // out[t * B + b] = max over the image of the lost contrast. Thread-safe. Images must be
-  // pixels x pixels.
-  void measure(const Image& level, const Reference& reference, float* out) const;
-  // The same in one call.
-  std::vector<float> measure(const Image& level, const Image& reference) const;
+  // pixels x pixels. area, when given, receives the extent of each band's loss: sum over the image
+  // of c(x)^2 / max c^2, as a fraction of the image (the squared diameter), in [0, 1]; 0 where
+  // nothing is lost. For a Gabor patch of envelope exp(-r^2 / 2 sigma^2) whose spectrum lies within
+  // the band it is pi sigma^2 / D^2, stelaCSF's area of the patch; a band narrower than the
+  // stimulus's spectrum widens the envelope it sees, so the area errs large (towards sensitivity).
+  // offset, when given, receives the energy-weighted mean of log2 of the frequency of each band's
+  // filtered loss, minus log2 of the band's centre [octaves] (0 where nothing is lost): a grating
+  // half-way between two centres reads +-1/2 of the spacing, where the filter passes 0.71 of it.
+  // turn, when given, receives the same mean of the frequency vector's angle from the orientation's
+  // centre, in orientation spacings (a grating half-way between two orientations: +-1/2).
+  void measure(const Image& level, const Reference& reference, float* out, float* area = nullptr,
+               float* offset = nullptr, float* turn = nullptr) const;
+  // The same in one call (area, offset, turn: as above, [T * B], when given).
+  std::vector<float> measure(const Image& level, const Image& reference, std::vector<float>* area = nullptr,
+                             std::vector<float>* offset = nullptr, std::vector<float>* turn = nullptr) const;
 
  private:
   struct Plans;
@@ -59,6 +70,7 @@ class LostContrast {
   AnalysisSettings settings_;
   std::vector<float> bands_;
   std::vector<std::uint32_t> crop_;  // per band: the size of the cropped inverse FFT
+  float spacing_;                    // between orientations [deg]
   std::unique_ptr<Plans> plans_;
 };
 

@@ -20,6 +20,7 @@ struct ProfileData {
   std::vector<float> bands;             // [B] cycles per object diameter, increasing
   std::vector<float> lost;              // [(K-1) V T B]
   std::vector<float> features;          // [K V T]
+  std::vector<ProfileDetail> detail;    // [(K-1) V T B] as lost, or empty (the optional Detail section)
   std::uint32_t lookup_resolution = 0;  // cube-map cells per face edge; 0 picks one from V
 };
 
@@ -30,6 +31,11 @@ struct InvalidProfile : std::invalid_argument {
 // A view looking from `direction` (any length > 0, object space) with the canonical up: the
 // object's +Y made orthogonal to the direction, or +Z when looking along Y.
 ProfileView make_view(float x, float y, float z);
+
+// A Detail entry from an area [fraction of the diameter squared] (rounded up: the code never
+// under-states the area), a frequency offset [octaves] and a turn [orientation spacings] (each
+// rounded to 1/128 and clamped to +-127/128).
+ProfileDetail encode_detail(float area, float offset_octaves, float turn = 0.0f);
 
 // Encodes data as a version-kProfileVersion blob (8-byte aligned sizes, checksummed). Throws
 // InvalidProfile naming the first inconsistency; the result always passes open_profile().
