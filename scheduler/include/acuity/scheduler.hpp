@@ -335,7 +335,8 @@ class Scheduler {
   // root): the cut is crack-free (tests/test_cluster_cut.cpp).
   // Writes the drawn cluster ids to `drawn` (group order, then roots); `scratch` holds one byte per
   // group (the caller's: calls may run concurrently on separate scratch, between begin_frame and
-  // end_frame). Allocation-free, deterministic. Bad input falls back to the finest cut (CutStatus).
+  // end_frame); on return with CutStatus::Ok, scratch[g] & 4 is set exactly when group g is visible
+  // (its members, or finer, are drawn). Allocation-free, deterministic. Bad input falls back to the finest cut (CutStatus).
   // Not yet: hysteresis and saccade gating per group, the triangle budget over clusters, tabulated
   // thresholds, explain per cluster, the C ABI (issue 48 item 3).
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
