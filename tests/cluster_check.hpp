@@ -14,10 +14,10 @@
 #include "acuity/lodgen/mesh.hpp"
 
 namespace acuity::testing {
-using lodgen::ClusterHierarchy;
-using lodgen::Mesh;
-using lodgen::kNoGroup;
 using lodgen::Cluster;
+using lodgen::ClusterHierarchy;
+using lodgen::kNoGroup;
+using lodgen::Mesh;
 
 // One id per exact position, as build_clusters welds them.
 inline std::vector<std::uint32_t> welded(const Mesh& m) {
@@ -36,7 +36,8 @@ inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 }
 
 // A triangle as welded positions, rotated to start at its smallest (orientation kept).
-inline std::array<std::uint32_t, 3> welded_triangle(const std::vector<std::uint32_t>& id, const std::uint32_t* t) {
+inline std::array<std::uint32_t, 3> welded_triangle(const std::vector<std::uint32_t>& id,
+                                                    const std::uint32_t* t) {
   std::array<std::uint32_t, 3> p = {id[t[0]], id[t[1]], id[t[2]]};
   std::rotate(p.begin(), std::min_element(p.begin(), p.end()), p.end());
   return p;

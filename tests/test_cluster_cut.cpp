@@ -42,7 +42,8 @@ const float kBands[6] = {2, 4, 8, 16, 32, 64};
 std::vector<float> stand_in_loss(const Built& b, ClusterLoss* loss) {
   std::vector<float> lost;
   for (const ClusterGroup& g : b.h.groups)
-    for (int k = 0; k < 6; ++k) lost.push_back(float(std::min(1.0, g.error / b.diameter * std::ldexp(1.0, k - 4))));
+    for (int k = 0; k < 6; ++k)
+      lost.push_back(float(std::min(1.0, g.error / b.diameter * std::ldexp(1.0, k - 4))));
   loss->bands_cpod = kBands;
   loss->diameter = float(b.diameter);
   return lost;
@@ -114,9 +115,11 @@ TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
     t.scale = float(std::pow(10.0, u(rng) * 2 - 1));
     const double size = b.diameter * t.scale;
     std::array<double, 3> dir = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
-    const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12, dist = size * 0.3 * std::pow(10 / 0.3, u(rng));
+    const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12,
+                 dist = size * 0.3 * std::pow(10 / 0.3, u(rng));
     const std::array<double, 3> eye = {dir[0] / n * dist, dir[1] / n * dist, dir[2] / n * dist};
-    const std::array<double, 3> target = {(u(rng) - 0.5) * size, (u(rng) - 0.5) * size, (u(rng) - 0.5) * size};
+    const std::array<double, 3> target = {(u(rng) - 0.5) * size, (u(rng) - 0.5) * size,
+                                          (u(rng) - 0.5) * size};
     Scheduler s(exact(float(0.5 + 1.5 * u(rng))));
     s.begin_frame(frame_at(eye, target, float(u(rng) * 80 - 40), float(u(rng) * 80 - 40)));
     const float velocity[3] = {float(u(rng) < 0.33 ? size : 0.0), 0, 0};
@@ -134,9 +137,10 @@ TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
       finest_seen |= g == kNoGroup;
       if (g == kNoGroup) continue;
       levels_seen |= 1u << std::min(b.h.groups[g].level, 31u);
-      for (std::uint32_t m = b.h.groups[g].first_member; m < b.h.groups[g].first_member + b.h.groups[g].member_count;
-           ++m)
-        ASSERT_FALSE(is_drawn[m]) << "view " << view << " draws cluster " << k << " and " << m << " it replaces";
+      for (std::uint32_t m = b.h.groups[g].first_member;
+           m < b.h.groups[g].first_member + b.h.groups[g].member_count; ++m)
+        ASSERT_FALSE(is_drawn[m]) << "view " << view << " draws cluster " << k << " and " << m
+                                  << " it replaces";
     }
     for (std::uint32_t k : cut) is_drawn[k] = false;
     coarser += levels_seen != 0;
@@ -193,14 +197,16 @@ TEST_P(ClosedMesh, NearerOrCloserToTheGazeNeverCoarser) {
     for (std::size_t g = 0; g < far_state.size(); ++g)
       if (far_state[g] & 4) visible.push_back(std::uint32_t(g));
     if (visible.empty()) continue;
-    const ClusterGroup& g = b.h.groups[visible[std::size_t(u(rng) * double(visible.size())) % visible.size()]];
+    const ClusterGroup& g =
+        b.h.groups[visible[std::size_t(u(rng) * double(visible.size())) % visible.size()]];
     // The eye looks at the object's centre; the gaze turns onto the group's centre.
     const std::array<double, 3> eye = eye_at(dist);
     const std::array<float, 4> q = look_along({-dir[0], -dir[1], -dir[2]});
     const double to[3] = {g.center[0] - eye[0], g.center[1] - eye[1], g.center[2] - eye[2]};
     // World to eye: the inverse rotation (conjugate) applied to `to`.
     const double x = -q[0], y = -q[1], z = -q[2], w = q[3];
-    const double tx = 2 * (y * to[2] - z * to[1]), ty = 2 * (z * to[0] - x * to[2]), tz = 2 * (x * to[1] - y * to[0]);
+    const double tx = 2 * (y * to[2] - z * to[1]), ty = 2 * (z * to[0] - x * to[2]),
+                 tz = 2 * (x * to[1] - y * to[0]);
     const double local[3] = {to[0] + w * tx + (y * tz - z * ty), to[1] + w * ty + (z * tx - x * tz),
                              to[2] + w * tz + (x * ty - y * tx)};
     if (!(local[2] < 0)) continue;
@@ -244,14 +250,17 @@ TEST(ClusterCut, BadInputFallsBackToTheFinestCut) {
   };
   ObjectTransform bad = t;
   bad.position[1] = NAN;
-  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput, "NaN position");
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "NaN position");
   EXPECT_EQ(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn).flags, kFlagInvalidInput);
   bad = t;
   bad.scale = 0;
-  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput, "zero scale");
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "zero scale");
   bad = t;
   bad.rotation[3] = 0.5f;
-  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput, "rotation");
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "rotation");
   const float nan_velocity[3] = {0, NAN, 0};
   expect_finest(s.select_cut(b.view(), loss, t, nan_velocity, scratch, drawn), CutStatus::InvalidInput,
                 "velocity");

@@ -64,9 +64,9 @@ std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Si
 // 1 / inv_diam [deg] (ln_diam its ln) at eccentricity e [deg] (a = the model's ln CT slope x e) and
 // one retinal speed v [deg/s] (floored), still or moving; bands above nyquist_cpd are invisible
 // (+inf). The one evaluation the exact path and the cluster cut share.
-void Scheduler::Impl::band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
-                                      float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
-                                      float* row) const {
+void Scheduler::Impl::band_thresholds(const float* bands, const float* ln_band, std::uint32_t B,
+                                      float inv_diam, float ln_diam, float nyquist_cpd, float e, float a,
+                                      float v, bool moving, float* row) const {
   const Precomputed& pre = *pre_;
   if (config_.model == ThresholdModel::Default) {
     const VelocityTerms own = moving ? pre.terms_at(v) : pre.static_terms;

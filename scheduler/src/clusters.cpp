@@ -54,8 +54,9 @@ std::vector<float> provisional_group_loss(const Profile& p, std::span<const Clus
       continue;
     }
     for (std::uint32_t b = 0; b < B; ++b)
-      row[b] = coarsest > 0 ? float(std::min(1.0, double(level_loss[std::size_t(K - 1) * B + b]) * e / coarsest))
-                            : 1.0f;
+      row[b] = coarsest > 0
+                   ? float(std::min(1.0, double(level_loss[std::size_t(K - 1) * B + b]) * e / coarsest))
+                   : 1.0f;
   }
   loss->bands_cpod = std::span<const float>(p.bands, B);
   loss->diameter = float(diameter);

@@ -65,8 +65,9 @@ struct Scheduler::Impl {
   Choice choose_exact(ObjectId id, const Sight& s, float* scores,
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
-  void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam, float ln_diam,
-                       float nyquist_cpd, float e, float a, float v, bool moving, float* row) const;
+  void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
+                       float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
+                       float* row) const;
   // Cluster cuts (clusters.cpp; Scheduler::select_cut): one eye's test of one group, and the cut.
   struct CutObject;
   bool group_visible(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, const float* lost) const;

@@ -18,7 +18,8 @@
 
 namespace acuity {
 
-inline constexpr std::uint32_t kNoGroup = 0xFFFFFFFFu;      // Cluster::group of a root, ::refined of a finest cluster
+inline constexpr std::uint32_t kNoGroup =
+    0xFFFFFFFFu;  // Cluster::group of a root, ::refined of a finest cluster
 inline constexpr std::uint32_t kMaxClusterTriangles = 128;  // per cluster
 
 // One cluster: a contiguous run of the hierarchy's index array. Stored as four little-endian uint32
@@ -65,9 +66,10 @@ std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
 // Issue 48 item 2 will measure it per group; until then provisional_group_loss() derives it from
 // the object's chain profile. A NaN entry counts as visible (the group is refined).
 struct ClusterLoss {
-  std::span<const float> bands_cpod;  // band centres [cycles per diameter], increasing [Size: B, 1 .. kMaxBands]
-  float diameter = 0;                 // the length the bands are per [object units] [Limit: > 0, finite]
-  std::span<const float> lost;        // [Size: groups x B] [Unit: contrast]
+  std::span<const float>
+      bands_cpod;               // band centres [cycles per diameter], increasing [Size: B, 1 .. kMaxBands]
+  float diameter = 0;           // the length the bands are per [object units] [Limit: > 0, finite]
+  std::span<const float> lost;  // [Size: groups x B] [Unit: contrast]
 };
 
 // PROVISIONAL (until issue 48 item 2 measures each group): per-group loss derived from the object's
@@ -98,10 +100,10 @@ const char* to_string(CutStatus status);
 
 struct CutResult {
   CutStatus status = CutStatus::Ok;
-  std::uint8_t flags = 0;               // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze
-  std::uint32_t clusters = 0;           // drawn (or needed, BufferTooSmall)
-  std::uint64_t triangles = 0;          // drawn
-  std::uint32_t groups_evaluated = 0;   // groups whose thresholds were evaluated (the walk's work)
+  std::uint8_t flags = 0;              // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze
+  std::uint32_t clusters = 0;          // drawn (or needed, BufferTooSmall)
+  std::uint64_t triangles = 0;         // drawn
+  std::uint32_t groups_evaluated = 0;  // groups whose thresholds were evaluated (the walk's work)
 };
 
 }  // namespace acuity
