@@ -272,6 +272,9 @@ TEST(ClusterCut, BadInputFallsBackToTheFinestCut) {
   no_diameter.diameter = 0;
   expect_finest(s.select_cut(b.view(), no_diameter, t, nullptr, scratch, drawn), CutStatus::BadHierarchy,
                 "diameter 0");
+  const CutResult empty = s.select_cut(ClusterView{}, ClusterLoss{}, t, nullptr, scratch, drawn);
+  EXPECT_EQ(empty.status, CutStatus::BadHierarchy);
+  EXPECT_EQ(empty.clusters, 0u);
   std::vector<std::uint8_t> small_scratch(b.h.groups.size() - 1);
   expect_finest(s.select_cut(b.view(), loss, t, nullptr, small_scratch, drawn), CutStatus::BadHierarchy,
                 "scratch");

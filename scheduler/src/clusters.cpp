@@ -127,7 +127,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     return finish(status);
   };
   const std::size_t G = h.groups.size(), B = loss.bands_cpod.size();
-  if (B == 0 || B > kMaxBands || loss.lost.size() != G * B || !(loss.diameter > 0.0f) ||
+  if (h.clusters.empty() || B == 0 || B > kMaxBands || loss.lost.size() != G * B || !(loss.diameter > 0.0f) ||
       !std::isfinite(loss.diameter) || scratch.size() < G)
     return finest(CutStatus::BadHierarchy, 0);
 
