@@ -433,6 +433,84 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation) {
   state.counters["profiles_MiB"] = double(profile_bytes) / (1 << 20);
 }
 
+// Cluster cuts (Scheduler::select_cut): range(0) objects, each a made-up hierarchy of 63 groups (32
+// groups of 4 finest clusters of 64 triangles along the object's x axis, each made into 2 clusters;
+// pairs of groups grouped again, up to 2 roots), errors doubling per level, a stand-in loss growing
+// with error; the objects 2 to 50 m in front of one eye, the gaze on the view axis. Per frame:
+// begin_frame, then one select_cut per object (items: objects). Compare per object with
+// BM_scheduler/perceptual_static_exact and, per group, with the object rule's frame of 64x objects.
+void BM_cut(benchmark::State& state) {
+  std::vector<Cluster> clusters;
+  std::vector<ClusterGroup> groups;
+  std::vector<std::uint32_t> made;  // the clusters the previous level's groups made, in order
+  for (std::uint32_t g = 0; g < 32; ++g) {
+    ClusterGroup grp;
+    grp.center[0] = -1.0f + (2.0f * float(g) + 1.0f) / 32.0f;
+    grp.radius = 1.5f / 32.0f;
+    grp.error = 0.002f;
+    grp.first_member = std::uint32_t(clusters.size());
+    grp.member_count = 4;
+    for (int k = 0; k < 4; ++k) clusters.push_back({std::uint32_t(clusters.size()) * 64, 64, g, kNoGroup});
+    groups.push_back(grp);
+  }
+  for (std::uint32_t first = 0, count = 32; count >= 1; first += count, count /= 2) {
+    // Level groups [first, first + count) each make 2 clusters; pairs of them form the next level.
+    const std::uint32_t parent_first = first + count;
+    for (std::uint32_t g = first; g < first + count; ++g)
+      for (int k = 0; k < 2; ++k) {
+        const std::uint32_t parent = count > 1 ? parent_first + (g - first) / 2 : kNoGroup;
+        clusters.push_back({0, 32, parent, g});
+      }
+    if (count == 1) break;
+    for (std::uint32_t j = 0; j < count / 2; ++j) {
+      const ClusterGroup& a = groups[first + 2 * j];
+      const ClusterGroup& b = groups[first + 2 * j + 1];
+      ClusterGroup p;
+      p.center[0] = 0.5f * (a.center[0] + b.center[0]);
+      p.radius = 0.5f * (b.center[0] - a.center[0]) + a.radius;
+      p.error = 2 * a.error;
+      p.first_member = std::uint32_t(clusters.size()) - 2 * count + 4 * j;
+      p.member_count = 4;
+      p.level = a.level + 1;
+      groups.push_back(p);
+    }
+  }
+  const std::vector<std::uint32_t> roots = cluster_roots(clusters);
+  const float bands[6] = {2, 4, 8, 16, 32, 64};
+  std::vector<float> lost;
+  for (const ClusterGroup& g : groups)
+    for (int k = 0; k < 6; ++k) lost.push_back(std::min(1.0f, g.error * 4.0f * float(1 << k)));
+  const ClusterView view{clusters, groups, roots};
+  const ClusterLoss loss{bands, 2.0f, lost};
+  SchedulerConfig c;
+  c.max_objects = 1;
+  c.evaluation = Evaluation::Exact;
+  Scheduler s(c);
+  const std::uint32_t n = static_cast<std::uint32_t>(state.range(0));
+  std::vector<ObjectTransform> objects(n);
+  std::mt19937 rng(48);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (ObjectTransform& t : objects) {
+    const double z = -2 - 48 * u(rng);
+    t.position[0] = (u(rng) - 0.5) * -z;
+    t.position[1] = (u(rng) - 0.5) * -z;
+    t.position[2] = z;
+  }
+  Frame f;
+  f.gaze[0].valid = true;
+  std::vector<std::uint8_t> scratch(groups.size());
+  std::vector<std::uint32_t> drawn(clusters.size());
+  std::uint64_t triangles = 0;
+  for (auto _ : state) {
+    s.begin_frame(f);
+    for (const ObjectTransform& t : objects)
+      triangles += s.select_cut(view, loss, t, nullptr, scratch, drawn).triangles;
+    benchmark::DoNotOptimize(triangles);
+  }
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.counters["triangles_per_object"] = double(triangles) / double(state.iterations() * state.range(0));
+}
+
 void sizes(benchmark::internal::Benchmark* b) {
   for (int n : {1000, 10000, 100000, 1000000}) b->Arg(n);
   b->Unit(benchmark::kMillisecond);
@@ -441,6 +519,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_distance_loop)->Apply(sizes);
+BENCHMARK(BM_cut)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);

@@ -17,6 +17,8 @@ PYBIND11_MODULE(_acuity, m) {
   acuity::python::bind_foveation(
       m.def_submodule("foveation", "Shading-rate and mip-bias maps (see acuity.foveation)"));
   acuity::python::bind_lodgen(m.def_submodule("lodgen", "Chains of levels of detail (see acuity.lodgen)"));
+  acuity::python::bind_clusters(
+      m.def_submodule("clusters", "Detail that follows the gaze inside one object (see acuity.clusters)"));
   acuity::python::bind_sim(m.def_submodule("sim", "Simulated runs through the LOD rules (see acuity.sim)"));
   acuity::python::bind_bake(m.def_submodule("_bake", "Baking an asset library (see acuity.bake)"));
 }

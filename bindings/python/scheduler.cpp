@@ -21,12 +21,6 @@ using namespace pybind11::literals;
 namespace acuity::python {
 namespace {
 
-// A profile that owns its bytes (a Profile only points into them).
-struct OwnedProfile {
-  Blob blob;
-  Profile view{};
-};
-
 std::shared_ptr<OwnedProfile> open_owned(Blob blob, const std::string& where) {
   auto p = std::make_shared<OwnedProfile>();
   p->blob = std::move(blob);
@@ -46,10 +40,6 @@ std::shared_ptr<OwnedProfile> profile_from_bytes(const py::bytes& bytes) {
   blob.storage.assign((s.size() + 7) / 8, 0);
   std::memcpy(blob.storage.data(), s.data(), s.size());
   return open_owned(std::move(blob), "profile bytes");
-}
-
-std::shared_ptr<OwnedProfile> profile_from_file(const std::string& path) {
-  return open_owned(io::read_file(path), path);  // io::Error: acuity.FileError, a ValueError
 }
 
 template <std::size_t N, class T>
@@ -210,6 +200,10 @@ py::dict explain_dict(const ObjectExplain& e) {
 }
 
 }  // namespace
+
+std::shared_ptr<OwnedProfile> profile_from_file(const std::string& path) {
+  return open_owned(io::read_file(path), path);  // io::Error: acuity.FileError, a ValueError
+}
 
 void bind_scheduler(py::module_ m) {
   py::class_<OwnedProfile, std::shared_ptr<OwnedProfile>>(

@@ -57,20 +57,7 @@ std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Si
       row[0] = std::min(reddy_cutoff(v_t[t], e), nyquist_cpd) * diameter_deg;
       continue;
     }
-    if (config_.model == ThresholdModel::Default) {
-      const VelocityTerms own = moving ? pre.terms_at(v_t[t]) : pre.static_terms;
-      for (std::uint32_t b = 0; b < B; ++b) {
-        const float f = p.bands[b] * inv_diam;
-        const float ln_f = pc.ln_band[b] - ln_diam;
-        row[b] =
-            f > nyquist_cpd ? kInf : pre.default_ln_ct(pre.band_terms(own, v_t[t], ln_f, moving), ln_f, f, a);
-      }
-    } else {
-      for (std::uint32_t b = 0; b < B; ++b) {
-        const float f = p.bands[b] * inv_diam;
-        row[b] = f > nyquist_cpd ? kInf : log_threshold(f, e, v_t[t], config_.model, config_.params);
-      }
-    }
+    band_thresholds(p.bands, pc.ln_band.data(), B, inv_diam, ln_diam, nyquist_cpd, e, a, v_t[t], moving, row);
   }
   return rows;
 }
@@ -118,6 +105,29 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
                              : 0.0f;
       const float at_f = d.frequency_code ? log_threshold(f, s.e, v, config_.model, config_.params) : base;
       ln_ct[t * B + b] = at_f + penalty + ln_pass(offset / spacing) + ln_pass(detail_turn(d));
+    }
+  }
+}
+
+// ln CT of B bands (centres bands[b] [cpod], ln_band their ln) of an object of angular diameter
+// 1 / inv_diam [deg] (ln_diam its ln) at eccentricity e [deg] (a = the model's ln CT slope x e) and
+// one retinal speed v [deg/s] (floored), still or moving; bands above nyquist_cpd are invisible
+// (+inf). The one evaluation the exact path and the cluster cut share.
+void Scheduler::Impl::band_thresholds(const float* bands, const float* ln_band, std::uint32_t B,
+                                      float inv_diam, float ln_diam, float nyquist_cpd, float e, float a,
+                                      float v, bool moving, float* row) const {
+  const Precomputed& pre = *pre_;
+  if (config_.model == ThresholdModel::Default) {
+    const VelocityTerms own = moving ? pre.terms_at(v) : pre.static_terms;
+    for (std::uint32_t b = 0; b < B; ++b) {
+      const float f = bands[b] * inv_diam;
+      const float ln_f = ln_band[b] - ln_diam;
+      row[b] = f > nyquist_cpd ? kInf : pre.default_ln_ct(pre.band_terms(own, v, ln_f, moving), ln_f, f, a);
+    }
+  } else {
+    for (std::uint32_t b = 0; b < B; ++b) {
+      const float f = bands[b] * inv_diam;
+      row[b] = f > nyquist_cpd ? kInf : log_threshold(f, e, v, config_.model, config_.params);
     }
   }
 }

@@ -68,6 +68,15 @@ struct Scheduler::Impl {
   bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
   void detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
                          const float* centre_ln_ct, std::uint32_t stride, float* ln_ct) const;
+  void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
+                       float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
+                       float* row) const;
+  // Cluster cuts (clusters.cpp; Scheduler::select_cut): one eye's test of one group, and the cut.
+  struct CutObject;
+  bool group_visible(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, const float* lost) const;
+  CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
+                       const float velocity[3], std::span<std::uint8_t> scratch,
+                       std::span<std::uint32_t> drawn) const;
   void explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
                      std::uint32_t stride, float inv_diam, float ln_excess, LevelExplain* out) const;
   struct Probe;   // tabulated path: one object's table position

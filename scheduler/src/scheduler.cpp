@@ -368,5 +368,10 @@ std::size_t Scheduler::table_bytes(const ProfileMeta& meta, const SchedulerConfi
 }
 float Scheduler::envelope_speed(float frequency_cpd) const { return impl_->envelope_speed(frequency_cpd); }
 bool Scheduler::explain(ObjectId id, ObjectExplain* out) const { return impl_->explain(id, out); }
+CutResult Scheduler::select_cut(const ClusterView& h, const ClusterLoss& loss,
+                                const ObjectTransform& transform, const float velocity[3],
+                                std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const {
+  return impl_->select_cut(h, loss, transform, velocity, scratch, drawn);
+}
 
 }  // namespace acuity

@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "acuity/clusters.hpp"
 #include "acuity/models.hpp"
 #include "acuity/profile.hpp"
 
@@ -310,6 +311,37 @@ class Scheduler {
 
   // Recomputes one object for the current frame with full detail (allocation-free, not for every object).
   bool explain(ObjectId id, ObjectExplain* out) const;
+
+  // Detail inside one object (acuity/clusters.hpp; docs/design.md section 6, "Cluster cuts"): after
+  // begin_frame, the cut of hierarchy `h` for an object placed by `transform` (its sphere and group
+  // spheres are the hierarchy's, in object units x scale) moving at `velocity` [m/s, world; nullptr:
+  // still], seen by this frame's eyes and gaze under this configuration's model, params, quality q
+  // and gaze handling (the perceptual rule's thresholds, evaluated exactly, whatever `rule` and
+  // `evaluation` say). Per group and eye: the distance to the nearest point of its sphere, the
+  // eccentricity of that point from the gaze (less gaze_uncertainty_deg; without a gaze, from the
+  // no-gaze disc), band b's frequency loss.bands_cpod[b] / (the angle loss.diameter x scale
+  // subtends there) [cpd], bands above the display's Nyquist frequency invisible (taken at the
+  // sphere's point farthest off the view axis). A group is invisible when every band's lost contrast
+  // is at most q x CT for both eyes. The loss carries no orientation, so a moving object is
+  // evaluated at the least retinal speed over orientations, the drift floor, with the velocity
+  // envelope (as the object rule treats a moving component at that speed); a still one (no motion
+  // relative to an eye, no head rotation, no measured gaze motion) at the floor without it. So,
+  // until the loss has orientations, motion never coarsens a cut. An eye inside a group's sphere
+  // makes it visible (kFlagEyeInside).
+  // The walk goes top down (groups in reverse order) and never evaluates a group below an invisible
+  // one: a group is visible when its own test says so and every group holding a cluster it made is
+  // visible, so visibility is monotone up the hierarchy whatever the model; a cluster is drawn when
+  // the group that made it is invisible (or it is finest) and its own group is visible (or it is a
+  // root): the cut is crack-free (tests/test_cluster_cut.cpp).
+  // Writes the drawn cluster ids to `drawn` (group order, then roots); `scratch` holds one byte per
+  // group (the caller's: calls may run concurrently on separate scratch, between begin_frame and
+  // end_frame); on return with CutStatus::Ok, scratch[g] & 4 is set exactly when group g is visible
+  // (its members, or finer, are drawn). Allocation-free, deterministic. Bad input falls back to the finest cut (CutStatus).
+  // Not yet: hysteresis and saccade gating per group, the triangle budget over clusters, tabulated
+  // thresholds, explain per cluster, the C ABI (issue 48 item 3).
+  CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
+                       const float velocity[3], std::span<std::uint8_t> scratch,
+                       std::span<std::uint32_t> drawn) const;
 
  private:
   struct Impl;  // every array and pass (scheduler/src/impl.hpp)

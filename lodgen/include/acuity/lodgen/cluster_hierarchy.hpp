@@ -1,7 +1,7 @@
 #pragma once
 // acuity/lodgen/cluster_hierarchy.hpp — a mesh's cluster hierarchy as flat arrays, and the checks a
-// loaded one must pass. Standard library only (no lodgen type, no exception), so that the runtime
-// can take this header as it is.
+// loaded one must pass. Standard library only (no lodgen type, no exception); the records are the
+// runtime's (acuity/clusters.hpp).
 //
 // The hierarchy (Nanite's DAG; meshoptimizer's demo/clusterlod.h): the finest mesh is cut into
 // clusters of at most kMaxClusterTriangles triangles; neighbouring clusters form a group; the group
@@ -21,33 +21,16 @@
 #include <string>
 #include <vector>
 
+#include "acuity/clusters.hpp"
+
 namespace acuity::lodgen {
 
-inline constexpr std::uint32_t kNoGroup =
-    0xFFFFFFFFu;  // Cluster::group of a root, ::refined of a finest cluster
-inline constexpr std::uint32_t kMaxClusterTriangles = 128;  // per cluster
-
-// One cluster: a contiguous run of ClusterHierarchy::indices. Stored as four little-endian uint32
-// (16 bytes) in the glTF extension (docs/lodgen.md).
-struct Cluster {
-  std::uint32_t first_triangle = 0;  // into ClusterHierarchy::indices (triangle t: indices 3t .. 3t+2)
-  std::uint32_t triangle_count = 0;  // [Limit: 1 .. kMaxClusterTriangles]
-  std::uint32_t group = kNoGroup;    // the group it is a member of (its parent), or kNoGroup: a root
-  std::uint32_t refined = kNoGroup;  // the group whose simplification made it, or kNoGroup: finest
-};
-
-// A group of clusters, simplified together. Stored as five little-endian float32 then three uint32
-// (32 bytes).
-struct ClusterGroup {
-  float center[3] = {0, 0, 0};     // bounding sphere of its members and of the spheres of the groups
-  float radius = 0;                // that made them [object units] [Limit: >= 0, finite]
-  float error = 0;                 // of the clusters it made [object units]: >= the error of every group
-                                   // that made a member [Limit: >= 0, finite]
-  std::uint32_t first_member = 0;  // its members: clusters[first_member, first_member + member_count)
-  std::uint32_t member_count = 0;  // [Limit: >= 1]
-  std::uint32_t level = 0;         // simplifications behind its members: 0 when they are finest, else
-                                   // 1 + the largest level of the groups that made them
-};
+// The records (Cluster, ClusterGroup) and their constants have one definition, the runtime's
+// (acuity/clusters.hpp, which Scheduler::select_cut reads); lodgen names them here.
+using acuity::Cluster;
+using acuity::ClusterGroup;
+using acuity::kMaxClusterTriangles;
+using acuity::kNoGroup;
 
 // The whole hierarchy of one mesh; vertices are the mesh's own (a glTF primitive's attributes).
 // Layout (what check_cluster_hierarchy requires): clusters cover `indices` in order, each starting

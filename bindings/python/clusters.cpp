@@ -1,0 +1,193 @@
+// acuity.clusters: an object's cluster hierarchy (the .glb of `acuity lodgen --clusters`) with its
+// provisional per-group loss (from a chain profile of the same mesh), and its cuts
+// (Scheduler::select_cut) as numpy arrays.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acuity/clusters.hpp"
+#include "acuity/lodgen/mesh.hpp"
+#include "acuity/scheduler.hpp"
+#include "bindings.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace acuity::python {
+namespace {
+
+// One cut: the mesh's vertices (all of them, object space), the drawn clusters' triangles and ids.
+struct Cut {
+  py::array_t<float> positions;
+  py::array_t<std::uint32_t> indices;
+  py::array_t<std::uint32_t> clusters;
+  std::uint64_t triangles = 0;
+  std::uint32_t groups_evaluated = 0;
+  std::uint8_t flags = 0;
+};
+
+struct Hierarchy {
+  std::shared_ptr<OwnedProfile> profile;
+  lodgen::Mesh mesh;
+  lodgen::ClusterHierarchy h;
+  std::vector<std::uint32_t> roots;
+  std::vector<float> lost;
+  ClusterLoss loss;
+  std::vector<std::uint8_t> scratch;
+  std::vector<std::uint32_t> drawn;
+  ClusterView view() const { return {h.clusters, h.groups, roots}; }
+
+  Cut cut(std::span<const std::uint32_t> ids, const CutResult* r) const {
+    Cut c;
+    const py::ssize_t n = py::ssize_t(mesh.vertex_count());
+    c.positions = py::array_t<float>({n, py::ssize_t(3)});
+    std::copy(mesh.positions.begin(), mesh.positions.end(), c.positions.mutable_data());
+    std::size_t triangles = 0;
+    for (std::uint32_t id : ids) triangles += h.clusters[id].triangle_count;
+    c.indices = py::array_t<std::uint32_t>({py::ssize_t(triangles), py::ssize_t(3)});
+    c.clusters = py::array_t<std::uint32_t>(py::ssize_t(ids.size()));
+    std::uint32_t* out = c.indices.mutable_data();
+    std::uint32_t* cl = c.clusters.mutable_data();
+    for (std::uint32_t id : ids) {
+      *cl++ = id;
+      const Cluster& k = h.clusters[id];
+      out =
+          std::copy_n(&h.indices[3 * std::size_t(k.first_triangle)], 3 * std::size_t(k.triangle_count), out);
+    }
+    c.triangles = triangles;
+    if (r) {
+      c.groups_evaluated = r->groups_evaluated;
+      c.flags = r->flags;
+    }
+    return c;
+  }
+
+  Cut finest() const {
+    std::vector<std::uint32_t> ids;
+    for (std::uint32_t c = 0; c < h.clusters.size() && h.clusters[c].refined == kNoGroup; ++c)
+      ids.push_back(c);
+    return cut(ids, nullptr);
+  }
+
+  Cut select(const Eye& eye, const Gaze& gaze, const std::array<double, 3>& position,
+             const std::array<float, 4>& orientation, float scale, const std::array<float, 3>& velocity,
+             float quality) {
+    SchedulerConfig c;
+    c.max_objects = 1;
+    c.max_profiles = 1;
+    c.evaluation = Evaluation::Exact;
+    c.quality = quality;
+    if (!(quality > 0) || !std::isfinite(quality))
+      throw py::value_error("select: quality must be finite and > 0");
+    Scheduler s(c);
+    Frame f;
+    f.eyes[0] = eye;
+    f.gaze[0] = gaze;
+    s.begin_frame(f);
+    ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = position[std::size_t(k)];
+    for (int k = 0; k < 4; ++k) t.rotation[k] = orientation[std::size_t(k)];
+    t.scale = scale;
+    const CutResult r = s.select_cut(view(), loss, t, velocity.data(), scratch, drawn);
+    if (r.status != CutStatus::Ok) throw py::value_error(std::string("select: ") + to_string(r.status));
+    return cut(std::span<const std::uint32_t>(drawn.data(), r.clusters), &r);
+  }
+};
+
+std::shared_ptr<Hierarchy> load(const std::string& glb_path, const std::string& profile_path) {
+  auto out = std::make_shared<Hierarchy>();
+  lodgen::Scene scene = lodgen::load_scene(glb_path);  // io::Error, lodgen::InputError: ValueErrors
+  std::size_t m = 0;
+  while (m < scene.clusters.size() && scene.clusters[m].empty()) ++m;
+  if (m == scene.clusters.size())
+    throw py::value_error(glb_path +
+                          ": no mesh with a cluster hierarchy (ACUITY_cluster_hierarchy); make one "
+                          "with `acuity lodgen MESH --clusters -o OUT.glb`");
+  out->mesh = std::move(scene.meshes[m]);
+  out->h = std::move(scene.clusters[m]);
+  out->profile = profile_from_file(profile_path);
+  const Profile& p = out->profile->view;
+  if (p.levels[0].triangles != out->h.finest_triangles())
+    throw py::value_error(profile_path + ": its level 0 has " + std::to_string(p.levels[0].triangles) +
+                          " triangles, the hierarchy's finest mesh " +
+                          std::to_string(out->h.finest_triangles()) +
+                          ": profile a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, then "
+                          "`acuity profile CHAIN.glb`)");
+  out->roots = cluster_roots(out->h.clusters);
+  out->lost = provisional_group_loss(p, out->h.groups, &out->loss);
+  out->loss.lost = out->lost;
+  out->scratch.resize(out->h.groups.size());
+  out->drawn.resize(out->h.clusters.size());
+  return out;
+}
+
+}  // namespace
+
+void bind_clusters(py::module_ m) {
+  m.doc() =
+      "Detail that follows the gaze inside one object (issue 48): a cluster hierarchy and its cuts.\n\n"
+      "h = acuity.clusters.load(glb_path, profile_path): the .glb of `acuity lodgen MESH --clusters`, and\n"
+      "the profile (`acuity profile`) of a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`),\n"
+      "from which each group's loss is derived provisionally (acuity/clusters.hpp,\n"
+      "provisional_group_loss) until groups are measured. h.finest() and h.select(eye, gaze, position,\n"
+      "orientation, scale=1.0, velocity=(0, 0, 0), quality=1.0) return a Cut: .positions (float32 n x 3,\n"
+      "object space: every vertex of the mesh), .indices (uint32 m x 3: the drawn triangles), .clusters\n"
+      "(uint32: the drawn cluster ids).";
+  py::class_<Cut>(m, "Cut", "One cut of a hierarchy: the mesh's vertices and the drawn clusters' triangles.")
+      .def_readonly("positions", &Cut::positions, "float32 (n, 3): every vertex of the mesh, object space")
+      .def_readonly("indices", &Cut::indices, "uint32 (m, 3): the drawn triangles, into positions")
+      .def_readonly("clusters", &Cut::clusters, "uint32: the drawn cluster ids")
+      .def_readonly("triangles", &Cut::triangles, "drawn triangles (m)")
+      .def_readonly("groups_evaluated", &Cut::groups_evaluated, "groups whose thresholds the walk evaluated")
+      .def_readonly("flags", &Cut::flags, "FLAG_* bits: FLAG_EYE_INSIDE, FLAG_NO_GAZE");
+  py::class_<Hierarchy, std::shared_ptr<Hierarchy>>(m, "Hierarchy",
+                                                    "A mesh's cluster hierarchy with its per-group loss.")
+      .def("finest", &Hierarchy::finest, "The finest cut: the mesh as lodgen wrote it (level 0).")
+      .def("select", &Hierarchy::select, "eye"_a, "gaze"_a, "position"_a, "orientation"_a, "scale"_a = 1.0f,
+           "velocity"_a = std::array<float, 3>{0, 0, 0}, "quality"_a = 1.0f,
+           "The cut for one eye (acuity.Eye) and its gaze (acuity.Gaze) with the object at `position`\n"
+           "[m, world], turned by `orientation` (unit quaternion x y z w, object to world), scaled by\n"
+           "`scale`, moving at `velocity` [m/s]; the perceptual rule's default model at quality q,\n"
+           "evaluated exactly (Scheduler::select_cut). ValueError for invalid input (non-finite or\n"
+           "non-unit transform, scale <= 0, an invalid eye).")
+      .def_property_readonly("cluster_count", [](const Hierarchy& h) { return h.h.clusters.size(); })
+      .def_property_readonly("group_count", [](const Hierarchy& h) { return h.h.groups.size(); })
+      .def_property_readonly("finest_triangles", [](const Hierarchy& h) { return h.h.finest_triangles(); })
+      .def_property_readonly(
+          "group_spheres",
+          [](const Hierarchy& h) {
+            py::array_t<float> a({py::ssize_t(h.h.groups.size()), py::ssize_t(4)});
+            float* o = a.mutable_data();
+            for (const ClusterGroup& g : h.h.groups) {
+              *o++ = g.center[0];
+              *o++ = g.center[1];
+              *o++ = g.center[2];
+              *o++ = g.radius;
+            }
+            return a;
+          },
+          "float32 (groups, 4): each group's bounding sphere, centre xyz and radius [object units]")
+      .def_property_readonly(
+          "loss",
+          [](const Hierarchy& h) {
+            py::array_t<float> a({py::ssize_t(h.h.groups.size()), py::ssize_t(h.loss.bands_cpod.size())});
+            std::copy(h.lost.begin(), h.lost.end(), a.mutable_data());
+            return a;
+          },
+          "float32 (groups, bands): each group's provisional lost contrast per band")
+      .def_property_readonly(
+          "diameter", [](const Hierarchy& h) { return h.loss.diameter; },
+          "the profile's bounding-sphere diameter [object units]");
+  m.def("load", &load, "glb_path"_a, "profile_path"_a,
+        "A hierarchy from `acuity lodgen MESH --clusters -o OUT.glb` (its first mesh with one) and the\n"
+        "profile of a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, `acuity profile\n"
+        "CHAIN.glb -o CHAIN.acuity`); ValueError when the glb has no hierarchy or the profile's level 0\n"
+        "is another mesh.");
+}
+
+}  // namespace acuity::python

@@ -1,0 +1,109 @@
+#pragma once
+// acuity/clusters.hpp — detail that follows the gaze inside one object: the records of a cluster
+// hierarchy (the one definition; lodgen builds and checks them, acuity/lodgen/cluster_hierarchy.hpp)
+// and what the runtime's cut reads (Scheduler::select_cut, acuity/scheduler.hpp). Standard library
+// only. docs/design.md section 6 ("Cluster cuts") and docs/lodgen.md ("Cluster hierarchies").
+//
+// The hierarchy (Nanite's DAG): the finest mesh is cut into clusters of at most kMaxClusterTriangles
+// triangles; neighbouring clusters form a group, simplified to about half with its outer border
+// locked and cut into coarser clusters; those form groups in turn, up to the roots (clusters in no
+// group). A cut draws a cluster when the group that made it (`refined`; none for a finest cluster)
+// is invisible and the group it belongs to (`group`; none for a root) is visible.
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "acuity/profile.hpp"
+
+namespace acuity {
+
+inline constexpr std::uint32_t kNoGroup =
+    0xFFFFFFFFu;  // Cluster::group of a root, ::refined of a finest cluster
+inline constexpr std::uint32_t kMaxClusterTriangles = 128;  // per cluster
+
+// One cluster: a contiguous run of the hierarchy's index array. Stored as four little-endian uint32
+// (16 bytes) in lodgen's glTF extension ACUITY_cluster_hierarchy (docs/lodgen.md).
+struct Cluster {
+  std::uint32_t first_triangle = 0;  // into the hierarchy's indices (triangle t: indices 3t .. 3t+2)
+  std::uint32_t triangle_count = 0;  // [Limit: 1 .. kMaxClusterTriangles]
+  std::uint32_t group = kNoGroup;    // the group it is a member of (its parent), or kNoGroup: a root
+  std::uint32_t refined = kNoGroup;  // the group whose simplification made it, or kNoGroup: finest
+};
+
+// A group of clusters, simplified together. Stored as five little-endian float32 then three uint32
+// (32 bytes).
+struct ClusterGroup {
+  float center[3] = {0, 0, 0};     // bounding sphere of its members and of the spheres of the groups
+  float radius = 0;                // that made them [object units] [Limit: >= 0, finite]
+  float error = 0;                 // of the clusters it made [object units]: >= the error of every group
+                                   // that made a member [Limit: >= 0, finite]
+  std::uint32_t first_member = 0;  // its members: clusters[first_member, first_member + member_count)
+  std::uint32_t member_count = 0;  // [Limit: >= 1]
+  std::uint32_t level = 0;         // simplifications behind its members: 0 when they are finest, else
+                                   // 1 + the largest level of the groups that made them
+};
+static_assert(sizeof(Cluster) == 16 && sizeof(ClusterGroup) == 32 && offsetof(ClusterGroup, error) == 16 &&
+                  offsetof(ClusterGroup, first_member) == 20 && offsetof(ClusterGroup, level) == 28,
+              "the records of ACUITY_cluster_hierarchy (docs/lodgen.md)");
+
+// A hierarchy as the cut reads it: borrowed arrays (they must outlive every call that reads them),
+// laid out as acuity/lodgen/cluster_hierarchy.hpp's ClusterHierarchy is (finest clusters first;
+// a group after every group that made one of its members) and checked by
+// lodgen::check_cluster_hierarchy. select_cut trusts that layout (the reader checks it at load).
+struct ClusterView {
+  std::span<const Cluster> clusters;
+  std::span<const ClusterGroup> groups;
+  std::span<const std::uint32_t> roots;  // the clusters in no group, as cluster_roots() lists them
+};
+
+// The clusters with group == kNoGroup, in order (once per hierarchy, at load; allocates).
+std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
+
+// What each group's simplification loses, per band: lost[g * bands.size() + b] is the largest
+// local band contrast (docs/design.md section 3) that group g's clusters lose against the finest
+// mesh, over every view and orientation, in the band of centre bands_cpod[b] cycles per `diameter`.
+// Issue 48 item 2 will measure it per group; until then provisional_group_loss() derives it from
+// the object's chain profile. A NaN entry counts as visible (the group is refined).
+struct ClusterLoss {
+  std::span<const float>
+      bands_cpod;               // band centres [cycles per diameter], increasing [Size: B, 1 .. kMaxBands]
+  float diameter = 0;           // the length the bands are per [object units] [Limit: > 0, finite]
+  std::span<const float> lost;  // [Size: groups x B] [Unit: contrast]
+};
+
+// PROVISIONAL (until issue 48 item 2 measures each group): per-group loss derived from the object's
+// ordinary chain profile (`acuity profile` of `acuity lodgen MESH`'s chain of the same mesh as
+// `acuity lodgen MESH --clusters`). For a group of error e [object units], e / the profile's
+// bounding-sphere diameter in object diameters (the unit of the chain's geometric errors):
+//   - per band, the loss (max over views and orientations) of the finest chain level whose
+//     geometric error is >= e, made non-decreasing along the chain by a running maximum over the
+//     finer levels, so that loss grows with error; a group of error 0 loses nothing;
+//   - beyond the coarsest level (error e_K): that level's loss x e / e_K, capped at 1; a chain of one
+//     level (or a coarsest error of 0) gives 1, which is visible wherever anything is.
+// Sets *loss's bands and diameter to the profile's (bands_cpod points into the profile, whose bytes
+// must outlive it) and its lost to the returned array (which it must outlive). Allocates; at load.
+std::vector<float> provisional_group_loss(const Profile& profile, std::span<const ClusterGroup> groups,
+                                          ClusterLoss* loss);
+
+// What select_cut did (Scheduler::select_cut).
+enum class CutStatus : std::uint8_t {
+  Ok,              // the perceptual cut
+  InvalidInput,    // non-finite or non-unit transform, scale <= 0, non-finite velocity, or no valid
+                   // eye: the finest cut (kFlagInvalidInput)
+  BadHierarchy,    // loss or hierarchy arrays of mismatched sizes (lost != groups x bands, no band,
+                   // over kMaxBands, a diameter <= 0, scratch smaller than the groups, no clusters):
+                   // the finest cut
+  BufferTooSmall,  // `drawn` could not hold the cut: `clusters` says how many it needs, nothing usable written
+};
+const char* to_string(CutStatus status);
+
+struct CutResult {
+  CutStatus status = CutStatus::Ok;
+  std::uint8_t flags = 0;              // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze
+  std::uint32_t clusters = 0;          // drawn (or needed, BufferTooSmall)
+  std::uint64_t triangles = 0;         // drawn
+  std::uint32_t groups_evaluated = 0;  // groups whose thresholds were evaluated (the walk's work)
+};
+
+}  // namespace acuity

@@ -1,0 +1,200 @@
+// Cluster cuts (acuity/clusters.hpp, Scheduler::select_cut): a hierarchy's groups tested with the
+// perceptual rule's thresholds, top down, and the provisional per-group loss from a chain profile.
+#include "geometry.hpp"
+
+namespace acuity {
+
+std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t c = 0; c < clusters.size(); ++c)
+    if (clusters[c].group == kNoGroup) out.push_back(std::uint32_t(c));
+  return out;
+}
+
+const char* to_string(CutStatus status) {
+  switch (status) {
+    case CutStatus::Ok:
+      return "ok";
+    case CutStatus::InvalidInput:
+      return "invalid input (non-finite or non-unit transform, scale <= 0, non-finite velocity, or no "
+             "valid eye): the finest cut";
+    case CutStatus::BadHierarchy:
+      return "hierarchy, loss or scratch arrays of mismatched sizes: the finest cut";
+    case CutStatus::BufferTooSmall:
+      return "the output buffer cannot hold the cut";
+  }
+  return "unknown";
+}
+
+// PROVISIONAL until issue 48 item 2 measures each group (the one place this derivation lives).
+std::vector<float> provisional_group_loss(const Profile& p, std::span<const ClusterGroup> groups,
+                                          ClusterLoss* loss) {
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
+                      B = p.meta.band_count;
+  // Per level, per band: the largest loss over views and orientations, then a running maximum over
+  // the finer levels (level 0 loses nothing).
+  std::vector<float> level_loss(std::size_t(K) * B, 0.0f);
+  for (std::uint32_t k = 1; k < K; ++k)
+    for (std::uint32_t b = 0; b < B; ++b) {
+      float m = level_loss[std::size_t(k - 1) * B + b];
+      for (std::uint32_t v = 0; v < V; ++v)
+        for (std::uint32_t t = 0; t < T; ++t) m = std::max(m, p.lost_contrast(k, v, t, b));
+      level_loss[std::size_t(k) * B + b] = m;
+    }
+  const double diameter = 2.0 * double(p.meta.sphere[3]);
+  const double coarsest = K > 1 ? double(p.levels[K - 1].geometric_error) : 0.0;
+  std::vector<float> out(groups.size() * B);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const double e = double(groups[g].error) / diameter;  // [object diameters], as the chain's errors
+    float* row = &out[g * B];
+    std::uint32_t k = 0;
+    while (k < K && !(double(p.levels[k].geometric_error) >= e)) ++k;
+    if (k < K) {
+      std::copy_n(&level_loss[std::size_t(k) * B], B, row);
+      continue;
+    }
+    for (std::uint32_t b = 0; b < B; ++b)
+      row[b] = coarsest > 0
+                   ? float(std::min(1.0, double(level_loss[std::size_t(K - 1) * B + b]) * e / coarsest))
+                   : 1.0f;
+  }
+  loss->bands_cpod = std::span<const float>(p.bands, B);
+  loss->diameter = float(diameter);
+  loss->lost = out;
+  return out;
+}
+
+// One object as the cut sees it from each eye.
+struct Scheduler::Impl::CutObject {
+  Vec3 origin[2];  // the object's origin relative to each eye [m]
+  float q[4];      // object to world
+  float scale;
+  float size;      // loss.diameter x scale [m]
+  bool moving[2];  // its image moves on the retina of each eye
+  const float* bands;
+  float ln_band[kMaxBands];
+  std::uint32_t B;
+  float ln_q;
+  std::uint8_t flags;  // kFlagEyeInside, kFlagNoGaze found so far
+};
+
+// One eye's test of one group: visible when some band's lost contrast exceeds q x CT there.
+bool Scheduler::Impl::group_visible(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
+                                    const float* lost) const {
+  const EyeCache& eye = eyes_[i];
+  const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
+  const float d = length(c), r = o.scale * g.radius;
+  const float nearest = d - r;
+  if (!(nearest > 0.0f)) return true;  // the eye is inside (or on) the sphere
+  const Vec3 u = (1.0f / d) * c;
+  const float radius_deg = angular_radius_deg(d, r);
+  const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
+  const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
+  const float e = nearest_eccentricity(angle_deg(u, gaze), radius_deg, offset);
+  // The Nyquist limit at the sphere's point farthest off the view axis: the largest over the sphere,
+  // so a containing sphere never cuts a band a contained one shows.
+  const float off_axis = std::min(angle_deg(u, eye.forward) + radius_deg, 90.0f);
+  const float nyquist = nyquist_cpd(0.5f * eye.focal_px * kRad, std::cos(off_axis * kRad));
+  // The angle one object diameter subtends at the sphere's nearest point [deg].
+  const float diameter_deg = kDeg * o.size / nearest;
+  const bool moving = o.moving[i];
+  float ln_ct[kMaxBands];
+  band_thresholds(o.bands, o.ln_band, o.B, 1.0f / diameter_deg, std::log(diameter_deg), nyquist, e,
+                  pre_->ecc_slope * e, pre_->floor_velocity, moving, ln_ct);
+  for (std::uint32_t b = 0; b < o.B; ++b)
+    if (!(std::log(lost[b]) - ln_ct[b] <= o.ln_q)) return true;  // NaN counts as visible
+  return false;
+}
+
+CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& t,
+                                      const float velocity[3], std::span<std::uint8_t> scratch,
+                                      std::span<std::uint32_t> drawn) const {
+  CutResult res;
+  std::uint32_t n = 0;
+  const auto emit = [&](std::uint32_t c) {
+    if (n < drawn.size()) drawn[n] = c;
+    ++n;
+    res.triangles += h.clusters[c].triangle_count;
+  };
+  const auto finish = [&](CutStatus status) {
+    res.clusters = n;
+    res.status = n > drawn.size() ? CutStatus::BufferTooSmall : status;
+    return res;
+  };
+  const auto finest = [&](CutStatus status, std::uint8_t flags) {
+    for (std::uint32_t c = 0; c < h.clusters.size() && h.clusters[c].refined == kNoGroup; ++c) emit(c);
+    res.flags = flags;
+    return finish(status);
+  };
+  const std::size_t G = h.groups.size(), B = loss.bands_cpod.size();
+  if (h.clusters.empty() || B == 0 || B > kMaxBands || loss.lost.size() != G * B || !(loss.diameter > 0.0f) ||
+      !std::isfinite(loss.diameter) || scratch.size() < G)
+    return finest(CutStatus::BadHierarchy, 0);
+
+  CutObject o;
+  const Vec3 v = velocity ? load(velocity) : Vec3{0, 0, 0};
+  const float qn = std::sqrt(t.rotation[0] * t.rotation[0] + t.rotation[1] * t.rotation[1] +
+                             t.rotation[2] * t.rotation[2] + t.rotation[3] * t.rotation[3]);
+  bool valid = eye_count_ > 0 && finite(v) && std::abs(qn - 1.0f) < 1e-3f && t.scale > 0.0f &&
+               std::isfinite(t.scale) && std::isfinite(loss.diameter * t.scale);
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const EyeCache& eye = eyes_[i];
+    o.origin[i] = Vec3{float(t.position[0] - eye.position[0]), float(t.position[1] - eye.position[1]),
+                       float(t.position[2] - eye.position[2])};
+    valid = valid && eye.valid && finite(o.origin[i]);
+    const Vec3 rel = v - eye.velocity;
+    o.moving[i] = rel.x != 0.0f || rel.y != 0.0f || rel.z != 0.0f || eye.omega.x != 0.0f ||
+                  eye.omega.y != 0.0f || eye.omega.z != 0.0f || eye.gaze_moving;
+  }
+  if (!valid) return finest(CutStatus::InvalidInput, kFlagInvalidInput);
+  for (int k = 0; k < 4; ++k) o.q[k] = t.rotation[k] / qn;
+  o.scale = t.scale;
+  o.size = loss.diameter * t.scale;
+  o.bands = loss.bands_cpod.data();
+  o.B = std::uint32_t(B);
+  for (std::size_t b = 0; b < B; ++b) o.ln_band[b] = std::log(o.bands[b]);
+  o.ln_q = pre_->ln_quality;
+  o.flags = 0;
+  for (std::uint32_t i = 0; i < eye_count_; ++i)
+    if (!eyes_[i].gaze) o.flags |= kFlagNoGaze;
+
+  // Top down: a group is evaluated when some group holding a cluster it made is visible (or such a
+  // cluster is a root) and none is invisible; either way its makers learn which it is.
+  constexpr std::uint8_t kNeeded = 1, kBlocked = 2, kVisible = 4;
+  std::uint8_t* state = scratch.data();
+  std::fill_n(state, G, std::uint8_t(0));
+  for (std::uint32_t r : h.roots)
+    if (h.clusters[r].refined != kNoGroup) state[h.clusters[r].refined] |= kNeeded;
+  for (std::size_t g = G; g-- > 0;) {
+    const ClusterGroup& group = h.groups[g];
+    bool visible = false;
+    if (state[g] == kNeeded) {
+      ++res.groups_evaluated;
+      for (std::uint32_t i = 0; i < eye_count_ && !visible; ++i)
+        visible = group_visible(i, o, group, &loss.lost[g * B]);
+      if (visible) {
+        state[g] |= kVisible;
+        const Vec3 c = rotate(o.q, o.scale * load(group.center));
+        for (std::uint32_t i = 0; i < eye_count_; ++i)
+          if (!(length(o.origin[i] + c) > o.scale * group.radius)) o.flags |= kFlagEyeInside;
+      }
+    }
+    const std::uint8_t mark = visible ? kNeeded : kBlocked;
+    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+      if (h.clusters[m].refined != kNoGroup) state[h.clusters[m].refined] |= mark;
+  }
+  // Drawn: the members of visible groups whose maker is invisible (or that are finest), then the
+  // roots likewise.
+  for (std::size_t g = 0; g < G; ++g) {
+    if (!(state[g] & kVisible)) continue;
+    const ClusterGroup& group = h.groups[g];
+    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+      if (h.clusters[m].refined == kNoGroup || !(state[h.clusters[m].refined] & kVisible)) emit(m);
+  }
+  for (std::uint32_t r : h.roots)
+    if (h.clusters[r].refined == kNoGroup || !(state[h.clusters[r].refined] & kVisible)) emit(r);
+  res.flags = o.flags;
+  return finish(CutStatus::Ok);
+}
+
+}  // namespace acuity

@@ -1,0 +1,153 @@
+"""acuity.clusters (issue 48 item 5): a hierarchy from `acuity lodgen --clusters` and the profile of a
+chain of the same mesh; its cuts follow the gaze. Measured here (printed with -s, not asserted beyond
+"some saving"): the fraction of the finest triangles drawn with the gaze on the centre of an object
+spanning 30 degrees at q = 1, and how many times more triangles each half of a 40-degree object holds
+with the gaze on its edge than with the gaze on the other edge."""
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import acuity
+
+ACUITY = os.environ.get("ACUITY_BIN", "")
+MESHES = os.environ.get("ACUITY_MESH_DIR", "")
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def run(*args):
+    assert os.path.exists(ACUITY), "ACUITY_BIN must name the built acuity command (ctest sets it)"
+    r = subprocess.run([ACUITY, *map(str, args)], capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr
+    return r
+
+
+@pytest.fixture(scope="module")
+def armadillo(tmp_path_factory):
+    """A closed mesh's hierarchy and the profile of its chain, as the commands make them: elephant.off
+    (5.6k triangles) with a quick profile (64 px, 6 views), or, when ACUITY_CLUSTER_FILES names a
+    folder, its c.glb, chain.glb and chain.acuity (docs/lodgen.md measures armadillo.off so)."""
+    given = os.environ.get("ACUITY_CLUSTER_FILES", "")
+    if given:
+        return {"glb": os.path.join(given, "c.glb"), "chain": os.path.join(given, "chain.glb"),
+                "profile": os.path.join(given, "chain.acuity")}
+    d = tmp_path_factory.mktemp("clusters")
+    mesh = os.path.join(MESHES, "elephant.off")
+    run("lodgen", mesh, "--clusters", "-o", d / "c.glb", "-q")
+    run("lodgen", mesh, "-o", d / "chain.glb", "-q")
+    run("profile", d / "chain.glb", "-o", d / "chain.acuity", "--res", "64", "--views", "6")
+    return {"glb": d / "c.glb", "chain": d / "chain.glb", "profile": d / "chain.acuity"}
+
+
+def load(a):
+    return acuity.clusters.load(str(a["glb"]), str(a["profile"]))
+
+
+def placed(a, span_deg):
+    """The eye at the origin looking down -Z; the object's sphere centred on the axis, spanning span_deg.
+    Returns (eye, position, radius): the object's position that puts its sphere centre there."""
+    sphere = acuity.Profile.load(str(a["profile"])).sphere
+    r = sphere[3]
+    d = r / math.sin(math.radians(span_deg / 2))
+    eye = acuity.Eye()
+    return eye, (-sphere[0], -sphere[1], -sphere[2] - d), r, d
+
+
+def gaze_towards(x, z):
+    g = acuity.Gaze()
+    n = math.hypot(x, z)
+    g.direction = (x / n, 0.0, z / n)
+    g.valid = True
+    return g
+
+
+def test_load_finest_and_the_cut_arrays(armadillo):
+    h = load(armadillo)
+    f = h.finest()
+    assert f.positions.dtype == np.float32 and f.positions.ndim == 2 and f.positions.shape[1] == 3
+    assert f.indices.dtype == np.uint32 and f.indices.shape == (h.finest_triangles, 3)
+    assert f.indices.max() < f.positions.shape[0]
+    assert f.clusters.dtype == np.uint32 and f.triangles == h.finest_triangles
+    assert h.loss.shape[0] == h.group_count and np.all(h.loss >= 0) and np.all(h.loss <= 1)
+    # Coarser groups lose no less in any band than the groups that made their members do (the
+    # provisional loss grows with error, and errors grow up the hierarchy): the last group is a top one.
+    assert np.all(h.loss[-1] >= h.loss.min(axis=0))
+    eye, pos, _, _ = placed(armadillo, 30)
+    cut = h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1))
+    assert cut.indices.shape == (cut.triangles, 3) and len(cut.clusters) > 0
+    assert 0 < cut.groups_evaluated <= h.group_count
+    # The cut's triangles are its clusters' (each cluster's triangles once).
+    assert len(set(cut.clusters.tolist())) == len(cut.clusters)
+
+
+def test_bad_input_is_a_clear_error(armadillo):
+    with pytest.raises(ValueError, match="no mesh with a cluster hierarchy"):
+        acuity.clusters.load(str(armadillo["chain"]), str(armadillo["profile"]))
+    with pytest.raises(ValueError, match="profile a chain of the same mesh"):
+        acuity.clusters.load(str(armadillo["glb"]), os.path.join(HERE, "..", "data", "profile_v1.acuity"))
+    h = load(armadillo)
+    eye, pos, _, _ = placed(armadillo, 30)
+    g = gaze_towards(0, -1)
+    with pytest.raises(ValueError, match="invalid input"):
+        h.select(eye, g, (math.nan, 0, 0), (0, 0, 0, 1))
+    with pytest.raises(ValueError, match="invalid input"):
+        h.select(eye, g, pos, (0, 0, 0, 1), scale=0.0)
+    with pytest.raises(ValueError, match="invalid input"):
+        h.select(eye, g, pos, (0, 0, 0.5, 0.5))
+    with pytest.raises(ValueError, match="quality"):
+        h.select(eye, g, pos, (0, 0, 0, 1), quality=0.0)
+
+
+def test_gaze_on_the_centre_of_a_30_degree_object(armadillo):
+    """The issue's target: <= 0.5 of the finest triangles at q = 1 (reported, not asserted: with the
+    provisional loss it is not met, docs/lodgen.md). Asserted: q orders the cuts."""
+    h = load(armadillo)
+    eye, pos, _, _ = placed(armadillo, 30)
+    cut = h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1), quality=1.0)
+    fraction = cut.triangles / h.finest_triangles
+    print(f"\n30 deg, gaze on the centre, q = 1: {cut.triangles} of {h.finest_triangles} finest triangles "
+          f"= {fraction:.3f}; {cut.groups_evaluated} of {h.group_count} groups evaluated")
+    # A more lenient q never draws more; a stricter one never fewer; a very lenient one draws less.
+    assert h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1), quality=2.0).triangles <= cut.triangles
+    assert h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1), quality=0.5).triangles >= cut.triangles
+    assert h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1), quality=1000.0).triangles < h.finest_triangles
+
+
+def test_the_gaze_away_draws_less(armadillo):
+    """An object spanning 2 degrees draws fewer triangles with the gaze 30 degrees away than on it, and
+    no more with the gaze farther still."""
+    h = load(armadillo)
+    eye, pos, _, _ = placed(armadillo, 2)
+    on = h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1)).triangles
+    away = h.select(eye, gaze_towards(math.tan(math.radians(30)), -1), pos, (0, 0, 0, 1)).triangles
+    farther = h.select(eye, gaze_towards(math.tan(math.radians(40)), -1), pos, (0, 0, 0, 1)).triangles
+    print(f"\n2 deg, q = 1: gaze on it {on / h.finest_triangles:.3f} of the finest triangles, 30 deg away "
+          f"{away / h.finest_triangles:.3f}, 40 deg away {farther / h.finest_triangles:.3f}")
+    assert away < on and farther <= away
+
+
+def halves(cut, pos):
+    """Triangles of the cut whose centroid lies left (x < the sphere centre) and right, in world x."""
+    centroid_x = cut.positions[cut.indices].mean(axis=1)[:, 0] + pos[0]
+    left = int(np.count_nonzero(centroid_x < 0))
+    return left, len(centroid_x) - left
+
+
+def test_gaze_on_one_edge_of_a_40_degree_object(armadillo):
+    """The issue's target: each half holds >= 2x the triangles with the gaze on its edge than with the
+    gaze on the other edge (reported, not asserted: not met with the provisional loss). Asserted: a
+    half never holds fewer with the gaze on its own edge."""
+    h = load(armadillo)
+    eye, pos, r, d = placed(armadillo, 40)
+    edge = math.tan(math.radians(20))  # the sphere's silhouette, 20 degrees either side
+    for q in (1.0, 16.0):
+        on_left = h.select(eye, gaze_towards(-edge, -1), pos, (0, 0, 0, 1), quality=q)
+        on_right = h.select(eye, gaze_towards(edge, -1), pos, (0, 0, 0, 1), quality=q)
+        l_left, r_left = halves(on_left, pos)
+        l_right, r_right = halves(on_right, pos)
+        print(f"\n40 deg, q = {q}: gaze on the left edge draws {on_left.triangles} (left half {l_left}, right "
+              f"{r_left}); on the right edge {on_right.triangles} (left {l_right}, right {r_right}); left half "
+              f"x{l_left / max(l_right, 1):.2f}, right half x{r_right / max(r_left, 1):.2f}")
+        assert l_left >= l_right and r_right >= r_left

@@ -1,0 +1,331 @@
+// The runtime's cluster cuts (Scheduler::select_cut, acuity/clusters.hpp) on hierarchies lodgen
+// builds from closed real meshes (Debian's libcgal-demo): crack-free and never a mix over 1000
+// random views and gazes; visibility monotone in distance and in eccentricity; bad input; and the
+// provisional per-group loss (provisional_group_loss) against its stated rule.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/clusters.hpp"
+#include "acuity/scheduler.hpp"
+#include "cluster_check.hpp"
+
+using namespace acuity;
+using namespace acuity::testing;
+
+namespace {
+const std::string kMeshes = ACUITY_MESH_DIR;
+
+struct Built {
+  lodgen::Mesh mesh;
+  lodgen::ClusterHierarchy h;
+  std::vector<std::uint32_t> roots;
+  double diameter = 0;
+  ClusterView view() const { return {h.clusters, h.groups, roots}; }
+};
+Built build(const std::string& file) {
+  lodgen::ChainOptions o;
+  o.levels = 1;
+  Built b;
+  b.mesh = lodgen::build_chain(lodgen::load_mesh(kMeshes + "/" + file), file, o).levels[0].mesh;
+  b.h = lodgen::build_clusters(b.mesh, file);
+  b.roots = cluster_roots(b.h.clusters);
+  b.diameter = lodgen::diameter(b.mesh);
+  return b;
+}
+
+// A stand-in loss that grows with the group's error (the selector's tests need no measured one):
+// band b of 6 (2 .. 64 cycles per diameter) loses error / diameter x 2^b / 16, capped at 1.
+const float kBands[6] = {2, 4, 8, 16, 32, 64};
+std::vector<float> stand_in_loss(const Built& b, ClusterLoss* loss) {
+  std::vector<float> lost;
+  for (const ClusterGroup& g : b.h.groups)
+    for (int k = 0; k < 6; ++k)
+      lost.push_back(float(std::min(1.0, g.error / b.diameter * std::ldexp(1.0, k - 4))));
+  loss->bands_cpod = kBands;
+  loss->diameter = float(b.diameter);
+  return lost;
+}
+
+// The unit quaternion turning -Z onto unit direction d.
+std::array<float, 4> look_along(std::array<double, 3> d) {
+  const double a[3] = {0, 0, -1};
+  const double c[3] = {a[1] * d[2] - a[2] * d[1], a[2] * d[0] - a[0] * d[2], a[0] * d[1] - a[1] * d[0]};
+  const double w = 1 + (a[0] * d[0] + a[1] * d[1] + a[2] * d[2]);
+  if (w < 1e-9) return {0, 1, 0, 0};
+  const double n = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2] + w * w);
+  return {float(c[0] / n), float(c[1] / n), float(c[2] / n), float(w / n)};
+}
+
+// One eye at `eye` looking at `target`, its gaze `gaze_deg` right and up of the view axis.
+Frame frame_at(std::array<double, 3> eye, std::array<double, 3> target, float right_deg, float up_deg) {
+  Frame f;
+  std::array<double, 3> d = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+  const double n = std::hypot(d[0], d[1], d[2]);
+  for (double& x : d) x /= n;
+  const std::array<float, 4> q = look_along(d);
+  for (int k = 0; k < 3; ++k) f.eyes[0].position[k] = eye[std::size_t(k)];
+  for (int k = 0; k < 4; ++k) f.eyes[0].orientation[k] = q[std::size_t(k)];
+  const float x = std::tan(right_deg * 3.14159265f / 180), y = std::tan(up_deg * 3.14159265f / 180);
+  const float l = std::sqrt(x * x + y * y + 1);
+  f.gaze[0].direction[0] = x / l;
+  f.gaze[0].direction[1] = y / l;
+  f.gaze[0].direction[2] = -1 / l;
+  f.gaze[0].valid = true;
+  return f;
+}
+
+SchedulerConfig exact(float quality = 1.0f) {
+  SchedulerConfig c;
+  c.max_objects = 1;
+  c.evaluation = Evaluation::Exact;
+  c.quality = quality;
+  return c;
+}
+
+class ClosedMesh : public ::testing::TestWithParam<const char*> {};
+
+}  // namespace
+
+TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
+  const Built b = build(GetParam());
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  const Edges e = edges(b.mesh, b.h);
+  CrackCheck crack(e);
+  std::mt19937 rng(4803);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::uint8_t> scratch(b.h.groups.size());
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  std::vector<bool> is_drawn(b.h.clusters.size(), false);
+  std::size_t mixed = 0, coarser = 0;
+  for (int view = 0; view < 1000; ++view) {
+    // The object at the origin, turned and scaled at random; an eye 0.3 to 10 diameters (scaled) away
+    // looking near it; the gaze anywhere within 40 degrees of the view axis; q 0.5 .. 2; a third moving.
+    ObjectTransform t;
+    const std::array<float, 4> q = look_along([&] {
+      std::array<double, 3> d = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
+      const double n = std::hypot(d[0], d[1], d[2]) + 1e-12;
+      return std::array<double, 3>{d[0] / n, d[1] / n, d[2] / n};
+    }());
+    for (int k = 0; k < 4; ++k) t.rotation[k] = q[std::size_t(k)];
+    t.scale = float(std::pow(10.0, u(rng) * 2 - 1));
+    const double size = b.diameter * t.scale;
+    std::array<double, 3> dir = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
+    const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12,
+                 dist = size * 0.3 * std::pow(10 / 0.3, u(rng));
+    const std::array<double, 3> eye = {dir[0] / n * dist, dir[1] / n * dist, dir[2] / n * dist};
+    const std::array<double, 3> target = {(u(rng) - 0.5) * size, (u(rng) - 0.5) * size,
+                                          (u(rng) - 0.5) * size};
+    Scheduler s(exact(float(0.5 + 1.5 * u(rng))));
+    s.begin_frame(frame_at(eye, target, float(u(rng) * 80 - 40), float(u(rng) * 80 - 40)));
+    const float velocity[3] = {float(u(rng) < 0.33 ? size : 0.0), 0, 0};
+    const CutResult r = s.select_cut(b.view(), loss, t, velocity, scratch, drawn);
+    ASSERT_EQ(r.status, CutStatus::Ok) << to_string(r.status);
+    ASSERT_GT(r.clusters, 0u);
+    const std::vector<std::uint32_t> cut(drawn.begin(), drawn.begin() + r.clusters);
+    const std::uint32_t c = crack.first(cut);
+    ASSERT_EQ(c, UINT32_MAX) << GetParam() << ": view " << view << " opens an edge of cluster " << c;
+    for (std::uint32_t k : cut) is_drawn[k] = true;
+    std::uint32_t levels_seen = 0;
+    bool finest_seen = false;
+    for (std::uint32_t k : cut) {
+      const std::uint32_t g = b.h.clusters[k].refined;
+      finest_seen |= g == kNoGroup;
+      if (g == kNoGroup) continue;
+      levels_seen |= 1u << std::min(b.h.groups[g].level, 31u);
+      for (std::uint32_t m = b.h.groups[g].first_member;
+           m < b.h.groups[g].first_member + b.h.groups[g].member_count; ++m)
+        ASSERT_FALSE(is_drawn[m]) << "view " << view << " draws cluster " << k << " and " << m
+                                  << " it replaces";
+    }
+    for (std::uint32_t k : cut) is_drawn[k] = false;
+    coarser += levels_seen != 0;
+    mixed += (levels_seen != 0 && finest_seen) || (levels_seen & (levels_seen - 1));
+    // Every evaluated group is below a visible one or the roots: never more than the groups.
+    EXPECT_LE(r.groups_evaluated, b.h.groups.size());
+  }
+  // The views test something: many cuts leave the finest mesh and many mix levels.
+  EXPECT_GT(coarser, 300u);
+  EXPECT_GT(mixed, 200u);
+}
+
+// Nearer, or with the gaze nearer, a group is never less refined. Distance: with every eccentricity 0
+// (gaze_uncertainty_deg 180), the visible groups (scratch bit 4 on return) of a view are a subset of
+// those of a view nearer along the same line, so it never draws fewer triangles. Gaze: a group
+// visible with the gaze anywhere stays visible with the gaze on its centre (its eccentricity and its
+// ancestors' then 0).
+TEST_P(ClosedMesh, NearerOrCloserToTheGazeNeverCoarser) {
+  const Built b = build(GetParam());
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  std::mt19937 rng(4804);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::uint8_t> far_state(b.h.groups.size()), near_state(b.h.groups.size());
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  SchedulerConfig everywhere = exact();
+  everywhere.gaze_uncertainty_deg = 180;
+  Scheduler foveal(everywhere), s(exact());
+  ObjectTransform t;
+  std::size_t differed = 0, gazed = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<double, 3> dir = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
+    const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12;
+    for (double& x : dir) x /= n;
+    const double dist = b.diameter * 0.6 * std::pow(10.0, u(rng) * 2);
+    const auto cut = [&](Scheduler& sch, const Frame& f, std::vector<std::uint8_t>& state) {
+      sch.begin_frame(f);
+      const CutResult r = sch.select_cut(b.view(), loss, t, nullptr, state, drawn);
+      EXPECT_EQ(r.status, CutStatus::Ok);
+      return r.triangles;
+    };
+    const auto eye_at = [&](double d) { return std::array<double, 3>{dir[0] * d, dir[1] * d, dir[2] * d}; };
+    const std::uint64_t far = cut(foveal, frame_at(eye_at(dist), {0, 0, 0}, 0, 0), far_state);
+    const std::uint64_t nearer = cut(foveal, frame_at(eye_at(dist * 0.7), {0, 0, 0}, 0, 0), near_state);
+    EXPECT_GE(nearer, far) << "trial " << trial;
+    for (std::size_t g = 0; g < far_state.size(); ++g)
+      if (far_state[g] & 4) { ASSERT_TRUE(near_state[g] & 4) << "trial " << trial << ": group " << g; }
+    differed += nearer != far;
+    // The gaze anywhere within 30 degrees, then on a group it left visible.
+    const float gx = float(u(rng) * 60 - 30), gy = float(u(rng) * 60 - 30);
+    cut(s, frame_at(eye_at(dist), {0, 0, 0}, gx, gy), far_state);
+    std::vector<std::uint32_t> visible;
+    for (std::size_t g = 0; g < far_state.size(); ++g)
+      if (far_state[g] & 4) visible.push_back(std::uint32_t(g));
+    if (visible.empty()) continue;
+    const ClusterGroup& g =
+        b.h.groups[visible[std::size_t(u(rng) * double(visible.size())) % visible.size()]];
+    // The eye looks at the object's centre; the gaze turns onto the group's centre.
+    const std::array<double, 3> eye = eye_at(dist);
+    const std::array<float, 4> q = look_along({-dir[0], -dir[1], -dir[2]});
+    const double to[3] = {g.center[0] - eye[0], g.center[1] - eye[1], g.center[2] - eye[2]};
+    // World to eye: the inverse rotation (conjugate) applied to `to`.
+    const double x = -q[0], y = -q[1], z = -q[2], w = q[3];
+    const double tx = 2 * (y * to[2] - z * to[1]), ty = 2 * (z * to[0] - x * to[2]),
+                 tz = 2 * (x * to[1] - y * to[0]);
+    const double local[3] = {to[0] + w * tx + (y * tz - z * ty), to[1] + w * ty + (z * tx - x * tz),
+                             to[2] + w * tz + (x * ty - y * tx)};
+    if (!(local[2] < 0)) continue;
+    Frame f = frame_at(eye, {0, 0, 0}, 0, 0);
+    const double ln = std::hypot(local[0], local[1], local[2]);
+    for (int k = 0; k < 3; ++k) f.gaze[0].direction[k] = float(local[k] / ln);
+    cut(s, f, near_state);
+    const std::size_t id = std::size_t(&g - b.h.groups.data());
+    ASSERT_TRUE(near_state[id] & 4) << "trial " << trial << ": group " << id << " coarsened under the gaze";
+    ++gazed;
+  }
+  EXPECT_GT(differed, 20u);
+  EXPECT_GT(gazed, 50u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Real, ClosedMesh, ::testing::Values("fandisk.off", "armadillo.off", "bunny00.off"));
+
+TEST(ClusterCut, BadInputFallsBackToTheFinestCut) {
+  const Built b = build("elephant.off");
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  std::vector<std::uint8_t> scratch(b.h.groups.size());
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  Scheduler s(exact());
+  s.begin_frame(frame_at({0, 0, 30 * b.diameter}, {0, 0, 0}, 0, 0));
+  const std::size_t finest_clusters = [&] {
+    std::size_t k = 0;
+    while (k < b.h.clusters.size() && b.h.clusters[k].refined == kNoGroup) ++k;
+    return k;
+  }();
+  ObjectTransform t;
+  CutResult r = s.select_cut(b.view(), loss, t, nullptr, scratch, drawn);
+  ASSERT_EQ(r.status, CutStatus::Ok);
+  ASSERT_LT(r.triangles, b.h.finest_triangles()) << "the good view draws less than the finest mesh";
+  const auto expect_finest = [&](const CutResult& x, CutStatus status, const char* what) {
+    EXPECT_EQ(x.status, status) << what;
+    EXPECT_EQ(x.clusters, finest_clusters) << what;
+    EXPECT_EQ(x.triangles, b.h.finest_triangles()) << what;
+    for (std::uint32_t k = 0; k < x.clusters; ++k) EXPECT_EQ(drawn[k], k) << what;
+  };
+  ObjectTransform bad = t;
+  bad.position[1] = NAN;
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "NaN position");
+  EXPECT_EQ(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn).flags, kFlagInvalidInput);
+  bad = t;
+  bad.scale = 0;
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "zero scale");
+  bad = t;
+  bad.rotation[3] = 0.5f;
+  expect_finest(s.select_cut(b.view(), loss, bad, nullptr, scratch, drawn), CutStatus::InvalidInput,
+                "rotation");
+  const float nan_velocity[3] = {0, NAN, 0};
+  expect_finest(s.select_cut(b.view(), loss, t, nan_velocity, scratch, drawn), CutStatus::InvalidInput,
+                "velocity");
+  ClusterLoss short_loss = loss;
+  short_loss.lost = std::span<const float>(lost).first(lost.size() - 1);
+  expect_finest(s.select_cut(b.view(), short_loss, t, nullptr, scratch, drawn), CutStatus::BadHierarchy,
+                "loss of the wrong size");
+  ClusterLoss no_diameter = loss;
+  no_diameter.diameter = 0;
+  expect_finest(s.select_cut(b.view(), no_diameter, t, nullptr, scratch, drawn), CutStatus::BadHierarchy,
+                "diameter 0");
+  const CutResult empty = s.select_cut(ClusterView{}, ClusterLoss{}, t, nullptr, scratch, drawn);
+  EXPECT_EQ(empty.status, CutStatus::BadHierarchy);
+  EXPECT_EQ(empty.clusters, 0u);
+  std::vector<std::uint8_t> small_scratch(b.h.groups.size() - 1);
+  expect_finest(s.select_cut(b.view(), loss, t, nullptr, small_scratch, drawn), CutStatus::BadHierarchy,
+                "scratch");
+  // An output buffer too small: the count it needs, nothing written past it.
+  std::vector<std::uint32_t> small(r.clusters - 1, 0xABCDu);
+  const CutResult too_small = s.select_cut(b.view(), loss, t, nullptr, scratch, small);
+  EXPECT_EQ(too_small.status, CutStatus::BufferTooSmall);
+  EXPECT_EQ(too_small.clusters, r.clusters);
+  // An invalid eye.
+  Frame f = frame_at({0, 0, 30 * b.diameter}, {0, 0, 0}, 0, 0);
+  f.eyes[0].orientation[0] = NAN;
+  s.begin_frame(f);
+  expect_finest(s.select_cut(b.view(), loss, t, nullptr, scratch, drawn), CutStatus::InvalidInput, "eye");
+  // Deterministic: the same input, the same cut.
+  s.begin_frame(frame_at({0, 0, 30 * b.diameter}, {0, 0, 0}, 0, 0));
+  std::vector<std::uint32_t> again(drawn.size());
+  const CutResult r2 = s.select_cut(b.view(), loss, t, nullptr, scratch, again);
+  EXPECT_EQ(r2.clusters, r.clusters);
+  s.select_cut(b.view(), loss, t, nullptr, scratch, drawn);
+  EXPECT_TRUE(std::equal(again.begin(), again.begin() + r2.clusters, drawn.begin()));
+}
+
+// provisional_group_loss's rule on a made-up profile of three levels (errors 0, 0.01, 0.04
+// diameters), one view, two orientations, two bands.
+TEST(ClusterCut, ProvisionalLossFollowsItsRule) {
+  Profile p{};
+  p.meta.level_count = 3;
+  p.meta.view_count = 1;
+  p.meta.orientation_count = 2;
+  p.meta.band_count = 2;
+  p.meta.sphere[3] = 0.5f;  // diameter 1
+  const ProfileLevel levels[3] = {{1000, 0.0f}, {500, 0.01f}, {250, 0.04f}};
+  // lost[(k-1)][v][t][b]: level 1 loses (0.02, 0.10) at most; level 2 (0.05, 0.08): its band 1 is
+  // raised to level 1's by the running maximum.
+  const float lost[2 * 1 * 2 * 2] = {0.01f, 0.10f, 0.02f, 0.03f, 0.05f, 0.01f, 0.04f, 0.08f};
+  const float bands[2] = {4, 16};
+  p.levels = levels;
+  p.lost = lost;
+  p.bands = bands;
+  ClusterGroup g[5];
+  g[0].error = 0;       // nothing lost
+  g[1].error = 0.005f;  // level 1
+  g[2].error = 0.02f;   // level 2
+  g[3].error = 0.08f;   // beyond: level 2's x 2
+  g[4].error = 1.0f;    // capped at 1
+  ClusterLoss loss;
+  const std::vector<float> out = provisional_group_loss(p, g, &loss);
+  ASSERT_EQ(out.size(), 10u);
+  EXPECT_EQ(loss.lost.data(), out.data());
+  EXPECT_EQ(loss.bands_cpod.data(), bands);
+  EXPECT_FLOAT_EQ(loss.diameter, 1.0f);
+  const float want[10] = {0, 0, 0.02f, 0.10f, 0.05f, 0.10f, 0.10f, 0.20f, 1.0f, 1.0f};
+  for (int i = 0; i < 10; ++i) EXPECT_NEAR(out[std::size_t(i)], want[i], 1e-6) << i;
+}
