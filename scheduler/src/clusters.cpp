@@ -133,10 +133,9 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
 
   CutObject o;
   const Vec3 v = velocity ? load(velocity) : Vec3{0, 0, 0};
-  const float qn = std::sqrt(t.rotation[0] * t.rotation[0] + t.rotation[1] * t.rotation[1] +
-                             t.rotation[2] * t.rotation[2] + t.rotation[3] * t.rotation[3]);
-  bool valid = eye_count_ > 0 && finite(v) && std::abs(qn - 1.0f) < 1e-3f && t.scale > 0.0f &&
-               std::isfinite(t.scale) && std::isfinite(loss.diameter * t.scale);
+  const float qn = quaternion_length(t.rotation);
+  bool valid = eye_count_ > 0 && finite(v) && unit_length(qn) && t.scale > 0.0f && std::isfinite(t.scale) &&
+               std::isfinite(loss.diameter * t.scale);
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const EyeCache& eye = eyes_[i];
     o.origin[i] = Vec3{float(t.position[0] - eye.position[0]), float(t.position[1] - eye.position[1]),

@@ -59,12 +59,11 @@ void Scheduler::Impl::pose_eye(const Eye& e, EyeCache* out) {
   EyeCache& c = *out;
   for (int k = 0; k < 3; ++k) c.position[k] = e.position[k];
   for (int k = 0; k < 4; ++k) c.rotation[k] = e.orientation[k];
-  const float qn = std::sqrt(e.orientation[0] * e.orientation[0] + e.orientation[1] * e.orientation[1] +
-                             e.orientation[2] * e.orientation[2] + e.orientation[3] * e.orientation[3]);
+  const float qn = quaternion_length(e.orientation);
   const float tan_l = std::tan(e.fov_deg[0] * kRad), tan_r = std::tan(e.fov_deg[1] * kRad);
   const float tan_u = std::tan(e.fov_deg[2] * kRad), tan_d = std::tan(e.fov_deg[3] * kRad);
   c.valid = std::isfinite(e.position[0]) && std::isfinite(e.position[1]) && std::isfinite(e.position[2]) &&
-            std::abs(qn - 1.0f) < 1e-3f && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
+            unit_length(qn) && finite(load(e.velocity)) && finite(load(e.angular_velocity)) &&
             tan_r > tan_l && tan_u > tan_d && e.viewport[0] > 0 && e.viewport[1] > 0 &&
             std::isfinite(tan_r - tan_l) && std::isfinite(tan_u - tan_d);
   if (c.valid)

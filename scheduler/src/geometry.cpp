@@ -49,7 +49,7 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
     const float nan_test = (rel.x - rel.x) + (rel.y - rel.y) + (rel.z - rel.z) + (vx[j] - vx[j]) +
                            (vy[j] - vy[j]) + (vz[j] - vz[j]) + (r - r) + bias_test + eye_test;
     // Every test folded into one comparison (the loop stays branch-free): r > 0, |q| = 1.
-    const float margin = std::min(r, 1e-3f - std::abs(qn - 1.0f));
+    const float margin = std::min(r, kUnitQuaternionRoom - std::abs(qn - 1.0f));
     const float test = nan_test + (margin > 0.0f ? 0.0f : kNaN);  // 0: valid
     out_d[j] = std::sqrt(dot(rel, rel));
     out_r[j] = r;

@@ -49,6 +49,13 @@ struct Vec3 {
 [[gnu::always_inline]] inline float length(Vec3 a) { return std::sqrt(dot(a, a)); }
 inline bool finite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 inline Vec3 load(const float* p) { return {p[0], p[1], p[2]}; }
+// A rotation quaternion (x y z w) counts as a unit one, and is normalised, where its length (the
+// block loop: its squared length) is within this of 1; beyond it, or not finite: invalid input.
+constexpr float kUnitQuaternionRoom = 1e-3f;
+inline float quaternion_length(const float* q) {
+  return std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+}
+inline bool unit_length(float length) { return std::abs(length - 1.0f) < kUnitQuaternionRoom; }
 
 // Rotates v by the unit quaternion (x, y, z, w).
 [[gnu::always_inline]] inline Vec3 rotate(float x, float y, float z, float w, Vec3 v) {
