@@ -100,7 +100,7 @@ case "${1:-test}" in
     # libFuzzer (Debian's clang): a short, seeded run of the profile reader and the importers.
     if command -v clang++ >/dev/null; then
       CC=clang CXX=clang++ configure_and_build build-fuzz -DACUITY_FUZZ=ON
-      ctest --test-dir build-fuzz --output-on-failure
+      ctest --test-dir build-fuzz --output-on-failure -j "$JOBS"
     fi
     ;;
   *) echo "usage: $0 demo|test|deps" >&2; exit 2 ;;
