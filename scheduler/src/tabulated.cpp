@@ -230,7 +230,8 @@ struct Scheduler::Impl::Tabulation {
   std::uint32_t left_count = 0;  // ... and their count
   Probe probe[kBlock];
   std::uint8_t gaze_flag;
-  int sets;  // the hysteresis margin's tables too
+  int sets;    // the hysteresis margin's tables too
+  bool holds;  // holds of the view are set (a steady eye: EyeCache::steady)
 };
 
 void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
@@ -445,8 +446,9 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
       standing[j] = o.decided;
-      if (o.decided) {  // out[j] holds its memo's decision; its hold moves here
-        hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
+      if (o.decided) {  // out[j] holds its memo's decision; its hold moves here (else the one
+                        // it had, made for the same memo, stays)
+        if (tb.holds) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
         continue;
       }
     }
@@ -546,7 +548,7 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o, quartered);
       memo.speed_key[id] = Memo::speed_key_of(o, T, quartered);
-      if (stands) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
+      if (stands && tb.holds) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
       standing[j] = stands;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
@@ -563,6 +565,7 @@ void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::ui
   Tabulation tb;
   tb.gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   tb.sets = margin_sets(config_);
+  tb.holds = eye.steady;
   tabulate_memos(eye, first, n, b, memo, scores != nullptr, tb);
   tabulate_rows(eye, first, n, b, memo, out, scores, tb);
   tabulate_any_view(first, b, memo, out, tb);
