@@ -1546,6 +1546,39 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
   }
 }
 
+// A head that turns steadily for a few frames, then changes its speed every frame, in turn, while it
+// sweeps (so eccentricities change), over moving images: holds of the view are set only while the
+// eye is steady (EyeCache::steady), and one set earlier for the same memo may be read after frames
+// without any. Each frame's levels must be those of a scheduler that keeps every level's score.
+TEST(SchedulerTabulated, HoldsSetOnlyWhileTheHeadTurnsSteadily) {
+  const TestProfile six(6, 8, 8, 0.5f, 0.6f);
+  const int objects = 3000, frames = 160;
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    AgainstScored pair(blend, objects, six.profile);
+    Rng rng(17);
+    for (int i = 0; i < objects; ++i) {
+      const RandomObject o = random_object(rng, 100);
+      pair.add_object(o.t, ObjectId(i));
+      if (i % 2 == 0) {
+        pair.fast.set_velocity(ObjectId(i), o.v);
+        pair.scored.set_velocity(ObjectId(i), o.v);
+      }
+    }
+    Frame fr = looking_forward();
+    float yaw = 0;  // [deg]
+    for (int f = 0; f < frames; ++f) {
+      const bool steady = f / 6 % 2 == 0;
+      const float speed = steady ? 30.0f : 30.0f + 3.0f * float(f % 6);  // [deg/s]
+      yaw += (f / 40 % 2 == 0 ? speed : -speed) * fr.dt;
+      fr.eyes[0].angular_velocity[1] = f / 40 % 2 == 0 ? speed : -speed;
+      fr.eyes[0].orientation[1] = std::sin(0.5f * yaw * 3.14159265f / 180.0f);
+      fr.eyes[0].orientation[3] = std::cos(0.5f * yaw * 3.14159265f / 180.0f);
+      pair.run_frame(fr);
+    }
+    pair.expect_same_levels(blend == ViewBlend::Nearest ? "nearest" : "max3", objects / 10, "the sweep");
+  }
+}
+
 // Objects at rest: with a still eye and still objects, an object whose memo stands is decided from it
 // without its geometry while the eye stays within the object's rest. The eye trembles (+-0.2 mm a
 // frame) and walks slowly across the edges of rests, the gaze jitters and is lost for a while, the

@@ -32,7 +32,7 @@ struct Scheduler::Impl::Curves {
     float lower, upper;  // [ln deg] at the cell's lower and upper node
   };
   std::vector<Lift> still_lift, speed_lift, moving_e_lift;
-  static float speed(std::uint32_t i, float floor) { return floor * std::ldexp(1.0f, int(i)); }
+  static float speed(std::uint32_t i, float floor) { return floor * power_of_two(i); }
   // The speed at weight w of speed cell i (speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo +
   // 2 v0), solved for v).
   static float speed_at(std::uint32_t i, float w, float floor, float v0) {

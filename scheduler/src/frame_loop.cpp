@@ -16,6 +16,7 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Gaze& g = frame.gaze[i];
     EyeCache& c = eyes_[i];
+    const EyeCache before = c;
     pose_eye(frame.eyes[i], &c);
     const Vec3 gd = load(g.direction);
     const float gl = length(gd);
@@ -35,6 +36,10 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
       const Vec3 in_head = rotate(c.rotation, cross(gw, (1.0f / gl) * gd));
       c.gaze_velocity = in_head + kDeg * cross(c.omega, c.gaze_dir);
     }
+    const auto same = [](Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+    c.steady = same(c.velocity, before.velocity) && same(c.omega, before.omega) &&
+               c.gaze_moving == before.gaze_moving &&
+               (!c.gaze_moving || same(c.gaze_velocity, before.gaze_velocity));
     stats_.gaze_used |= c.gaze;
     if (!perceptual()) {  // level k's least distance / radius under this eye
       float* threshold = error_threshold_[i].data();

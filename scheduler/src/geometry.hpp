@@ -18,6 +18,11 @@ struct Scheduler::Impl::EyeCache {
   Vec3 gaze_velocity;             // world tangent velocity of the gaze direction [deg/s]
   float focal_px;                 // horizontal focal length [px]
   float center_right, center_up;  // tangent offsets of the projection centre (off-axis frusta)
+  // The eye's velocity, the head's angular velocity and the gaze's motion are last frame's, bit for
+  // bit (begin_frame): retinal slips then change only as the objects' directions do, so holds of
+  // the view (Memo::Hold) can last. Where they change, every image's slip moves with them and a hold
+  // rarely outlives its frame: none is set (a hold never changes a decision, only its cost).
+  bool steady;
 };
 
 // A view beyond the eyes (View) as a frame uses it (views.cpp): its pose as an eye without gaze (for

@@ -310,7 +310,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
     for (std::uint32_t t = 0; t < T; ++t) {
       const float u = std::abs(o.vx * pc.cos_t[t] + o.vy * pc.sin_t[t]);
       const std::uint32_t cell = o.speed_j[t];
-      const float lo = floor * std::ldexp(1.0f, int(cell)), g_top = lo / (3.0f * lo + 2.0f * v0);
+      const float lo = floor * power_of_two(cell), g_top = lo / (3.0f * lo + 2.0f * v0);
       // The speed at weight w of the cell [lo, 2 lo] (speed_cell()'s weight inverted).
       const auto at = [&](float w) {
         const float g = w * g_top;

@@ -88,6 +88,13 @@ template <std::uint32_t n>
   const float lower = e_node(j, n), upper = e_node(j + 1, n);
   return {j, std::clamp((e - lower) * (1.0f / (upper - lower)), 0.0f, 1.0f)};
 }
+// 2^e for 0 <= e < 128, from the float's bits (std::ldexp's value without its call).
+[[gnu::always_inline]] inline float power_of_two(std::uint32_t e) {
+  const std::uint32_t bits = (e + 127u) << 23;
+  float power;
+  std::memcpy(&power, &bits, sizeof power);
+  return power;
+}
 // Speed nodes floor 2^i: the cell from the float's exponent (exact at powers of two). The weight is
 // linear in g(r) = (r - 1) / (r + 1) ~ ln(r) / 2, r = (v + v0) / (v_lo + v0), v0 = 2 / c2: the CSF's
 // fall-off b(v) f grows with c2 v + 2, so the largest invisible ln size is nearly linear in ln(v + v0).
@@ -99,11 +106,8 @@ template <std::uint32_t n>
   std::uint32_t bits;
   std::memcpy(&bits, &r, sizeof bits);
   const int octave = std::min(std::max(int((bits >> 23) & 255u) - 127, 0), int(n) - 2);
-  const std::uint32_t power_bits = std::uint32_t(octave + 127) << 23;  // 2^octave
-  float power;
-  std::memcpy(&power, &power_bits, sizeof power);
-  const float lo = floor * power;                    // the cell's lower node
-  const float inv_g = (3.0f * lo + 2.0f * v0) / lo;  // 1 / g at the cell's top, 2 lo
+  const float lo = floor * power_of_two(std::uint32_t(octave));  // the cell's lower node
+  const float inv_g = (3.0f * lo + 2.0f * v0) / lo;              // 1 / g at the cell's top, 2 lo
   // g(r) = (r - 1) / (r + 1) with r = (v + v0) / (lo + v0) is (v - lo) / (v + lo + 2 v0).
   *j = static_cast<std::uint32_t>(octave);
   *w = std::clamp((v - lo) / (v + lo + 2.0f * v0) * inv_g, 0.0f, 1.0f);

@@ -96,7 +96,7 @@ int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
   const ProfileCache::Tables& tables = pc.sets[o.tables + set];
   const std::vector<std::int16_t>& near = o.moving ? tables.slow : tables.still;
-  float ec_from, ec_to, em_from, em_to;
+  float ec_from, ec_to, em_from = 0.0f, em_to = 1.0f;
   weight_range(quartered, o.ec.w, &ec_from, &ec_to);
   if (o.moving) weight_range(quartered, o.em.w, &em_from, &em_to);
   // A bound in table steps, rounded down (up).
@@ -106,31 +106,42 @@ int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std
     bool least = true, most = true;  // every view passes its least (most) bound
     for (std::uint32_t c = 0; c < o.view_count && most; ++c) {
       const std::int16_t* row = &near[o.still_row(c, B, L) + (k - 1)];
-      const float near_from = between(row[0], row[L], ec_from), near_to = between(row[0], row[L], ec_to);
-      bool view_least = passes_narrowing(x, step_below(std::min(near_from, near_to)), lo, hi);
-      bool view_most = view_least || passes_narrowing(x, step_above(std::max(near_from, near_to)), lo, hi);
+      std::int32_t near_least = std::min(row[0], row[L]), near_most = std::max(row[0], row[L]);
+      if (quartered) {
+        const float near_from = between(row[0], row[L], ec_from), near_to = between(row[0], row[L], ec_to);
+        near_least = step_below(std::min(near_from, near_to));
+        near_most = step_above(std::max(near_from, near_to));
+      }
+      bool view_least = passes_narrowing(x, near_least, lo, hi);
+      bool view_most = view_least || passes_narrowing(x, near_most, lo, hi);
       if (o.moving && !view_least) {  // the moving bound: its least (most) over the orientations
         bool moving_least = true, moving_most = !view_most;
         for (std::uint32_t t = 0; t < T && (moving_least || moving_most); ++t) {
           const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
           const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
-          float s_from, s_to;
-          weight_range(quartered, o.speed_w[t], &s_from, &s_to);
-          float corners[4];
-          for (int e = 0; e < 2; ++e) {  // at each eccentricity end, the speed interpolation's ends
-            const float w = e ? em_to : em_from;
-            const float slow_node = between(r0[0], r0[L], w), fast_node = between(r1[0], r1[L], w);
-            corners[2 * e] = slow_node + s_from * (fast_node - slow_node);
-            corners[2 * e + 1] = slow_node + s_to * (fast_node - slow_node);
+          // Over whole cells the corners are the four entries (between() at weights 0 and 1 gives
+          // them exactly): their least and most in integers, as the floats below would give them.
+          std::int32_t least_corner = std::min(std::min(r0[0], r0[L]), std::min(r1[0], r1[L]));
+          std::int32_t most_corner = std::max(std::max(r0[0], r0[L]), std::max(r1[0], r1[L]));
+          if (quartered) {
+            float s_from, s_to;
+            weight_range(quartered, o.speed_w[t], &s_from, &s_to);
+            float corners[4];
+            for (int e = 0; e < 2; ++e) {  // at each eccentricity end, the speed interpolation's ends
+              const float w = e ? em_to : em_from;
+              const float slow_node = between(r0[0], r0[L], w), fast_node = between(r1[0], r1[L], w);
+              corners[2 * e] = slow_node + s_from * (fast_node - slow_node);
+              corners[2 * e + 1] = slow_node + s_to * (fast_node - slow_node);
+            }
+            least_corner =
+                step_below(std::min(std::min(corners[0], corners[1]), std::min(corners[2], corners[3])));
+            most_corner =
+                step_above(std::max(std::max(corners[0], corners[1]), std::max(corners[2], corners[3])));
           }
-          const float least_corner =
-              std::min(std::min(corners[0], corners[1]), std::min(corners[2], corners[3]));
-          const float most_corner =
-              std::max(std::max(corners[0], corners[1]), std::max(corners[2], corners[3]));
           // A step of room: inside the box, the speed interpolation of two interpolated floats can
           // round an ulp past its corners.
-          if (moving_least) moving_least = passes_narrowing(x, step_below(least_corner) - 1, lo, hi);
-          if (moving_most) moving_most = passes_narrowing(x, step_above(most_corner) + 1, lo, hi);
+          if (moving_least) moving_least = passes_narrowing(x, least_corner - 1, lo, hi);
+          if (moving_most) moving_most = passes_narrowing(x, most_corner + 1, lo, hi);
         }
         view_least = moving_least;
         view_most = view_most || moving_most;
@@ -219,7 +230,8 @@ struct Scheduler::Impl::Tabulation {
   std::uint32_t left_count = 0;  // ... and their count
   Probe probe[kBlock];
   std::uint8_t gaze_flag;
-  int sets;  // the hysteresis margin's tables too
+  int sets;    // the hysteresis margin's tables too
+  bool holds;  // holds of the view are set (a steady eye: EyeCache::steady)
 };
 
 void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
@@ -434,8 +446,9 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
       standing[j] = o.decided;
-      if (o.decided) {  // out[j] holds its memo's decision; its hold moves here
-        hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
+      if (o.decided) {  // out[j] holds its memo's decision; its hold moves here (else the one
+                        // it had, made for the same memo, stays)
+        if (tb.holds) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
         continue;
       }
     }
@@ -535,7 +548,7 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o, quartered);
       memo.speed_key[id] = Memo::speed_key_of(o, T, quartered);
-      if (stands) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
+      if (stands && tb.holds) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
       standing[j] = stands;
       if (coarse >= 0) {
         out[j] = {static_cast<std::uint8_t>(fine), static_cast<std::uint8_t>(coarse), gaze_flag};
@@ -552,6 +565,7 @@ void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::ui
   Tabulation tb;
   tb.gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   tb.sets = margin_sets(config_);
+  tb.holds = eye.steady;
   tabulate_memos(eye, first, n, b, memo, scores != nullptr, tb);
   tabulate_rows(eye, first, n, b, memo, out, scores, tb);
   tabulate_any_view(first, b, memo, out, tb);
