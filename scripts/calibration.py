@@ -16,8 +16,8 @@ meridians, v the patch's drift across its bars on the retina (the eye holds stil
 zero velocity). Then the whole chain: the image and the background go through
 acuity.spectra.lost_contrast (8 orientations, octave bands) -> a one-view, two-level profile ->
 the scheduler (perceptual rule, q = 1, model stela-csf at 50 cd/m^2, gaze uncertainty 0, a display of
-91 px/deg so that the display never limits) -> level 1's score (keep_scores: max over bands and
-orientations of lost / CT), on the exact and the tabulated path. 1 is calibrated; above 1 the chain
+91 px/deg so that the display never limits) -> level 1's score (keep_scores: lost / CT pooled over
+orientations and bands, docs/design.md section 5), on the exact and the tabulated path. 1 is calibrated; above 1 the chain
 is strict (it calls the patch visible at a contrast below its threshold: triangles given away);
 below 1 it under-predicts (a visible loss let through). Conditions whose threshold contrast
 exceeds 1 (no contrast shows them) are left out of the statistics and marked "-".

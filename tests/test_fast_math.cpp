@@ -1,13 +1,16 @@
 // The scheduler's branch-free atan2 and log (scheduler/src/fast_math.hpp) against std:: in double
-// precision over their whole domain: every binade, zeros, subnormals, infinities, NaN.
+// precision over their whole domain: every binade, zeros, subnormals, infinities, NaN; and the
+// channel pooling (runtime_math.hpp, pooled_excess) against the formula in double, hard cases too.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "fast_math.hpp"
+#include "runtime_math.hpp"
 
 namespace {
 
@@ -93,6 +96,66 @@ TEST(SchedulerFastMath, LnEdges) {
     EXPECT_LE(got, -87.33f) << x;
   }
   EXPECT_NEAR(acuity::detail::ln_positive(-2.0f), std::log(2.0), 1e-6);  // ln |x| (documented)
+}
+
+// ln (sum_b (sum_t (l/c)^2)^(beta/2))^(1/beta) in double, straight from the definition.
+double pooled_reference(const std::vector<float>& lost, const std::vector<float>& ct, std::uint32_t T,
+                        std::uint32_t B) {
+  double total = 0;
+  for (std::uint32_t b = 0; b < B; ++b) {
+    double energy = 0;
+    for (std::uint32_t t = 0; t < T; ++t) energy += std::exp(2.0 * (double(lost[t * B + b]) - ct[t * B + b]));
+    total += std::pow(energy, acuity::kBandPooling / 2.0);
+  }
+  return std::log(total) / acuity::kBandPooling;
+}
+
+TEST(SchedulerPooling, MatchesTheFormulaAndItsLimits) {
+  using acuity::internal::pooled_excess;
+  const std::uint32_t T = 8, B = 6;
+  std::vector<float> lost(T * B), ct(T * B);
+  std::uint32_t state = 12345;
+  const auto uniform = [&] {  // [0, 1)
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  for (int trial = 0; trial < 200; ++trial) {
+    for (std::uint32_t i = 0; i < T * B; ++i) {
+      lost[i] = -8.0f * uniform();
+      ct[i] = -6.0f * uniform();
+    }
+    EXPECT_NEAR(pooled_excess(lost.data(), ct.data(), T, B), pooled_reference(lost, ct, T, B), 1e-5) << trial;
+  }
+  // One channel alone is itself; N equal channels of one band are sqrt N times one; B equal bands
+  // B^(1 / beta) times one.
+  std::fill(lost.begin(), lost.end(), -kInf);
+  std::fill(ct.begin(), ct.end(), -3.0f);
+  lost[3 * B + 2] = -1.0f;
+  EXPECT_FLOAT_EQ(pooled_excess(lost.data(), ct.data(), T, B), 2.0f);
+  for (std::uint32_t t = 0; t < T; ++t) lost[t * B + 2] = -1.0f;
+  EXPECT_NEAR(pooled_excess(lost.data(), ct.data(), T, B), 2.0 + 0.5 * std::log(double(T)), 1e-5);
+  std::fill(lost.begin(), lost.end(), -kInf);
+  for (std::uint32_t b = 0; b < B; ++b) lost[b] = -1.0f;
+  EXPECT_NEAR(pooled_excess(lost.data(), ct.data(), T, B), 2.0 + std::log(double(B)) / acuity::kBandPooling,
+              1e-5);
+  // Huge and tiny ratios neither overflow nor vanish (e^(2 x) alone would).
+  std::fill(lost.begin(), lost.end(), 80.0f);
+  std::fill(ct.begin(), ct.end(), 0.0f);
+  EXPECT_NEAR(pooled_excess(lost.data(), ct.data(), T, B), pooled_reference(lost, ct, T, B), 1e-4);
+  std::fill(lost.begin(), lost.end(), -80.0f);
+  EXPECT_NEAR(pooled_excess(lost.data(), ct.data(), T, B),
+              -80.0 + 0.5 * std::log(double(T)) + std::log(double(B)) / acuity::kBandPooling, 1e-4);
+  // Nothing lost, or every band beyond the display: -inf. A NaN, or an infinite loss: +inf.
+  std::fill(lost.begin(), lost.end(), -kInf);
+  EXPECT_EQ(pooled_excess(lost.data(), ct.data(), T, B), -kInf);
+  std::fill(lost.begin(), lost.end(), -1.0f);
+  std::fill(ct.begin(), ct.end(), kInf);
+  EXPECT_EQ(pooled_excess(lost.data(), ct.data(), T, B), -kInf);
+  std::fill(ct.begin(), ct.end(), 0.0f);
+  lost[5] = kNaN;
+  EXPECT_EQ(pooled_excess(lost.data(), ct.data(), T, B), kInf);
+  lost[5] = kInf;
+  EXPECT_EQ(pooled_excess(lost.data(), ct.data(), T, B), kInf);
 }
 
 }  // namespace

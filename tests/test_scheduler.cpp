@@ -1000,7 +1000,8 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
 }
 
 // A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
-// less the band filter's shortfall; the other models ignore it.
+// and pools the channels (energy over orientations, probability summation over bands with exponent
+// kBandPooling); the other models ignore it. The display is dense enough that no band is cut.
 // Offset 0 takes the path that reuses the band centre's thresholds.
 // Params: frequency offset [octaves], turn [orientation spacings].
 class SchedulerDetail : public ::testing::TestWithParam<std::pair<float, float>> {};
@@ -1030,6 +1031,7 @@ TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
       Scheduler s(c);
       const ObjectId id = s.add_object(s.add_profile(with ? detailed.profile : plain.profile), at(1, 0, -12));
       Frame f = looking_forward();
+      f.eyes[0].viewport[0] = f.eyes[0].viewport[1] = 40000;  // 175 cpd: above every band
       gaze_at(f, 0, 0, -1);
       s.run_frame(f);
       ASSERT_TRUE(s.explain(id, &ex[with]));
@@ -1040,17 +1042,32 @@ TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
         EXPECT_EQ(scores[0][k], scores[1][k]) << k;
         continue;
       }
-      // The limiting component's threshold, computed here from the model's functions.
+      // Every channel's threshold and the pooled score, computed here from the model's functions.
       const LevelExplain& le = ex[1].levels[k];
-      const float f = le.frequency_cpd * std::exp2(offset);  // explain names the band's centre
-      const float d = ex[1].angular_diameter_deg;
-      const double expected = std::exp(
-          log_threshold<double>(f, ex[1].eccentricity_deg, 0.15, model, ModelParams{}) +
-          stela_log_area_penalty<double>(f, decoded_area * d * d) + std::log(std::cos(0.5 * kPi * offset)) +
-          std::log(std::cos(0.5 * kPi * std::min(std::abs(turn), 0.5f))));
-      EXPECT_NEAR(le.threshold / expected, 1.0, 1e-3) << k;
-      const float lost = detailed.profile.lost_contrast(k, ex[1].view, le.orientation, le.band);
-      EXPECT_NEAR(lost / le.threshold, le.score, 1e-3f * le.score) << k;
+      const double d = ex[1].angular_diameter_deg;
+      const auto& pr = detailed.profile;
+      const std::uint32_t T = pr.meta.orientation_count, B = pr.meta.band_count;
+      double pooled = 0, largest = 0;
+      for (std::uint32_t b = 0; b < B; ++b) {
+        const double f = pr.bands[b] / d * std::exp2(double(offset));
+        const double ct =
+            std::exp(log_threshold<double>(f, ex[1].eccentricity_deg, 0.15, model, ModelParams{}) +
+                     stela_log_area_penalty<double>(f, decoded_area * d * d));
+        if (b == le.band) { EXPECT_NEAR(le.threshold / ct, 1.0, 1e-3) << k; }
+        double energy = 0;
+        for (std::uint32_t t = 0; t < T; ++t) {
+          const double x = pr.lost_contrast(k, ex[1].view, t, b) / ct;
+          energy += x * x;
+          largest = std::max(largest, x);
+        }
+        pooled += std::pow(energy, kBandPooling / 2.0);
+      }
+      pooled = std::pow(pooled, 1.0 / kBandPooling);
+      EXPECT_NEAR(scores[1][k] / pooled, 1.0, 2e-3) << k;
+      EXPECT_NEAR(le.score, scores[1][k], 1e-4f * scores[1][k]) << k;
+      const float lost = pr.lost_contrast(k, ex[1].view, le.orientation, le.band);
+      EXPECT_NEAR(lost / le.threshold / largest, 1.0, 1e-3) << k;  // the largest channel is named
+      EXPECT_GT(pooled, largest) << k;
       EXPECT_NE(scores[0][k], scores[1][k]) << k;
     }
   }

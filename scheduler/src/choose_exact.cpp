@@ -2,8 +2,6 @@
 // the threshold model (Evaluation::Exact, explain(), and objects the tables do not cover).
 #include "tables.hpp"
 
-#include <numbers>
-
 namespace acuity {
 
 // One eye's view of one object (sight() and aim() done) through the configured rule, exactly.
@@ -69,11 +67,10 @@ bool Scheduler::Impl::uses_detail(const Profile& p) const {
 // StelaCsf on a profile with a Detail section: ln CT per (orientation, band) [T][B] of level k's loss
 // seen from `view`, at the loss's own frequency (the band's centre shifted by its offset) and its
 // own area (the smaller of the measured extent, times the squared angular diameter, and
-// ModelParams::area), less the analyzer's shortfall there: its radial and angular windows pass
-// cos(pi/2 d) of a grating d band (orientation) spacings off their centres, d clamped to 1/2 (at most
-// a factor sqrt 2 each). The Nyquist cut stays the band centre's, as without Detail. An entry at its
-// band's centre (frequency code 0, every entry of a cell-bounded profile) reuses exact_thresholds()'
-// ln CT there (`centre_ln_ct`, rows of `stride`).
+// ModelParams::area). What a channel misses of a grating off its centre, its neighbour reads:
+// pooled_excess() adds them. The Nyquist cut stays the band centre's, as without Detail. An entry at
+// its band's centre (frequency code 0, every entry of a cell-bounded profile) reuses
+// exact_thresholds()' ln CT there (`centre_ln_ct`, rows of `stride`).
 void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k,
                                         std::uint32_t view, const float* centre_ln_ct, std::uint32_t stride,
                                         float* ln_ct) const {
@@ -81,13 +78,9 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count;
   const ProfileDetail* detail = &p.detail[((k - 1) * std::size_t(V) + view) * T * B];
   const float inv_diam = 1.0f / s.diameter_deg, diam2 = s.diameter_deg * s.diameter_deg;
-  const float spacing = B > 1 ? std::log2(p.bands[1] / p.bands[0]) : 1.0f;  // [octaves]
   const auto config_area = static_cast<float>(config_.params.area);
   const StelaConstants& c = config_.params.stela;
   const float floor_v = pre_->floor_velocity;
-  auto ln_pass = [](float d) {  // ln of the window's gain d spacings off its centre, d clamped to 1/2
-    return std::log(std::cos(0.5f * std::numbers::pi_v<float> * std::min(std::abs(d), 0.5f)));
-  };
   for (std::uint32_t t = 0; t < T; ++t) {
     const float v = s.moving ? std::max(std::abs(s.vx * pc.cos_t[t] + s.vy * pc.sin_t[t]), floor_v) : floor_v;
     for (std::uint32_t b = 0; b < B; ++b) {
@@ -104,7 +97,7 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
           area < config_area ? stela_log_area_penalty(f, area, c) - stela_log_area_penalty(f, config_area, c)
                              : 0.0f;
       const float at_f = d.frequency_code ? log_threshold(f, s.e, v, config_.model, config_.params) : base;
-      ln_ct[t * B + b] = at_f + penalty + ln_pass(offset / spacing) + ln_pass(detail_turn(d));
+      ln_ct[t * B + b] = at_f + penalty;
     }
   }
 }
@@ -174,7 +167,8 @@ void Scheduler::Impl::explain_level(const ProfileCache& pc, std::uint32_t view, 
 
 // The perceptual rule evaluated in full (and Reddy's rule):
 //   per band b: f = f_b / D [cpd]; ln CT(t, b) from the threshold model (bands above the display's
-//   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT).
+//   Nyquist frequency are invisible); level k's score = max_tb lost_k / (q CT) (stela-csf with a
+//   Detail section: the channels pooled, pooled_excess()).
 Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& s, float* scores_out,
                                                       ObjectExplain* ex) const {
   const ProfileCache& pc = profiles_[profile_of_[id]];
@@ -226,10 +220,10 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
       const std::uint32_t blended = config_.view_blend == ViewBlend::Max3 ? kLookupCandidates : 1;
       for (std::uint32_t j = 0; j < blended; ++j) {
         const std::uint32_t w = blended == 1 ? view : cand[j];
-        if (detail) {  // thresholds per level, view and orientation: every orientation's own loss
+        if (detail) {  // thresholds per level, view and orientation; the channels pooled
           detail_thresholds(pc, s, k, w, ln_ct, stride, ln_ct_detail);
           m = std::max(
-              m, max_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B, B));
+              m, pooled_excess(&pc.ln_lost[((k - 1) * std::size_t(V) + w) * T * B], ln_ct_detail, T, B));
           continue;
         }
         m = std::max(m,

@@ -165,6 +165,38 @@ inline float max_excess(const float* lost, const float* ct, std::uint32_t T, std
   return m;
 }
 
+// ln of the pooled visibility of one level's loss in every channel (stela-csf on a profile with a
+// Detail section, docs/design.md section 5): x = lost[t B + b] - ct[t B + b] (ln lost / CT per
+// orientation t < T and band b < B); within a band the orientations add as energy (the analyzer's
+// angular windows split a grating's energy between two neighbours, cos^2 + sin^2 = 1), and the bands
+// by probability summation with exponent kBandPooling:
+//   ln (sum_b (sum_t e^(2 x))^(kBandPooling / 2))^(1 / kBandPooling).
+// One channel alone gives its x exactly; N equal channels within a band sqrt N times it. -inf
+// entries (nothing lost, or above the display's Nyquist frequency) add nothing; a NaN counts as
+// +inf (visible). Log-sum-exp from each sum's largest term: no overflow.
+inline float pooled_excess(const float* lost, const float* ct, std::uint32_t T, std::uint32_t B) {
+  float band[kMaxBands];
+  float most = -kInf;
+  for (std::uint32_t b = 0; b < B; ++b) {
+    float top = -kInf;
+    for (std::uint32_t t = 0; t < T; ++t) {
+      const float x = lost[std::size_t(t) * B + b] - ct[std::size_t(t) * B + b];
+      top = std::isnan(x) ? kInf : std::max(top, x);
+      if (top == kInf) break;
+    }
+    float sum = 0.0f;  // sum_t e^(2 (x - top)), in [1, T]
+    if (top > -kInf && top < kInf)
+      for (std::uint32_t t = 0; t < T; ++t)
+        sum += std::exp(2.0f * (lost[std::size_t(t) * B + b] - ct[std::size_t(t) * B + b] - top));
+    band[b] = top > -kInf && top < kInf ? top + 0.5f * std::log(sum) : top;
+    most = std::max(most, band[b]);
+  }
+  if (!(most > -kInf && most < kInf)) return most;
+  float sum = 0.0f;  // sum_b e^(kBandPooling (band - most)), in [1, B]
+  for (std::uint32_t b = 0; b < B; ++b) sum += std::exp(kBandPooling * (band[b] - most));
+  return most + std::log(sum) / kBandPooling;
+}
+
 }  // namespace acuity::internal
 
 namespace acuity {

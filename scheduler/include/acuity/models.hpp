@@ -169,6 +169,14 @@ T stela_csf(T rho, T omega, T luminance, T area, T e = T(0), T vis_field = T(0),
 template <class T>
 T stela_log_area_penalty(T rho, T area, const StelaConstants& c = {});
 
+// How the scheduler's stela-csf pools a level's loss over the analyzer's channels on a profile with
+// a Detail section (docs/design.md section 5): orientations within a band as energy, bands by
+// probability summation with this Minkowski exponent (Robson & Graham 1981 and Watson 1979 report 3
+// to 4; 3.5 is their usual middle). Chosen on Gabor patches at stelaCSF's threshold
+// (scripts/calibration.py, docs/spectra.md "Calibration"): 2 puts the broad patches' scores at
+// 0.82-1.35, 3.5 at 0.78-1.22, the largest channel alone at 0.69-1.22.
+inline constexpr float kBandPooling = 3.5f;
+
 // ---- Minimum angle of resolution (Guenter et al. 2012, Eq. 1) ------------------------------------
 // MAR [deg per cycle] = slope e + omega0. Acuity frequency is 1 / MAR [cpd].
 template <class T>

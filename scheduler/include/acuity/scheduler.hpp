@@ -212,8 +212,9 @@ inline constexpr ObjectId kInvalidObject = 0xffffffffu;
 
 // Why a level was chosen: the score of one level and what limits it.
 struct LevelExplain {
-  float score;        // max over bands and orientations of lost / (q CT); <= 1 is invisible
-  std::uint8_t band;  // the limiting band and orientation
+  float score;        // max over bands and orientations of lost / (q CT) (stela-csf on a profile
+                      // with a Detail section: the channels pooled, kBandPooling); <= 1 is invisible
+  std::uint8_t band;  // the limiting band and orientation (the largest lost / CT)
   std::uint8_t orientation;
   float frequency_cpd;  // that band's centre at the current distance
   float threshold;      // CT there
