@@ -229,7 +229,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
                                              std::string("Clusters: group_count = 0 (allowed 1..4194304)")}));
   EXPECT_EQ(damaged(0, &many, 4).first, ProfileStatus::BadCounts);
   EXPECT_EQ(damaged(4, &bands_over, 4).first, ProfileStatus::BadCounts);
-  EXPECT_EQ(damaged(8, &zero, 4).first, ProfileStatus::BadCounts);  // window_pixels
+  EXPECT_EQ(damaged(8, &zero, 4).first, ProfileStatus::BadCounts);    // window_pixels
   EXPECT_EQ(damaged(24, &lower, 4).first, ProfileStatus::BadCounts);  // reserved
   const std::uint32_t four = 4;  // fewer groups than the section holds: its size is wrong
   EXPECT_EQ(damaged(0, &four, 4),
@@ -238,7 +238,8 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
             (std::pair{ProfileStatus::BadValue,
                        std::string("Clusters: band 3 must be finite, positive and increasing")}));
   EXPECT_EQ(damaged(32 + 4 * (7 + 15), &nan, 4),
-            (std::pair{ProfileStatus::BadValue, std::string("Clusters: value 15 (group 2) is negative or not finite")}));
+            (std::pair{ProfileStatus::BadValue,
+                       std::string("Clusters: value 15 (group 2) is negative or not finite")}));
   EXPECT_EQ(damaged(32 + 4 * (7 + 34), &negative, 4).first, ProfileStatus::BadValue);
   // The writer wants whole rows of bands.
   spectra::ProfileData bad = d;

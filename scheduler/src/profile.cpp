@@ -15,8 +15,9 @@ namespace {
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
 constexpr std::uint32_t kSectionIds = 10;
 constexpr std::uint32_t kRequiredSections = 8;  // ids 1..8; Detail (9) and Clusters (10) are optional
-const char* const kSectionNames[kSectionIds + 1] = {"?",     "Meta", "Levels",   "Views",  "Lookup", "Orientations",
-                                                    "Bands", "Lost", "Features", "Detail", "Clusters"};
+const char* const kSectionNames[kSectionIds + 1] = {"?",        "Meta",         "Levels",  "Views",
+                                                    "Lookup",   "Orientations", "Bands",   "Lost",
+                                                    "Features", "Detail",       "Clusters"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -115,7 +116,8 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
 // The optional Clusters section: its header's counts, then its size from them.
 ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile* p, ProfileError* error) {
   if (size < sizeof(ProfileClusterMeta))
-    return fail(error, ProfileStatus::BadSize, "section Clusters: size %llu, shorter than its %zu-byte header",
+    return fail(error, ProfileStatus::BadSize,
+                "section Clusters: size %llu, shorter than its %zu-byte header",
                 static_cast<unsigned long long>(size), sizeof(ProfileClusterMeta));
   ProfileClusterMeta c;
   std::memcpy(&c, at, sizeof c);
@@ -253,8 +255,9 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
   p.detail = has_detail ? reinterpret_cast<const ProfileDetail*>(at(ProfileSection::Detail)) : nullptr;
   if (found[static_cast<std::uint32_t>(ProfileSection::Clusters)].id) {
-    const ProfileStatus c = open_clusters(at(ProfileSection::Clusters),
-                                          found[static_cast<std::uint32_t>(ProfileSection::Clusters)].size, &p, error);
+    const ProfileStatus c =
+        open_clusters(at(ProfileSection::Clusters),
+                      found[static_cast<std::uint32_t>(ProfileSection::Clusters)].size, &p, error);
     if (c != ProfileStatus::Ok) return c;
   }
 

@@ -154,7 +154,8 @@ Blob encode_profile(const ProfileData& data) {
     std::vector<unsigned char> bytes(sizeof meta_c + (Bc + c.lost.size()) * sizeof(float));
     std::memcpy(bytes.data(), &meta_c, sizeof meta_c);
     std::memcpy(bytes.data() + sizeof meta_c, c.bands.data(), Bc * sizeof(float));
-    std::memcpy(bytes.data() + sizeof meta_c + Bc * sizeof(float), c.lost.data(), c.lost.size() * sizeof(float));
+    std::memcpy(bytes.data() + sizeof meta_c + Bc * sizeof(float), c.lost.data(),
+                c.lost.size() * sizeof(float));
     section(ProfileSection::Clusters, bytes.data(), bytes.size());
   }
 

@@ -33,7 +33,7 @@ inline constexpr std::uint32_t kMaxBands = 32;
 inline constexpr std::uint32_t kMaxLookupResolution = 64;
 inline constexpr std::uint32_t kLookupCandidates = 3;  // nearest views stored per lookup cell
 
-inline constexpr std::uint32_t kMaxProfileSections = 64;  // entries a reader accepts in the section table
+inline constexpr std::uint32_t kMaxProfileSections = 64;      // entries a reader accepts in the section table
 inline constexpr std::uint32_t kMaxClusterGroups = 1u << 22;  // groups in a Clusters section
 
 // The file header, at offset 0.

@@ -13,8 +13,8 @@ namespace acuity::spectra {
 // The optional Clusters section (acuity::ProfileClusterMeta): what each group of a cluster
 // hierarchy loses (acuity/spectra/cluster_loss.hpp measures it).
 struct ProfileClusterData {
-  std::vector<float> bands;  // [Bc] band centres [cycles per object diameter], increasing
-  std::vector<float> lost;   // [G Bc] per group and band, the largest over views and orientations
+  std::vector<float> bands;          // [Bc] band centres [cycles per object diameter], increasing
+  std::vector<float> lost;           // [G Bc] per group and band, the largest over views and orientations
   std::uint32_t window_pixels = 0;   // pixels across each group's window
   std::uint32_t view_count = 0;      // directions measured per group
   std::uint64_t hierarchy_hash = 0;  // acuity::cluster_hierarchy_hash() of the hierarchy measured
