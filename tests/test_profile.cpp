@@ -20,6 +20,19 @@ ProfileStatus open(const Blob& b, ProfileError* e = nullptr) {
   Profile p;
   return open_profile(b.data(), b.size, &p, e);
 }
+// Sets section `id`'s size in the table to `size` (a section cut short or grown).
+void set_section_size(Blob& b, ProfileSection id, std::uint64_t size) {
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    ProfileSectionEntry s;
+    unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
+    std::memcpy(&s, at, sizeof s);
+    if (s.id != static_cast<std::uint32_t>(id)) continue;
+    s.size = size;
+    std::memcpy(at, &s, sizeof s);
+  }
+}
 // Offset of section `id`'s data, read from the table.
 std::uint64_t section_offset(Blob& b, ProfileSection id) {
   ProfileHeader h;
@@ -94,16 +107,7 @@ TEST(Profile, DetailSectionIsOptionalAndChecked) {
   }
   {  // a section of the wrong size: the table's entry shrunk by 8 bytes
     Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      ProfileSectionEntry s;
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
-      std::memcpy(&s, at, sizeof s);
-      if (s.id != static_cast<std::uint32_t>(ProfileSection::Detail)) continue;
-      s.size -= 8;
-      std::memcpy(at, &s, sizeof s);
-    }
+    set_section_size(b, ProfileSection::Detail, d.lost.size() * sizeof(ProfileDetail) - 8);
     refresh_checksum(b);
     EXPECT_EQ(open(b, &e), ProfileStatus::BadSize);
     EXPECT_NE(std::string(e.message).find("section Detail"), std::string::npos) << e.message;
@@ -181,16 +185,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   // Every truncation of the section (its table entry's size cut, checksum valid): rejected, named.
   for (std::uint64_t n = 0; n < entry.size; ++n) {
     Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      ProfileSectionEntry s;
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
-      std::memcpy(&s, at, sizeof s);
-      if (s.id != static_cast<std::uint32_t>(ProfileSection::Clusters)) continue;
-      s.size = n;
-      std::memcpy(at, &s, sizeof s);
-    }
+    set_section_size(b, ProfileSection::Clusters, n);
     refresh_checksum(b);
     ASSERT_NE(open(b, &e), ProfileStatus::Ok) << n;
     ASSERT_NE(std::string(e.message).find("Clusters"), std::string::npos) << n << ": " << e.message;
