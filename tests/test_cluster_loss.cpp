@@ -55,6 +55,20 @@ ProfileView random_view(std::mt19937& rng) {
   return spectra::make_view(d[0], d[1], d[2]);
 }
 
+// Direct measurements against the stored loss: how many it bounds, and by how much it misses the rest.
+struct BoundTally {
+  std::size_t values = 0, bounded = 0;
+  double worst = 0;  // the largest direct / stored over the values it misses
+  void add(float direct, float stored) {
+    ++values;
+    if (direct <= stored)
+      ++bounded;
+    else
+      worst = std::max(worst, double(direct) / double(stored));
+  }
+  double share() const { return double(bounded) / double(values); }
+};
+
 // One elephant hierarchy and its measurement, shared by the tests (built once).
 struct Measured {
   Built b;
@@ -165,28 +179,22 @@ TEST(ClusterLoss, TheStoredLossBoundsDirectMeasurementsFromOtherDirections) {
   const spectra::ClusterMesh cm = e.b.view();
   const std::size_t Bc = e.data.bands.size(), Bw = e.m->window_bands(), T = e.m->orientations();
   std::mt19937 rng(7);
-  std::size_t values = 0, bounded = 0;
-  double worst = 0;  // the largest direct / stored over values the bound misses
+  BoundTally tally;
   for (std::uint32_t g = 0; g < cm.groups.size(); ++g)
     for (int k = 0; k < 16; ++k) {
       const std::vector<float> l = e.m->measure(g, random_view(rng));
       for (std::size_t i = 0; i < Bw; ++i) {
         float direct = 0;
         for (std::size_t t = 0; t < T; ++t) direct = std::max(direct, l[t * Bw + i]);
-        const float stored = e.data.lost[g * Bc + e.m->first_band(g) + i];
-        ++values;
-        if (direct <= stored)
-          ++bounded;
-        else
-          worst = std::max(worst, double(direct) / double(stored));
+        tally.add(direct, e.data.lost[g * Bc + e.m->first_band(g) + i]);
       }
     }
   std::printf(
       "elephant.off: %zu groups, %zu values; the stored loss bounds %.4f of them, the rest by at "
       "most x%.3f\n",
-      cm.groups.size(), values, double(bounded) / double(values), worst);
-  EXPECT_GE(double(bounded) / double(values), 0.95);
-  EXPECT_LE(worst, 1.5);
+      cm.groups.size(), tally.values, tally.share(), tally.worst);
+  EXPECT_GE(tally.share(), 0.95);
+  EXPECT_LE(tally.worst, 1.5);
 }
 
 // Bands coarser than a group's window are its lowest band's value x (f / f_lowest)^2: checked against
@@ -200,8 +208,8 @@ TEST(ClusterLoss, CoarserBandsBoundDirectMeasurementsInTheWholeWindow) {
   const spectra::ProfileClusterData data = spectra::measure_cluster_loss(b.view(), material, s);
   const std::size_t Bc = data.bands.size(), Bw = m.window_bands(), T = m.orientations();
   std::mt19937 rng(9);
-  std::size_t groups = 0, values = 0, bounded = 0;
-  double worst = 0;
+  std::size_t groups = 0;
+  BoundTally tally;
   for (std::uint32_t g = 0; g < b.h.groups.size(); ++g) {
     if (m.first_band(g) == 0) continue;
     ++groups;
@@ -210,22 +218,17 @@ TEST(ClusterLoss, CoarserBandsBoundDirectMeasurementsInTheWholeWindow) {
       for (std::size_t j = 0; j < m.first_band(g) && j < Bw; ++j) {
         float direct = 0;
         for (std::size_t t = 0; t < T; ++t) direct = std::max(direct, l[t * Bw + j]);
-        const float stored = data.lost[g * Bc + j];
-        ++values;
-        if (direct <= stored)
-          ++bounded;
-        else
-          worst = std::max(worst, double(direct) / double(stored));
+        tally.add(direct, data.lost[g * Bc + j]);
       }
     }
   }
   std::printf(
       "fandisk.off: %zu of %zu groups in smaller windows, %zu coarser-band values; the stored loss "
       "bounds %.4f of them, the rest by at most x%.3f\n",
-      groups, b.h.groups.size(), values, double(bounded) / double(values), worst);
+      groups, b.h.groups.size(), tally.values, tally.share(), tally.worst);
   ASSERT_GT(groups, 0u);
-  EXPECT_GE(double(bounded) / double(values), 0.95);
-  EXPECT_LE(worst, 1.5);
+  EXPECT_GE(tally.share(), 0.95);
+  EXPECT_LE(tally.worst, 1.5);
 }
 
 // A profile's Clusters section feeds the cut: measured_group_loss reads it in place for the hierarchy
