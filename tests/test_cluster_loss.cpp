@@ -24,19 +24,10 @@ using namespace acuity::testing;
 namespace {
 const std::string kMeshes = ACUITY_MESH_DIR;
 
-struct Built {
-  lodgen::Mesh mesh;
-  lodgen::ClusterHierarchy h;
+struct Built : BuiltHierarchy {
   spectra::ClusterMesh view() const { return bake::cluster_mesh(mesh, h); }
 };
-Built build(const std::string& file) {
-  lodgen::ChainOptions o;
-  o.levels = 1;
-  Built b;
-  b.mesh = lodgen::build_chain(lodgen::load_mesh(kMeshes + "/" + file), file, o).levels[0].mesh;
-  b.h = lodgen::build_clusters(b.mesh, file);
-  return b;
-}
+Built build(const std::string& file) { return {built_hierarchy(kMeshes + "/" + file)}; }
 
 spectra::ClusterLossSettings settings(std::uint32_t pixels, std::uint32_t views) {
   spectra::ClusterLossSettings s;
