@@ -4,6 +4,7 @@ profile of a chain of the same mesh; its cuts follow the gaze. Measured here (pr
 "some saving"): the fraction of the finest triangles drawn with the gaze on the centre of an object
 spanning 30 degrees at q = 1, and how many times more triangles each half of a 40-degree object holds
 with the gaze on its edge than with the gaze on the other edge."""
+import json
 import math
 import os
 import subprocess
@@ -80,6 +81,10 @@ def test_load_finest_and_the_cut_arrays(armadillo):
     assert f.clusters.dtype == np.uint32 and f.triangles == h.finest_triangles
     assert h.loss.shape == (h.group_count, len(h.bands)) and np.all(np.isfinite(h.loss)) and np.all(h.loss >= 0)
     assert np.all(np.diff(h.bands) > 0) and h.loss.max() > 0
+    # `acuity inspect` shows the section: per band the largest loss over groups.
+    shown = json.loads(run("inspect", armadillo["measured"], "--json").stdout)["clusters"]
+    assert shown["groups"] == h.group_count and shown["bands_cpod"] == pytest.approx(h.bands.tolist())
+    assert shown["max_lost_contrast_per_band"] == pytest.approx(h.loss.max(axis=0).tolist())
     eye, pos, _, _ = placed(armadillo, 30)
     cut = h.select(eye, gaze_towards(0, -1), pos, (0, 0, 0, 1))
     assert cut.indices.shape == (cut.triangles, 3) and len(cut.clusters) > 0
