@@ -7,10 +7,13 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/cluster_hierarchy.hpp"
+#include "acuity/lodgen/clusters.hpp"
 #include "acuity/lodgen/mesh.hpp"
 
 namespace acuity::testing {
@@ -18,6 +21,21 @@ using lodgen::Cluster;
 using lodgen::ClusterHierarchy;
 using lodgen::kNoGroup;
 using lodgen::Mesh;
+
+// Level 0 of the mesh file at `path` as `acuity lodgen` makes it (repaired, split at 45° creases), and
+// its hierarchy (`acuity lodgen --clusters`).
+struct BuiltHierarchy {
+  Mesh mesh;
+  ClusterHierarchy h;
+};
+inline BuiltHierarchy built_hierarchy(const std::string& path) {
+  lodgen::ChainOptions o;
+  o.levels = 1;
+  BuiltHierarchy b;
+  b.mesh = lodgen::build_chain(lodgen::load_mesh(path), path, o).levels[0].mesh;
+  b.h = lodgen::build_clusters(b.mesh, path);
+  return b;
+}
 
 // One id per exact position, as build_clusters welds them.
 inline std::vector<std::uint32_t> welded(const Mesh& m) {

@@ -17,6 +17,7 @@
 #include "acuity/bake/chains.hpp"
 #include "acuity/bake/library.hpp"
 #include "acuity/bake/sha256.hpp"
+#include "acuity/clusters.hpp"
 #include "acuity/file.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/profile.hpp"
@@ -453,4 +454,39 @@ TEST(Bake, CachedChainBuildsWithItsOptionsAndReadsTheCacheBack) {
   const lodgen::Mesh& top = round.chain.levels[0].mesh;
   EXPECT_LT(top.vertex_count(), top.indices.size() / 2);  // shared corners
   EXPECT_LT(flat_corners(top), top.indices.size() / 10);
+}
+
+// `acuity bake --clusters` (issue 48): the asset's glb holds a cluster hierarchy and its profile the
+// Clusters section measured for that hierarchy as the glb stores it (measured_group_loss reads it:
+// the hash of the records read back matches the one measured in memory); the option is in the
+// cache key and round-trips through the options' JSON.
+TEST(Bake, ClustersBakeAHierarchyWithItsMeasuredLoss) {
+  const fs::path root = scratch("clusters");
+  fs::create_directories(root / "in");
+  write_off(root / "in" / "egg.off", 4, 1.0f, 1.4f, 0.8f);
+  bake::BakeOptions o;
+  o.clusters = true;
+  o.pixels = 32;
+  o.views = 6;
+  o.window_pixels = 32;
+  EXPECT_NE(bake::options_json(o), bake::options_json(bake::BakeOptions{}));
+  EXPECT_TRUE(bake::parse_options(bake::options_json(o), {}, "m").clusters);
+  EXPECT_THROW(bake::parse_options(R"({"group_views": 13})", {}, "m"), lodgen::InputError);
+  EXPECT_THROW(bake::parse_options(R"({"window_pixels": 48})", {}, "m"), lodgen::InputError);
+  const bake::BakePlan plan = bake::plan_bake((root / "in").string(), (root / "out").string(), "", o);
+  ASSERT_EQ(bake::finish_bake(plan, bake::bake_all(plan, 2)), 0u);
+  const bake::ClusterFile file = bake::read_cluster_file((root / "out" / "egg.glb").string());
+  ASSERT_TRUE(file.found());
+  const lodgen::ClusterHierarchy& h = file.scene.clusters[file.mesh];
+  ASSERT_GT(h.groups.size(), 1u);
+  const Blob blob = io::read_file((root / "out" / "egg.acuity").string());
+  Profile p;
+  ProfileError e;
+  ASSERT_EQ(open_profile(blob.data(), blob.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.meta.level_count, 1u);
+  ClusterLoss loss;
+  ASSERT_EQ(measured_group_loss(p, h.clusters, h.groups, &loss), GroupLossStatus::Measured);
+  EXPECT_EQ(loss.lost.size(), h.groups.size() * loss.bands_cpod.size());
+  EXPECT_EQ(p.clusters.window_pixels, 32u);
+  EXPECT_EQ(p.clusters.view_count, 12u);
 }

@@ -26,11 +26,10 @@ struct Built {
   ClusterView view() const { return {h.clusters, h.groups, roots}; }
 };
 Built build(const std::string& file) {
-  lodgen::ChainOptions o;
-  o.levels = 1;
+  BuiltHierarchy built = built_hierarchy(kMeshes + "/" + file);
   Built b;
-  b.mesh = lodgen::build_chain(lodgen::load_mesh(kMeshes + "/" + file), file, o).levels[0].mesh;
-  b.h = lodgen::build_clusters(b.mesh, file);
+  b.mesh = std::move(built.mesh);
+  b.h = std::move(built.h);
   b.roots = cluster_roots(b.h.clusters);
   b.diameter = lodgen::diameter(b.mesh);
   return b;

@@ -28,19 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 const fs::path kMeshes = ACUITY_MESH_DIR;
 
-// Level 0 as `acuity lodgen` makes it (repaired, split at 45° creases), and its hierarchy.
-struct Built {
-  Mesh mesh;
-  ClusterHierarchy h;
-};
-Built build(const std::string& file) {
-  ChainOptions o;
-  o.levels = 1;
-  Built b;
-  b.mesh = build_chain(load_mesh((kMeshes / file).string()), file, o).levels[0].mesh;
-  b.h = build_clusters(b.mesh, file);
-  return b;
-}
+using Built = BuiltHierarchy;
+Built build(const std::string& file) { return built_hierarchy((kMeshes / file).string()); }
 
 // Projected error of a group seen from `eye`: error over the distance to its sphere (infinite inside).
 double projected(const ClusterGroup& g, const std::array<double, 3>& eye) {

@@ -20,6 +20,19 @@ ProfileStatus open(const Blob& b, ProfileError* e = nullptr) {
   Profile p;
   return open_profile(b.data(), b.size, &p, e);
 }
+// Sets section `id`'s size in the table to `size` (a section cut short or grown).
+void set_section_size(Blob& b, ProfileSection id, std::uint64_t size) {
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    ProfileSectionEntry s;
+    unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
+    std::memcpy(&s, at, sizeof s);
+    if (s.id != static_cast<std::uint32_t>(id)) continue;
+    s.size = size;
+    std::memcpy(at, &s, sizeof s);
+  }
+}
 // Offset of section `id`'s data, read from the table.
 std::uint64_t section_offset(Blob& b, ProfileSection id) {
   ProfileHeader h;
@@ -94,22 +107,142 @@ TEST(Profile, DetailSectionIsOptionalAndChecked) {
   }
   {  // a section of the wrong size: the table's entry shrunk by 8 bytes
     Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      ProfileSectionEntry s;
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof s;
-      std::memcpy(&s, at, sizeof s);
-      if (s.id != static_cast<std::uint32_t>(ProfileSection::Detail)) continue;
-      s.size -= 8;
-      std::memcpy(at, &s, sizeof s);
-    }
+    set_section_size(b, ProfileSection::Detail, d.lost.size() * sizeof(ProfileDetail) - 8);
     refresh_checksum(b);
     EXPECT_EQ(open(b, &e), ProfileStatus::BadSize);
     EXPECT_NE(std::string(e.message).find("section Detail"), std::string::npos) << e.message;
   }
   d.detail.pop_back();  // the writer wants none or one per lost value
   EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+}
+
+// The optional Clusters section (issue 48 item 2): written only when given, read back in place,
+// absent for older writers' profiles (and skipped by older readers: an unknown id), and any damage
+// to it rejected with a message naming it: every truncation of the section, bit flips in it with a
+// valid checksum, wrong counts, sizes and values.
+namespace {
+spectra::ProfileData with_clusters(std::uint32_t groups = 5, std::uint32_t bands = 7) {
+  spectra::ProfileData d = small_profile();
+  for (std::uint32_t b = 0; b < bands; ++b) d.clusters.bands.push_back(2.0f * float(1u << b));
+  for (std::uint32_t i = 0; i < groups * bands; ++i) d.clusters.lost.push_back(0.001f * float(i % 97));
+  d.clusters.window_pixels = 64;
+  d.clusters.view_count = 12;
+  d.clusters.hierarchy_hash = 0x0123456789abcdefull;
+  return d;
+}
+ProfileSectionEntry section_entry(Blob& b, ProfileSection id) {
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    ProfileSectionEntry s;
+    std::memcpy(&s, bytes(b) + sizeof h + i * sizeof s, sizeof s);
+    if (s.id == static_cast<std::uint32_t>(id)) return s;
+  }
+  return {};
+}
+}  // namespace
+
+TEST(Profile, ClustersSectionIsOptionalAndChecked) {
+  const spectra::ProfileData d = with_clusters();
+  Profile p;
+  ProfileError e;
+  const Blob without = spectra::encode_profile(small_profile());
+  ASSERT_EQ(open_profile(without.data(), without.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.cluster_lost, nullptr);
+  EXPECT_EQ(p.clusters.group_count, 0u);
+  const Blob with = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(with.data(), with.size, &p, &e), ProfileStatus::Ok) << e.message;
+  ASSERT_NE(p.cluster_lost, nullptr);
+  EXPECT_EQ(p.clusters.group_count, 5u);
+  EXPECT_EQ(p.clusters.band_count, 7u);
+  EXPECT_EQ(p.clusters.window_pixels, 64u);
+  EXPECT_EQ(p.clusters.view_count, 12u);
+  EXPECT_EQ(p.clusters.hierarchy_hash, 0x0123456789abcdefull);
+  for (std::size_t b = 0; b < 7; ++b) EXPECT_EQ(p.cluster_bands[b], d.clusters.bands[b]);
+  for (std::size_t i = 0; i < d.clusters.lost.size(); ++i) ASSERT_EQ(p.cluster_lost[i], d.clusters.lost[i]);
+  const std::size_t section = sizeof(ProfileClusterMeta) + 4 * (7 + 35);
+  EXPECT_EQ(with.size, without.size + sizeof(ProfileSectionEntry) + (section + 7) / 8 * 8);
+  EXPECT_EQ(section_entry(const_cast<Blob&>(with), ProfileSection::Clusters).size, section);
+
+  // An older reader (ids it does not know are skipped) sees the profile without it: the same
+  // blob with the section's id changed to an unknown one opens, with no Clusters.
+  {
+    Blob b = with;
+    ProfileHeader h;
+    std::memcpy(&h, bytes(b), sizeof h);
+    for (std::uint32_t i = 0; i < h.section_count; ++i) {
+      unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
+      std::uint32_t id;
+      std::memcpy(&id, at, 4);
+      if (id == static_cast<std::uint32_t>(ProfileSection::Clusters)) id = 63;
+      std::memcpy(at, &id, 4);
+    }
+    refresh_checksum(b);
+    ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
+    EXPECT_EQ(p.cluster_lost, nullptr);
+  }
+  const ProfileSectionEntry entry = section_entry(const_cast<Blob&>(with), ProfileSection::Clusters);
+  // Every truncation of the section (its table entry's size cut, checksum valid): rejected, named.
+  for (std::uint64_t n = 0; n < entry.size; ++n) {
+    Blob b = with;
+    set_section_size(b, ProfileSection::Clusters, n);
+    refresh_checksum(b);
+    ASSERT_NE(open(b, &e), ProfileStatus::Ok) << n;
+    ASSERT_NE(std::string(e.message).find("Clusters"), std::string::npos) << n << ": " << e.message;
+  }
+  // Bit flips inside the section with a valid checksum: either a valid section (a value that stays
+  // in range, safe to read) or rejected naming it; never a crash or a silent bad value.
+  std::mt19937 rng(11);
+  int rejected = 0, accepted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Blob b = with;
+    const std::size_t at = entry.offset + rng() % entry.size;
+    bytes(b)[at] ^= static_cast<unsigned char>(1u << (rng() % 8));
+    refresh_checksum(b);
+    if (open_profile(b.data(), b.size, &p, &e) == ProfileStatus::Ok) {
+      ++accepted;
+      for (std::size_t k = 0; k < std::size_t(p.clusters.group_count) * p.clusters.band_count; ++k)
+        ASSERT_TRUE(std::isfinite(p.cluster_lost[k]) && p.cluster_lost[k] >= 0);
+    } else {
+      ++rejected;
+      ASSERT_NE(std::string(e.message).find("Clusters"), std::string::npos) << e.message;
+    }
+  }
+  EXPECT_GT(rejected, 100);
+  EXPECT_GT(accepted, 100);
+  // Specific damage, each with its own message.
+  const auto damaged = [&](std::size_t offset, const void* value, std::size_t size) {
+    Blob b = with;
+    std::memcpy(bytes(b) + entry.offset + offset, value, size);
+    refresh_checksum(b);
+    const ProfileStatus status = open(b, &e);
+    return std::pair{status, std::string(e.message)};
+  };
+  const std::uint32_t zero = 0, many = kMaxClusterGroups + 1, bands_over = kMaxBands + 1;
+  const float nan = std::nanf(""), negative = -0.5f, lower = 1.0f;
+  EXPECT_EQ(damaged(0, &zero, 4), (std::pair{ProfileStatus::BadCounts,
+                                             std::string("Clusters: group_count = 0 (allowed 1..4194304)")}));
+  EXPECT_EQ(damaged(0, &many, 4).first, ProfileStatus::BadCounts);
+  EXPECT_EQ(damaged(4, &bands_over, 4).first, ProfileStatus::BadCounts);
+  EXPECT_EQ(damaged(8, &zero, 4).first, ProfileStatus::BadCounts);    // window_pixels
+  EXPECT_EQ(damaged(24, &lower, 4).first, ProfileStatus::BadCounts);  // reserved
+  const std::uint32_t four = 4;  // fewer groups than the section holds: its size is wrong
+  EXPECT_EQ(damaged(0, &four, 4),
+            (std::pair{ProfileStatus::BadSize, std::string("section Clusters: size 200, expected 172")}));
+  EXPECT_EQ(damaged(32 + 4 * 3, &lower, 4),
+            (std::pair{ProfileStatus::BadValue,
+                       std::string("Clusters: band 3 must be finite, positive and increasing")}));
+  EXPECT_EQ(damaged(32 + 4 * (7 + 15), &nan, 4),
+            (std::pair{ProfileStatus::BadValue,
+                       std::string("Clusters: value 15 (group 2) is negative or not finite")}));
+  EXPECT_EQ(damaged(32 + 4 * (7 + 34), &negative, 4).first, ProfileStatus::BadValue);
+  // The writer wants whole rows of bands.
+  spectra::ProfileData bad = d;
+  bad.clusters.lost.pop_back();
+  EXPECT_THROW(spectra::encode_profile(bad), spectra::InvalidProfile);
+  bad = d;
+  bad.clusters.view_count = 0;
+  EXPECT_THROW(spectra::encode_profile(bad), spectra::InvalidProfile);
 }
 
 TEST(Profile, LookupFindsTheNearestView) {

@@ -85,6 +85,9 @@ void add_bake_command(CLI::App& app) {
   add_chain_options(cmd, b);
   add_profile_options(cmd, b);
   add_number(cmd, "--views", b.views, "Views (0: adaptive)", 0, 4096);
+  cmd->add_flag("--clusters", b.clusters,
+                "Cluster hierarchies instead of chains (acuity lodgen --clusters), profiled with what each "
+                "group loses");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
   cmd->callback([o] {
     o->bake = bake::parse_options(bake::options_json(o->bake), bake::BakeOptions{},

@@ -1,6 +1,7 @@
 // `acuity inspect PROFILE [--json]`: what a profile holds.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -45,6 +46,23 @@ void run(const std::string& path, bool json) {
     }
     j["levels"].push_back(level);
   }
+  if (p.cluster_lost) {  // the optional Clusters section: per band, the largest and median over groups
+    const ProfileClusterMeta& c = p.clusters;
+    std::vector<float> peak(c.band_count, 0.0f), median(c.band_count, 0.0f), column(c.group_count);
+    for (std::uint32_t b = 0; b < c.band_count; ++b) {
+      for (std::uint32_t g = 0; g < c.group_count; ++g)
+        column[g] = p.cluster_lost[std::size_t(g) * c.band_count + b];
+      std::sort(column.begin(), column.end());
+      peak[b] = column.back();
+      median[b] = column[column.size() / 2];
+    }
+    j["clusters"] = {{"groups", c.group_count},
+                     {"window_pixels", c.window_pixels},
+                     {"views", c.view_count},
+                     {"bands_cpod", std::vector<float>(p.cluster_bands, p.cluster_bands + c.band_count)},
+                     {"max_lost_contrast_per_band", peak},
+                     {"median_lost_contrast_per_band", median}};
+  }
   if (json) {
     std::printf("%s\n", j.dump(2).c_str());
     return;
@@ -67,6 +85,15 @@ void run(const std::string& path, bool json) {
     if (k > 0)
       for (float x : j["levels"][k]["max_lost_contrast_per_band"].get<std::vector<float>>())
         std::printf(" %6.3f", x);
+    std::printf("\n");
+  }
+  if (!j.contains("clusters")) return;
+  const nlohmann::json& c = j["clusters"];
+  std::printf("\nclusters  %u groups, each measured from %u directions in %u px windows\n",
+              c["groups"].get<unsigned>(), c["views"].get<unsigned>(), c["window_pixels"].get<unsigned>());
+  for (const char* row : {"bands_cpod", "max_lost_contrast_per_band", "median_lost_contrast_per_band"}) {
+    std::printf("%-30s", row);
+    for (float x : c[row].get<std::vector<float>>()) std::printf(" %6.3g", x);
     std::printf("\n");
   }
 }

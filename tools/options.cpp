@@ -33,6 +33,11 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
   cmd->add_flag("!--no-cell-bounds", b.bound_cells,
                 "Store each view's own measurement, not the largest loss over its cell (faster, optimistic "
                 "between views)");
+  add_number(cmd, "--window-pixels", b.window_pixels,
+             "Cluster hierarchies: pixels across each group's window (power of two)", 16, 4096);
+  cmd->add_option("--group-views", b.group_views, "Cluster hierarchies: directions measured per group")
+      ->capture_default_str()
+      ->check(CLI::IsMember({12, 42, 162}));
 }
 
 }  // namespace acuity::tools

@@ -46,6 +46,44 @@ void run_snapshots(const ProfileOptions& o) {
               data.views.size(), data.levels.size(), data.snapshot_pixels);
 }
 
+// The views option as ProfileSettings::views (0: adaptive).
+std::uint32_t views_option(const std::string& views) {
+  if (views == "auto") return 0;
+  std::uint32_t n = 0;
+  try {
+    n = static_cast<std::uint32_t>(std::stoul(views));
+  } catch (...) { n = 0; }
+  if (n == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + views + "'");
+  return n;
+}
+
+// A cluster file: its finest mesh as a one-level profile and what each group loses.
+void run_clusters(const ProfileOptions& o, const bake::ClusterFile& file, double load_seconds) {
+  bake::BakeOptions b = o.profile;
+  b.views = views_option(o.views);
+  const spectra::ProfileSettings s = bake::profile_settings(b, o.jobs);
+  spectra::ProfileReport report;
+  spectra::ClusterLossReport clusters;
+  const spectra::ProfileData data =
+      bake::profile_clusters(file.view(), file.material, s, bake::cluster_loss_settings(b, o.jobs),
+                             progress_bar, &report, &clusters);
+  spectra::write_profile(o.output, data);
+  const Blob blob = spectra::encode_profile(data);
+  const std::size_t section =
+      sizeof(ProfileClusterMeta) + sizeof(float) * (data.clusters.bands.size() + data.clusters.lost.size());
+  std::printf("profile   %s\n", o.output.c_str());
+  std::printf("level 0   %u triangles, %u views kept\n", data.levels[0].triangles, report.views_kept);
+  std::printf(
+      "groups    %u x %u views (%u windows hidden), %u px windows, %zu bands (%.3g .. %.3g cycles per "
+      "diameter)\n",
+      clusters.groups, clusters.views, clusters.hidden, b.window_pixels, data.clusters.bands.size(),
+      data.clusters.bands.front(), data.clusters.bands.back());
+  std::printf("size      %zu bytes (Clusters section %zu: %.1f bytes per group)\n", blob.size, section,
+              double(section) / clusters.groups);
+  std::printf("time      load %.2f s, level 0 %.2f s, groups %.2f s\n", load_seconds, report.seconds,
+              clusters.seconds);
+}
+
 void run(const ProfileOptions& o) {
   if (!o.snapshots.empty()) return run_snapshots(o);
   if (o.levels.empty())
@@ -57,7 +95,11 @@ void run(const ProfileOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   bake::ChainFile file;  // lodgen's output: the first node with MSFT_lod holds the chain
   if (o.levels.size() == 1 && lodgen::is_gltf(o.levels[0])) {
-    file = bake::read_chain_file(o.levels[0], o.asset_root);
+    bake::ClusterFile clusters = bake::read_cluster_file(o.levels[0], o.asset_root);
+    if (clusters.found())
+      return run_clusters(o, clusters,
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    file = bake::chain_file(std::move(clusters.scene), o.levels[0]);
   } else {  // mesh files, finest first, without errors
     for (const std::string& path : o.levels) {
       lodgen::Mesh mesh = lodgen::load_mesh_isolated(path);  // untrusted files
@@ -67,12 +109,7 @@ void run(const ProfileOptions& o) {
   }
   const std::vector<spectra::LevelInput> levels = bake::spectra_levels(file.chain);
   bake::BakeOptions b = o.profile;
-  if (o.views != "auto") {
-    try {
-      b.views = static_cast<std::uint32_t>(std::stoul(o.views));
-    } catch (...) { b.views = 0; }
-    if (b.views == 0) throw std::runtime_error("--views: 'auto' or a positive count, not '" + o.views + "'");
-  }
+  b.views = views_option(o.views);
   const spectra::ProfileSettings s = bake::profile_settings(b, o.jobs);
   const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spectra::ProfileReport report;
@@ -97,9 +134,11 @@ void add_profile_command(CLI::App& app) {
   auto o = std::make_shared<ProfileOptions>();
   CLI::App* cmd =
       app.add_subcommand("profile", "Measure what each level loses and write a profile (.acuity)");
-  cmd->add_option("levels", o->levels,
-                  "A glTF/GLB from acuity lodgen (MSFT_lod), or mesh files finest first (" +
-                      lodgen::input_format_names() + ")")
+  cmd->add_option(
+         "levels", o->levels,
+         "A glTF/GLB from acuity lodgen (MSFT_lod; with --clusters, its hierarchy's groups are measured "
+         "too), or mesh files finest first (" +
+             lodgen::input_format_names() + ")")
       ->check(CLI::ExistingFile);
   cmd->add_option("--snapshots", o->snapshots,
                   "A JSON manifest of your own snapshots (PNG per view and level) instead of meshes")

@@ -116,10 +116,14 @@ SceneChains build_scene_chains(const ChainRequest& r, const lodgen::ChainProgres
 }
 
 ChainFile read_chain_file(const std::string& path, const std::string& asset_root) {
-  ChainFile f;
   lodgen::LoadOptions lo;
   lo.asset_root = asset_root;
-  f.scene = lodgen::load_scene(path, lo);
+  return chain_file(lodgen::load_scene(path, lo), path);
+}
+
+ChainFile chain_file(lodgen::Scene scene, const std::string& path) {
+  ChainFile f;
+  f.scene = std::move(scene);
   for (const lodgen::Node& n : f.scene.nodes)
     if (n.mesh >= 0 && !n.lods.empty()) {
       f.chain = lodgen::chain_of_node(f.scene, n);
@@ -127,6 +131,39 @@ ChainFile read_chain_file(const std::string& path, const std::string& asset_root
       return f;
     }
   throw lodgen::InputError(path + ": no node with MSFT_lod levels");
+}
+
+spectra::ClusterMesh ClusterFile::view() const {
+  return cluster_mesh(scene.meshes[mesh], scene.clusters[mesh]);
+}
+
+ClusterFile read_cluster_file(const std::string& path, const std::string& asset_root) {
+  ClusterFile f;
+  lodgen::LoadOptions lo;
+  lo.asset_root = asset_root;
+  f.scene = lodgen::load_scene(path, lo);
+  while (f.mesh < f.scene.clusters.size() && f.scene.clusters[f.mesh].empty()) ++f.mesh;
+  if (f.found()) f.material = spectra_material(f.scene, f.scene.meshes[f.mesh].material);
+  return f;
+}
+
+spectra::ProfileData profile_clusters(const spectra::ClusterMesh& mesh, const spectra::Material& material,
+                                      const spectra::ProfileSettings& settings,
+                                      const spectra::ClusterLossSettings& clusters,
+                                      const spectra::ProgressFn& progress, spectra::ProfileReport* report,
+                                      spectra::ClusterLossReport* cluster_report) {
+  spectra::LevelInput finest;  // the finest clusters: the first triangles of the hierarchy's indices
+  finest.mesh = mesh.mesh;
+  finest.mesh.indices = mesh.indices.data();
+  finest.mesh.index_count = 0;
+  for (std::size_t c = 0; c < mesh.clusters.size() && mesh.clusters[c].refined == lodgen::kNoGroup; ++c)
+    finest.mesh.index_count += 3 * std::size_t(mesh.clusters[c].triangle_count);
+  // One level loses nothing, so cell bounds would render their 162 samples to bound nothing.
+  spectra::ProfileSettings level0 = settings;
+  level0.bound_cells = false;
+  spectra::ProfileData data = spectra::build_profile({finest}, material, level0, progress, report);
+  data.clusters = spectra::measure_cluster_loss(mesh, material, clusters, progress, cluster_report);
+  return data;
 }
 
 lodgen::LodObject cached_chain(const std::string& mesh, const std::string& cache_glb,

@@ -54,6 +54,9 @@ json to_json(const BakeOptions& o) {
           {"views", o.views},
           {"tolerance", o.tolerance},
           {"bound_cells", o.bound_cells},
+          {"clusters", o.clusters},
+          {"window_pixels", o.window_pixels},
+          {"group_views", o.group_views},
           {"asset_root", o.asset_root}};
 }
 
@@ -94,9 +97,15 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
       o.views = number<std::uint32_t>(v, where, key, 0, 4096);
     else if (key == "tolerance")
       o.tolerance = number<float>(v, where, key, 0, 1e6);
-    else if (key == "lock_border" || key == "bound_cells") {
+    else if (key == "window_pixels")
+      o.window_pixels = number<std::uint32_t>(v, where, key, 16, 4096);
+    else if (key == "group_views")
+      o.group_views = number<std::uint32_t>(v, where, key, 12, 162);
+    else if (key == "lock_border" || key == "bound_cells" || key == "clusters") {
       if (!v.is_boolean()) throw lodgen::InputError(where + ": option '" + key + "' must be true or false");
-      (key == "lock_border" ? o.lock_border : o.bound_cells) = v.get<bool>();
+      (key == "lock_border"   ? o.lock_border
+       : key == "bound_cells" ? o.bound_cells
+                              : o.clusters) = v.get<bool>();
     } else if (key == "backend" || key == "asset_root") {
       if (!v.is_string()) throw lodgen::InputError(where + ": option '" + key + "' must be a string");
       (key == "backend" ? o.backend : o.asset_root) = v.get<std::string>();
@@ -111,6 +120,12 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
   if (o.pixels & (o.pixels - 1))
     throw lodgen::InputError(where + ": option 'pixels' must be a power of two, not " +
                              std::to_string(o.pixels));
+  if (o.window_pixels & (o.window_pixels - 1))
+    throw lodgen::InputError(where + ": option 'window_pixels' must be a power of two, not " +
+                             std::to_string(o.window_pixels));
+  if (o.group_views != 12 && o.group_views != 42 && o.group_views != 162)
+    throw lodgen::InputError(where + ": option 'group_views' must be 12, 42 or 162, not " +
+                             std::to_string(o.group_views));
   return o;
 }
 
@@ -260,10 +275,27 @@ void bake_content(const AssetJob& job, lodgen::Scene scene, unsigned profile_job
                   std::string* chain, std::string* profile) {
   const BakeOptions& o = job.options;
   const SceneChains sc =
-      chains_of_scene(std::move(scene), job.input, chain_options(o), {}, o.measure_seconds);
+      chains_of_scene(std::move(scene), job.input, chain_options(o), {}, o.measure_seconds, o.clusters);
   lodgen::GltfWriteOptions wo;
   wo.reference_height = o.reference_height;
   *chain = lodgen::encode_lod_gltf(sc.objects, sc.scene.materials, wo);
+  if (o.clusters) {  // the profile `acuity profile` makes of the cluster file: its first hierarchy
+    const auto top = std::find_if(sc.objects.begin(), sc.objects.end(),
+                                  [](const lodgen::LodObject& obj) { return !obj.clusters.empty(); });
+    if (top == sc.objects.end())
+      throw lodgen::InputError(job.input + ": no mesh to build a cluster hierarchy of");
+    const spectra::ProfileData data = profile_clusters(
+        cluster_mesh(top->chain.levels[0].mesh, top->clusters), spectra_material(sc.scene, top->material),
+        profile_settings(o, profile_jobs), cluster_loss_settings(o, profile_jobs));
+    const Blob blob = spectra::encode_profile(data);
+    profile->assign(static_cast<const char*>(blob.data()), blob.size);
+    r.targets.push_back(top->chain.levels[0].target_triangles);
+    r.triangles.push_back(top->chain.levels[0].mesh.triangle_count());
+    r.errors.push_back(0);
+    r.chain_bytes = chain->size();
+    r.profile_bytes = profile->size();
+    return;
+  }
   // The profile `acuity profile` makes of the chain file: its first object with MSFT_lod levels.
   const auto top = std::find_if(sc.objects.begin(), sc.objects.end(),
                                 [](const lodgen::LodObject& obj) { return obj.chain.levels.size() > 1; });
@@ -327,6 +359,15 @@ spectra::ProfileSettings profile_settings(const BakeOptions& o, unsigned jobs) {
   s.views = o.views;
   s.view_tolerance = o.tolerance;
   s.bound_cells = o.bound_cells;
+  s.jobs = jobs;
+  return s;
+}
+
+spectra::ClusterLossSettings cluster_loss_settings(const BakeOptions& o, unsigned jobs) {
+  spectra::ClusterLossSettings s;
+  s.render.pixels = o.window_pixels;
+  s.analysis.orientations = o.orientations;
+  s.views = o.group_views;
   s.jobs = jobs;
   return s;
 }

@@ -41,17 +41,26 @@ std::string file_safe(const std::string& name) {
   return s.empty() ? "object" : s;
 }
 
+spectra::MeshView spectra_mesh(const lodgen::Mesh& m) {
+  spectra::MeshView v;
+  v.positions = m.positions.data();
+  v.vertex_count = m.vertex_count();
+  v.indices = m.indices.data();
+  v.index_count = m.indices.size();
+  v.normals = m.normals.empty() ? nullptr : m.normals.data();
+  v.texcoords = m.texcoords.empty() ? nullptr : m.texcoords.data();
+  return v;
+}
+
+spectra::ClusterMesh cluster_mesh(const lodgen::Mesh& mesh, const lodgen::ClusterHierarchy& h) {
+  return {spectra_mesh(mesh), h.indices, h.clusters, h.groups};
+}
+
 std::vector<spectra::LevelInput> spectra_levels(const lodgen::Chain& chain) {
   std::vector<spectra::LevelInput> out;
   for (const lodgen::Level& level : chain.levels) {
-    const lodgen::Mesh& m = level.mesh;
     spectra::LevelInput l;
-    l.mesh.positions = m.positions.data();
-    l.mesh.vertex_count = m.vertex_count();
-    l.mesh.indices = m.indices.data();
-    l.mesh.index_count = m.indices.size();
-    l.mesh.normals = m.normals.empty() ? nullptr : m.normals.data();
-    l.mesh.texcoords = m.texcoords.empty() ? nullptr : m.texcoords.data();
+    l.mesh = spectra_mesh(level.mesh);
     l.geometric_error = float(level.hausdorff);
     out.push_back(l);
   }

@@ -1,6 +1,6 @@
 // acuity.clusters: an object's cluster hierarchy (the .glb of `acuity lodgen --clusters`) with its
-// provisional per-group loss (from a chain profile of the same mesh), and its cuts
-// (Scheduler::select_cut) as numpy arrays.
+// per-group loss (measured: the Clusters section of `acuity profile` of that glb; or, the fallback,
+// derived from a chain profile of the same mesh), and its cuts (Scheduler::select_cut) as numpy arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -36,8 +36,9 @@ struct Hierarchy {
   lodgen::Mesh mesh;
   lodgen::ClusterHierarchy h;
   std::vector<std::uint32_t> roots;
-  std::vector<float> lost;
+  std::vector<float> lost;  // the provisional loss (a chain profile), else empty: loss reads the profile
   ClusterLoss loss;
+  bool measured = false;
   std::vector<std::uint8_t> scratch;
   std::vector<std::uint32_t> drawn;
   ClusterView view() const { return {h.clusters, h.groups, roots}; }
@@ -112,17 +113,24 @@ std::shared_ptr<Hierarchy> load(const std::string& glb_path, const std::string& 
   out->h = std::move(scene.clusters[m]);
   out->profile = profile_from_file(profile_path);
   const Profile& p = out->profile->view;
+  out->roots = cluster_roots(out->h.clusters);
+  out->scratch.resize(out->h.groups.size());
+  out->drawn.resize(out->h.clusters.size());
+  const GroupLossStatus measured = measured_group_loss(p, out->h.clusters, out->h.groups, &out->loss);
+  if (measured == GroupLossStatus::OtherHierarchy)
+    throw py::value_error(profile_path + ": its Clusters section measured another hierarchy than " +
+                          glb_path + "'s (group count or hash differ): profile this glb (`acuity profile " +
+                          glb_path + " -o OUT.acuity`)");
+  out->measured = measured == GroupLossStatus::Measured;
+  if (out->measured) return out;
   if (p.levels[0].triangles != out->h.finest_triangles())
     throw py::value_error(profile_path + ": its level 0 has " + std::to_string(p.levels[0].triangles) +
                           " triangles, the hierarchy's finest mesh " +
                           std::to_string(out->h.finest_triangles()) +
                           ": profile a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, then "
                           "`acuity profile CHAIN.glb`)");
-  out->roots = cluster_roots(out->h.clusters);
   out->lost = provisional_group_loss(p, out->h.groups, &out->loss);
   out->loss.lost = out->lost;
-  out->scratch.resize(out->h.groups.size());
-  out->drawn.resize(out->h.clusters.size());
   return out;
 }
 
@@ -132,9 +140,10 @@ void bind_clusters(py::module_ m) {
   m.doc() =
       "Detail that follows the gaze inside one object (issue 48): a cluster hierarchy and its cuts.\n\n"
       "h = acuity.clusters.load(glb_path, profile_path): the .glb of `acuity lodgen MESH --clusters`, and\n"
-      "the profile (`acuity profile`) of a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`),\n"
-      "from which each group's loss is derived provisionally (acuity/clusters.hpp,\n"
-      "provisional_group_loss) until groups are measured. h.finest() and h.select(eye, gaze, position,\n"
+      "its profile (`acuity profile OUT.glb`), which measured what each group loses (h.measured); or\n"
+      "the fallback, the profile of a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`), from\n"
+      "which each group's loss is derived (acuity/clusters.hpp, provisional_group_loss).\n"
+      "h.finest() and h.select(eye, gaze, position,\n"
       "orientation, scale=1.0, velocity=(0, 0, 0), quality=1.0) return a Cut: .positions (float32 n x 3,\n"
       "object space: every vertex of the mesh), .indices (uint32 m x 3: the drawn triangles), .clusters\n"
       "(uint32: the drawn cluster ids).";
@@ -176,18 +185,30 @@ void bind_clusters(py::module_ m) {
           "loss",
           [](const Hierarchy& h) {
             py::array_t<float> a({py::ssize_t(h.h.groups.size()), py::ssize_t(h.loss.bands_cpod.size())});
-            std::copy(h.lost.begin(), h.lost.end(), a.mutable_data());
+            std::copy(h.loss.lost.begin(), h.loss.lost.end(), a.mutable_data());
             return a;
           },
-          "float32 (groups, bands): each group's provisional lost contrast per band")
+          "float32 (groups, bands): each group's lost contrast per band (measured or provisional)")
+      .def_property_readonly(
+          "bands",
+          [](const Hierarchy& h) {
+            py::array_t<float> a(py::ssize_t(h.loss.bands_cpod.size()));
+            std::copy(h.loss.bands_cpod.begin(), h.loss.bands_cpod.end(), a.mutable_data());
+            return a;
+          },
+          "float32: the loss's band centres [cycles per diameter]")
+      .def_readonly("measured", &Hierarchy::measured,
+                    "True when the loss is the profile's measurement (its Clusters section), False when it "
+                    "is derived from a chain profile (provisional_group_loss)")
       .def_property_readonly(
           "diameter", [](const Hierarchy& h) { return h.loss.diameter; },
           "the profile's bounding-sphere diameter [object units]");
   m.def("load", &load, "glb_path"_a, "profile_path"_a,
-        "A hierarchy from `acuity lodgen MESH --clusters -o OUT.glb` (its first mesh with one) and the\n"
-        "profile of a chain of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, `acuity profile\n"
-        "CHAIN.glb -o CHAIN.acuity`); ValueError when the glb has no hierarchy or the profile's level 0\n"
-        "is another mesh.");
+        "A hierarchy from `acuity lodgen MESH --clusters -o OUT.glb` (its first mesh with one) and its\n"
+        "profile (`acuity profile OUT.glb -o OUT.acuity`: each group measured), or the profile of a chain\n"
+        "of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, `acuity profile CHAIN.glb -o CHAIN.acuity`:\n"
+        "the loss derived, the fallback); ValueError when the glb has no hierarchy, the profile measured\n"
+        "another hierarchy, or a chain profile's level 0 is another mesh.");
 }
 
 }  // namespace acuity::python

@@ -1,5 +1,6 @@
 // Cluster cuts (acuity/clusters.hpp, Scheduler::select_cut): a hierarchy's groups tested with the
-// perceptual rule's thresholds, top down, and the provisional per-group loss from a chain profile.
+// perceptual rule's thresholds, top down; the measured per-group loss of a profile's Clusters
+// section, and the provisional one from a chain profile (the fallback).
 #include "geometry.hpp"
 
 namespace acuity {
@@ -26,7 +27,44 @@ const char* to_string(CutStatus status) {
   return "unknown";
 }
 
-// PROVISIONAL until issue 48 item 2 measures each group (the one place this derivation lives).
+std::uint64_t cluster_hierarchy_hash(std::span<const Cluster> clusters,
+                                     std::span<const ClusterGroup> groups) {
+  std::uint64_t hash = 0xcbf29ce484222325ull;
+  const auto add = [&](const void* data, std::size_t size) {
+    const auto* bytes = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+  };
+  add(clusters.data(), clusters.size_bytes());
+  add(groups.data(), groups.size_bytes());
+  return hash;
+}
+
+const char* to_string(GroupLossStatus status) {
+  switch (status) {
+    case GroupLossStatus::Measured:
+      return "measured";
+    case GroupLossStatus::NoSection:
+      return "the profile has no Clusters section (profile the hierarchy's glTF: acuity profile OUT.glb)";
+    case GroupLossStatus::OtherHierarchy:
+      return "the profile's Clusters section measured another hierarchy (group count or hash differ)";
+  }
+  return "unknown";
+}
+
+GroupLossStatus measured_group_loss(const Profile& p, std::span<const Cluster> clusters,
+                                    std::span<const ClusterGroup> groups, ClusterLoss* loss) {
+  if (!p.cluster_lost) return GroupLossStatus::NoSection;
+  if (p.clusters.group_count != groups.size() ||
+      p.clusters.hierarchy_hash != cluster_hierarchy_hash(clusters, groups))
+    return GroupLossStatus::OtherHierarchy;
+  const std::size_t B = p.clusters.band_count;
+  loss->bands_cpod = std::span<const float>(p.cluster_bands, B);
+  loss->diameter = 2.0f * p.meta.sphere[3];
+  loss->lost = std::span<const float>(p.cluster_lost, groups.size() * B);
+  return GroupLossStatus::Measured;
+}
+
+// The FALLBACK for a chain profile (no Clusters section); the one place this derivation lives.
 std::vector<float> provisional_group_loss(const Profile& p, std::span<const ClusterGroup> groups,
                                           ClusterLoss* loss) {
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,

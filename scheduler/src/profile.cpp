@@ -13,10 +13,11 @@ namespace acuity {
 namespace {
 
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
-constexpr std::uint32_t kSectionIds = 9;
-constexpr std::uint32_t kRequiredSections = 8;  // ids 1..8; Detail (9) is optional
-const char* const kSectionNames[kSectionIds + 1] = {
-    "?", "Meta", "Levels", "Views", "Lookup", "Orientations", "Bands", "Lost", "Features", "Detail"};
+constexpr std::uint32_t kSectionIds = 10;
+constexpr std::uint32_t kRequiredSections = 8;  // ids 1..8; Detail (9) and Clusters (10) are optional
+const char* const kSectionNames[kSectionIds + 1] = {"?",        "Meta",         "Levels",  "Views",
+                                                    "Lookup",   "Orientations", "Bands",   "Lost",
+                                                    "Features", "Detail",       "Clusters"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -98,6 +99,46 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
       if (p.detail[i].frequency_code == -128 || p.detail[i].orientation_code == -128)
         return fail(error, ProfileStatus::BadValue, "Detail: entry %llu has a code -128 (allowed -127..127)",
                     static_cast<unsigned long long>(i));
+  if (p.cluster_lost) {
+    const ProfileClusterMeta& c = p.clusters;
+    for (std::uint32_t b = 0; b < c.band_count; ++b)
+      if (!(std::isfinite(p.cluster_bands[b]) && p.cluster_bands[b] > 0) ||
+          (b && !(p.cluster_bands[b] > p.cluster_bands[b - 1])))
+        return fail(error, ProfileStatus::BadValue,
+                    "Clusters: band %u must be finite, positive and increasing", b);
+    if (!finite_nonnegative(p.cluster_lost, std::size_t(c.group_count) * c.band_count, &bad))
+      return fail(error, ProfileStatus::BadValue, "Clusters: value %zu (group %zu) is negative or not finite",
+                  bad, bad / c.band_count);
+  }
+  return ProfileStatus::Ok;
+}
+
+// The optional Clusters section: its header's counts, then its size from them.
+ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile* p, ProfileError* error) {
+  if (size < sizeof(ProfileClusterMeta))
+    return fail(error, ProfileStatus::BadSize,
+                "section Clusters: size %llu, shorter than its %zu-byte header",
+                static_cast<unsigned long long>(size), sizeof(ProfileClusterMeta));
+  ProfileClusterMeta c;
+  std::memcpy(&c, at, sizeof c);
+  if (c.group_count == 0 || c.group_count > kMaxClusterGroups)
+    return fail(error, ProfileStatus::BadCounts, "Clusters: group_count = %u (allowed 1..%u)", c.group_count,
+                kMaxClusterGroups);
+  if (c.band_count == 0 || c.band_count > kMaxBands)
+    return fail(error, ProfileStatus::BadCounts, "Clusters: band_count = %u (allowed 1..%u)", c.band_count,
+                kMaxBands);
+  if (c.window_pixels == 0 || c.view_count == 0 || c.reserved[0] || c.reserved[1])
+    return fail(error, ProfileStatus::BadCounts,
+                "Clusters: window_pixels %u and view_count %u must be >= 1, reserved 0", c.window_pixels,
+                c.view_count);
+  const std::uint64_t expected =
+      sizeof c + std::uint64_t(c.band_count) * sizeof(float) * (1 + std::uint64_t(c.group_count));
+  if (size != expected)
+    return fail(error, ProfileStatus::BadSize, "section Clusters: size %llu, expected %llu",
+                static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
+  p->clusters = c;
+  p->cluster_bands = reinterpret_cast<const float*>(at + sizeof c);
+  p->cluster_lost = p->cluster_bands + c.band_count;
   return ProfileStatus::Ok;
 }
 }  // namespace
@@ -213,6 +254,12 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   p.lost = reinterpret_cast<const float*>(at(ProfileSection::Lost));
   p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
   p.detail = has_detail ? reinterpret_cast<const ProfileDetail*>(at(ProfileSection::Detail)) : nullptr;
+  if (found[static_cast<std::uint32_t>(ProfileSection::Clusters)].id) {
+    const ProfileStatus c =
+        open_clusters(at(ProfileSection::Clusters),
+                      found[static_cast<std::uint32_t>(ProfileSection::Clusters)].size, &p, error);
+    if (c != ProfileStatus::Ok) return c;
+  }
 
   const ProfileStatus values = check_values(p, error);
   if (values != ProfileStatus::Ok) return values;

@@ -100,6 +100,15 @@ Blob encode_profile(const ProfileData& data) {
   for (const ProfileDetail& d : data.detail)
     require(d.frequency_code != -128 && d.orientation_code != -128,
             "detail: a code -128 is invalid (-127..127)");
+  const ProfileClusterData& c = data.clusters;
+  const std::size_t Bc = c.bands.size();
+  if (!c.empty()) {
+    require(Bc >= 1 && Bc <= kMaxBands, "clusters: needs 1.." + std::to_string(kMaxBands) + " bands");
+    require(c.lost.size() % Bc == 0 && c.lost.size() / Bc <= kMaxClusterGroups,
+            "clusters: lost has " + std::to_string(c.lost.size()) + " values, not groups (1.." +
+                std::to_string(kMaxClusterGroups) + ") x " + std::to_string(Bc) + " bands");
+    require(c.window_pixels >= 1 && c.view_count >= 1, "clusters: window_pixels and view_count must be >= 1");
+  }
   std::uint32_t r = data.lookup_resolution;
   if (r == 0)
     r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
@@ -116,10 +125,10 @@ Blob encode_profile(const ProfileData& data) {
   const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
 
   // Header and table are written last, once the offsets are known.
-  const std::size_t section_count = data.detail.empty() ? 8 : 9;
+  const std::size_t section_count = 8 + (data.detail.empty() ? 0 : 1) + (c.empty() ? 0 : 1);
   const std::size_t table_end = sizeof(ProfileHeader) + section_count * sizeof(ProfileSectionEntry);
   std::vector<unsigned char> body(table_end, 0);
-  ProfileSectionEntry table[9] = {};
+  ProfileSectionEntry table[10] = {};
   std::size_t n = 0;
   auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
     const std::size_t offset = body.size();
@@ -135,6 +144,20 @@ Blob encode_profile(const ProfileData& data) {
   section(ProfileSection::Lost, data.lost.data(), data.lost.size());
   section(ProfileSection::Features, data.features.data(), data.features.size());
   if (!data.detail.empty()) section(ProfileSection::Detail, data.detail.data(), data.detail.size());
+  if (!c.empty()) {  // header, bands and loss in one section
+    const ProfileClusterMeta meta_c{static_cast<std::uint32_t>(c.lost.size() / Bc),
+                                    static_cast<std::uint32_t>(Bc),
+                                    c.window_pixels,
+                                    c.view_count,
+                                    c.hierarchy_hash,
+                                    {0, 0}};
+    std::vector<unsigned char> bytes(sizeof meta_c + (Bc + c.lost.size()) * sizeof(float));
+    std::memcpy(bytes.data(), &meta_c, sizeof meta_c);
+    std::memcpy(bytes.data() + sizeof meta_c, c.bands.data(), Bc * sizeof(float));
+    std::memcpy(bytes.data() + sizeof meta_c + Bc * sizeof(float), c.lost.data(),
+                c.lost.size() * sizeof(float));
+    section(ProfileSection::Clusters, bytes.data(), bytes.size());
+  }
 
   ProfileHeader header{
       kProfileMagic, kProfileVersion, body.size(), static_cast<std::uint32_t>(section_count), 0, 0};

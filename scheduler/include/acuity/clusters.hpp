@@ -63,8 +63,9 @@ std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
 // What each group's simplification loses, per band: lost[g * bands.size() + b] is the largest
 // local band contrast (docs/design.md section 3) that group g's clusters lose against the finest
 // mesh, over every view and orientation, in the band of centre bands_cpod[b] cycles per `diameter`.
-// Issue 48 item 2 will measure it per group; until then provisional_group_loss() derives it from
-// the object's chain profile. A NaN entry counts as visible (the group is refined).
+// Measured per group by `acuity profile` of a cluster hierarchy's glTF (the profile's Clusters
+// section, measured_group_loss()); for a chain profile, provisional_group_loss() derives it. A NaN
+// entry counts as visible (the group is refined).
 struct ClusterLoss {
   std::span<const float>
       bands_cpod;               // band centres [cycles per diameter], increasing [Size: B, 1 .. kMaxBands]
@@ -72,10 +73,30 @@ struct ClusterLoss {
   std::span<const float> lost;  // [Size: groups x B] [Unit: contrast]
 };
 
-// PROVISIONAL (until issue 48 item 2 measures each group): per-group loss derived from the object's
-// ordinary chain profile (`acuity profile` of `acuity lodgen MESH`'s chain of the same mesh as
-// `acuity lodgen MESH --clusters`). For a group of error e [object units], e / the profile's
-// bounding-sphere diameter in object diameters (the unit of the chain's geometric errors):
+// FNV-1a 64 over a hierarchy's records as stored (the clusters' bytes, then the groups'): the name a
+// profile's Clusters section gives the hierarchy it measured. Linear; no allocation.
+std::uint64_t cluster_hierarchy_hash(std::span<const Cluster> clusters, std::span<const ClusterGroup> groups);
+
+enum class GroupLossStatus : std::uint8_t {
+  Measured,        // *loss reads the profile's Clusters section
+  NoSection,       // the profile has none (a chain's profile): provisional_group_loss() is the fallback
+  OtherHierarchy,  // its group count or hierarchy hash differ: it measured another hierarchy
+};
+const char* to_string(GroupLossStatus status);
+
+// The per-group loss a profile's Clusters section measured for this hierarchy (issue 48 item 2;
+// acuity/spectra/cluster_loss.hpp measures it): sets *loss to read the profile's bytes in place
+// (its cluster bands, Meta's sphere's diameter, its lost values), which must outlive it. On any
+// other status *loss is unchanged. No allocation.
+GroupLossStatus measured_group_loss(const Profile& profile, std::span<const Cluster> clusters,
+                                    std::span<const ClusterGroup> groups, ClusterLoss* loss);
+
+// The documented FALLBACK for a profile without a Clusters section: per-group loss derived from the
+// object's ordinary chain profile (`acuity profile` of `acuity lodgen MESH`'s chain of the same mesh
+// as `acuity lodgen MESH --clusters`). It gives every group the whole chain level's loss in bands
+// per object diameter, which keeps large objects fine everywhere (docs/lodgen.md). For a group of
+// error e [object units], e / the profile's bounding-sphere diameter in object diameters (the unit
+// of the chain's geometric errors):
 //   - per band, the loss (max over views and orientations) of the finest chain level whose
 //     geometric error is >= e, made non-decreasing along the chain by a running maximum over the
 //     finer levels, so that loss grows with error; a group of error 0 loses nothing;

@@ -10,7 +10,8 @@
 //   ProfileSectionEntry  section_count x 24 bytes, right after the header
 //   sections             Meta, Levels, Views, Lookup, Orientations, Bands, Lost, Features (any order;
 //                        unknown ids are skipped so a newer writer may add sections without a
-//                        version bump), and the optional Detail (issue 47: older readers skip it)
+//                        version bump), the optional Detail (issue 47: older readers skip it) and
+//                        the optional Clusters (issue 48: what each group of a cluster hierarchy loses)
 // checksum: FNV-1a 64 over the whole blob with the checksum field read as zero.
 // Compatibility: a reader accepts versions <= its own and rejects newer ones (re-bake on upgrade).
 // tests/data/profile_v1.acuity is a version-1 profile that every later reader must still open
@@ -32,7 +33,8 @@ inline constexpr std::uint32_t kMaxBands = 32;
 inline constexpr std::uint32_t kMaxLookupResolution = 64;
 inline constexpr std::uint32_t kLookupCandidates = 3;  // nearest views stored per lookup cell
 
-inline constexpr std::uint32_t kMaxProfileSections = 64;  // entries a reader accepts in the section table
+inline constexpr std::uint32_t kMaxProfileSections = 64;      // entries a reader accepts in the section table
+inline constexpr std::uint32_t kMaxClusterGroups = 1u << 22;  // groups in a Clusters section
 
 // The file header, at offset 0.
 struct ProfileHeader {
@@ -71,7 +73,8 @@ enum class ProfileSection : std::uint32_t {
   Bands = 6,
   Lost = 7,
   Features = 8,
-  Detail = 9,  // optional: the loss's extent and frequency within each band (ProfileDetail)
+  Detail = 9,     // optional: the loss's extent and frequency within each band (ProfileDetail)
+  Clusters = 10,  // optional: what each group of the object's cluster hierarchy loses (ProfileClusterMeta)
 };
 
 enum class ProfileStatus : std::uint8_t {
@@ -97,7 +100,8 @@ struct ProfileError {
 // Sections other than Meta are arrays; their element types and orders are those of Profile below:
 //   Levels ProfileLevel[K], Views ProfileView[V], Lookup u16[6 R R][kLookupCandidates],
 //   Orientations f32[T], Bands f32[B], Lost f32[(K-1) V T B], Features f32[K V T],
-//   Detail (optional) ProfileDetail[(K-1) V T B].
+//   Detail (optional) ProfileDetail[(K-1) V T B],
+//   Clusters (optional) ProfileClusterMeta, then f32 bands[Bc], then f32 lost[G Bc] (no padding).
 struct ProfileLevel {
   std::uint32_t triangles;  // cost of drawing this level
   float geometric_error;    // Hausdorff distance to level 0 [object diameters]
@@ -144,6 +148,26 @@ inline float detail_turn(ProfileDetail d) {
   return float(d.orientation_code) / 128.0f;
 }  // [orientation spacings]
 
+// Section Clusters (optional, issue 48 item 2): what each group of a cluster hierarchy (lodgen's
+// ACUITY_cluster_hierarchy, acuity/clusters.hpp) loses when drawn coarse, measured by
+// `acuity profile` of `acuity lodgen MESH --clusters`'s glTF (acuity/spectra/cluster_loss.hpp).
+// This header (32 bytes) is followed by f32 bands[band_count] (band centres [cycles per object
+// diameter, the diameter of Meta's sphere], increasing) and f32 lost[group_count * band_count]:
+// lost[g * band_count + b] is the largest lost contrast, over every measured view and orientation,
+// of group g's clusters against the finest mesh in band b (ClusterLoss, which reads it in place).
+struct ProfileClusterMeta {
+  std::uint32_t group_count;     // G: the hierarchy's groups [Limit: 1 .. kMaxClusterGroups]
+  std::uint32_t band_count;      // Bc [Limit: 1 .. kMaxBands]
+  std::uint32_t window_pixels;   // pixels across each group's window in the snapshots [Limit: >= 1]
+  std::uint32_t view_count;      // directions measured per group [Limit: >= 1]
+  std::uint64_t hierarchy_hash;  // cluster_hierarchy_hash() of the hierarchy measured
+  std::uint32_t reserved[2];     // 0
+};
+static_assert(sizeof(ProfileClusterMeta) == 32 && offsetof(ProfileClusterMeta, view_count) == 12 &&
+                  offsetof(ProfileClusterMeta, hierarchy_hash) == 16 &&
+                  offsetof(ProfileClusterMeta, reserved) == 24,
+              "ProfileClusterMeta is part of the file format");
+
 static_assert(sizeof(ProfileMeta) == 48 && offsetof(ProfileMeta, lookup_resolution) == 16 &&
                   offsetof(ProfileMeta, snapshot_pixels) == 20 && offsetof(ProfileMeta, sphere) == 24 &&
                   offsetof(ProfileMeta, reserved) == 40,
@@ -164,6 +188,11 @@ struct Profile {
   const float* lost;            // [(K-1) V T B] lost contrast of level k >= 1 against level 0
   const float* features;  // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
   const ProfileDetail* detail = nullptr;  // [(K-1) V T B] as lost, or nullptr (the section is optional)
+  // The optional Clusters section: its header (group_count 0 when absent), band centres [Bc] and
+  // per-group loss [G Bc] (ProfileClusterMeta), or nullptr.
+  ProfileClusterMeta clusters = {};
+  const float* cluster_bands = nullptr;
+  const float* cluster_lost = nullptr;
 
   // Lost contrast of level k (1 <= k < K) seen from view v, orientation t, band b.
   float lost_contrast(std::uint32_t k, std::uint32_t v, std::uint32_t t, std::uint32_t b) const {

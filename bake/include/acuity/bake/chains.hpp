@@ -8,6 +8,8 @@
 #include "acuity/lodgen/clusters.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/lodgen/mesh.hpp"
+#include "acuity/spectra/cluster_loss.hpp"
+#include "acuity/spectra/profile_builder.hpp"
 #include "acuity/spectra/render.hpp"
 
 namespace acuity::bake {
@@ -78,6 +80,33 @@ struct ChainFile {
 };
 // Throws lodgen::InputError naming the file when it has no node with MSFT_lod levels.
 ChainFile read_chain_file(const std::string& path, const std::string& asset_root = {});
+// The same from a scene already loaded from `path`.
+ChainFile chain_file(lodgen::Scene scene, const std::string& path);
+
+// A cluster file (`acuity lodgen MESH --clusters`'s glTF, or any with ACUITY_cluster_hierarchy):
+// its first mesh with a hierarchy. `material` points into `scene` (keep them together).
+struct ClusterFile {
+  lodgen::Scene scene;
+  std::size_t mesh = 0;  // index into scene.meshes and scene.clusters; scene.clusters.size(): none
+  spectra::Material material;
+  bool found() const { return mesh < scene.clusters.size(); }
+  // The mesh and its hierarchy as the measurement reads them (borrowed from scene); when found().
+  spectra::ClusterMesh view() const;
+};
+// The scene at `path` and its first mesh with a hierarchy, if any (found()). Throws io::Error or
+// lodgen::InputError for a file lodgen::load_scene refuses.
+ClusterFile read_cluster_file(const std::string& path, const std::string& asset_root = {});
+
+// The profile of a mesh with a cluster hierarchy: its finest mesh as a one-level chain (views,
+// Reddy's features: what the object rule reads, which then always draws it whole) and the Clusters
+// section, what each group loses (spectra::measure_cluster_loss). `acuity profile OUT.glb` of a
+// cluster file and `acuity bake` with clusters. Throws std::invalid_argument as the builders do.
+spectra::ProfileData profile_clusters(const spectra::ClusterMesh& mesh, const spectra::Material& material,
+                                      const spectra::ProfileSettings& settings,
+                                      const spectra::ClusterLossSettings& clusters,
+                                      const spectra::ProgressFn& progress = {},
+                                      spectra::ProfileReport* report = nullptr,
+                                      spectra::ClusterLossReport* cluster_report = nullptr);
 
 // The chain of the mesh file `mesh` built with `options`, written to `cache_glb`; or, when
 // `cache_glb` exists, the chain read back from it (*cached set true: the caller keeps the cache true

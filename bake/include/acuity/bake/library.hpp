@@ -41,7 +41,12 @@ struct BakeOptions {
   std::uint32_t views = 0;                   // 0: adaptive
   float tolerance = 0.25f;                   // adaptive views' switching-distance error, >= 0
   bool bound_cells = true;                   // each view bounds the loss over its cell (docs/spectra.md)
-  std::string asset_root;                    // folder a glTF's uris may read ("": the glTF's own folder)
+  bool clusters = false;                     // a cluster hierarchy instead of a chain (lodgen --clusters),
+                                             // profiled with what each group loses (issue 48)
+  std::uint32_t window_pixels =
+      128;                         // clusters: pixels across each group's window (power of two, 16 .. 4096)
+  std::uint32_t group_views = 12;  // clusters: directions measured per group: 12, 42 or 162
+  std::string asset_root;          // folder a glTF's uris may read ("": the glTF's own folder)
 };
 
 // lodgen's chain options for these options (levels, ratio, max_error, backend, lock_border,
@@ -53,6 +58,9 @@ ChainRequest chain_request(const std::string& input, const BakeOptions& options)
 // The profile builder's settings for these options (pixels, orientations, bands, views, tolerance,
 // bound_cells) with `jobs` threads (0: all cores).
 spectra::ProfileSettings profile_settings(const BakeOptions& options, unsigned jobs);
+// The per-group measurement's settings for these options (window_pixels, group_views, orientations;
+// the renderer's and analyser's other defaults as the profile's) with `jobs` threads.
+spectra::ClusterLossSettings cluster_loss_settings(const BakeOptions& options, unsigned jobs);
 
 // The options as canonical JSON text (sorted keys), and back: `json` holds any subset of the
 // fields over `defaults`. Throws lodgen::InputError naming `where` and the field for an unknown

@@ -10,14 +10,21 @@
 
 #include "acuity/file.hpp"
 #include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/cluster_hierarchy.hpp"
 #include "acuity/lodgen/mesh.hpp"
 #include "acuity/scheduler.hpp"
+#include "acuity/spectra/cluster_loss.hpp"
 #include "acuity/spectra/profile_builder.hpp"
 
 namespace acuity::bake {
 
 // The renderer's material for scene material `index` (-1 or out of range: default); points into the scene.
 spectra::Material spectra_material(const lodgen::Scene& scene, int index);
+
+// A mesh as the renderer reads it (borrowed arrays: the mesh must outlive the view).
+spectra::MeshView spectra_mesh(const lodgen::Mesh& mesh);
+// A mesh and its cluster hierarchy as spectra::measure_cluster_loss reads them (borrowed likewise).
+spectra::ClusterMesh cluster_mesh(const lodgen::Mesh& mesh, const lodgen::ClusterHierarchy& hierarchy);
 
 // A chain's levels as spectra inputs (the arrays are borrowed: the chain must outlive the result);
 // each level's geometric error is its Level::hausdorff [object diameters].

@@ -10,6 +10,17 @@
 
 namespace acuity::spectra {
 
+// The optional Clusters section (acuity::ProfileClusterMeta): what each group of a cluster
+// hierarchy loses (acuity/spectra/cluster_loss.hpp measures it).
+struct ProfileClusterData {
+  std::vector<float> bands;          // [Bc] band centres [cycles per object diameter], increasing
+  std::vector<float> lost;           // [G Bc] per group and band, the largest over views and orientations
+  std::uint32_t window_pixels = 0;   // pixels across each group's window
+  std::uint32_t view_count = 0;      // directions measured per group
+  std::uint64_t hierarchy_hash = 0;  // acuity::cluster_hierarchy_hash() of the hierarchy measured
+  bool empty() const { return lost.empty(); }
+};
+
 // Everything a profile holds, as plain arrays (layouts as in acuity::Profile).
 struct ProfileData {
   float sphere[4] = {0, 0, 0, 1};       // centre xyz, radius [object units]
@@ -22,6 +33,7 @@ struct ProfileData {
   std::vector<float> features;          // [K V T]
   std::vector<ProfileDetail> detail;    // [(K-1) V T B] as lost, or empty (the optional Detail section)
   std::uint32_t lookup_resolution = 0;  // cube-map cells per face edge; 0 picks one from V
+  ProfileClusterData clusters;          // empty: no Clusters section
 };
 
 struct InvalidProfile : std::invalid_argument {
