@@ -100,10 +100,40 @@ const char* to_string(CutStatus status);
 
 struct CutResult {
   CutStatus status = CutStatus::Ok;
-  std::uint8_t flags = 0;              // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze
-  std::uint32_t clusters = 0;          // drawn (or needed, BufferTooSmall)
-  std::uint64_t triangles = 0;         // drawn
+  std::uint8_t flags = 0;       // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze, kFlagHeld
+  std::uint32_t clusters = 0;   // drawn (or needed, BufferTooSmall)
+  std::uint64_t triangles = 0;  // drawn
   std::uint32_t groups_evaluated = 0;  // groups whose thresholds were evaluated (the walk's work)
+  std::uint32_t held = 0;  // groups kept visible by hysteresis or saccade gating (with memory; kFlagHeld)
+};
+
+// What a cut remembers of one group from one frame to the next (Scheduler::select_cut with memory),
+// as the object rule remembers an object's wait to coarsen: the caller's, one per group and object,
+// zero-initialised (nothing remembered: the next cut takes each group's decision at once, as a new
+// object takes its level). Written only by select_cut. 12 bytes, no padding (the C ABI passes it as
+// bytes: ACUITY_CUT_MEMORY_BYTES_PER_GROUP).
+struct CutGroupMemory {
+  float calm = 0;           // how long the group has been wanted invisible, this frame included [s of dt, or
+                            // frames: SchedulerConfig's timing]
+  float wait = 0;           // how long it has since waited for a saccade [same unit]
+  std::uint32_t state = 0;  // kCutKnown | kCutVisible as the last cut left it
+};
+inline constexpr std::uint32_t kCutKnown = 1;    // CutGroupMemory::state: a cut has decided the group
+inline constexpr std::uint32_t kCutVisible = 2;  // ... and it was visible (its members, or finer, drawn)
+static_assert(sizeof(CutGroupMemory) == 12, "CutGroupMemory's layout (the C ABI's bytes per group)");
+
+// Why a group is visible or not (Scheduler::explain_cut): its score and what limits it.
+struct GroupExplain {
+  float score = 0;             // max over eyes and bands of lost / (q CT); <= 1 invisible; +inf for an
+                               // eye inside its sphere or a NaN loss
+  std::uint8_t band = 0;       // the limiting band (index into ClusterLoss::bands_cpod)
+  std::uint8_t eye = 0;        // the limiting eye (0 or 1)
+  std::uint8_t flags = 0;      // kFlagEyeInside, kFlagNoGaze
+  std::uint8_t visible = 0;    // 1: the cut this frame (explain_cut's own walk, no memory) refines it
+  float frequency_cpd = 0;     // that band's frequency at the group's nearest point [cpd]
+  float threshold = 0;         // CT there (at quality 1)
+  float distance_m = 0;        // from the limiting eye to the nearest point of the group's sphere [m]
+  float eccentricity_deg = 0;  // of that point from the gaze, less the gaze uncertainty [deg]
 };
 
 }  // namespace acuity
