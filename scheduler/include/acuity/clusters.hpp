@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "acuity/profile.hpp"
@@ -56,6 +57,19 @@ struct ClusterView {
   std::span<const ClusterGroup> groups;
   std::span<const std::uint32_t> roots;  // the clusters in no group, as cluster_roots() lists them
 };
+
+// "" when `clusters` and `groups` are laid out as ClusterView requires (and lodgen writes), else the
+// first fault found, naming the cluster or group: a cluster empty or over kMaxClusterTriangles,
+// clusters overlapping or leaving a gap (each starts where the previous one ends) or not covering
+// exactly `triangles` triangles, group or member references out of range or pointing the wrong way
+// (a member whose `group` is not the group, a group made after the group it feeds, a cluster outside
+// its group's members), finest clusters after coarser ones, a non-finite centre, a non-finite or
+// negative radius or error, errors that decrease up the hierarchy, a sphere not containing those of
+// the groups that made its members, a wrong level or one reaching `max_levels`. What select_cut
+// trusts, checked once at load (lodgen::check_cluster_hierarchy adds the index array's checks; the
+// C ABI's acuity_hierarchy_create runs it). Linear; allocates only the message.
+std::string check_cluster_records(std::span<const Cluster> clusters, std::span<const ClusterGroup> groups,
+                                  std::uint64_t triangles, std::uint32_t max_levels = 64);
 
 // The clusters with group == kNoGroup, in order (once per hierarchy, at load; allocates).
 std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
