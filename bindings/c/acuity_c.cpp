@@ -7,6 +7,7 @@
 #include <cstring>
 #include <deque>
 #include <iterator>
+#include <memory>
 #include <new>
 #include <string>
 #include <type_traits>
@@ -22,6 +23,7 @@ struct acuity_scheduler {
   acuity::Scheduler scheduler;
   std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
   bool in_frame = false;              // between begin_frame and end_frame
+  bool frame_seen = false;            // a frame has begun (the cut reads its eyes)
   std::vector<acuity::View> views;    // [max_views]: the frame's, copied (no allocation per frame)
   explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c), views(c.max_views) {}
 };
@@ -501,6 +503,7 @@ acuity_status begin(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_co
   f.view_count = view_count;
   s->scheduler.begin_frame(f);
   s->in_frame = true;
+  s->frame_seen = true;
   return ACUITY_OK;
 }
 }  // namespace
@@ -639,6 +642,131 @@ acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_sta
     r.at_rest = st.at_rest;
     r.gaze_used = st.gaze_used ? 1 : 0;
     std::memcpy(out, &r, std::min<std::size_t>(size, sizeof r));
+    return ACUITY_OK;
+  });
+}
+
+}  // extern "C"
+
+// ---- Cluster cuts ----------------------------------------------------------------------------------
+
+// A hierarchy's records and loss, copied and checked (acuity::check_cluster_records).
+struct acuity_hierarchy {
+  std::vector<acuity::Cluster> clusters;
+  std::vector<acuity::ClusterGroup> groups;
+  std::vector<std::uint32_t> roots;
+  std::vector<float> bands, lost;
+  float diameter = 0;
+  acuity::ClusterView view() const { return {clusters, groups, roots}; }
+  acuity::ClusterLoss loss() const { return {bands, diameter, lost}; }
+};
+static_assert(sizeof(acuity_cluster) == sizeof(acuity::Cluster) &&
+                  offsetof(acuity_cluster, refined) == offsetof(acuity::Cluster, refined) &&
+                  sizeof(acuity_cluster_group) == sizeof(acuity::ClusterGroup) &&
+                  offsetof(acuity_cluster_group, error) == offsetof(acuity::ClusterGroup, error) &&
+                  offsetof(acuity_cluster_group, level) == offsetof(acuity::ClusterGroup, level) &&
+                  ACUITY_NO_GROUP == acuity::kNoGroup,
+              "the C records are the C++ ones");
+static_assert(sizeof(acuity_cut_result) == ACUITY_CUT_RESULT_SIZE_V8 &&
+                  offsetof(acuity_cut_result, struct_size) == 0,
+              "the version-8 cut result");
+static_assert(ACUITY_CUT_OK == int(acuity::CutStatus::Ok) &&
+              ACUITY_CUT_INVALID_INPUT == int(acuity::CutStatus::InvalidInput));
+
+namespace {
+// One object's cut memory: per group what the cut remembers, then the walk's scratch byte.
+constexpr std::size_t kCutBytesPerGroup = sizeof(acuity::CutGroupMemory) + 1;
+}  // namespace
+
+extern "C" {
+
+acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t cluster_count,
+                                      const acuity_cluster_group* groups, uint32_t group_count,
+                                      const float* bands_cpod, uint32_t band_count, float diameter,
+                                      const float* lost, acuity_hierarchy** out) {
+  return guarded([&] {
+    const char* where = "acuity_hierarchy_create: ";
+    if (!clusters || !bands_cpod || !out || (group_count > 0 && (!groups || !lost)))
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
+    if (cluster_count == 0) return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "no cluster");
+    if (band_count == 0 || band_count > acuity::kMaxBands)
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + std::to_string(band_count) +
+                                               " bands, not 1 .. " + std::to_string(acuity::kMaxBands));
+    if (!finite_positive(diameter))
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  std::string(where) + "diameter " + std::to_string(diameter) + " is not finite and > 0");
+    for (uint32_t b = 0; b < band_count; ++b)
+      if (!finite_positive(bands_cpod[b]) || (b > 0 && !(bands_cpod[b] > bands_cpod[b - 1])))
+        return fail(ACUITY_INVALID_ARGUMENT,
+                    std::string(where) + "band " + std::to_string(b) + " is not finite, > 0 and increasing");
+    auto h = std::make_unique<acuity_hierarchy>();
+    h->clusters.resize(cluster_count);
+    std::memcpy(static_cast<void*>(h->clusters.data()), clusters, sizeof(acuity_cluster) * cluster_count);
+    h->groups.resize(group_count);
+    if (group_count)
+      std::memcpy(static_cast<void*>(h->groups.data()), groups, sizeof(acuity_cluster_group) * group_count);
+    std::uint64_t triangles = 0;
+    for (const acuity::Cluster& c : h->clusters) triangles += c.triangle_count;
+    if (const std::string fault = acuity::check_cluster_records(h->clusters, h->groups, triangles);
+        !fault.empty())
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + fault);
+    h->roots = acuity::cluster_roots(h->clusters);
+    h->bands.assign(bands_cpod, bands_cpod + band_count);
+    h->lost.assign(lost, lost + std::size_t(group_count) * band_count);
+    h->diameter = diameter;
+    *out = h.release();
+    return ACUITY_OK;
+  });
+}
+
+void acuity_hierarchy_destroy(acuity_hierarchy* h) { delete h; }
+
+size_t acuity_cut_memory_size(const acuity_hierarchy* h) {
+  return h ? std::max<std::size_t>(h->groups.size() * kCutBytesPerGroup, 1) : 0;
+}
+
+acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarchy* h,
+                                const double position[3], const float rotation[4], float scale,
+                                const float* velocity, void* memory, size_t memory_size, uint32_t capacity,
+                                uint32_t* drawn, acuity_cut_result* result) {
+  return guarded([&] {
+    const std::string where = "acuity_select_cut: ";
+    if (!s || !h || !position || !rotation || !memory || !drawn || !result)
+      return fail(ACUITY_INVALID_ARGUMENT, where + "null argument");
+    const uint32_t size = result->struct_size;
+    if (size < ACUITY_CUT_RESULT_SIZE_V8 || size % 8 != 0 || size > 65536)
+      return fail(ACUITY_INVALID_ARGUMENT, where + "result struct_size " + std::to_string(size) +
+                                               " (at least " + std::to_string(ACUITY_CUT_RESULT_SIZE_V8) +
+                                               ", a multiple of 8, at most 65536)");
+    const std::size_t G = h->groups.size();
+    if (memory_size < acuity_cut_memory_size(h) || reinterpret_cast<std::uintptr_t>(memory) % 4 != 0)
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  where + "memory of " + std::to_string(memory_size) +
+                      " bytes (needs acuity_cut_memory_size: " + std::to_string(acuity_cut_memory_size(h)) +
+                      ", 4-byte aligned)");
+    if (capacity < h->clusters.size())
+      return fail(ACUITY_INVALID_ARGUMENT, where + "capacity " + std::to_string(capacity) +
+                                               " is below the hierarchy's " +
+                                               std::to_string(h->clusters.size()) + " clusters");
+    if (!s->frame_seen) return fail(ACUITY_INVALID_ARGUMENT, where + "no frame begun yet");
+    acuity::ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = position[k];
+    for (int k = 0; k < 4; ++k) t.rotation[k] = rotation[k];
+    t.scale = scale;
+    auto* remembered = static_cast<acuity::CutGroupMemory*>(memory);
+    auto* scratch = static_cast<std::uint8_t*>(memory) + G * sizeof(acuity::CutGroupMemory);
+    const acuity::CutResult r = s->scheduler.select_cut(h->view(), h->loss(), t, velocity, {remembered, G},
+                                                        {scratch, G}, {drawn, capacity});
+    acuity_cut_result out;
+    std::memset(&out, 0, sizeof out);
+    out.struct_size = size;
+    out.status = uint32_t(r.status);
+    out.flags = r.flags;
+    out.clusters = r.clusters;
+    out.triangles = r.triangles;
+    out.groups_evaluated = r.groups_evaluated;
+    out.held = r.held;
+    std::memcpy(result, &out, std::min<std::size_t>(size, sizeof out));
     return ACUITY_OK;
   });
 }
