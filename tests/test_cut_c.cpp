@@ -6,9 +6,14 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "acuity.h"
+#include "acuity/blob.hpp"
 #include "acuity/scheduler.hpp"
 
 namespace {
@@ -231,5 +236,75 @@ TEST(CutC, ContractOnSizesAndBadRecords) {
   EXPECT_EQ(acuity_cut_memory_size(nullptr), 0u);
   acuity_hierarchy_destroy(nullptr);
   acuity_hierarchy_destroy(h);
+  acuity_destroy(s);
+}
+
+// The loss derived from a profile (acuity_hierarchy_create_from_profile) is provisional_group_loss's:
+// the same cut as a hierarchy created with that loss given; bad profile bytes are BAD_PROFILE.
+TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
+  std::ifstream in(std::string(ACUITY_TEST_DATA) + "/profile_v1.acuity", std::ios::binary);
+  const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(bytes.size(), 592u);
+  acuity::Blob blob;
+  blob.storage.resize((bytes.size() + 7) / 8);
+  blob.size = bytes.size();
+  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  acuity::Profile p{};
+  ASSERT_EQ(acuity::open_profile(blob.data(), blob.size, &p), acuity::ProfileStatus::Ok);
+  Made m;
+  for (acuity_cluster_group& g : m.groups) g.error *= 2 * p.meta.sphere[3] / m.diameter;  // within its chain
+  std::vector<acuity::ClusterGroup> records(m.groups.size());
+  std::memcpy(static_cast<void*>(records.data()), m.groups.data(),
+              sizeof(acuity_cluster_group) * records.size());
+  acuity::ClusterLoss loss;
+  const std::vector<float> lost = acuity::provisional_group_loss(p, records, &loss);
+  acuity_hierarchy *from_profile = nullptr, *given = nullptr;
+  const uint32_t C = uint32_t(m.clusters.size()), G = uint32_t(m.groups.size());
+  ASSERT_EQ(acuity_hierarchy_create_from_profile(m.clusters.data(), C, m.groups.data(), G, bytes.data(),
+                                                 bytes.size(), &from_profile),
+            ACUITY_OK)
+      << acuity_last_error();
+  ASSERT_EQ(acuity_hierarchy_create(m.clusters.data(), C, m.groups.data(), G, loss.bands_cpod.data(),
+                                    uint32_t(loss.bands_cpod.size()), loss.diameter, lost.data(), &given),
+            ACUITY_OK)
+      << acuity_last_error();
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 1;
+  acuity_scheduler* s = nullptr;
+  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  std::vector<uint32_t> memory_a(acuity_cut_memory_size(given), 0),
+      memory_b(acuity_cut_memory_size(given), 0);
+  std::vector<uint32_t> a(C), b(C);
+  const double position[3] = {0, 0, 0};
+  const float rotation[4] = {0, 0, 0, 1};
+  std::set<uint64_t> triangles;
+  for (float distance : {2.0f, 20.0f, 200.0f, 2000.0f, 20000.0f}) {
+    acuity_eye e = eye_gazing(0);
+    e.position[2] = distance * p.meta.sphere[3];
+    ASSERT_EQ(acuity_begin_frame(s, &e, 1, 0), ACUITY_OK);
+    acuity_cut_result ra, rb;
+    ra.struct_size = rb.struct_size = sizeof ra;
+    ASSERT_EQ(acuity_select_cut(s, given, position, rotation, 1, nullptr, memory_a.data(),
+                                4 * memory_a.size(), C, a.data(), &ra),
+              ACUITY_OK);
+    ASSERT_EQ(acuity_select_cut(s, from_profile, position, rotation, 1, nullptr, memory_b.data(),
+                                4 * memory_b.size(), C, b.data(), &rb),
+              ACUITY_OK);
+    ASSERT_EQ(ra.clusters, rb.clusters);
+    EXPECT_TRUE(std::equal(a.begin(), a.begin() + ra.clusters, b.begin()));
+    triangles.insert(ra.triangles);
+    ASSERT_EQ(acuity_end_frame(s), ACUITY_OK);
+  }
+  EXPECT_GE(triangles.size(), 2u) << "the distances give different cuts";
+  acuity_hierarchy* none = nullptr;
+  std::vector<char> bad = bytes;
+  bad[100] ^= 1;
+  EXPECT_EQ(acuity_hierarchy_create_from_profile(m.clusters.data(), C, m.groups.data(), G, bad.data(),
+                                                 bad.size(), &none),
+            ACUITY_BAD_PROFILE);
+  EXPECT_EQ(none, nullptr);
+  acuity_hierarchy_destroy(given);
+  acuity_hierarchy_destroy(from_profile);
   acuity_destroy(s);
 }

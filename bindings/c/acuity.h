@@ -41,7 +41,8 @@ extern "C" {
  * acuity_begin_frame_views and acuity_get_view_levels; and acuity_config_default_sized and
  * acuity_foveation_config_default_sized (the _default macros pass the caller's sizeof); and
  * ACUITY_MODEL_STELA_CSF (appended).
- * Version 8 added cluster cuts: acuity_hierarchy (acuity_hierarchy_create, _destroy), acuity_cluster,
+ * Version 8 added cluster cuts: acuity_hierarchy (acuity_hierarchy_create, _create_from_profile,
+ * _destroy), acuity_cluster,
  * acuity_cluster_group, acuity_cut_memory_size, acuity_cut_result and acuity_select_cut. */
 #define ACUITY_C_API_VERSION 8
 
@@ -399,6 +400,13 @@ acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t c
                                       const acuity_cluster_group* groups, uint32_t group_count,
                                       const float* bands_cpod, uint32_t band_count, float diameter,
                                       const float* lost, acuity_hierarchy** out);
+/* The same with the loss derived from the object's profile (.acuity bytes of its chain, copied and
+ * validated; BAD_PROFILE otherwise): today acuity::provisional_group_loss (acuity/clusters.hpp), until
+ * issue 48 item 2 measures each group's loss. */
+acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
+                                                   const acuity_cluster_group* groups, uint32_t group_count,
+                                                   const void* profile, size_t profile_size,
+                                                   acuity_hierarchy** out);
 void acuity_hierarchy_destroy(acuity_hierarchy* hierarchy); /* null: no-op */
 /* Bytes of one object's cut memory for this hierarchy (0 for null): what the cut remembers between
  * frames (hysteresis and saccade gating per group) and its walk's scratch. The caller allocates it

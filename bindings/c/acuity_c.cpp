@@ -676,6 +676,41 @@ static_assert(ACUITY_CUT_OK == int(acuity::CutStatus::Ok) &&
 namespace {
 // One object's cut memory: per group what the cut remembers, then the walk's scratch byte.
 constexpr std::size_t kCutBytesPerGroup = sizeof(acuity::CutGroupMemory) + 1;
+
+// The checks and copies of both acuity_hierarchy_create calls (lost: groups x bands, already copied).
+acuity_status make_hierarchy(const acuity_cluster* clusters, uint32_t cluster_count,
+                             const acuity_cluster_group* groups, uint32_t group_count,
+                             const float* bands_cpod, uint32_t band_count, float diameter,
+                             const std::vector<float>& lost, acuity_hierarchy** out, const char* where) {
+  if (cluster_count == 0) return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "no cluster");
+  if (band_count == 0 || band_count > acuity::kMaxBands)
+    return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + std::to_string(band_count) +
+                                             " bands, not 1 .. " + std::to_string(acuity::kMaxBands));
+  if (!finite_positive(diameter))
+    return fail(ACUITY_INVALID_ARGUMENT,
+                std::string(where) + "diameter " + std::to_string(diameter) + " is not finite and > 0");
+  for (uint32_t b = 0; b < band_count; ++b)
+    if (!finite_positive(bands_cpod[b]) || (b > 0 && !(bands_cpod[b] > bands_cpod[b - 1])))
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  std::string(where) + "band " + std::to_string(b) + " is not finite, > 0 and increasing");
+  auto h = std::make_unique<acuity_hierarchy>();
+  h->clusters.resize(cluster_count);
+  std::memcpy(static_cast<void*>(h->clusters.data()), clusters, sizeof(acuity_cluster) * cluster_count);
+  h->groups.resize(group_count);
+  if (group_count)
+    std::memcpy(static_cast<void*>(h->groups.data()), groups, sizeof(acuity_cluster_group) * group_count);
+  std::uint64_t triangles = 0;
+  for (const acuity::Cluster& c : h->clusters) triangles += c.triangle_count;
+  if (const std::string fault = acuity::check_cluster_records(h->clusters, h->groups, triangles);
+      !fault.empty())
+    return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + fault);
+  h->roots = acuity::cluster_roots(h->clusters);
+  h->bands.assign(bands_cpod, bands_cpod + band_count);
+  h->lost = lost;
+  h->diameter = diameter;
+  *out = h.release();
+  return ACUITY_OK;
+}
 }  // namespace
 
 extern "C" {
@@ -688,34 +723,38 @@ acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t c
     const char* where = "acuity_hierarchy_create: ";
     if (!clusters || !bands_cpod || !out || (group_count > 0 && (!groups || !lost)))
       return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
-    if (cluster_count == 0) return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "no cluster");
-    if (band_count == 0 || band_count > acuity::kMaxBands)
-      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + std::to_string(band_count) +
-                                               " bands, not 1 .. " + std::to_string(acuity::kMaxBands));
-    if (!finite_positive(diameter))
-      return fail(ACUITY_INVALID_ARGUMENT,
-                  std::string(where) + "diameter " + std::to_string(diameter) + " is not finite and > 0");
-    for (uint32_t b = 0; b < band_count; ++b)
-      if (!finite_positive(bands_cpod[b]) || (b > 0 && !(bands_cpod[b] > bands_cpod[b - 1])))
-        return fail(ACUITY_INVALID_ARGUMENT,
-                    std::string(where) + "band " + std::to_string(b) + " is not finite, > 0 and increasing");
-    auto h = std::make_unique<acuity_hierarchy>();
-    h->clusters.resize(cluster_count);
-    std::memcpy(static_cast<void*>(h->clusters.data()), clusters, sizeof(acuity_cluster) * cluster_count);
-    h->groups.resize(group_count);
+    const std::vector<float> copy(lost, lost + std::size_t(group_count) * band_count);
+    return make_hierarchy(clusters, cluster_count, groups, group_count, bands_cpod, band_count, diameter,
+                          copy, out, where);
+  });
+}
+
+acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
+                                                   const acuity_cluster_group* groups, uint32_t group_count,
+                                                   const void* profile, size_t profile_size,
+                                                   acuity_hierarchy** out) {
+  return guarded([&] {
+    const char* where = "acuity_hierarchy_create_from_profile: ";
+    if (!clusters || !profile || !out || (group_count > 0 && !groups))
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
+    if (profile_size < 32 || profile_size > (std::size_t(1) << 32))
+      return fail(ACUITY_BAD_PROFILE, std::string(where) + "a profile of " + std::to_string(profile_size) +
+                                          " bytes (32 B .. 4 GiB)");
+    acuity::Blob blob;  // 8-byte aligned, as open_profile reads it
+    blob.storage.resize((profile_size + 7) / 8);
+    blob.size = profile_size;
+    std::memcpy(blob.storage.data(), profile, profile_size);
+    acuity::Profile p{};
+    const acuity::ProfileStatus st = acuity::open_profile(blob.data(), blob.size, &p);
+    if (st != acuity::ProfileStatus::Ok)
+      return fail(ACUITY_BAD_PROFILE, std::string(where) + acuity::to_string(st));
+    std::vector<acuity::ClusterGroup> records(group_count);
     if (group_count)
-      std::memcpy(static_cast<void*>(h->groups.data()), groups, sizeof(acuity_cluster_group) * group_count);
-    std::uint64_t triangles = 0;
-    for (const acuity::Cluster& c : h->clusters) triangles += c.triangle_count;
-    if (const std::string fault = acuity::check_cluster_records(h->clusters, h->groups, triangles);
-        !fault.empty())
-      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + fault);
-    h->roots = acuity::cluster_roots(h->clusters);
-    h->bands.assign(bands_cpod, bands_cpod + band_count);
-    h->lost.assign(lost, lost + std::size_t(group_count) * band_count);
-    h->diameter = diameter;
-    *out = h.release();
-    return ACUITY_OK;
+      std::memcpy(static_cast<void*>(records.data()), groups, sizeof(acuity_cluster_group) * group_count);
+    acuity::ClusterLoss loss;
+    const std::vector<float> lost = acuity::provisional_group_loss(p, records, &loss);
+    return make_hierarchy(clusters, cluster_count, groups, group_count, loss.bands_cpod.data(),
+                          uint32_t(loss.bands_cpod.size()), loss.diameter, lost, out, where);
   });
 }
 
