@@ -154,6 +154,24 @@ acuity_status check_ids(const acuity_scheduler* s, uint32_t count, const uint32_
 
 bool finite_positive(float x) { return std::isfinite(x) && x > 0; }
 
+// Profile bytes copied (8-byte aligned, as open_profile reads them) and validated; BAD_PROFILE naming
+// `where` otherwise. At least the 32-byte header, at most 4 GiB (profiles are kilobytes to
+// megabytes): refuses an unchecked ftell's -1 before (size + 7) / 8 could wrap, and 0 before a memcpy
+// to null.
+acuity_status copy_profile(const void* data, std::size_t size, acuity::Blob* blob, acuity::Profile* p,
+                           const char* where) {
+  if (size < 32 || size > std::size_t(UINT32_MAX))
+    return fail(ACUITY_BAD_PROFILE,
+                std::string(where) + ": size " + std::to_string(size) + " bytes is not a profile's size");
+  blob->size = size;
+  blob->storage.assign((size + 7) / 8, 0);
+  std::memcpy(blob->storage.data(), data, size);
+  acuity::ProfileError e;
+  if (acuity::open_profile(blob->data(), blob->size, p, &e) != acuity::ProfileStatus::Ok)
+    return fail(ACUITY_BAD_PROFILE, std::string(acuity::to_string(e.status)) + ": " + e.message);
+  return ACUITY_OK;
+}
+
 // The config as this library reads it: defaults, overwritten by the caller's struct_size bytes.
 acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) {
   const uint32_t size = c->struct_size;
@@ -333,22 +351,13 @@ void acuity_destroy(acuity_scheduler* s) { delete s; }
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
   return guarded([&] {
     if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, "acuity_load_profile: null argument");
-    // At least the 32-byte header, at most 4 GiB (profiles are kilobytes to megabytes): refuses an
-    // unchecked ftell's -1 before (size + 7) / 8 below could wrap, and 0 before a memcpy to null.
-    if (size < 32 || size > std::size_t(UINT32_MAX))
-      return fail(ACUITY_BAD_PROFILE,
-                  "acuity_load_profile: size " + std::to_string(size) + " bytes is not a profile's size");
     if (s->profiles.size() >= s->scheduler.config().max_profiles)
       return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" +
                                    std::to_string(s->scheduler.config().max_profiles) + ") reached");
     acuity::Blob blob;
-    blob.size = size;
-    blob.storage.assign((size + 7) / 8, 0);
-    std::memcpy(blob.storage.data(), data, size);
     acuity::Profile p;
-    acuity::ProfileError e;
-    if (acuity::open_profile(blob.data(), blob.size, &p, &e) != acuity::ProfileStatus::Ok)
-      return fail(ACUITY_BAD_PROFILE, std::string(acuity::to_string(e.status)) + ": " + e.message);
+    if (const acuity_status st = copy_profile(data, size, &blob, &p, "acuity_load_profile"); st != ACUITY_OK)
+      return st;
     s->profiles.push_back(std::move(blob));
     acuity::open_profile(s->profiles.back().data(), s->profiles.back().size, &p);  // point into the kept copy
     const int i = s->scheduler.add_profile(p);
@@ -737,17 +746,12 @@ acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* cluster
     const char* where = "acuity_hierarchy_create_from_profile: ";
     if (!clusters || !profile || !out || (group_count > 0 && !groups))
       return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
-    if (profile_size < 32 || profile_size > (std::size_t(1) << 32))
-      return fail(ACUITY_BAD_PROFILE, std::string(where) + "a profile of " + std::to_string(profile_size) +
-                                          " bytes (32 B .. 4 GiB)");
-    acuity::Blob blob;  // 8-byte aligned, as open_profile reads it
-    blob.storage.resize((profile_size + 7) / 8);
-    blob.size = profile_size;
-    std::memcpy(blob.storage.data(), profile, profile_size);
+    acuity::Blob blob;
     acuity::Profile p{};
-    const acuity::ProfileStatus st = acuity::open_profile(blob.data(), blob.size, &p);
-    if (st != acuity::ProfileStatus::Ok)
-      return fail(ACUITY_BAD_PROFILE, std::string(where) + acuity::to_string(st));
+    if (const acuity_status st =
+            copy_profile(profile, profile_size, &blob, &p, "acuity_hierarchy_create_from_profile");
+        st != ACUITY_OK)
+      return st;
     std::vector<acuity::ClusterGroup> records(group_count);
     if (group_count)
       std::memcpy(static_cast<void*>(records.data()), groups, sizeof(acuity_cluster_group) * group_count);
