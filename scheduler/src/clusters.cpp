@@ -78,9 +78,9 @@ struct Scheduler::Impl::CutObject {
   std::uint8_t flags;  // kFlagEyeInside, kFlagNoGaze found so far
 };
 
-// One eye's score of one group: ln(lost / (q CT)), the largest over bands; +inf where the eye is
-// inside (or on) the sphere or a loss is NaN. Explain (nullable): filled when this eye's score
-// exceeds its score so far.
+// One eye's score of one group: ln(lost / (q CT)), the largest over bands (without explain, the
+// first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
+// the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
 float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
                                    const float* lost, GroupExplain* explain) const {
   const EyeCache& eye = eyes_[i];
@@ -114,6 +114,7 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
     if (!(x <= score)) {  // NaN counts as visible
       score = x == x ? x : kInf;
       limit = b;
+      if (score > 0.0f && !explain) break;  // visible: the cut needs no more (hysteresis only coarsens)
     }
   }
   if (explain && (i == 0 || score > std::log(explain->score))) {
