@@ -130,6 +130,32 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
   return score;
 }
 
+// The object rule's hysteresis and gating, for one group the walk reached with this score (ln
+// lost / (q CT)): visible applies at once; a group the memory holds visible coarsens once its score
+// <= 1 - margin has waited as an object's would, and is held visible meanwhile (counted in *held); a
+// score in (1 - margin, 1] keeps it. Returns whether the group is visible and remembers it.
+bool Scheduler::Impl::remember_group(CutGroupMemory& m, bool visible, float score,
+                                     const CoarsenTiming& timing, float ln_margin, std::uint32_t* held) {
+  const bool was_visible = (m.state & (kCutKnown | kCutVisible)) == (kCutKnown | kCutVisible);
+  CutGroupMemory next{0, 0, 0};
+  if (!visible && was_visible) {
+    if (score <= ln_margin) {
+      const CoarsenTiming::Step wanted = timing.step(m.calm, m.wait);
+      if (!wanted.ready) {
+        next.calm = wanted.calm;
+        next.wait = wanted.wait;
+        ++*held;
+        visible = true;
+      }
+    } else {
+      visible = true;  // not low enough to want coarsening: it stays
+    }
+  }
+  next.state = kCutKnown | (visible ? kCutVisible : 0);
+  m = next;
+  return visible;
+}
+
 CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& t,
                                       const float velocity[3], std::span<CutGroupMemory> memory,
                                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
@@ -186,7 +212,6 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   for (std::uint32_t i = 0; i < eye_count_; ++i)
     if (!eyes_[i].gaze) o.flags |= kFlagNoGaze;
   const CoarsenTiming timing = coarsen_timing();
-  const float ln_margin = pre_->ln_margin;
 
   // Top down: a group is evaluated when some group holding a cluster it made is visible (or such a
   // cluster is a root) and none is invisible; either way its makers learn which it is.
@@ -209,28 +234,8 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
       for (std::uint32_t i = 0; i < eye_count_ && !(score > 0.0f); ++i)
         score = std::max(score, group_score(i, o, group, lost, nullptr));
       visible = score > 0.0f;
-      if (!memory.empty()) {
-        // The object rule's hysteresis and gating, per group: visible applies at once; a visible
-        // group coarsens once its score <= 1 - margin has waited as an object's would.
-        CutGroupMemory& m = memory[g];
-        const bool was_visible = (m.state & (kCutKnown | kCutVisible)) == (kCutKnown | kCutVisible);
-        CutGroupMemory next{0, 0, 0};
-        if (!visible && was_visible) {
-          if (score <= ln_margin) {
-            const CoarsenTiming::Step wanted = timing.step(m.calm, m.wait);
-            if (!wanted.ready) {
-              next.calm = wanted.calm;
-              next.wait = wanted.wait;
-              ++res.held;
-              visible = true;
-            }
-          } else {
-            visible = true;  // not low enough to want coarsening: it stays
-          }
-        }
-        next.state = kCutKnown | (visible ? kCutVisible : 0);
-        m = next;
-      }
+      if (!memory.empty())
+        visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);
       if (visible) {
         state[g] |= kVisible;
         const Vec3 c = rotate(o.q, o.scale * load(group.center));

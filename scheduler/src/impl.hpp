@@ -107,6 +107,9 @@ struct Scheduler::Impl {
       return {calm_now, wait_now, settled & (gate_open | waited)};
     }
   };
+  // select_cut's hysteresis for one group the walk reached (clusters.cpp): whether it is visible.
+  static bool remember_group(CutGroupMemory& m, bool visible, float score, const CoarsenTiming& timing,
+                             float ln_margin, std::uint32_t* held);
   CoarsenTiming coarsen_timing() const {
     return {hold_need_,
             wait_need_,
