@@ -500,11 +500,18 @@ void BM_cut(benchmark::State& state) {
   f.gaze[0].valid = true;
   std::vector<std::uint8_t> scratch(groups.size());
   std::vector<std::uint32_t> drawn(clusters.size());
+  // With memory (the second argument 1): each object's hysteresis per group, as a client keeps it.
+  const bool remember = state.range(1) != 0;
+  std::vector<CutGroupMemory> memory(remember ? std::size_t(n) * groups.size() : 0);
   std::uint64_t triangles = 0;
   for (auto _ : state) {
     s.begin_frame(f);
-    for (const ObjectTransform& t : objects)
-      triangles += s.select_cut(view, loss, t, nullptr, scratch, drawn).triangles;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const std::span<CutGroupMemory> m =
+          remember ? std::span<CutGroupMemory>(memory).subspan(std::size_t(i) * groups.size(), groups.size())
+                   : std::span<CutGroupMemory>();
+      triangles += s.select_cut(view, loss, objects[i], nullptr, m, scratch, drawn).triangles;
+    }
     benchmark::DoNotOptimize(triangles);
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -519,7 +526,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 BENCHMARK(BM_distance_loop)->Apply(sizes);
-BENCHMARK(BM_cut)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_cut)->ArgsProduct({{1000, 10000}, {0, 1}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);

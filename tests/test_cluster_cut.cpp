@@ -10,6 +10,7 @@
 #include "acuity/lodgen/chain.hpp"
 #include "acuity/lodgen/clusters.hpp"
 #include "acuity/scheduler.hpp"
+#include "allocation_counter.hpp"  // the no-allocation check counts with it
 #include "cluster_check.hpp"
 
 using namespace acuity;
@@ -327,4 +328,161 @@ TEST(ClusterCut, ProvisionalLossFollowsItsRule) {
   EXPECT_FLOAT_EQ(loss.diameter, 1.0f);
   const float want[10] = {0, 0, 0.02f, 0.10f, 0.05f, 0.10f, 0.10f, 0.20f, 1.0f, 1.0f};
   for (int i = 0; i < 10; ++i) EXPECT_NEAR(out[std::size_t(i)], want[i], 1e-6) << i;
+}
+
+namespace {
+// The visible groups select_cut leaves in scratch (bit 4).
+std::vector<std::uint8_t> visible_of(const std::vector<std::uint8_t>& scratch) {
+  std::vector<std::uint8_t> v(scratch.size());
+  for (std::size_t g = 0; g < v.size(); ++g) v[g] = (scratch[g] & 4) != 0;
+  return v;
+}
+}  // namespace
+
+// Hysteresis per group, as the object rule's: walking away, the cut keeps its visible groups for
+// hysteresis_frames - 1 frames (held, kFlagHeld), then takes the memoryless cut; walking back, it
+// refines at once. Every cut on the way is crack-free, and a zeroed memory's first cut is the
+// memoryless one.
+TEST(ClusterCut, GroupsCoarsenAfterTheHysteresisAndRefineAtOnce) {
+  const Built b = build("armadillo.off");
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  const Edges e = edges(b.mesh, b.h);
+  CrackCheck crack(e);
+  SchedulerConfig c = exact();
+  c.hysteresis_frames = 5;
+  c.gaze_uncertainty_deg = 180;  // every eccentricity 0: the nearer view is the finer
+  Scheduler s(c);
+  const std::size_t G = b.h.groups.size();
+  std::vector<CutGroupMemory> memory(G);
+  std::vector<std::uint8_t> scratch(G), plain(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size()), plain_drawn(b.h.clusters.size());
+  ObjectTransform t;
+  const Frame near = frame_at({0, 0, 1.5 * b.diameter}, {0, 0, 0}, 0, 0);
+  const Frame far = frame_at({0, 0, 40 * b.diameter}, {0, 0, 0}, 0, 0);
+  const auto cut_both = [&](const Frame& f) {
+    s.begin_frame(f);
+    const CutResult p = s.select_cut(b.view(), loss, t, nullptr, plain, plain_drawn);
+    const CutResult r = s.select_cut(b.view(), loss, t, nullptr, memory, scratch, drawn);
+    EXPECT_EQ(p.status, CutStatus::Ok);
+    EXPECT_EQ(r.status, CutStatus::Ok);
+    EXPECT_EQ(crack.first(std::vector<std::uint32_t>(drawn.begin(), drawn.begin() + r.clusters)), UINT32_MAX);
+    return std::pair{r, p};
+  };
+  auto [first, first_plain] = cut_both(near);
+  EXPECT_EQ(visible_of(scratch), visible_of(plain)) << "a zeroed memory takes the cut at once";
+  EXPECT_EQ(first.held, 0u);
+  const std::vector<std::uint8_t> near_visible = visible_of(scratch);
+  for (int frame = 1; frame < 5; ++frame) {
+    s.begin_frame(far);
+    const long before = g_allocations;
+    s.select_cut(b.view(), loss, t, nullptr, std::span<CutGroupMemory>(memory).first(0), plain, plain_drawn);
+    EXPECT_EQ(g_allocations, before) << "select_cut allocates nothing";
+    auto [r, p] = cut_both(far);
+    ASSERT_LT(p.triangles, first.triangles) << "the far view coarsens";
+    EXPECT_EQ(visible_of(scratch), near_visible) << "frame " << frame << " is held";
+    EXPECT_EQ(r.triangles, first.triangles);
+    EXPECT_GT(r.held, 0u);
+    EXPECT_TRUE(r.flags & kFlagHeld);
+  }
+  auto [fifth, fifth_plain] = cut_both(far);
+  EXPECT_EQ(visible_of(scratch), visible_of(plain)) << "the fifth frame coarsens";
+  EXPECT_EQ(fifth.triangles, fifth_plain.triangles);
+  EXPECT_EQ(fifth.held, 0u);
+  EXPECT_FALSE(fifth.flags & kFlagHeld);
+  auto [back, back_plain] = cut_both(near);
+  EXPECT_EQ(visible_of(scratch), visible_of(plain)) << "refining applies at once";
+  EXPECT_EQ(back.triangles, first.triangles);
+}
+
+// Saccade gating per group: a far view waits for a saccade (up to max_coarsen_wait frames), then
+// coarsens in the saccade's frame, where the eye counts as fixating (the memoryless cut's).
+TEST(ClusterCut, GroupsCoarsenInASaccade) {
+  const Built b = build("bunny00.off");
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  SchedulerConfig c = exact();
+  c.saccade_speed = 100;
+  c.max_coarsen_wait = 1000;
+  Scheduler s(c);
+  const std::size_t G = b.h.groups.size();
+  std::vector<CutGroupMemory> memory(G);
+  std::vector<std::uint8_t> scratch(G), plain(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  ObjectTransform t;
+  s.begin_frame(frame_at({0, 0, 1.5 * b.diameter}, {0, 0, 0}, 0, 0));
+  const CutResult near = s.select_cut(b.view(), loss, t, nullptr, memory, scratch, drawn);
+  Frame far = frame_at({0, 0, 40 * b.diameter}, {0, 0, 0}, 0, 0);
+  for (int frame = 0; frame < 20; ++frame) {
+    s.begin_frame(far);
+    const CutResult r = s.select_cut(b.view(), loss, t, nullptr, memory, scratch, drawn);
+    EXPECT_EQ(r.triangles, near.triangles) << "frame " << frame << ": no saccade yet";
+    EXPECT_TRUE(r.flags & kFlagHeld);
+  }
+  far.gaze[0].has_velocity = true;
+  far.gaze[0].angular_velocity[1] = 300;  // deg/s: a saccade
+  s.begin_frame(far);
+  const CutResult plain_cut = s.select_cut(b.view(), loss, t, nullptr, plain, drawn);
+  const CutResult r = s.select_cut(b.view(), loss, t, nullptr, memory, scratch, drawn);
+  EXPECT_LT(r.triangles, near.triangles);
+  EXPECT_EQ(r.triangles, plain_cut.triangles);
+  EXPECT_EQ(visible_of(scratch), visible_of(plain));
+  EXPECT_EQ(r.held, 0u);
+}
+
+// explain_cut: every group's score and limiting band, as select_cut's walk decides them: a group the
+// cut refines scored above 1, the maker of every drawn cluster is not visible and its group is; the
+// score is the limiting band's lost / (q CT) at the frequency it reports. Bad sizes and bad input
+// return select_cut's statuses.
+TEST(ClusterCut, ExplainNamesEachGroupsLimitingBand) {
+  const Built b = build("fandisk.off");
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  const float q = 1.5f;
+  Scheduler s(exact(q));
+  const std::size_t G = b.h.groups.size();
+  std::vector<std::uint8_t> scratch(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  std::vector<GroupExplain> ex(G);
+  ObjectTransform t;
+  s.begin_frame(frame_at({0.3 * b.diameter, 0, 2 * b.diameter}, {0, 0, 0}, 10, -5));
+  const CutResult r = s.select_cut(b.view(), loss, t, nullptr, scratch, drawn);
+  ASSERT_EQ(s.explain_cut(b.view(), loss, t, nullptr, scratch, ex), CutStatus::Ok);
+  std::size_t visible = 0, invisible = 0;
+  for (std::size_t g = 0; g < G; ++g) {
+    EXPECT_EQ(ex[g].visible != 0, (scratch[g] & 4) != 0) << "group " << g;
+    if (ex[g].visible) {
+      EXPECT_GT(ex[g].score, 1.0f) << "group " << g;
+      ++visible;
+    } else if (ex[g].score <= 1.0f) {
+      ++invisible;
+    }
+    ASSERT_LT(ex[g].band, 6);
+    EXPECT_EQ(ex[g].eye, 0);
+    EXPECT_GT(ex[g].distance_m, 0.0f);
+    EXPECT_GE(ex[g].eccentricity_deg, 0.0f);
+    const float x = lost[g * 6 + ex[g].band];
+    if (ex[g].threshold > 0 && std::isfinite(ex[g].threshold) && x > 0) {
+      EXPECT_NEAR(ex[g].score, x / (q * ex[g].threshold), 1e-3 * ex[g].score) << "group " << g;
+    }
+    // The frequency is the band's cycles per diameter over the diameter's angle at the nearest point.
+    const double deg = std::atan(1.0) * 4 / 180;
+    EXPECT_NEAR(ex[g].frequency_cpd, kBands[ex[g].band] / (b.diameter / ex[g].distance_m / deg),
+                1e-3 * ex[g].frequency_cpd);
+  }
+  EXPECT_GT(visible, 0u);
+  EXPECT_GT(invisible, 0u);
+  for (std::uint32_t k = 0; k < r.clusters; ++k) {
+    const Cluster& cl = b.h.clusters[drawn[k]];
+    if (cl.refined != kNoGroup) { EXPECT_FALSE(ex[cl.refined].visible) << "cluster " << drawn[k]; }
+    if (cl.group != kNoGroup) { EXPECT_TRUE(ex[cl.group].visible) << "cluster " << drawn[k]; }
+  }
+  std::vector<GroupExplain> small(G - 1);
+  EXPECT_EQ(s.explain_cut(b.view(), loss, t, nullptr, scratch, small), CutStatus::BadHierarchy);
+  ObjectTransform bad = t;
+  bad.scale = -1;
+  EXPECT_EQ(s.explain_cut(b.view(), loss, bad, nullptr, scratch, ex), CutStatus::InvalidInput);
 }

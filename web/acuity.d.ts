@@ -73,6 +73,26 @@ export class Acuity {
   lastError(): string;
   /** acuity_config fields by name, e.g. { max_objects: 4096, quality: 1, rule: RULE.distance }. */
   createScheduler(options?: Record<string, number | boolean>): Scheduler;
+  /** A cluster hierarchy (ACUITY_cluster_hierarchy's records: 4 uint32 per cluster, 32 bytes per
+   *  group) with its per-group loss derived from the object's .acuity profile. */
+  createHierarchy(clusters: Uint32Array, groups: Uint8Array, profile: Uint8Array): Hierarchy;
+}
+
+/** One object's cut state in the wasm heap (hysteresis memory per group, the drawn ids). */
+export interface CutState { readonly memory: number; readonly drawn: number; destroy(): void; }
+export class Hierarchy {
+  readonly clusterCount: number;
+  readonly groupCount: number;
+  readonly memoryBytes: number;
+  createCut(): CutState;
+  destroy(): void;
+}
+export interface CutResult {
+  /** 0: the perceptual cut; 1: invalid input, the finest cut. */
+  status: number; flags: number;
+  /** The drawn cluster ids. */
+  clusters: Uint32Array;
+  triangles: number; groupsEvaluated: number; held: number;
 }
 
 export interface FrameStats {
@@ -98,6 +118,9 @@ export class Scheduler {
   getLevels(ids: Uint32Array, levels: Uint8Array, flags?: Uint8Array | null): void;
   /** Writes each id's level for a view class (after frame/endFrame). */
   getViewLevels(viewClass: number, ids: Uint32Array, levels: Uint8Array): void;
+  /** One object's cut this frame (after frame/beginFrame): position [m], rotation x y z w, scale, velocity [m/s]. */
+  selectCut(h: Hierarchy, cut: CutState, position: ArrayLike<number>, rotation: ArrayLike<number>, scale?: number,
+            velocity?: ArrayLike<number> | null): CutResult;
   frameTriangles(): number;
   frameStats(): FrameStats;
   destroy(): void;

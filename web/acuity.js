@@ -13,6 +13,10 @@
 //   views beyond the eyes (a shadow map's light, a mirror): createScheduler({ max_views, max_view_classes }),
 //               s.frame(eyes, eyeCount, dt, views, viewCount); // views: Float64Array, VIEW_DOUBLES per view
 //               s.getViewLevels(viewClass, ids, levels);
+//   cluster cuts (detail inside one object; lodgen --clusters, docs/design.md section 6):
+//               const h = acuity.createHierarchy(clusters, groups, profileBytes);  // Uint32Array 4n, Uint8Array 32 per group
+//               const cut = h.createCut();                    // per object: hysteresis memory and the drawn ids
+//               each frame, after s.frame(...): s.selectCut(h, cut, position, rotation, scale) -> { clusters, triangles, ... }
 //   s.destroy();
 
 export const RULE = Object.freeze({ perceptual: 0, reddy: 1, distance: 2, screenSize: 3 });
@@ -102,6 +106,31 @@ export class Acuity {
     return p;
   }
 
+  // clusters: Uint32Array of 4 per cluster, groups: Uint8Array of 32 bytes per group (the records
+  // of ACUITY_cluster_hierarchy, docs/lodgen.md), profile: Uint8Array of the object's .acuity file.
+  // Throws an AcuityError naming the cluster or group of a broken hierarchy, or for a bad profile.
+  createHierarchy(clusters, groups, profile) {
+    const m = this.m;
+    if (!(clusters instanceof Uint32Array) || clusters.length % 4 !== 0)
+      throw new AcuityError('createHierarchy: clusters must be a Uint32Array of 4 values per cluster', 1);
+    if (!(groups instanceof Uint8Array) || groups.length % 32 !== 0)
+      throw new AcuityError('createHierarchy: groups must be a Uint8Array of 32 bytes per group', 1);
+    if (!(profile instanceof Uint8Array)) throw new AcuityError('createHierarchy: profile must be a Uint8Array', 1);
+    const pc = this.alloc(clusters.byteLength), pg = this.alloc(groups.byteLength), pp = this.alloc(profile.length),
+          out = this.alloc(4);
+    try {
+      m.HEAPU8.set(new Uint8Array(clusters.buffer, clusters.byteOffset, clusters.byteLength), pc);
+      m.HEAPU8.set(groups, pg);
+      m.HEAPU8.set(profile, pp);
+      this.check(m._acuity_hierarchy_create_from_profile(pc, clusters.length / 4, pg, groups.length / 32, pp,
+                                                         profile.length, out),
+                 'acuity_hierarchy_create_from_profile');
+      return new Hierarchy(this, m.HEAPU32[out >> 2], clusters.length / 4, groups.length / 32);
+    } finally {
+      for (const p of [pc, pg, pp, out]) m._free(p);
+    }
+  }
+
   // options: acuity_config fields by name, e.g. { max_objects: 4096, quality: 1, rule: RULE.distance }.
   createScheduler(options = {}) {
     const m = this.m, cfg = this.alloc(m._acuity_web_config_size()), out = this.alloc(4);
@@ -121,6 +150,31 @@ export class Acuity {
       m._free(cfg);
       m._free(out);
     }
+  }
+}
+
+// A cluster hierarchy in the module (acuity_hierarchy_create_from_profile): its records as
+// ACUITY_cluster_hierarchy stores them, its per-group loss derived from the object's profile.
+export class Hierarchy {
+  constructor(acuity, handle, clusterCount, groupCount) {
+    this.a = acuity;
+    this.m = acuity.m;
+    this.h = handle;
+    this.clusterCount = clusterCount;
+    this.groupCount = groupCount;
+    this.memoryBytes = this.m._acuity_cut_memory_size(handle);
+  }
+  // One object's cut state in the wasm heap: its memory (hysteresis per group, zeroed) and room for
+  // every cluster id; destroy() frees it.
+  createCut() {
+    const memory = this.a.alloc(this.memoryBytes), drawn = this.a.alloc(4 * this.clusterCount);
+    this.m.HEAPU8.fill(0, memory, memory + this.memoryBytes);
+    const m = this.m;
+    return { memory, drawn, destroy() { m._free(memory); m._free(drawn); } };
+  }
+  destroy() {
+    if (this.h) this.m._acuity_hierarchy_destroy(this.h);
+    this.h = 0;
   }
 }
 
@@ -253,6 +307,27 @@ export class Scheduler {
     const [i, l] = this.stage([ids], [levels]);
     this.a.check(this.m._acuity_get_view_levels(this.s, viewClass, n, i, l), 'acuity_get_view_levels');
     levels.set(new Uint8Array(this.m.HEAPU8.buffer, l, n));
+  }
+
+  // One object's cut this frame (acuity_select_cut; after frame() or beginFrame()): hierarchy h, its
+  // cut state (h.createCut(), once per object), position [3] m, rotation [4] x y z w, scale, velocity
+  // [3] m/s or null. Returns { status (0 ok, 1 invalid input: the finest cut), flags, clusters (the
+  // drawn cluster ids, a Uint32Array copy), triangles, groupsEvaluated, held }.
+  selectCut(h, cut, position, rotation, scale = 1, velocity = null) {
+    const p = Float64Array.from(position), q = Float32Array.from(rotation);
+    const v = velocity ? Float32Array.from(velocity) : null;
+    const result = new Uint32Array(8);
+    result[0] = 32;  // struct_size: the version-8 acuity_cut_result
+    const [pp, pq, pr, pv] = this.stage(v ? [p, q, result, v] : [p, q, result]);
+    this.a.check(this.m._acuity_select_cut(this.s, h.h, pp, pq, scale, v ? pv : 0, cut.memory, h.memoryBytes,
+                                           h.clusterCount, cut.drawn, pr), 'acuity_select_cut');
+    const r = new DataView(this.m.HEAPU8.buffer, pr, 32);
+    const count = r.getUint32(12, true);
+    return {
+      status: r.getUint32(4, true), flags: r.getUint32(8, true),
+      clusters: new Uint32Array(this.m.HEAPU8.buffer, cut.drawn, count).slice(),
+      triangles: Number(r.getBigUint64(16, true)), groupsEvaluated: r.getUint32(24, true), held: r.getUint32(28, true),
+    };
   }
 
   frameTriangles() { return Number(this.m._acuity_frame_triangles(this.s)); }

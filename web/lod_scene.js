@@ -37,15 +37,18 @@ function triangles(object) {
 }
 
 // { scene, lods: [{ lod, profile, triangles: [per level], sphere (local) }], profiles: [names] }
-export async function loadLodScene(bytes, url) {
+async function parseGltf(bytes, url) {
   const loader = new GLTFLoader();
-  let gltf;
   try {
-    gltf = await loader.parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength),
+    return await loader.parseAsync(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength),
                                    url.slice(0, url.lastIndexOf('/') + 1));
   } catch (e) {
     throw new ContentError(`${url}: not a glTF scene three.js can read (${String(e.message || e).replace(/[^\x20-\x7e]/g, '?')})`);
   }
+}
+
+export async function loadLodScene(bytes, url) {
+  const gltf = await parseGltf(bytes, url);
   const parser = gltf.parser, json = parser.json;
   const profiles = [], profileOfMesh = new Map(), seen = new Map();
   const lods = [];
@@ -102,4 +105,56 @@ export function showLevel(lod, k) {
   const levels = lod.levels;
   for (let j = 0; j < levels.length; ++j) levels[j].object.visible = j === k;
   lod._currentLevel = k;  // what lod.getCurrentLevel() reports; update() is never called
+}
+
+// lodgen --clusters' glTF (docs/lodgen.md, ACUITY_cluster_hierarchy): the first node whose mesh has
+// a primitive with the extension, as { object (the node, three's), mesh (its THREE.Mesh), indices
+// (Uint32Array: every cluster's triangles), clusters (Uint32Array, 4 per cluster), groups (Uint8Array,
+// 32 bytes per group), sphere (the finest mesh's, in the node's frame) }. The mesh draws what
+// showCut() gives it (the finest mesh until then).
+export async function loadClusterObject(bytes, url) {
+  const gltf = await parseGltf(bytes, url);
+  const parser = gltf.parser, json = parser.json;
+  for (const [index, node] of (json.nodes || []).entries()) {
+    const mesh = node.mesh === undefined ? null : json.meshes[node.mesh];
+    const prim = mesh && mesh.primitives.find(p => p.extensions && p.extensions.ACUITY_cluster_hierarchy);
+    if (!prim) continue;
+    const ext = prim.extensions.ACUITY_cluster_hierarchy;
+    const counts = [ext.clusterCount, ext.groupCount];
+    if (!counts.every(n => Number.isInteger(n) && n >= 0) || ext.clusterCount === 0)
+      throw new ContentError(`${url}: ACUITY_cluster_hierarchy of node ${index} has bad counts`);
+    const indexAttribute = await parser.getDependency('accessor', ext.indices);
+    const clusterBytes = await parser.getDependency('bufferView', ext.clusters);
+    const groupBytes = await parser.getDependency('bufferView', ext.groups);
+    if (clusterBytes.byteLength < 16 * ext.clusterCount || groupBytes.byteLength < 32 * ext.groupCount)
+      throw new ContentError(`${url}: ACUITY_cluster_hierarchy's records are shorter than its counts`);
+    let object = null;
+    gltf.scene.traverse(o => { const a = parser.associations.get(o); if (a && a.nodes === index && !object) object = o; });
+    let drawn = null;
+    object.traverse(o => { if (o.isMesh && !drawn) drawn = o; });
+    if (!drawn) throw new ContentError(`${url}: node ${index} draws no mesh`);
+    drawn.geometry.computeBoundingSphere();
+    return {
+      scene: gltf.scene, object, mesh: drawn, indices: Uint32Array.from(indexAttribute.array),
+      clusters: new Uint32Array(clusterBytes.slice(0, 16 * ext.clusterCount)),
+      groups: new Uint8Array(groupBytes.slice(0, 32 * ext.groupCount)), sphere: drawn.geometry.boundingSphere.clone(),
+    };
+  }
+  throw new ContentError(`${url}: no mesh with ACUITY_cluster_hierarchy (make one with acuity lodgen MESH --clusters)`);
+}
+
+// Draws the cut: the mesh's index buffer becomes the triangles of clusters `ids` (rebuilt here; call it
+// when the cut changes). Returns the triangles drawn.
+export function showCut(cut, ids) {
+  let n = 0;
+  for (const c of ids) n += cut.clusters[4 * c + 1];
+  const out = new Uint32Array(3 * n);
+  let at = 0;
+  for (const c of ids) {
+    const first = 3 * cut.clusters[4 * c], count = 3 * cut.clusters[4 * c + 1];
+    out.set(cut.indices.subarray(first, first + count), at);
+    at += count;
+  }
+  cut.mesh.geometry.setIndex(new THREE.BufferAttribute(out, 1));
+  return n;
 }

@@ -2,19 +2,23 @@
 // chooses every frame from the camera, the mouse as a gaze proxy, or WebXR's eyes and gaze.
 //
 // URL parameters: scene (default content/field.glb), profiles (default content/profiles/), quality,
-// and for tests frames=N: a scripted camera and gaze for N frames at 60 Hz, then window.acuityRecord
-// holds every frame's inputs and levels and window.acuityDone is true.
+// cut and cutProfile (an object with a cluster hierarchy, lodgen --clusters' glTF, and its chain's
+// profile: drawn as acuity's cut, 3 m across, in front of the field), and for tests frames=N: a
+// scripted camera and gaze for N frames at 60 Hz (with a cut: the camera still before it, the gaze
+// sweeping across it), then window.acuityRecord holds every frame's inputs and levels (and cuts)
+// and window.acuityDone is true.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 // acuity-web's exports (web/package.json), mapped to the served files by index.html's import map.
 import { AcuityError, EYE_DOUBLES, loadAcuity, writeEye } from 'acuity-web';
-import { ContentError, fetchBytes, loadLodScene, showLevel } from 'acuity-web/lod-scene';
+import { ContentError, fetchBytes, loadClusterObject, loadLodScene, showCut, showLevel } from 'acuity-web/lod-scene';
 
 const params = new URLSearchParams(location.search);
 const sceneUrl = params.get('scene') || 'content/field.glb';
 const profileDir = params.get('profiles') || 'content/profiles/';
 const scriptedFrames = Number(params.get('frames') || 0);
+const cutUrl = params.get('cut'), cutProfileUrl = params.get('cutProfile');
 const PALETTE = [0x2060ff, 0x20d0e0, 0x30c040, 0xf0e020, 0xff8020, 0xe02020, 0xc040c0, 0xffffff];
 
 const overlay = document.getElementById('overlay');
@@ -64,6 +68,26 @@ async function main() {
     }
   }
 
+  // The object drawn as a cluster cut: 3 m across, its centre at CUT_AT.
+  const CUT_AT = new THREE.Vector3(0, 1.5, -8);
+  let cut = null;
+  if (cutUrl) {
+    const object = await loadClusterObject(await fetchBytes(cutUrl, 'cut'), cutUrl);
+    let hierarchy;
+    try {
+      hierarchy = acuity.createHierarchy(object.clusters, object.groups, await fetchBytes(cutProfileUrl || '', 'cut profile'));
+    } catch (e) {
+      if (e instanceof AcuityError) throw new ContentError(`cut ${cutUrl}: ${e.message}`);
+      throw e;
+    }
+    const holder = new THREE.Group();
+    const s = 3 / (2 * object.sphere.radius);
+    holder.scale.setScalar(s);
+    holder.position.copy(CUT_AT).addScaledVector(object.sphere.center, -s);
+    holder.add(object.scene);
+    cut = { ...object, holder, hierarchy, state: hierarchy.createCut(), ids: null, triangles: 0 };
+  }
+
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0x9fb4c8);
   scene.add(new THREE.HemisphereLight(0xe8f0ff, 0x404030, 2.0));
@@ -78,6 +102,10 @@ async function main() {
   scene.add(ground);
   scene.add(content.scene);
   content.scene.updateMatrixWorld(true);
+  if (cut) {
+    scene.add(cut.holder);
+    cut.holder.updateMatrixWorld(true);
+  }
 
   // acuity's objects: one per LOD, its transform from the LOD's world matrix.
   const n = content.lods.length;
@@ -205,6 +233,12 @@ async function main() {
   // Scripted run for tests: a walk into the field while turning, the gaze on a slow circle.
   function scriptCamera(frame) {
     const t = frame / Math.max(1, scriptedFrames - 1);
+    if (cut) {  // still, 12 m before the cut's object; the gaze sweeps from far left to far right
+      camera.position.set(CUT_AT.x, CUT_AT.y, CUT_AT.z + 12);
+      camera.lookAt(CUT_AT);
+      camera.updateMatrixWorld(true);
+      return [-0.9 + 1.8 * t, 0];
+    }
     camera.position.set(-2 + 4 * t, 2.0 - 0.3 * t, 3 - 9 * t);
     camera.lookAt(6 * Math.sin(2 * t) - 1, 0.6, camera.position.z - 12);
     camera.updateMatrixWorld(true);
@@ -213,7 +247,8 @@ async function main() {
   }
 
   const record = { profiles: content.profiles, objects: { profiles: Array.from(profiles), positions: Array.from(positions),
-                   rotations: Array.from(rotations), scales: Array.from(scales) }, frames: [] };
+                   rotations: Array.from(rotations), scales: Array.from(scales) }, frames: [],
+                   cut: cut ? { clusters: Array.from(cut.clusters), groups: Array.from(cut.groups) } : null };
   const frustum = new THREE.Frustum(), projScreen = new THREE.Matrix4(), sphere = new THREE.Sphere();
   let last = performance.now(), frameIndex = 0, acuityMs = 0;
   function frame(time, xrFrame) {
@@ -230,6 +265,20 @@ async function main() {
       scheduler.frame(eyes, eyeCount, dt);
       scheduler.getLevels(ids, levels, flags);
       acuityMs = 0.9 * acuityMs + 0.1 * (performance.now() - t0);
+      let cutFrame = null;
+      if (cut) {  // the cut of this frame's eyes and gaze; the index buffer rebuilt when it changed
+        cut.mesh.updateMatrixWorld(true);
+        cut.mesh.matrixWorld.decompose(p, q, sc);
+        const r = scheduler.selectCut(cut.hierarchy, cut.state, [p.x, p.y, p.z], [q.x, q.y, q.z, q.w], Math.max(sc.x, sc.y, sc.z));
+        const same = cut.ids && cut.ids.length === r.clusters.length && cut.ids.every((c, k) => c === r.clusters[k]);
+        if (!same) {
+          cut.triangles = showCut(cut, r.clusters);
+          cut.ids = r.clusters;
+        }
+        cutFrame = { triangles: r.triangles, clusters: Array.from(r.clusters), drawnIndices: cut.mesh.geometry.index.count,
+                     status: r.status, held: r.held, rebuilt: !same,
+                     transform: { position: [p.x, p.y, p.z], rotation: [q.x, q.y, q.z, q.w], scale: Math.max(sc.x, sc.y, sc.z) } };
+      }
       const lodLevels = [];
       content.lods.forEach(({ lod }, i) => {
         showLevel(lod, Math.min(levels[i], lod.levels.length - 1));
@@ -257,12 +306,13 @@ async function main() {
         `savings           ${finest ? (100 * (1 - drawn / finest)).toFixed(1) : '0.0'} %\n` +
         `acuity per frame  ${acuityMs.toFixed(3)} ms\n` +
         `objects per level ${counts.join(' / ')}\n` +
-        `gaze              ${renderer.xr.isPresenting ? 'WebXR' : !ndc ? 'none' : scriptedFrames ? 'scripted' : 'mouse'}`;
+        `gaze              ${renderer.xr.isPresenting ? 'WebXR' : !ndc ? 'none' : scriptedFrames ? 'scripted' : 'mouse'}` +
+        (cut ? `\ncut               ${cut.triangles.toLocaleString('en')} of ${(cut.indices.length / 3).toLocaleString('en')} hierarchy triangles, ${cut.ids.length} clusters` : '');
       window.acuityStats = { drawn, finest, inView, acuityMs };
 
       if (scriptedFrames) {
         record.frames.push({ dt, eyeCount, eyes: Array.from(eyes.subarray(0, eyeCount * EYE_DOUBLES)),
-                             levels: Array.from(levels), flags: Array.from(flags), lodLevels, drawn, finest });
+                             levels: Array.from(levels), flags: Array.from(flags), lodLevels, drawn, finest, cut: cutFrame });
         if (++frameIndex === scriptedFrames) {
           renderer.setAnimationLoop(null);
           window.acuityRecord = record;

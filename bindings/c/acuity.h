@@ -40,8 +40,11 @@ extern "C" {
  * Version 7 added views beyond the eyes: acuity_config.max_views and max_view_classes, acuity_view,
  * acuity_begin_frame_views and acuity_get_view_levels; and acuity_config_default_sized and
  * acuity_foveation_config_default_sized (the _default macros pass the caller's sizeof); and
- * ACUITY_MODEL_STELA_CSF (appended). */
-#define ACUITY_C_API_VERSION 7
+ * ACUITY_MODEL_STELA_CSF (appended).
+ * Version 8 added cluster cuts: acuity_hierarchy (acuity_hierarchy_create, _create_from_profile,
+ * _destroy), acuity_cluster,
+ * acuity_cluster_group, acuity_cut_memory_size, acuity_cut_result and acuity_select_cut. */
+#define ACUITY_C_API_VERSION 8
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -349,6 +352,104 @@ typedef struct acuity_frame_stats {
 /* INVALID_ARGUMENT: null s or out, struct_size below ACUITY_FRAME_STATS_SIZE_V5, not a multiple of
  * 8 or above 65536; *out untouched then. */
 acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_stats* out);
+
+/* ---- Cluster cuts (acuity/clusters.hpp; docs/design.md section 6, "Cluster cuts") -----------------
+ * Detail that follows the gaze inside one object: a cluster hierarchy (lodgen's --clusters,
+ * docs/lodgen.md) and what each group's simplification loses per band; each frame the cut (the
+ * clusters to draw) for an object placed in the world, from the scheduler's eyes and gaze.
+ *
+ *   acuity_hierarchy* h; acuity_hierarchy_create(clusters, nc, groups, ng, bands, nb, diameter, lost, &h);
+ *   void* memory = calloc(1, acuity_cut_memory_size(h));   (one per object; zeroed: nothing remembered)
+ *   uint32_t* drawn = malloc(nc * sizeof *drawn);
+ *   each frame, after acuity_begin_frame:
+ *     acuity_cut_result r; r.struct_size = sizeof r;
+ *     acuity_select_cut(s, h, position, rotation, scale, velocity, memory, size, nc, drawn, &r);
+ *     draw clusters drawn[0 .. r.clusters)
+ *   acuity_hierarchy_destroy(h);
+ */
+typedef struct acuity_hierarchy acuity_hierarchy;
+
+/* acuity_cluster.group of a root, .refined of a finest cluster (acuity::kNoGroup). */
+#define ACUITY_NO_GROUP 0xFFFFFFFFu
+/* One cluster (acuity::Cluster, 16 bytes): a run of the hierarchy's triangles. */
+typedef struct acuity_cluster {
+  uint32_t first_triangle; /* into the hierarchy's index array (triangle t: indices 3t .. 3t+2) */
+  uint32_t triangle_count; /* 1 .. 128 */
+  uint32_t group;          /* the group it is a member of, or ACUITY_NO_GROUP: a root */
+  uint32_t refined;        /* the group whose simplification made it, or ACUITY_NO_GROUP: finest */
+} acuity_cluster;
+/* One group (acuity::ClusterGroup, 32 bytes). */
+typedef struct acuity_cluster_group {
+  float center[3];       /* bounding sphere [object units] */
+  float radius;          /* >= 0 */
+  float error;           /* of the clusters it made [object units], >= its members' makers' */
+  uint32_t first_member; /* its members: clusters first_member .. first_member + member_count - 1 */
+  uint32_t member_count;
+  uint32_t level; /* 0 when its members are finest, else 1 + the largest level of their makers */
+} acuity_cluster_group;
+
+/* Copies and checks a hierarchy and its loss (the arrays may be freed after the call). clusters
+ * and groups as lodgen's ACUITY_cluster_hierarchy stores them (finest clusters first, covering the
+ * index array in order; a group after every group that made one of its members); bands_cpod:
+ * band_count band centres [cycles per `diameter`], increasing, 1 .. 32; diameter [object units],
+ * finite > 0; lost: group_count x band_count lost contrasts (row per group; NaN counts as visible).
+ * INVALID_ARGUMENT: a null pointer (lost and groups may be null when group_count is 0), no cluster,
+ * a band count out of range, a non-finite or non-positive diameter or band, or records that fail
+ * acuity::check_cluster_records (acuity_last_error names the cluster or group). */
+acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t cluster_count,
+                                      const acuity_cluster_group* groups, uint32_t group_count,
+                                      const float* bands_cpod, uint32_t band_count, float diameter,
+                                      const float* lost, acuity_hierarchy** out);
+/* The same with the loss derived from the object's profile (.acuity bytes of its chain, copied and
+ * validated; BAD_PROFILE otherwise): today acuity::provisional_group_loss (acuity/clusters.hpp), until
+ * issue 48 item 2 measures each group's loss. */
+acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
+                                                   const acuity_cluster_group* groups, uint32_t group_count,
+                                                   const void* profile, size_t profile_size,
+                                                   acuity_hierarchy** out);
+void acuity_hierarchy_destroy(acuity_hierarchy* hierarchy); /* null: no-op */
+/* Bytes of one object's cut memory for this hierarchy (0 for null): what the cut remembers between
+ * frames (hysteresis and saccade gating per group) and its walk's scratch. The caller allocates it
+ * 4-byte aligned and zeroed (nothing remembered: the next cut takes its groups at once), one per
+ * object drawn with the hierarchy, and keeps it between frames. */
+size_t acuity_cut_memory_size(const acuity_hierarchy* hierarchy);
+
+/* acuity_cut_result.status */
+enum {
+  ACUITY_CUT_OK = 0,           /* the perceptual cut */
+  ACUITY_CUT_INVALID_INPUT = 1 /* non-finite or non-unit transform, scale <= 0, non-finite velocity or
+                                  no valid eye: the finest cut (ACUITY_FLAG_INVALID_INPUT) */
+};
+/* What acuity_select_cut did (acuity::CutResult). Growth rule as acuity_frame_stats': the caller sets
+ * struct_size = sizeof(acuity_cut_result) as it compiled it (at least ACUITY_CUT_RESULT_SIZE_V8, a
+ * multiple of 8, at most 65536); fields are only appended; the library writes the ones it knows. */
+typedef struct acuity_cut_result {
+  uint32_t struct_size;      /* sizeof(acuity_cut_result), set by the caller */
+  uint32_t status;           /* ACUITY_CUT_* */
+  uint32_t flags;            /* ACUITY_FLAG_INVALID_INPUT, _EYE_INSIDE, _NO_GAZE, _HELD */
+  uint32_t clusters;         /* drawn: drawn[0 .. clusters) */
+  uint64_t triangles;        /* drawn */
+  uint32_t groups_evaluated; /* groups whose thresholds were evaluated */
+  uint32_t held;             /* groups kept visible by hysteresis or saccade gating */
+} acuity_cut_result;
+#define ACUITY_CUT_RESULT_SIZE_V8 32u
+
+/* One object's cut this frame (acuity::Scheduler::select_cut with memory): after acuity_begin_frame
+ * (the frame's eyes and gaze, this scheduler's model, quality, gaze handling, hysteresis and saccade
+ * gating; the perceptual rule's thresholds, evaluated exactly, whatever rule and evaluation say).
+ * The object at position [m, world], rotation (unit quaternion x y z w, object to world) and uniform
+ * scale, moving at velocity [m/s, world; null: still]. Call it once per frame per object: each call
+ * is one frame of the hysteresis. memory: acuity_cut_memory_size(h) bytes, 4-byte aligned, this
+ * object's (calls on different memories may run concurrently). drawn receives the cluster ids to
+ * draw; capacity must be at least the hierarchy's cluster count (so a cut always fits).
+ * INVALID_ARGUMENT (nothing written, memory unchanged): a null s, h, position, rotation, memory,
+ * drawn or result, memory_size too small or memory misaligned, capacity below the cluster count, a
+ * bad result struct_size, no frame begun yet. Invalid object or eye values are not an error: the
+ * finest cut, status ACUITY_CUT_INVALID_INPUT. */
+acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarchy* h,
+                                const double position[3], const float rotation[4], float scale,
+                                const float* velocity, void* memory, size_t memory_size, uint32_t capacity,
+                                uint32_t* drawn, acuity_cut_result* result);
 
 /* ---- Foveation planner (acuity/foveation_plan.hpp) --------------------------------------------
  * Per eye and frame: a variable-rate-shading image (pixels per shade in x and y: 1, 2 or 4) and a

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <deque>
 #include <iterator>
+#include <memory>
 #include <new>
 #include <string>
 #include <type_traits>
@@ -22,6 +23,7 @@ struct acuity_scheduler {
   acuity::Scheduler scheduler;
   std::deque<acuity::Blob> profiles;  // the bytes every Profile points into (stable addresses)
   bool in_frame = false;              // between begin_frame and end_frame
+  bool frame_seen = false;            // a frame has begun (the cut reads its eyes)
   std::vector<acuity::View> views;    // [max_views]: the frame's, copied (no allocation per frame)
   explicit acuity_scheduler(const acuity::SchedulerConfig& c) : scheduler(c), views(c.max_views) {}
 };
@@ -151,6 +153,24 @@ acuity_status check_ids(const acuity_scheduler* s, uint32_t count, const uint32_
 }
 
 bool finite_positive(float x) { return std::isfinite(x) && x > 0; }
+
+// Profile bytes copied (8-byte aligned, as open_profile reads them) and validated; BAD_PROFILE naming
+// `where` otherwise. At least the 32-byte header, at most 4 GiB (profiles are kilobytes to
+// megabytes): refuses an unchecked ftell's -1 before (size + 7) / 8 could wrap, and 0 before a memcpy
+// to null.
+acuity_status copy_profile(const void* data, std::size_t size, acuity::Blob* blob, acuity::Profile* p,
+                           const char* where) {
+  if (size < 32 || size > std::size_t(UINT32_MAX))
+    return fail(ACUITY_BAD_PROFILE,
+                std::string(where) + ": size " + std::to_string(size) + " bytes is not a profile's size");
+  blob->size = size;
+  blob->storage.assign((size + 7) / 8, 0);
+  std::memcpy(blob->storage.data(), data, size);
+  acuity::ProfileError e;
+  if (acuity::open_profile(blob->data(), blob->size, p, &e) != acuity::ProfileStatus::Ok)
+    return fail(ACUITY_BAD_PROFILE, std::string(acuity::to_string(e.status)) + ": " + e.message);
+  return ACUITY_OK;
+}
 
 // The config as this library reads it: defaults, overwritten by the caller's struct_size bytes.
 acuity_status read_config(const acuity_config* c, acuity::SchedulerConfig* out) {
@@ -331,22 +351,13 @@ void acuity_destroy(acuity_scheduler* s) { delete s; }
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
   return guarded([&] {
     if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, "acuity_load_profile: null argument");
-    // At least the 32-byte header, at most 4 GiB (profiles are kilobytes to megabytes): refuses an
-    // unchecked ftell's -1 before (size + 7) / 8 below could wrap, and 0 before a memcpy to null.
-    if (size < 32 || size > std::size_t(UINT32_MAX))
-      return fail(ACUITY_BAD_PROFILE,
-                  "acuity_load_profile: size " + std::to_string(size) + " bytes is not a profile's size");
     if (s->profiles.size() >= s->scheduler.config().max_profiles)
       return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" +
                                    std::to_string(s->scheduler.config().max_profiles) + ") reached");
     acuity::Blob blob;
-    blob.size = size;
-    blob.storage.assign((size + 7) / 8, 0);
-    std::memcpy(blob.storage.data(), data, size);
     acuity::Profile p;
-    acuity::ProfileError e;
-    if (acuity::open_profile(blob.data(), blob.size, &p, &e) != acuity::ProfileStatus::Ok)
-      return fail(ACUITY_BAD_PROFILE, std::string(acuity::to_string(e.status)) + ": " + e.message);
+    if (const acuity_status st = copy_profile(data, size, &blob, &p, "acuity_load_profile"); st != ACUITY_OK)
+      return st;
     s->profiles.push_back(std::move(blob));
     acuity::open_profile(s->profiles.back().data(), s->profiles.back().size, &p);  // point into the kept copy
     const int i = s->scheduler.add_profile(p);
@@ -501,6 +512,7 @@ acuity_status begin(acuity_scheduler* s, const acuity_eye* eyes, uint32_t eye_co
   f.view_count = view_count;
   s->scheduler.begin_frame(f);
   s->in_frame = true;
+  s->frame_seen = true;
   return ACUITY_OK;
 }
 }  // namespace
@@ -639,6 +651,165 @@ acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_sta
     r.at_rest = st.at_rest;
     r.gaze_used = st.gaze_used ? 1 : 0;
     std::memcpy(out, &r, std::min<std::size_t>(size, sizeof r));
+    return ACUITY_OK;
+  });
+}
+
+}  // extern "C"
+
+// ---- Cluster cuts ----------------------------------------------------------------------------------
+
+// A hierarchy's records and loss, copied and checked (acuity::check_cluster_records).
+struct acuity_hierarchy {
+  std::vector<acuity::Cluster> clusters;
+  std::vector<acuity::ClusterGroup> groups;
+  std::vector<std::uint32_t> roots;
+  std::vector<float> bands, lost;
+  float diameter = 0;
+  acuity::ClusterView view() const { return {clusters, groups, roots}; }
+  acuity::ClusterLoss loss() const { return {bands, diameter, lost}; }
+};
+static_assert(sizeof(acuity_cluster) == sizeof(acuity::Cluster) &&
+                  offsetof(acuity_cluster, refined) == offsetof(acuity::Cluster, refined) &&
+                  sizeof(acuity_cluster_group) == sizeof(acuity::ClusterGroup) &&
+                  offsetof(acuity_cluster_group, error) == offsetof(acuity::ClusterGroup, error) &&
+                  offsetof(acuity_cluster_group, level) == offsetof(acuity::ClusterGroup, level) &&
+                  ACUITY_NO_GROUP == acuity::kNoGroup,
+              "the C records are the C++ ones");
+static_assert(sizeof(acuity_cut_result) == ACUITY_CUT_RESULT_SIZE_V8 &&
+                  offsetof(acuity_cut_result, struct_size) == 0,
+              "the version-8 cut result");
+static_assert(ACUITY_CUT_OK == int(acuity::CutStatus::Ok) &&
+              ACUITY_CUT_INVALID_INPUT == int(acuity::CutStatus::InvalidInput));
+
+namespace {
+// One object's cut memory: per group what the cut remembers, then the walk's scratch byte.
+constexpr std::size_t kCutBytesPerGroup = sizeof(acuity::CutGroupMemory) + 1;
+
+// The checks and copies of both acuity_hierarchy_create calls (lost: groups x bands, already copied).
+acuity_status make_hierarchy(const acuity_cluster* clusters, uint32_t cluster_count,
+                             const acuity_cluster_group* groups, uint32_t group_count,
+                             const float* bands_cpod, uint32_t band_count, float diameter,
+                             const std::vector<float>& lost, acuity_hierarchy** out, const char* where) {
+  if (cluster_count == 0) return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "no cluster");
+  if (band_count == 0 || band_count > acuity::kMaxBands)
+    return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + std::to_string(band_count) +
+                                             " bands, not 1 .. " + std::to_string(acuity::kMaxBands));
+  if (!finite_positive(diameter))
+    return fail(ACUITY_INVALID_ARGUMENT,
+                std::string(where) + "diameter " + std::to_string(diameter) + " is not finite and > 0");
+  for (uint32_t b = 0; b < band_count; ++b)
+    if (!finite_positive(bands_cpod[b]) || (b > 0 && !(bands_cpod[b] > bands_cpod[b - 1])))
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  std::string(where) + "band " + std::to_string(b) + " is not finite, > 0 and increasing");
+  auto h = std::make_unique<acuity_hierarchy>();
+  h->clusters.resize(cluster_count);
+  std::memcpy(static_cast<void*>(h->clusters.data()), clusters, sizeof(acuity_cluster) * cluster_count);
+  h->groups.resize(group_count);
+  if (group_count)
+    std::memcpy(static_cast<void*>(h->groups.data()), groups, sizeof(acuity_cluster_group) * group_count);
+  std::uint64_t triangles = 0;
+  for (const acuity::Cluster& c : h->clusters) triangles += c.triangle_count;
+  if (const std::string fault = acuity::check_cluster_records(h->clusters, h->groups, triangles);
+      !fault.empty())
+    return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + fault);
+  h->roots = acuity::cluster_roots(h->clusters);
+  h->bands.assign(bands_cpod, bands_cpod + band_count);
+  h->lost = lost;
+  h->diameter = diameter;
+  *out = h.release();
+  return ACUITY_OK;
+}
+}  // namespace
+
+extern "C" {
+
+acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t cluster_count,
+                                      const acuity_cluster_group* groups, uint32_t group_count,
+                                      const float* bands_cpod, uint32_t band_count, float diameter,
+                                      const float* lost, acuity_hierarchy** out) {
+  return guarded([&] {
+    const char* where = "acuity_hierarchy_create: ";
+    if (!clusters || !bands_cpod || !out || (group_count > 0 && (!groups || !lost)))
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
+    const std::vector<float> copy(lost, lost + std::size_t(group_count) * band_count);
+    return make_hierarchy(clusters, cluster_count, groups, group_count, bands_cpod, band_count, diameter,
+                          copy, out, where);
+  });
+}
+
+acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
+                                                   const acuity_cluster_group* groups, uint32_t group_count,
+                                                   const void* profile, size_t profile_size,
+                                                   acuity_hierarchy** out) {
+  return guarded([&] {
+    const char* where = "acuity_hierarchy_create_from_profile: ";
+    if (!clusters || !profile || !out || (group_count > 0 && !groups))
+      return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + "null argument");
+    acuity::Blob blob;
+    acuity::Profile p{};
+    if (const acuity_status st =
+            copy_profile(profile, profile_size, &blob, &p, "acuity_hierarchy_create_from_profile");
+        st != ACUITY_OK)
+      return st;
+    std::vector<acuity::ClusterGroup> records(group_count);
+    if (group_count)
+      std::memcpy(static_cast<void*>(records.data()), groups, sizeof(acuity_cluster_group) * group_count);
+    acuity::ClusterLoss loss;
+    const std::vector<float> lost = acuity::provisional_group_loss(p, records, &loss);
+    return make_hierarchy(clusters, cluster_count, groups, group_count, loss.bands_cpod.data(),
+                          uint32_t(loss.bands_cpod.size()), loss.diameter, lost, out, where);
+  });
+}
+
+void acuity_hierarchy_destroy(acuity_hierarchy* h) { delete h; }
+
+size_t acuity_cut_memory_size(const acuity_hierarchy* h) {
+  return h ? std::max<std::size_t>(h->groups.size() * kCutBytesPerGroup, 1) : 0;
+}
+
+acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarchy* h,
+                                const double position[3], const float rotation[4], float scale,
+                                const float* velocity, void* memory, size_t memory_size, uint32_t capacity,
+                                uint32_t* drawn, acuity_cut_result* result) {
+  return guarded([&] {
+    const std::string where = "acuity_select_cut: ";
+    if (!s || !h || !position || !rotation || !memory || !drawn || !result)
+      return fail(ACUITY_INVALID_ARGUMENT, where + "null argument");
+    const uint32_t size = result->struct_size;
+    if (size < ACUITY_CUT_RESULT_SIZE_V8 || size % 8 != 0 || size > 65536)
+      return fail(ACUITY_INVALID_ARGUMENT, where + "result struct_size " + std::to_string(size) +
+                                               " (at least " + std::to_string(ACUITY_CUT_RESULT_SIZE_V8) +
+                                               ", a multiple of 8, at most 65536)");
+    const std::size_t G = h->groups.size();
+    if (memory_size < acuity_cut_memory_size(h) || reinterpret_cast<std::uintptr_t>(memory) % 4 != 0)
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  where + "memory of " + std::to_string(memory_size) +
+                      " bytes (needs acuity_cut_memory_size: " + std::to_string(acuity_cut_memory_size(h)) +
+                      ", 4-byte aligned)");
+    if (capacity < h->clusters.size())
+      return fail(ACUITY_INVALID_ARGUMENT, where + "capacity " + std::to_string(capacity) +
+                                               " is below the hierarchy's " +
+                                               std::to_string(h->clusters.size()) + " clusters");
+    if (!s->frame_seen) return fail(ACUITY_INVALID_ARGUMENT, where + "no frame begun yet");
+    acuity::ObjectTransform t;
+    for (int k = 0; k < 3; ++k) t.position[k] = position[k];
+    for (int k = 0; k < 4; ++k) t.rotation[k] = rotation[k];
+    t.scale = scale;
+    auto* remembered = static_cast<acuity::CutGroupMemory*>(memory);
+    auto* scratch = static_cast<std::uint8_t*>(memory) + G * sizeof(acuity::CutGroupMemory);
+    const acuity::CutResult r = s->scheduler.select_cut(h->view(), h->loss(), t, velocity, {remembered, G},
+                                                        {scratch, G}, {drawn, capacity});
+    acuity_cut_result out;
+    std::memset(&out, 0, sizeof out);
+    out.struct_size = size;
+    out.status = uint32_t(r.status);
+    out.flags = r.flags;
+    out.clusters = r.clusters;
+    out.triangles = r.triangles;
+    out.groups_evaluated = r.groups_evaluated;
+    out.held = r.held;
+    std::memcpy(result, &out, std::min<std::size_t>(size, sizeof out));
     return ACUITY_OK;
   });
 }

@@ -116,14 +116,20 @@ struct Scheduler::Impl::CutObject {
   std::uint8_t flags;  // kFlagEyeInside, kFlagNoGaze found so far
 };
 
-// One eye's test of one group: visible when some band's lost contrast exceeds q x CT there.
-bool Scheduler::Impl::group_visible(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
-                                    const float* lost) const {
+// One eye's score of one group: ln(lost / (q CT)), the largest over bands (without explain, the
+// first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
+// the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
+float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
+                                   const float* lost, GroupExplain* explain) const {
   const EyeCache& eye = eyes_[i];
   const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
   const float d = length(c), r = o.scale * g.radius;
   const float nearest = d - r;
-  if (!(nearest > 0.0f)) return true;  // the eye is inside (or on) the sphere
+  if (!(nearest > 0.0f)) {  // the eye is inside (or on) the sphere
+    if (explain && !(explain->score >= kInf))
+      *explain = GroupExplain{kInf, 0, std::uint8_t(i), kFlagEyeInside};
+    return kInf;
+  }
   const Vec3 u = (1.0f / d) * c;
   const float radius_deg = angular_radius_deg(d, r);
   const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
@@ -139,14 +145,59 @@ bool Scheduler::Impl::group_visible(std::uint32_t i, const CutObject& o, const C
   float ln_ct[kMaxBands];
   band_thresholds(o.bands, o.ln_band, o.B, 1.0f / diameter_deg, std::log(diameter_deg), nyquist, e,
                   pre_->ecc_slope * e, pre_->floor_velocity, moving, ln_ct);
-  for (std::uint32_t b = 0; b < o.B; ++b)
-    if (!(std::log(lost[b]) - ln_ct[b] <= o.ln_q)) return true;  // NaN counts as visible
-  return false;
+  float score = -kInf;
+  std::uint32_t limit = 0;
+  for (std::uint32_t b = 0; b < o.B; ++b) {
+    const float x = std::log(lost[b]) - ln_ct[b] - o.ln_q;
+    if (!(x <= score)) {  // NaN counts as visible
+      score = x == x ? x : kInf;
+      limit = b;
+      if (score > 0.0f && !explain) break;  // visible: the cut needs no more (hysteresis only coarsens)
+    }
+  }
+  if (explain && (i == 0 || score > std::log(explain->score))) {
+    explain->score = std::exp(score);
+    explain->band = std::uint8_t(limit);
+    explain->eye = std::uint8_t(i);
+    explain->flags = eye.gaze ? 0 : kFlagNoGaze;
+    explain->frequency_cpd = o.bands[limit] / diameter_deg;
+    explain->threshold = std::exp(ln_ct[limit]);
+    explain->distance_m = nearest;
+    explain->eccentricity_deg = e;
+  }
+  return score;
+}
+
+// The object rule's hysteresis and gating, for one group the walk reached with this score (ln
+// lost / (q CT)): visible applies at once; a group the memory holds visible coarsens once its score
+// <= 1 - margin has waited as an object's would, and is held visible meanwhile (counted in *held); a
+// score in (1 - margin, 1] keeps it. Returns whether the group is visible and remembers it.
+bool Scheduler::Impl::remember_group(CutGroupMemory& m, bool visible, float score,
+                                     const CoarsenTiming& timing, float ln_margin, std::uint32_t* held) {
+  const bool was_visible = (m.state & (kCutKnown | kCutVisible)) == (kCutKnown | kCutVisible);
+  CutGroupMemory next{0, 0, 0};
+  if (!visible && was_visible) {
+    if (score <= ln_margin) {
+      const CoarsenTiming::Step wanted = timing.step(m.calm, m.wait);
+      if (!wanted.ready) {
+        next.calm = wanted.calm;
+        next.wait = wanted.wait;
+        ++*held;
+        visible = true;
+      }
+    } else {
+      visible = true;  // not low enough to want coarsening: it stays
+    }
+  }
+  next.state = kCutKnown | (visible ? kCutVisible : 0);
+  m = next;
+  return visible;
 }
 
 CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& t,
-                                      const float velocity[3], std::span<std::uint8_t> scratch,
-                                      std::span<std::uint32_t> drawn) const {
+                                      const float velocity[3], std::span<CutGroupMemory> memory,
+                                      std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
+                                      GroupExplain* explain) const {
   CutResult res;
   std::uint32_t n = 0;
   const auto emit = [&](std::uint32_t c) {
@@ -156,7 +207,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   };
   const auto finish = [&](CutStatus status) {
     res.clusters = n;
-    res.status = n > drawn.size() ? CutStatus::BufferTooSmall : status;
+    res.status = n > drawn.size() && !explain ? CutStatus::BufferTooSmall : status;  // explain draws none
     return res;
   };
   const auto finest = [&](CutStatus status, std::uint8_t flags) {
@@ -166,7 +217,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   };
   const std::size_t G = h.groups.size(), B = loss.bands_cpod.size();
   if (h.clusters.empty() || B == 0 || B > kMaxBands || loss.lost.size() != G * B || !(loss.diameter > 0.0f) ||
-      !std::isfinite(loss.diameter) || scratch.size() < G)
+      !std::isfinite(loss.diameter) || scratch.size() < G || (!memory.empty() && memory.size() < G))
     return finest(CutStatus::BadHierarchy, 0);
 
   CutObject o;
@@ -183,7 +234,11 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     o.moving[i] = rel.x != 0.0f || rel.y != 0.0f || rel.z != 0.0f || eye.omega.x != 0.0f ||
                   eye.omega.y != 0.0f || eye.omega.z != 0.0f || eye.gaze_moving;
   }
-  if (!valid) return finest(CutStatus::InvalidInput, kFlagInvalidInput);
+  if (!valid) {  // the finest cut, remembered as every group visible: coarsening waits again
+    for (CutGroupMemory& m : memory.first(memory.empty() ? 0 : G))
+      m = CutGroupMemory{0, 0, kCutKnown | kCutVisible};
+    return finest(CutStatus::InvalidInput, kFlagInvalidInput);
+  }
   for (int k = 0; k < 4; ++k) o.q[k] = t.rotation[k] / qn;
   o.scale = t.scale;
   o.size = loss.diameter * t.scale;
@@ -194,6 +249,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   o.flags = 0;
   for (std::uint32_t i = 0; i < eye_count_; ++i)
     if (!eyes_[i].gaze) o.flags |= kFlagNoGaze;
+  const CoarsenTiming timing = coarsen_timing();
 
   // Top down: a group is evaluated when some group holding a cluster it made is visible (or such a
   // cluster is a root) and none is invisible; either way its makers learn which it is.
@@ -204,18 +260,30 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     if (h.clusters[r].refined != kNoGroup) state[h.clusters[r].refined] |= kNeeded;
   for (std::size_t g = G; g-- > 0;) {
     const ClusterGroup& group = h.groups[g];
+    const float* lost = &loss.lost[g * B];
     bool visible = false;
+    if (explain) {
+      explain[g] = GroupExplain{};
+      for (std::uint32_t i = 0; i < eye_count_; ++i) group_score(i, o, group, lost, &explain[g]);
+    }
     if (state[g] == kNeeded) {
       ++res.groups_evaluated;
-      for (std::uint32_t i = 0; i < eye_count_ && !visible; ++i)
-        visible = group_visible(i, o, group, &loss.lost[g * B]);
+      float score = -kInf;
+      for (std::uint32_t i = 0; i < eye_count_ && !(score > 0.0f); ++i)
+        score = std::max(score, group_score(i, o, group, lost, nullptr));
+      visible = score > 0.0f;
+      if (!memory.empty())
+        visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);
       if (visible) {
         state[g] |= kVisible;
         const Vec3 c = rotate(o.q, o.scale * load(group.center));
         for (std::uint32_t i = 0; i < eye_count_; ++i)
           if (!(length(o.origin[i] + c) > o.scale * group.radius)) o.flags |= kFlagEyeInside;
       }
+    } else if (!memory.empty()) {
+      memory[g] = CutGroupMemory{0, 0, kCutKnown};  // below an invisible group: not drawn finer
     }
+    if (explain) explain[g].visible = visible;
     const std::uint8_t mark = visible ? kNeeded : kBlocked;
     for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
       if (h.clusters[m].refined != kNoGroup) state[h.clusters[m].refined] |= mark;
@@ -230,7 +298,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   }
   for (std::uint32_t r : h.roots)
     if (h.clusters[r].refined == kNoGroup || !(state[h.clusters[r].refined] & kVisible)) emit(r);
-  res.flags = o.flags;
+  res.flags = std::uint8_t(o.flags | (res.held ? kFlagHeld : 0));
   return finish(CutStatus::Ok);
 }
 

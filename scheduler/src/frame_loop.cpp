@@ -196,11 +196,7 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::derive_velocities(std::uint32_t first, 
 // the hysteresis and, with saccade gating, in a saccade or after the wait (kFlagHeld meanwhile),
 // each measured in seconds of dt or in frames (SchedulerConfig's timing). Free slots keep their state.
 ACUITY_SIMD_CLONES void Scheduler::Impl::settle(std::uint32_t first, std::uint32_t n, const Decisions& d) {
-  const float hold_need = hold_need_, wait_need = wait_need_, hold_step = hold_step_, wait_step = wait_step_;
-  const float both_need = both_need_;
-  const bool both_seconds = both_seconds_;
-  constexpr float kMost = std::numeric_limits<float>::max();  // sums stop here: +inf is never reached
-  const std::uint32_t gate_open = config_.saccade_speed <= 0 || saccade_;
+  const CoarsenTiming timing = coarsen_timing();
   const int* profile = &profile_of_[first];
   const std::uint8_t *max_level = &max_level_[first], *min_level = &min_level_[first];
   std::uint8_t *chosen = &chosen_[first], *next_level = &next_[first], *flags = &flags_[first],
@@ -221,15 +217,9 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::settle(std::uint32_t first, std::uint32
                                  std::uint32_t((d.flags[j] & kFlagInvalidInput) != 0) |
                                  std::uint32_t(fine < current);
     const std::uint32_t coarsen = (refine ^ 1u) & std::uint32_t(coarse > current);
-    // Wanted this long, this frame included; the wait counts from the moment the hysteresis was
-    // met (both in seconds: from the sum) or, in frames or after a frame-count hysteresis, from
-    // the frame it was met.
-    const float calm_now = std::min(calm + hold_step, kMost);
-    const std::uint32_t settled = calm_now >= hold_need;
-    const std::uint32_t was_settled = std::uint32_t(calm > 0.0f) & std::uint32_t(calm >= hold_need);
-    const float wait_now = std::min(wait + (was_settled ? wait_step : 0.0f), kMost);
-    const std::uint32_t waited = both_seconds ? calm_now >= both_need : wait_now >= wait_need;
-    const std::uint32_t go = coarsen & settled & (gate_open | waited);
+    const CoarsenTiming::Step wanted = timing.step(calm, wait);
+    const float calm_now = wanted.calm, wait_now = wanted.wait;
+    const std::uint32_t go = coarsen & wanted.ready;
     const std::uint32_t held = coarsen & (go ^ 1u);
     const auto level = static_cast<std::uint8_t>(refine ? fine : go ? coarse : current);
     const auto flag = static_cast<std::uint8_t>(d.flags[j] | (held ? kFlagHeld : 0));

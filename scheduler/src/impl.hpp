@@ -6,6 +6,7 @@
 #include "acuity/scheduler.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace acuity {
 
@@ -71,12 +72,53 @@ struct Scheduler::Impl {
   void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
                        float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
                        float* row) const;
-  // Cluster cuts (clusters.cpp; Scheduler::select_cut): one eye's test of one group, and the cut.
+  // Cluster cuts (clusters.cpp; Scheduler::select_cut, explain_cut): one eye's score of one group
+  // [ln lost / (q CT), max over bands; +inf visible at once], and the cut (explain: nullable, one per
+  // group, every group scored).
   struct CutObject;
-  bool group_visible(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, const float* lost) const;
+  float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, const float* lost,
+                    GroupExplain* explain) const;
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
-                       const float velocity[3], std::span<std::uint8_t> scratch,
-                       std::span<std::uint32_t> drawn) const;
+                       const float velocity[3], std::span<CutGroupMemory> memory,
+                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
+                       GroupExplain* explain) const;
+  // One frame of the wait to coarsen (SchedulerConfig's timing), the one arithmetic of settle()'s
+  // objects and select_cut's groups. step() takes how long the coarser choice has been wanted (calm)
+  // and waited for a saccade since the hysteresis was met (wait) before this frame, and gives both
+  // with this frame counted and whether the coarser choice may apply now (ready). Plain arithmetic
+  // and selects: settle()'s loop vectorises with it.
+  struct CoarsenTiming {
+    float hold_need, wait_need, both_need, hold_step, wait_step;
+    std::uint32_t both_seconds, gate_open;
+    struct Step {
+      float calm, wait;
+      std::uint32_t ready;
+    };
+    [[gnu::always_inline]] Step step(float calm, float wait) const {
+      constexpr float kMost = std::numeric_limits<float>::max();  // sums stop here: +inf is never reached
+      // Wanted this long, this frame included; the wait counts from the moment the hysteresis was
+      // met (both in seconds: from the sum) or, in frames or after a frame-count hysteresis, from
+      // the frame it was met.
+      const float calm_now = std::min(calm + hold_step, kMost);
+      const std::uint32_t settled = calm_now >= hold_need;
+      const std::uint32_t was_settled = std::uint32_t(calm > 0.0f) & std::uint32_t(calm >= hold_need);
+      const float wait_now = std::min(wait + (was_settled ? wait_step : 0.0f), kMost);
+      const std::uint32_t waited = both_seconds ? calm_now >= both_need : wait_now >= wait_need;
+      return {calm_now, wait_now, settled & (gate_open | waited)};
+    }
+  };
+  // select_cut's hysteresis for one group the walk reached (clusters.cpp): whether it is visible.
+  static bool remember_group(CutGroupMemory& m, bool visible, float score, const CoarsenTiming& timing,
+                             float ln_margin, std::uint32_t* held);
+  CoarsenTiming coarsen_timing() const {
+    return {hold_need_,
+            wait_need_,
+            both_need_,
+            hold_step_,
+            wait_step_,
+            std::uint32_t(both_seconds_),
+            std::uint32_t(config_.saccade_speed <= 0 || saccade_)};
+  }
   void explain_level(const ProfileCache& pc, std::uint32_t view, std::uint32_t k, const float* ln_ct,
                      std::uint32_t stride, float inv_diam, float ln_excess, LevelExplain* out) const;
   struct Probe;   // tabulated path: one object's table position

@@ -371,7 +371,20 @@ bool Scheduler::explain(ObjectId id, ObjectExplain* out) const { return impl_->e
 CutResult Scheduler::select_cut(const ClusterView& h, const ClusterLoss& loss,
                                 const ObjectTransform& transform, const float velocity[3],
                                 std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const {
-  return impl_->select_cut(h, loss, transform, velocity, scratch, drawn);
+  return impl_->select_cut(h, loss, transform, velocity, {}, scratch, drawn, nullptr);
+}
+CutResult Scheduler::select_cut(const ClusterView& h, const ClusterLoss& loss,
+                                const ObjectTransform& transform, const float velocity[3],
+                                std::span<CutGroupMemory> memory, std::span<std::uint8_t> scratch,
+                                std::span<std::uint32_t> drawn) const {
+  return impl_->select_cut(h, loss, transform, velocity, memory, scratch, drawn, nullptr);
+}
+CutStatus Scheduler::explain_cut(const ClusterView& h, const ClusterLoss& loss,
+                                 const ObjectTransform& transform, const float velocity[3],
+                                 std::span<std::uint8_t> scratch, std::span<GroupExplain> out) const {
+  if (out.size() < h.groups.size()) return CutStatus::BadHierarchy;
+  GroupExplain* explain = h.groups.empty() ? nullptr : out.data();
+  return impl_->select_cut(h, loss, transform, velocity, {}, scratch, {}, explain).status;
 }
 
 }  // namespace acuity

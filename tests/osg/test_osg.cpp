@@ -1,11 +1,13 @@
 // acuity::osg rendered for real (a pbuffer under xvfb-run, Mesa llvmpipe): for every frame of a
 // recorded head path the level each LodNode draws is the level an independent acuity::Scheduler
-// chooses from the same eyes and transforms; the camera-to-eye conversion matches the analytic eye;
+// chooses from the same eyes and transforms; a CutNode draws the cluster cut an independent
+// select_cut chooses, which follows the gaze; the camera-to-eye conversion matches the analytic eye;
 // two slave cameras give two eyes; the fade goes 0 -> 1 over transition_seconds with both levels
 // drawn meanwhile, and the dithered screen door covers the fade's share of the pixels; a PNG of a
 // frame is written and is not blank.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +18,9 @@
 #include <osg/Uniform>
 #include <osgViewer/Viewer>
 
+#include "acuity/lodgen/chain.hpp"
+#include "acuity/lodgen/clusters.hpp"
+#include "acuity/osg/cut_node.hpp"
 #include "acuity/osg/gaze.hpp"
 #include "acuity/osg/kit.hpp"
 #include "acuity/osg/loader.hpp"
@@ -23,6 +28,7 @@
 #include "acuity/sim/foveation_report.hpp"  // gazes_from
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/tracks.hpp"
+#include "acuity/transform.hpp"
 #include "profile_fixture.hpp"
 
 namespace {
@@ -515,4 +521,101 @@ TEST(Osg, AnObjectOutsideTheEyesViewGetsItsShadowLevelInTheLightsPass) {
   EXPECT_EQ(behind.level, want) << texels_per_m << " texels per metre";
   EXPECT_LT(behind.level, s.level(nodes[1]->id())) << "finer than the eyes need behind them";
   EXPECT_EQ(ahead.level, want) << "orthographic: the same footprint anywhere";
+}
+
+// A CutNode draws the cut select_cut chooses from the kit's eyes and gaze: a real mesh (armadillo,
+// through lodgen's cluster hierarchy) spanning 40 degrees, the gaze 18 degrees left, then right. Each
+// frame the DrawElementsUInt holds exactly the cut's triangles, the cut is an independent
+// scheduler's, the half under the gaze holds more triangles than the other, and the buffer is
+// rebuilt when the gaze moves (and only then).
+TEST(Osg, ACutNodeDrawsTheCutThatFollowsTheGaze) {
+  acuity::lodgen::ChainOptions o;
+  o.levels = 1;
+  const acuity::lodgen::Mesh mesh =
+      acuity::lodgen::build_chain(acuity::lodgen::load_mesh(std::string(ACUITY_MESH_DIR) + "/armadillo.off"),
+                                  "armadillo.off", o)
+          .levels[0]
+          .mesh;
+  acuity::lodgen::ClusterHierarchy ch = acuity::lodgen::build_clusters(mesh, "armadillo.off");
+  const double diameter = acuity::lodgen::diameter(mesh);
+  acuity::osg::CutNode::Hierarchy h;
+  h.indices = ch.indices;
+  h.clusters = ch.clusters;
+  h.groups = ch.groups;
+  h.bands_cpod = {2, 4, 8, 16, 32, 64};
+  h.diameter = float(diameter);
+  for (const acuity::ClusterGroup& g : h.groups)  // a stand-in loss growing with the group's error
+    for (int b = 0; b < 6; ++b)
+      h.lost.push_back(float(std::min(1.0, g.error / diameter * std::ldexp(1.0, b - 4))));
+  // Object-space x of each cluster's triangles' centroid: which half it lies in.
+  std::vector<double> cluster_x(h.clusters.size());
+  for (std::size_t c = 0; c < h.clusters.size(); ++c) {
+    double x = 0;
+    const acuity::Cluster& k = h.clusters[c];
+    for (std::size_t i = 3 * std::size_t(k.first_triangle);
+         i < 3 * (std::size_t(k.first_triangle) + k.triangle_count); ++i)
+      x += mesh.positions[3 * std::size_t(h.indices[i])];
+    cluster_x[c] = x / (3.0 * k.triangle_count);
+  }
+  double centre_x = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) centre_x += mesh.positions[3 * v];
+  centre_x /= double(mesh.vertex_count());
+
+  acuity::SchedulerConfig config;
+  config.max_objects = 1;
+  ::osg::ref_ptr<Kit> kit = new Kit(config);
+  const double distance = 3, scale = 2 * distance * std::tan(20 / kDeg) / diameter;  // 40 degrees wide
+  ::osg::ref_ptr<::osg::MatrixTransform> place = new ::osg::MatrixTransform(
+      ::osg::Matrixd::translate(-centre_x, 0, 0) * ::osg::Matrixd::scale(scale, scale, scale) *
+      ::osg::Matrixd::translate(0, 0, -distance));
+  ::osg::ref_ptr<acuity::osg::CutNode> node =
+      new acuity::osg::CutNode(kit.get(), acuity::osg::make_geometry(mesh).get(), h);
+  place->addChild(node.get());
+  ::osg::ref_ptr<::osg::Group> root = new ::osg::Group;
+  root->addChild(place.get());
+  root->setStateSet(acuity::osg::make_shader_state().get());
+  osgViewer::Viewer viewer;
+  ::osg::ref_ptr<Capture> capture = new Capture;
+  World::realize(viewer, root.get(), capture.get(), false);
+  kit->attach(viewer);
+  viewer.getCamera()->setViewMatrix(::osg::Matrixd::identity());
+
+  acuity::Scheduler ref(config);
+  std::vector<std::uint8_t> scratch(h.groups.size());
+  std::vector<std::uint32_t> ref_drawn(h.clusters.size());
+  const std::vector<std::uint32_t> roots = acuity::cluster_roots(h.clusters);
+  const acuity::ClusterView view{h.clusters, h.groups, roots};
+  const acuity::ClusterLoss loss{h.bands_cpod, h.diameter, h.lost};
+  const double m[16] = {scale, 0, 0, 0, 0, scale, 0, 0, 0, 0, scale, 0, -centre_x * scale, 0, -distance, 1};
+  const acuity::ObjectTransform t = acuity::transform_from_matrix(m);
+  std::uint64_t halves[2][2] = {};  // [gaze left, right][triangles left, right of the centre]
+  std::uint32_t rebuilds_before_right = 0;
+  for (int f = 0; f < 8; ++f) {
+    const bool right = f >= 4;
+    acuity::Gaze g;
+    g.direction[0] = float(std::sin((right ? 18 : -18) / kDeg));
+    g.direction[2] = -float(std::cos(18 / kDeg));
+    g.valid = true;
+    kit->set_gaze_source(new acuity::osg::FixedGaze(g));
+    if (f == 4) rebuilds_before_right = node->drawn().rebuilds;
+    viewer.frame(f / kFps);
+    const acuity::osg::CutNode::Drawn d = node->drawn();
+    ASSERT_EQ(d.frame, viewer.getFrameStamp()->getFrameNumber()) << "frame " << f;
+    ASSERT_EQ(d.cut.status, acuity::CutStatus::Ok);
+    EXPECT_EQ(d.indices, 3 * d.cut.triangles) << "the index buffer holds the cut";
+    EXPECT_EQ(node->geometry()->getPrimitiveSet(0)->getNumIndices(), d.indices);
+    ref.begin_frame(kit->frame());
+    const acuity::CutResult r = ref.select_cut(view, loss, t, nullptr, scratch, ref_drawn);
+    const std::vector<std::uint32_t> cut = node->drawn_clusters();
+    ASSERT_EQ(cut.size(), r.clusters) << "frame " << f;
+    EXPECT_TRUE(std::equal(cut.begin(), cut.end(), ref_drawn.begin())) << "frame " << f;
+    EXPECT_LT(d.cut.triangles, ch.finest_triangles()) << "the cut is coarser than the finest mesh";
+    if (f == 3 || f == 7) {
+      for (std::uint32_t c : cut) halves[right][cluster_x[c] > centre_x] += h.clusters[c].triangle_count;
+    }
+  }
+  EXPECT_GT(halves[0][0], halves[0][1]) << "gaze left: the left half is finer";
+  EXPECT_GT(halves[1][1], halves[1][0]) << "gaze right: the right half is finer";
+  EXPECT_GT(node->drawn().rebuilds, rebuilds_before_right) << "the gaze moved: the buffer was rebuilt";
+  EXPECT_LE(node->drawn().rebuilds, rebuilds_before_right + 2) << "and not every frame";
 }

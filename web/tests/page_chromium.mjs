@@ -3,7 +3,8 @@
 // the levels it chose equal the native library's on the very inputs it recorded, THREE.LOD shows them,
 // the canvas is not blank and, coloured by level, shows those levels' colours. Bad content (a missing
 // scene, a profile failing validation, a file that is not glTF, a glTF that is not lodgen's) shows a
-// message on the page and in the console, and nothing throws uncaught.
+// message on the page and in the console, and nothing throws uncaught. An object with a cluster
+// hierarchy is drawn as acuity's cut (select_cut's, checked in node), which follows the gaze.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -14,7 +15,7 @@ import { chromium } from 'playwright-core';
 import { PNG } from 'pngjs';
 
 import { FLAG } from '../acuity.js';
-import { env, firstDifference, runNative } from './scene.mjs';
+import { env, firstDifference, loadWasm, runNative } from './scene.mjs';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const fieldDir = env('ACUITY_FIELD_DIR');
@@ -143,6 +144,49 @@ try {
               `(${(100 * last.drawn / last.finest).toFixed(1)} %); luminance deviation ${deviation.toFixed(1)}; level pixels ${hits.slice(0, 5)}`);
   console.log(`page: acuity ${(await page.evaluate(() => window.acuityStats.acuityMs)).toFixed(3)} ms per frame in Chromium (moving average, ${rec.objects.profiles.length} objects)`);
   await page.close();
+
+  // ---- A cluster cut: an object drawn as acuity's cut while the gaze sweeps across it ----------------
+  // Each frame the page's index buffer holds exactly select_cut's triangles; the same cuts come out of
+  // acuity.js in node on the eyes the page recorded (the same hysteresis, frame after frame); the
+  // triangle count changes with the gaze, and the buffer is rebuilt only when the cut changes.
+  {
+    const CUT_FRAMES = 60;
+    const cutRun = await open(`?cut=content/${env('ACUITY_CUT_GLB')}&cutProfile=content/profiles/${env('ACUITY_CUT_PROFILE')}&frames=${CUT_FRAMES}`);
+    assert.equal(await cutRun.page.evaluate(() => window.acuityError ?? null), null, 'the cut page stopped with an error');
+    assert.deepEqual(cutRun.uncaught, [], 'uncaught exceptions');
+    assert.deepEqual(cutRun.errors, [], 'console errors');
+    const cr = await cutRun.page.evaluate(() => window.acuityRecord);
+    await cutRun.page.screenshot({ path: path.join(work, 'page_cut.png') });
+    await cutRun.page.close();
+    assert.equal(cr.frames.length, CUT_FRAMES);
+    const acuity = await loadWasm();
+    const s = acuity.createScheduler({});
+    const h = acuity.createHierarchy(Uint32Array.from(cr.cut.clusters), Uint8Array.from(cr.cut.groups),
+                                     new Uint8Array(fs.readFileSync(path.join(fieldDir, 'profiles', env('ACUITY_CUT_PROFILE')))));
+    const state = h.createCut();
+    let previous = null;
+    cr.frames.forEach((f, k) => {
+      const c = f.cut;
+      assert.equal(c.status, 0, `frame ${k}: cut status`);
+      assert.equal(c.drawnIndices, 3 * c.triangles, `frame ${k}: the index buffer holds the cut's triangles`);
+      s.beginFrame(Float64Array.from(f.eyes), f.eyeCount, f.dt);
+      const r = s.selectCut(h, state, c.transform.position, c.transform.rotation, c.transform.scale);
+      s.endFrame();
+      assert.deepEqual(Array.from(r.clusters), c.clusters, `frame ${k}: the page drew another cut than select_cut's`);
+      assert.equal(r.triangles, c.triangles);
+      const changed = !previous || previous.length !== c.clusters.length || previous.some((x, i) => x !== c.clusters[i]);
+      assert.equal(c.rebuilt, changed, `frame ${k}: rebuilt exactly when the cut changed`);
+      previous = c.clusters;
+    });
+    const counts = cr.frames.map(f => f.cut.triangles);
+    assert.ok(new Set(counts).size >= 2, `the cut never changed as the gaze swept across it: ${counts[0]} triangles`);
+    console.log(`cut: ${CUT_FRAMES} frames equal to select_cut in node; triangles ${Math.min(...counts)} .. ${Math.max(...counts)} ` +
+                `(first ${counts[0]}, middle ${counts[CUT_FRAMES >> 1]}, last ${counts[CUT_FRAMES - 1]}); ` +
+                `${cr.frames.filter(f => f.cut.rebuilt).length} rebuilds`);
+    state.destroy();
+    h.destroy();
+    s.destroy();
+  }
 
   // ---- Bad content -------------------------------------------------------------------------------
   for (const [query, pattern] of [

@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "acuity/profile.hpp"
@@ -56,6 +57,19 @@ struct ClusterView {
   std::span<const ClusterGroup> groups;
   std::span<const std::uint32_t> roots;  // the clusters in no group, as cluster_roots() lists them
 };
+
+// "" when `clusters` and `groups` are laid out as ClusterView requires (and lodgen writes), else the
+// first fault found, naming the cluster or group: a cluster empty or over kMaxClusterTriangles,
+// clusters overlapping or leaving a gap (each starts where the previous one ends) or not covering
+// exactly `triangles` triangles, group or member references out of range or pointing the wrong way
+// (a member whose `group` is not the group, a group made after the group it feeds, a cluster outside
+// its group's members), finest clusters after coarser ones, a non-finite centre, a non-finite or
+// negative radius or error, errors that decrease up the hierarchy, a sphere not containing those of
+// the groups that made its members, a wrong level or one reaching `max_levels`. What select_cut
+// trusts, checked once at load (lodgen::check_cluster_hierarchy adds the index array's checks; the
+// C ABI's acuity_hierarchy_create runs it). Linear; allocates only the message.
+std::string check_cluster_records(std::span<const Cluster> clusters, std::span<const ClusterGroup> groups,
+                                  std::uint64_t triangles, std::uint32_t max_levels = 64);
 
 // The clusters with group == kNoGroup, in order (once per hierarchy, at load; allocates).
 std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
@@ -121,10 +135,40 @@ const char* to_string(CutStatus status);
 
 struct CutResult {
   CutStatus status = CutStatus::Ok;
-  std::uint8_t flags = 0;              // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze
-  std::uint32_t clusters = 0;          // drawn (or needed, BufferTooSmall)
-  std::uint64_t triangles = 0;         // drawn
+  std::uint8_t flags = 0;       // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze, kFlagHeld
+  std::uint32_t clusters = 0;   // drawn (or needed, BufferTooSmall)
+  std::uint64_t triangles = 0;  // drawn
   std::uint32_t groups_evaluated = 0;  // groups whose thresholds were evaluated (the walk's work)
+  std::uint32_t held = 0;  // groups kept visible by hysteresis or saccade gating (with memory; kFlagHeld)
+};
+
+// What a cut remembers of one group from one frame to the next (Scheduler::select_cut with memory),
+// as the object rule remembers an object's wait to coarsen: the caller's, one per group and object,
+// zero-initialised (nothing remembered: the next cut takes each group's decision at once, as a new
+// object takes its level). Written only by select_cut. 12 bytes, no padding (the C ABI passes it as
+// bytes: ACUITY_CUT_MEMORY_BYTES_PER_GROUP).
+struct CutGroupMemory {
+  float calm = 0;           // how long the group has been wanted invisible, this frame included [s of dt, or
+                            // frames: SchedulerConfig's timing]
+  float wait = 0;           // how long it has since waited for a saccade [same unit]
+  std::uint32_t state = 0;  // kCutKnown | kCutVisible as the last cut left it
+};
+inline constexpr std::uint32_t kCutKnown = 1;    // CutGroupMemory::state: a cut has decided the group
+inline constexpr std::uint32_t kCutVisible = 2;  // ... and it was visible (its members, or finer, drawn)
+static_assert(sizeof(CutGroupMemory) == 12, "CutGroupMemory's layout (the C ABI's bytes per group)");
+
+// Why a group is visible or not (Scheduler::explain_cut): its score and what limits it.
+struct GroupExplain {
+  float score = 0;             // max over eyes and bands of lost / (q CT); <= 1 invisible; +inf for an
+                               // eye inside its sphere or a NaN loss
+  std::uint8_t band = 0;       // the limiting band (index into ClusterLoss::bands_cpod)
+  std::uint8_t eye = 0;        // the limiting eye (0 or 1)
+  std::uint8_t flags = 0;      // kFlagEyeInside, kFlagNoGaze
+  std::uint8_t visible = 0;    // 1: the cut this frame (explain_cut's own walk, no memory) refines it
+  float frequency_cpd = 0;     // that band's frequency at the group's nearest point [cpd]
+  float threshold = 0;         // CT there (at quality 1)
+  float distance_m = 0;        // from the limiting eye to the nearest point of the group's sphere [m]
+  float eccentricity_deg = 0;  // of that point from the gaze, less the gaze uncertainty [deg]
 };
 
 }  // namespace acuity

@@ -338,11 +338,34 @@ class Scheduler {
   // group (the caller's: calls may run concurrently on separate scratch, between begin_frame and
   // end_frame); on return with CutStatus::Ok, scratch[g] & 4 is set exactly when group g is visible
   // (its members, or finer, are drawn). Allocation-free, deterministic. Bad input falls back to the finest cut (CutStatus).
-  // Not yet: hysteresis and saccade gating per group, the triangle budget over clusters, tabulated
-  // thresholds, explain per cluster, the C ABI (issue 48 item 3).
+  // Not yet: the triangle budget over clusters, tabulated thresholds (issue 48 item 3).
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<std::uint8_t> scratch,
                        std::span<std::uint32_t> drawn) const;
+  // The same with hysteresis and saccade gating per group, remembered in `memory` (one per group,
+  // the caller's; empty: none, as above). Call it once per frame per object and memory: each call is
+  // one frame's step of SchedulerConfig's timing (this frame's dt). A group refines (becomes visible)
+  // at once; a visible group the walk reaches coarsens (becomes invisible, its made clusters drawn
+  // instead of its members) when the object rule would let an object coarsen: its score has been
+  // <= 1 - hysteresis_margin for the hysteresis and, with saccade gating, then a saccade or the
+  // wait (CutResult::held counts the groups kept visible meanwhile, kFlagHeld). A score in
+  // (1 - margin, 1] keeps a visible group visible and an invisible one invisible. A group below a
+  // coarsened one is not reached and is remembered invisible, so the walk's monotonicity, and so
+  // the cut's crack-freedom, hold as without memory. Invalid input draws the finest cut and
+  // remembers every group visible (coarsening then waits again); BadHierarchy (memory given but
+  // smaller than the groups, among the rest) leaves memory untouched; BufferTooSmall has stepped it.
+  CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
+                       const float velocity[3], std::span<CutGroupMemory> memory,
+                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const;
+  // Why select_cut decides as it does (for debugging, not every frame): for every group (out, one per
+  // group) its score over both eyes with the limiting band, eye and their frequency, threshold,
+  // distance and eccentricity, the same arithmetic as select_cut's; `visible` as select_cut without
+  // memory would leave it. A cluster's maker (Cluster::refined) says why it is not finer, its group
+  // why it is not coarser. Allocation-free; `scratch` as select_cut's. Returns select_cut's status
+  // (out untouched unless Ok).
+  CutStatus explain_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
+                        const float velocity[3], std::span<std::uint8_t> scratch,
+                        std::span<GroupExplain> out) const;
 
  private:
   struct Impl;  // every array and pass (scheduler/src/impl.hpp)
