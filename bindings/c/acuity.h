@@ -401,8 +401,9 @@ acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t c
                                       const float* bands_cpod, uint32_t band_count, float diameter,
                                       const float* lost, acuity_hierarchy** out);
 /* The same with the loss derived from the object's profile (.acuity bytes of its chain, copied and
- * validated; BAD_PROFILE otherwise): today acuity::provisional_group_loss (acuity/clusters.hpp), until
- * issue 48 item 2 measures each group's loss. */
+ * validated; BAD_PROFILE otherwise) by acuity::provisional_group_loss (acuity/clusters.hpp). Not yet
+ * read here: a cluster profile's measured Clusters section (acuity::measured_group_loss, which C++
+ * and Python's acuity.clusters.load use): open, issue 48. */
 acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
                                                    const acuity_cluster_group* groups, uint32_t group_count,
                                                    const void* profile, size_t profile_size,
