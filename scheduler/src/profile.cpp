@@ -141,6 +141,35 @@ ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile
   p->cluster_lost = p->cluster_bands + c.band_count;
   return ProfileStatus::Ok;
 }
+// The section table of a blob of `total` bytes whose table ends at `table_end`: bounds, alignment,
+// no overlap, each known id at most once, the required ones present. found[id]: the entry of id.
+ProfileStatus read_section_table(const unsigned char* base, std::size_t total, std::uint64_t table_end,
+                                 std::uint32_t count, ProfileSectionEntry* found, ProfileError* error) {
+  ProfileSectionEntry all[kMaxProfileSections];
+  for (std::uint32_t i = 0; i < count; ++i) {
+    ProfileSectionEntry s;
+    std::memcpy(&s, base + sizeof(ProfileHeader) + i * sizeof(ProfileSectionEntry), sizeof s);
+    if (s.offset % 8 != 0 || s.offset < table_end || s.offset > total || s.size > total - s.offset)
+      return fail(error, ProfileStatus::BadSectionTable,
+                  "section %u (id %u): offset %llu size %llu outside the blob or misaligned", i, s.id,
+                  static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
+    for (std::uint32_t j = 0; j < i; ++j)
+      if (s.size && all[j].size && s.offset < all[j].offset + all[j].size &&
+          all[j].offset < s.offset + s.size)
+        return fail(error, ProfileStatus::BadSectionTable, "sections %u and %u overlap", j, i);
+    all[i] = s;
+    if (s.id >= 1 && s.id <= kSectionIds) {
+      if (found[s.id].id)
+        return fail(error, ProfileStatus::BadSectionTable, "section %s appears twice", kSectionNames[s.id]);
+      found[s.id] = s;
+    }
+  }
+  for (std::uint32_t id = 1; id <= kRequiredSections; ++id)
+    if (!found[id].id)
+      return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
+  return ProfileStatus::Ok;
+}
+
 }  // namespace
 
 ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, ProfileError* error) {
@@ -176,30 +205,9 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   if (profile_checksum(base, total) != h.checksum)
     return fail(error, ProfileStatus::BadChecksum, "checksum mismatch: the file was changed or damaged");
 
-  // Section table: bounds, alignment, no overlap, each known id at most once.
   ProfileSectionEntry found[kSectionIds + 1] = {};
-  ProfileSectionEntry all[kMaxProfileSections];
-  for (std::uint32_t i = 0; i < h.section_count; ++i) {
-    ProfileSectionEntry s;
-    std::memcpy(&s, base + sizeof(ProfileHeader) + i * sizeof(ProfileSectionEntry), sizeof s);
-    if (s.offset % 8 != 0 || s.offset < table_end || s.offset > total || s.size > total - s.offset)
-      return fail(error, ProfileStatus::BadSectionTable,
-                  "section %u (id %u): offset %llu size %llu outside the blob or misaligned", i, s.id,
-                  static_cast<unsigned long long>(s.offset), static_cast<unsigned long long>(s.size));
-    for (std::uint32_t j = 0; j < i; ++j)
-      if (s.size && all[j].size && s.offset < all[j].offset + all[j].size &&
-          all[j].offset < s.offset + s.size)
-        return fail(error, ProfileStatus::BadSectionTable, "sections %u and %u overlap", j, i);
-    all[i] = s;
-    if (s.id >= 1 && s.id <= kSectionIds) {
-      if (found[s.id].id)
-        return fail(error, ProfileStatus::BadSectionTable, "section %s appears twice", kSectionNames[s.id]);
-      found[s.id] = s;
-    }
-  }
-  for (std::uint32_t id = 1; id <= kRequiredSections; ++id)
-    if (!found[id].id)
-      return fail(error, ProfileStatus::MissingSection, "section %s is missing", kSectionNames[id]);
+  const ProfileStatus table = read_section_table(base, total, table_end, h.section_count, found, error);
+  if (table != ProfileStatus::Ok) return table;
 
   auto check_size = [&](ProfileSection id, std::uint64_t expected) {
     const ProfileSectionEntry& s = found[static_cast<std::uint32_t>(id)];
