@@ -1,6 +1,7 @@
 // Cluster cuts (acuity/clusters.hpp, Scheduler::select_cut): a hierarchy's groups tested with the
 // perceptual rule's thresholds, top down; the measured per-group loss of a profile's Clusters
 // section, and the provisional one from a chain profile (the fallback).
+#include "fnv1a.hpp"
 #include "geometry.hpp"
 
 namespace acuity {
@@ -29,14 +30,8 @@ const char* to_string(CutStatus status) {
 
 std::uint64_t cluster_hierarchy_hash(std::span<const Cluster> clusters,
                                      std::span<const ClusterGroup> groups) {
-  std::uint64_t hash = 0xcbf29ce484222325ull;
-  const auto add = [&](const void* data, std::size_t size) {
-    const auto* bytes = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 0x100000001b3ull;
-  };
-  add(clusters.data(), clusters.size_bytes());
-  add(groups.data(), groups.size_bytes());
-  return hash;
+  return internal::fnv1a(internal::fnv1a(internal::kFnv1aBasis, clusters.data(), clusters.size_bytes()),
+                         groups.data(), groups.size_bytes());
 }
 
 const char* to_string(GroupLossStatus status) {

@@ -1,11 +1,14 @@
 // Profile reader: validates everything before anything is used. See acuity/profile.hpp.
 #include "acuity/profile.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+
+#include "fnv1a.hpp"
 
 static_assert(std::endian::native == std::endian::little, "profiles are little-endian; add byte swapping");
 
@@ -47,13 +50,13 @@ bool unit(const float v[3]) {
 }  // namespace
 
 std::uint64_t profile_checksum(const void* data, std::size_t size) {
+  using internal::fnv1a;
   const auto* bytes = static_cast<const unsigned char*>(data);
-  std::uint64_t hash = 0xcbf29ce484222325ull;
-  for (std::size_t i = 0; i < size; ++i) {
-    const bool in_field = i >= kChecksumOffset && i < kChecksumOffset + 8;
-    hash = (hash ^ (in_field ? 0u : bytes[i])) * 0x100000001b3ull;
-  }
-  return hash;
+  const unsigned char zeros[8] = {};  // the checksum field counts as zero
+  if (size <= kChecksumOffset) return fnv1a(internal::kFnv1aBasis, bytes, size);
+  const std::size_t field = std::min<std::size_t>(8, size - kChecksumOffset);
+  const std::uint64_t head = fnv1a(fnv1a(internal::kFnv1aBasis, bytes, kChecksumOffset), zeros, field);
+  return fnv1a(head, bytes + kChecksumOffset + field, size - kChecksumOffset - field);
 }
 
 namespace {
