@@ -235,9 +235,12 @@ TEST(FoveationPlan, NeverFinerFartherOutAlongAnyRay) {
       {make_eye(1920, 1920, 45, 45), none, "no gaze"},
       {rotating, gaze_at(10, -10), "head rotating"},
   };
+  FoveationConfig head_turns;
+  head_turns.head_rotation = true;
   for (const Case& c : cases) {
     const Plan p = plan(planner, c.eye, c.gaze);
     expect_monotone_along_rays(p, 16, c.what);
+    expect_monotone_along_rays(plan(planner_for(head_turns), c.eye, c.gaze), 16, c.what);
   }
   // Also at the other tile sizes, and with the gaze exactly on a tile corner.
   for (std::uint32_t tile : {8u, 32u})
@@ -430,8 +433,12 @@ TEST(FoveationPlan, NeverCoarserThanTheExactRule) {
   }
 }
 
-TEST(FoveationPlan, HeadRotationLowersTheCutoff) {
-  const FoveationPlanner& planner = planner_for();
+// By default the head's rotation changes nothing: the vestibulo-ocular reflex holds the fixated
+// world still on the retina. With head_rotation on (content turning with the head), it lowers the cutoff.
+TEST(FoveationPlan, HeadRotationLowersTheCutoffOnlyWhenAsked) {
+  FoveationConfig on;
+  on.head_rotation = true;
+  const FoveationPlanner& planner = planner_for(on);
   Eye still = make_eye(2000, 2000, 50, 50), turning = still;
   turning.angular_velocity[1] = 120;  // yaw, world axis
   const Plan a = plan(planner, still, gaze_at(0, 0)), b = plan(planner, turning, gaze_at(0, 0));
@@ -443,9 +450,9 @@ TEST(FoveationPlan, HeadRotationLowersTheCutoff) {
   Eye rolling = still;
   rolling.angular_velocity[2] = 120;
   EXPECT_LT(plan(planner, rolling, gaze_at(0, 0)).maps.retinal_speed, b.maps.retinal_speed);
-  FoveationConfig off;
-  off.head_rotation = false;
-  EXPECT_EQ(plan(planner_for(off), turning, gaze_at(0, 0)).rate, a.rate);
+  const Plan by_default = plan(planner_for(), turning, gaze_at(0, 0));
+  EXPECT_EQ(by_default.rate, a.rate);
+  EXPECT_FLOAT_EQ(by_default.maps.retinal_speed, 0.15f);
 }
 
 // The shading work counts each tile's covered pixels, the last column's and row's partial ones too,

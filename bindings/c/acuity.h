@@ -475,7 +475,8 @@ typedef struct acuity_foveation_config {
   float no_gaze_radius_deg;   /* without gaze: eccentricity from this disc around the view centre */
   float foveal_radius_deg;    /* full rate within this of where the gaze may be */
   uint32_t max_rate;          /* coarsest pixels per shade: 1, 2 or 4 */
-  uint32_t head_rotation;     /* nonzero: the head's angular velocity lowers the cutoff */
+  uint32_t head_rotation;     /* nonzero: the head's angular velocity lowers the cutoff (default 0:
+                                  the vestibulo-ocular reflex holds the fixated world still) */
 } acuity_foveation_config;
 
 /* Statuses of acuity_foveation_plan beyond acuity_status: the maps were written in both cases. */

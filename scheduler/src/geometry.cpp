@@ -66,6 +66,9 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
     out_ln[j] = ln_angular_diameter(radius_deg);
   }
   const Vec3 eye_velocity = eye.velocity, omega = eye.omega, forward = eye.forward;
+  // Which motion the eye must follow to hold the object on the retina (image_to_track()):
+  // measured, its motion in the world; else the slower of its motion in the world and in the head.
+  const bool world_only = eye.gaze_moving;
   const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
   const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
   const float half_focal = 0.5f * eye.focal_px * kRad;
@@ -74,7 +77,8 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::look_block(const EyeCache& eye, std::ui
     const float inv_d = b.d[j] > 0.0f ? 1.0f / b.d[j] : 0.0f;
     const Vec3 u = inv_d * Vec3{rx[j], ry[j], rz[j]};
     const Vec3 v_rel = Vec3{vx[j], vy[j], vz[j]} - eye_velocity;
-    const Vec3 image = kDeg * (inv_d * (v_rel - dot(v_rel, u) * u) - cross(omega, u));
+    const Vec3 image =
+        image_to_track(kDeg * inv_d * (v_rel - dot(v_rel, u) * u), kDeg * cross(omega, u), world_only);
     const Vec3 to_eye = rotate(-qx[j], -qy[j], -qz[j], qw[j], -1.0f * u);  // the inverse rotation
     b.u[0][j] = u.x;
     b.u[1][j] = u.y;

@@ -46,7 +46,7 @@ struct Scheduler::Impl::Sight {
   float focal_px;
   // Perceptual and Reddy only:
   Vec3 u;                     // unit direction eye -> centre, world
-  Vec3 image, slip;           // image-plane and retinal angular velocity [deg/s], world tangent vectors
+  Vec3 image, slip;           // image_to_track() and retinal angular velocity [deg/s], world tangent vectors
   Vec3 to_eye;                // unit direction centre -> eye, object space
   float e;                    // eccentricity [deg]
   float nyquist_cpd;          // the display's limit in the object's direction
@@ -65,7 +65,7 @@ struct Scheduler::Impl::Block {
   float test[kSize];  // 0 where the input is valid (NaN otherwise)
   float e[kSize], nyquist[kSize];
   float u[3][kSize];       // unit direction eye -> centre, world
-  float image[3][kSize];   // image-plane angular velocity [deg/s], world tangent vector
+  float image[3][kSize];   // image_to_track() [deg/s], world tangent vector
   float to_eye[3][kSize];  // unit direction centre -> eye, object space (the view lookup)
   Look state(std::uint32_t j) const {
     return !(test[j] == 0.0f) ? Look::Invalid : !(d[j] > r[j]) ? Look::Inside : Look::Ok;
@@ -100,8 +100,20 @@ constexpr float kLeastViewCosine = 0.05f;
   return half_focal / (c * c);
 }
 
-// Retinal slip of an image moving at `image` [deg/s]: against the measured gaze motion, or Daly's
-// pursuit model.
+// The angular velocity [deg/s, world tangent vector] an eye must follow to hold an object still on
+// the retina, from the object's direction's velocity in the world (`world`: its own motion and the
+// eye's translation) and the head's rotation at that direction (`turn`: omega x u; in the head the
+// direction moves at world - turn). The vestibulo-ocular reflex cancels the head's rotation, so a
+// still object stays still on the retina of a turning head: with a measured gaze the slip is
+// world - the gaze's world velocity (`world_only`). Without one, the eye may fixate the world (VOR)
+// or ride with a head that follows the object: the slower of the two motions, so that the retinal
+// speed Daly's pursuit model gives is never above either case's (a finer level, never a coarser).
+[[gnu::always_inline]] inline Vec3 image_to_track(Vec3 world, Vec3 turn, bool world_only) {
+  const Vec3 in_head = world - turn;
+  return world_only || dot(world, world) <= dot(in_head, in_head) ? world : in_head;
+}
+// Retinal slip of an image the eye must follow at `image` [deg/s] (image_to_track()): against the
+// measured gaze motion, or Daly's pursuit model.
 inline Vec3 retinal_slip(Vec3 image, bool gaze_moving, Vec3 gaze_velocity, const ModelParams& params) {
   if (gaze_moving) return image - gaze_velocity;
   const float vi = length(image);

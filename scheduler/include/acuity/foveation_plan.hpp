@@ -44,7 +44,11 @@ struct FoveationConfig {
                                       // centre: eccentricity is measured from that disc [deg]
   float foveal_radius_deg = 2.5f;     // full rate within this of where the gaze may be [deg]
   std::uint8_t max_rate = 4;          // coarsest pixels per shade allowed: 1, 2 or 4
-  bool head_rotation = true;          // lower the cutoff by the retinal speed of the head rotation
+  // Lower the cutoff by the retinal speed the head's rotation gives the static world. Off: the
+  // vestibulo-ocular reflex turns the eyes against the head, so the world the eye fixates stays
+  // still on the retina while the head turns. On only for content that turns with the head while
+  // the eyes hold still in it (a coarser plan; not for a world-fixed scene).
+  bool head_rotation = false;
 };
 
 // The scheduler's model, q and gaze handling, with the defaults above for the rest.

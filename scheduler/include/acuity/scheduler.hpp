@@ -221,6 +221,10 @@ struct LevelExplain {
 };
 
 struct ObjectExplain {
+  // image_velocity_deg_s: the angular speed the eye must follow to hold the object still on the
+  // retina: its motion in the world (with a measured gaze velocity), else the slower of its motion
+  // in the world and in the turning head (the vestibulo-ocular reflex cancels the head's rotation).
+  // retinal_velocity_deg_s: what is left after the measured gaze velocity or Daly's pursuit model.
   float distance_m, angular_diameter_deg, eccentricity_deg, image_velocity_deg_s, retinal_velocity_deg_s;
   std::uint32_t view;  // the profile view used
   std::uint8_t level, level_count;
