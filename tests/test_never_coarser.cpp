@@ -220,8 +220,8 @@ TEST(NeverCoarser, TheObjectsFoundCoarser) {
 }
 
 // Random scenes over the corners: per scene a configuration (model, view blend, q in [0.25, 4],
-// hysteresis margin, tabulated biases 0.5 and 2) and a frame (one or two eyes; gaze, none, or a
-// measured one moving at up to 40 deg/s), then objects 0.1-60 deg across or with the eye 1.01-3 radii
+// hysteresis margin, tabulated biases 0.5 and 2) and a frame (one or two eyes, the head turning at
+// 1-200 deg/s or not; gaze, none, or a measured one moving at up to 40 deg/s), then objects 0.1-60 deg across or with the eye 1.01-3 radii
 // from the centre, still or moving at 0.05-300 deg/s, of bias 1, a tabulated one or none of those.
 TEST(NeverCoarser, TheCornersOfTheTables) {
   const bool quick = std::getenv("ACUITY_QUICK_TESTS") != nullptr;
@@ -247,6 +247,11 @@ TEST(NeverCoarser, TheCornersOfTheTables) {
       f.dt = 1.0f / 90;
       f.eye_count = rng.chance(0.3f) ? 2 : 1;
       f.eyes[1].position[0] = 0.064;
+      if (rng.chance(0.4f)) {  // the head turns (both eyes): world-still images are still on the retina
+        rng.direction(f.eyes[0].angular_velocity);
+        const float speed = rng.log_uniform(1.0f, 200.0f);
+        for (int k = 0; k < 3; ++k) f.eyes[1].angular_velocity[k] = f.eyes[0].angular_velocity[k] *= speed;
+      }
       const bool gaze = rng.chance(0.7f), pursuing = gaze && rng.chance(0.4f);
       for (Gaze& g : f.gaze) {
         const float x = rng.uniform(-0.6f, 0.6f), y = rng.uniform(-0.4f, 0.4f),
