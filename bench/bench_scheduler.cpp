@@ -269,7 +269,7 @@ void BM_scheduler(benchmark::State& state, SelectionRule rule, float moving,
                   Biases biases = Biases::None, ThresholdModel model = ThresholdModel::Default,
                   int meshes = kProfiles, HeadMotion head = HeadMotion::Steady, float tremble_m = 0) {
   Scene scene(static_cast<std::uint32_t>(state.range(0)), rule, moving, evaluation, biases, model, meshes);
-  scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw: every image moves
+  scene.frame.eyes[0].angular_velocity[1] = head_turn_deg_s;  // yaw
   float yaw = 0;                                              // [deg]
   const std::vector<Frame> track = head == HeadMotion::Track ? head_track(scene.frame) : std::vector<Frame>{};
   std::size_t frame_index = 0;
@@ -530,7 +530,8 @@ BENCHMARK(BM_cut)->ArgsProduct({{1000, 10000}, {0, 1}})->Unit(benchmark::kMillis
 BENCHMARK(BM_screen_size_loop)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_static, SelectionRule::Perceptual, 0.0f)->Apply(sizes);
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_all_moving, SelectionRule::Perceptual, 1.0f)->Apply(sizes);
-// Still objects, the head turning at 30 deg/s (a VR head is never quite still): every image moves.
+// Still objects, the head turning at 30 deg/s (a VR head is never quite still). The eyes turn
+// against the head (vestibulo-ocular reflex), so the images of still objects stay still on the retina.
 BENCHMARK_CAPTURE(BM_scheduler, perceptual_head_turning, SelectionRule::Perceptual, 0.0f,
                   Evaluation::Tabulated, 30.0f)
     ->Apply(sizes);
