@@ -106,8 +106,9 @@ constexpr float kLeastViewCosine = 0.05f;
 // direction moves at world - turn). The vestibulo-ocular reflex cancels the head's rotation, so a
 // still object stays still on the retina of a turning head: with a measured gaze the slip is
 // world - the gaze's world velocity (`world_only`). Without one, the eye may fixate the world (VOR)
-// or ride with a head that follows the object: the slower of the two motions, so that the retinal
-// speed Daly's pursuit model gives is never above either case's (a finer level, never a coarser).
+// or ride with a head that follows the object: the slower of the two motions, whose speed is above
+// neither case's. Its direction is that case's: an orientation across it may see less blur under
+// the other case (docs/design.md section 3 counts the decisions this changed).
 [[gnu::always_inline]] inline Vec3 image_to_track(Vec3 world, Vec3 turn, bool world_only) {
   const Vec3 in_head = world - turn;
   return world_only || dot(world, world) <= dot(in_head, in_head) ? world : in_head;
