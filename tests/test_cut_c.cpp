@@ -343,7 +343,7 @@ std::vector<char> with_cluster_sections(const std::vector<char>& v1, const Made&
   }
   append(acuity::ProfileSection::Clusters, section);
   if (!cells.empty()) {
-    const acuity::ProfileClusterViewsMeta vm{2, 42, {0, 0}};
+    const acuity::ProfileClusterViewsMeta vm{2, acuity::kMinCellSamples, {0, 0}};
     const float dirs[6] = {0, 0, 1, 0, 0, -1};
     section = bytes_of(&vm, sizeof vm);
     const std::vector<char> d = bytes_of(dirs, sizeof dirs), c = bytes_of(cells.data(), cells.size() * 4);

@@ -403,7 +403,8 @@ acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t c
 /* The same with the loss read from the object's profile (.acuity bytes, copied and validated;
  * BAD_PROFILE otherwise): the profile of the hierarchy's own glTF (`acuity profile OUT.glb`) gives
  * each group's measured loss (its Clusters section, and per view cell its ClusterViews section when
- * it has one: acuity::measured_group_loss, as C++ and Python's acuity.clusters.load read it);
+ * it measured 162 directions per group: acuity::measured_group_loss, as C++ and Python's
+ * acuity.clusters.load read it);
  * BAD_PROFILE when that section measured another hierarchy (group count or hash differ). A profile
  * without one (a chain of the same mesh) gives the fallback, acuity::provisional_group_loss
  * (acuity/clusters.hpp). */

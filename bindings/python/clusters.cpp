@@ -163,7 +163,7 @@ struct Hierarchy {
 };
 
 std::shared_ptr<Hierarchy> load(const std::string& glb_path, const std::string& profile_path,
-                                bool view_cells) {
+                                const py::object& view_cells) {
   auto out = std::make_shared<Hierarchy>();
   lodgen::Scene scene = lodgen::load_scene(glb_path);  // io::Error, lodgen::InputError: ValueErrors
   std::size_t m = 0;
@@ -185,7 +185,13 @@ std::shared_ptr<Hierarchy> load(const std::string& glb_path, const std::string& 
                           glb_path + "'s (group count or hash differ): profile this glb (`acuity profile " +
                           glb_path + " -o OUT.acuity`)");
   out->measured = measured == GroupLossStatus::Measured;
-  if (out->measured && !view_cells) out->loss.view_directions = out->loss.view_lost = {};
+  if (out->measured && !view_cells.is_none()) {  // the caller's choice over measured_group_loss's
+    const Profile& pr = out->profile->view;
+    const std::size_t V = view_cells.cast<bool>() && pr.cluster_view_lost ? pr.cluster_views.view_count : 0;
+    out->loss.view_directions = std::span<const float>(pr.cluster_view_directions, 3 * V);
+    out->loss.view_lost =
+        std::span<const float>(pr.cluster_view_lost, out->h.groups.size() * V * pr.clusters.band_count);
+  }
   if (!out->measured) {
     if (p.levels[0].triangles != out->h.finest_triangles())
       throw py::value_error(profile_path + ": its level 0 has " + std::to_string(p.levels[0].triangles) +
@@ -316,14 +322,16 @@ void bind_clusters(py::module_ m) {
       .def_property_readonly(
           "diameter", [](const Hierarchy& h) { return h.loss.diameter; },
           "the profile's bounding-sphere diameter [object units]");
-  m.def("load", &load, "glb_path"_a, "profile_path"_a, "view_cells"_a = true,
+  m.def("load", &load, "glb_path"_a, "profile_path"_a, "view_cells"_a = py::none(),
         "A hierarchy from `acuity lodgen MESH --clusters -o OUT.glb` (its first mesh with one) and its\n"
         "profile (`acuity profile OUT.glb -o OUT.acuity`: each group measured), or the profile of a chain\n"
         "of the same mesh (`acuity lodgen MESH -o CHAIN.glb`, `acuity profile CHAIN.glb -o CHAIN.acuity`:\n"
         "the loss derived, the fallback); ValueError when the glb has no hierarchy, the profile measured\n"
-        "another hierarchy, or a chain profile's level 0 is another mesh. view_cells=False: the cut reads\n"
-        "each group's loss over all views even when the profile has it per view cell (its ClusterViews\n"
-        "section), as profiles without one are read.");
+        "another hierarchy, or a chain profile's level 0 is another mesh. view_cells: None reads the\n"
+        "profile's loss per view cell (its ClusterViews section) when it was measured from at least 162\n"
+        "directions per group (acuity::kMinCellSamples), as C++ and the C ABI do; True whenever the\n"
+        "section is there (an experiment: from fewer directions the cells do not bound the loss); False\n"
+        "never (each group's loss over all views).");
 }
 
 }  // namespace acuity::python

@@ -62,7 +62,8 @@ GroupLossStatus measured_group_loss(const Profile& p, std::span<const Cluster> c
   loss->bands_cpod = std::span<const float>(p.cluster_bands, B);
   loss->diameter = 2.0f * p.meta.sphere[3];
   loss->lost = std::span<const float>(p.cluster_lost, groups.size() * B);
-  const std::size_t V = p.cluster_view_lost ? p.cluster_views.view_count : 0;
+  const std::size_t V =
+      p.cluster_view_lost && p.cluster_views.sample_count >= kMinCellSamples ? p.cluster_views.view_count : 0;
   loss->view_directions = std::span<const float>(p.cluster_view_directions, 3 * V);
   loss->view_lost = std::span<const float>(p.cluster_view_lost, groups.size() * V * B);
   loss->ln_lost = loss->ln_view_lost = {};

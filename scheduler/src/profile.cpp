@@ -137,14 +137,29 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
   return ProfileStatus::Ok;
 }
 
+// An optional section's fixed header, copied out, or BadSize naming the section.
+template <class Header>
+ProfileStatus section_header(const unsigned char* at, std::uint64_t size, const char* name, Header* h,
+                             ProfileError* error) {
+  if (size < sizeof(Header))
+    return fail(error, ProfileStatus::BadSize, "section %s: size %llu, shorter than its %zu-byte header",
+                name, static_cast<unsigned long long>(size), sizeof(Header));
+  std::memcpy(h, at, sizeof(Header));
+  return ProfileStatus::Ok;
+}
+// BadSize naming the section unless its size is the one its header's counts give.
+ProfileStatus section_size(std::uint64_t size, std::uint64_t expected, const char* name,
+                           ProfileError* error) {
+  if (size == expected) return ProfileStatus::Ok;
+  return fail(error, ProfileStatus::BadSize, "section %s: size %llu, expected %llu", name,
+              static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
+}
+
 // The optional Clusters section: its header's counts, then its size from them.
 ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile* p, ProfileError* error) {
-  if (size < sizeof(ProfileClusterMeta))
-    return fail(error, ProfileStatus::BadSize,
-                "section Clusters: size %llu, shorter than its %zu-byte header",
-                static_cast<unsigned long long>(size), sizeof(ProfileClusterMeta));
   ProfileClusterMeta c;
-  std::memcpy(&c, at, sizeof c);
+  if (const ProfileStatus st = section_header(at, size, "Clusters", &c, error); st != ProfileStatus::Ok)
+    return st;
   if (c.group_count == 0 || c.group_count > kMaxClusterGroups)
     return fail(error, ProfileStatus::BadCounts, "Clusters: group_count = %u (allowed 1..%u)", c.group_count,
                 kMaxClusterGroups);
@@ -157,9 +172,8 @@ ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile
                 c.view_count);
   const std::uint64_t expected =
       sizeof c + std::uint64_t(c.band_count) * sizeof(float) * (1 + std::uint64_t(c.group_count));
-  if (size != expected)
-    return fail(error, ProfileStatus::BadSize, "section Clusters: size %llu, expected %llu",
-                static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
+  if (const ProfileStatus st = section_size(size, expected, "Clusters", error); st != ProfileStatus::Ok)
+    return st;
   p->clusters = c;
   p->cluster_bands = reinterpret_cast<const float*>(at + sizeof c);
   p->cluster_lost = p->cluster_bands + c.band_count;
@@ -171,12 +185,9 @@ ProfileStatus open_cluster_views(const unsigned char* at, std::uint64_t size, Pr
                                  ProfileError* error) {
   if (!p->cluster_lost)
     return fail(error, ProfileStatus::MissingSection, "section ClusterViews needs the Clusters section");
-  if (size < sizeof(ProfileClusterViewsMeta))
-    return fail(error, ProfileStatus::BadSize,
-                "section ClusterViews: size %llu, shorter than its %zu-byte header",
-                static_cast<unsigned long long>(size), sizeof(ProfileClusterViewsMeta));
   ProfileClusterViewsMeta c;
-  std::memcpy(&c, at, sizeof c);
+  if (const ProfileStatus st = section_header(at, size, "ClusterViews", &c, error); st != ProfileStatus::Ok)
+    return st;
   if (c.view_count == 0 || c.view_count > kMaxClusterViews || c.sample_count < c.view_count ||
       c.reserved[0] || c.reserved[1])
     return fail(error, ProfileStatus::BadCounts,
@@ -185,9 +196,8 @@ ProfileStatus open_cluster_views(const unsigned char* at, std::uint64_t size, Pr
   const std::uint64_t expected =
       sizeof c + sizeof(float) * std::uint64_t(c.view_count) *
                      (3 + std::uint64_t(p->clusters.group_count) * p->clusters.band_count);
-  if (size != expected)
-    return fail(error, ProfileStatus::BadSize, "section ClusterViews: size %llu, expected %llu",
-                static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
+  if (const ProfileStatus st = section_size(size, expected, "ClusterViews", error); st != ProfileStatus::Ok)
+    return st;
   p->cluster_views = c;
   p->cluster_view_directions = reinterpret_cast<const float*>(at + sizeof c);
   p->cluster_view_lost = p->cluster_view_directions + 3 * std::size_t(c.view_count);

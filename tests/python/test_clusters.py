@@ -82,14 +82,15 @@ def test_load_finest_and_the_cut_arrays(armadillo):
     assert h.loss.shape == (h.group_count, len(h.bands)) and np.all(np.isfinite(h.loss)) and np.all(h.loss >= 0)
     assert np.all(np.diff(h.bands) > 0) and h.loss.max() > 0
     assert f.normals.dtype == np.float32 and f.normals.shape == f.positions.shape
-    # The loss per view cell (the profile's ClusterViews section): 12 cells, each at most the loss over
-    # all views, which is their largest; view_cells=False reads the loss over all views alone.
-    assert h.view_directions.shape == (12, 3)
-    assert np.allclose(np.linalg.norm(h.view_directions, axis=1), 1, atol=1e-5)
-    assert h.view_loss.shape == (h.group_count, 12, len(h.bands))
-    assert np.all(h.view_loss <= h.loss[:, None, :]) and np.array_equal(h.view_loss.max(axis=1), h.loss)
-    whole = acuity.clusters.load(str(armadillo["glb"]), str(armadillo["measured"]), view_cells=False)
-    assert whole.view_directions.shape == (0, 3) and np.array_equal(whole.loss, h.loss)
+    # The loss per view cell (the profile's ClusterViews section): measured from 12 directions here, so
+    # not read by default (kMinCellSamples: 162); view_cells=True reads its 12 cells, each at most the
+    # loss over all views, which is their largest.
+    assert h.view_directions.shape == (0, 3)
+    cells = acuity.clusters.load(str(armadillo["glb"]), str(armadillo["measured"]), view_cells=True)
+    assert cells.view_directions.shape == (12, 3)
+    assert np.allclose(np.linalg.norm(cells.view_directions, axis=1), 1, atol=1e-5)
+    assert cells.view_loss.shape == (h.group_count, 12, len(h.bands))
+    assert np.all(cells.view_loss <= h.loss[:, None, :]) and np.array_equal(cells.view_loss.max(axis=1), h.loss)
     # `acuity inspect` shows the section: per band the largest loss over groups.
     shown = json.loads(run("inspect", armadillo["measured"], "--json").stdout)["clusters"]
     assert shown["groups"] == h.group_count and shown["bands_cpod"] == pytest.approx(h.bands.tolist())

@@ -99,6 +99,11 @@ struct ClusterLoss {
   std::span<const float> ln_view_lost = {};
 };
 
+// The directions a ClusterViews section must have measured per group for measured_group_loss to read
+// its cells: with fewer (42 over 12 cells) a cell's row bounds only 0.90 of what a group loses from
+// directions within the cell (tests/test_cluster_loss.cpp), too optimistic for the cut.
+inline constexpr std::uint32_t kMinCellSamples = 162;
+
 // ln of each value (std::log: 0 gives -inf, NaN stays NaN): ClusterLoss::ln_lost and ln_view_lost,
 // made once when a hierarchy's loss is loaded. Allocates.
 std::vector<float> loss_logs(std::span<const float> values);
@@ -117,7 +122,8 @@ const char* to_string(GroupLossStatus status);
 // The per-group loss a profile's Clusters section measured for this hierarchy (issue 48 item 2;
 // acuity/spectra/cluster_loss.hpp measures it): sets *loss to read the profile's bytes in place
 // (its cluster bands, Meta's sphere's diameter, its lost values, and the ClusterViews section's cells
-// when it has one, else none), which must outlive it. On any
+// when it has one measured from at least kMinCellSamples directions, else none), which must outlive
+// it. On any
 // other status *loss is unchanged. No allocation.
 GroupLossStatus measured_group_loss(const Profile& profile, std::span<const Cluster> clusters,
                                     std::span<const ClusterGroup> groups, ClusterLoss* loss);

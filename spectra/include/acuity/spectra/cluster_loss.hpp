@@ -55,9 +55,9 @@ struct ClusterLossSettings {
                               // by the measurer: level 0's bounding_sphere, as the profile's Meta)
   AnalysisSettings analysis;  // orientations, lowest_band, bands_per_octave [Limit: an integer >= 1],
                               // mean_floor; every band up to pixels / 4 is measured (bands unused)
-  std::uint32_t views = 42;   // directions per group: the first 12, 42 or 162 vertices of icosphere(2)
-                              // (nested), framed by make_view [Limit: 12, 42 or 162]; 12: each cell
-                              // holds its own direction only (no bound between them)
+  std::uint32_t views = 12;   // directions per group: the first 12, 42 or 162 vertices of icosphere(2)
+                              // (nested), framed by make_view [Limit: 12, 42 or 162]; the cells are
+                              // read by the cut only from 162 (kMinCellSamples)
   float margin = 1.25f;       // a window's radius is at least this x its group's [Limit: >= 1]
   unsigned jobs = 0;          // worker threads; 0: all cores
 };
