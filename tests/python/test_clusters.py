@@ -219,14 +219,15 @@ def test_memory_holds_a_group_before_it_coarsens(armadillo):
     hold = dict(memory=m, dt=1 / 60, hysteresis_seconds=0.5)
     first = h.select(eye, g, near, (0, 0, 0, 1), **hold)
     assert m.any() and first.triangles == h.select(eye, g, near, (0, 0, 0, 1)).triangles
-    free = h.select(eye, g, far, (0, 0, 0, 1))
-    held = h.select(eye, g, far, (0, 0, 0, 1), **hold)
+    away = gaze_towards(math.tan(math.radians(30)), -1)  # the 2-degree object 30 degrees from the gaze
+    free = h.select(eye, away, far, (0, 0, 0, 1))
+    held = h.select(eye, away, far, (0, 0, 0, 1), **hold)
     assert free.triangles < first.triangles and held.triangles == first.triangles
     for _ in range(20):  # 0.35 s in all: still held
-        later = h.select(eye, g, far, (0, 0, 0, 1), **hold)
+        later = h.select(eye, away, far, (0, 0, 0, 1), **hold)
     assert later.triangles == first.triangles
     for _ in range(40):  # 1 s in all: past the hysteresis
-        later = h.select(eye, g, far, (0, 0, 0, 1), **hold)
+        later = h.select(eye, away, far, (0, 0, 0, 1), **hold)
     assert later.triangles == free.triangles
     with pytest.raises(ValueError, match="memory"):
-        h.select(eye, g, far, (0, 0, 0, 1), memory=np.zeros(3, np.uint8))
+        h.select(eye, away, far, (0, 0, 0, 1), memory=np.zeros(3, np.uint8))
