@@ -140,6 +140,33 @@ ProfileSectionEntry section_entry(Blob& b, ProfileSection id) {
   }
   return {};
 }
+// The blob with section `id`'s table entry given an id no reader knows (63): what an older reader sees.
+Blob with_unknown_id(const Blob& with, ProfileSection id) {
+  Blob b = with;
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
+    std::uint32_t s;
+    std::memcpy(&s, at, 4);
+    if (s == static_cast<std::uint32_t>(id)) s = 63;
+    std::memcpy(at, &s, 4);
+  }
+  refresh_checksum(b);
+  return b;
+}
+// The blob with `size` bytes at `offset` into section `entry` replaced by `value` (checksum valid):
+// the status and message of opening it.
+std::pair<ProfileStatus, std::string> damaged_section(const Blob& with, const ProfileSectionEntry& entry,
+                                                      std::size_t offset, const void* value,
+                                                      std::size_t size) {
+  Blob b = with;
+  std::memcpy(bytes(b) + entry.offset + offset, value, size);
+  refresh_checksum(b);
+  ProfileError e;
+  const ProfileStatus status = open(b, &e);
+  return std::pair{status, std::string(e.message)};
+}
 }  // namespace
 
 TEST(Profile, ClustersSectionIsOptionalAndChecked) {
@@ -167,17 +194,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   // An older reader (ids it does not know are skipped) sees the profile without it: the same
   // blob with the section's id changed to an unknown one opens, with no Clusters.
   {
-    Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
-      std::uint32_t id;
-      std::memcpy(&id, at, 4);
-      if (id == static_cast<std::uint32_t>(ProfileSection::Clusters)) id = 63;
-      std::memcpy(at, &id, 4);
-    }
-    refresh_checksum(b);
+    Blob b = with_unknown_id(with, ProfileSection::Clusters);
     ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
     EXPECT_EQ(p.cluster_lost, nullptr);
   }
@@ -212,11 +229,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   EXPECT_GT(accepted, 100);
   // Specific damage, each with its own message.
   const auto damaged = [&](std::size_t offset, const void* value, std::size_t size) {
-    Blob b = with;
-    std::memcpy(bytes(b) + entry.offset + offset, value, size);
-    refresh_checksum(b);
-    const ProfileStatus status = open(b, &e);
-    return std::pair{status, std::string(e.message)};
+    return damaged_section(with, entry, offset, value, size);
   };
   const std::uint32_t zero = 0, many = kMaxClusterGroups + 1, bands_over = kMaxBands + 1;
   const float nan = std::nanf(""), negative = -0.5f, lower = 1.0f;
@@ -270,17 +283,7 @@ TEST(Profile, ClusterViewsSectionIsOptionalAndChecked) {
   const ProfileSectionEntry entry = section_entry(const_cast<Blob&>(with), ProfileSection::ClusterViews);
   EXPECT_EQ(entry.size, sizeof(ProfileClusterViewsMeta) + 4 * (9 + 5 * 3 * 7));
   {  // skipped by a reader that does not know it (an unknown id): the Clusters section alone
-    Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
-      std::uint32_t id;
-      std::memcpy(&id, at, 4);
-      if (id == static_cast<std::uint32_t>(ProfileSection::ClusterViews)) id = 63;
-      std::memcpy(at, &id, 4);
-    }
-    refresh_checksum(b);
+    Blob b = with_unknown_id(with, ProfileSection::ClusterViews);
     ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
     EXPECT_EQ(p.cluster_view_lost, nullptr);
     EXPECT_NE(p.cluster_lost, nullptr);
@@ -293,11 +296,7 @@ TEST(Profile, ClusterViewsSectionIsOptionalAndChecked) {
     ASSERT_NE(std::string(e.message).find("ClusterViews"), std::string::npos) << n << ": " << e.message;
   }
   const auto damaged = [&](std::size_t offset, const void* value, std::size_t size) {
-    Blob b = with;
-    std::memcpy(bytes(b) + entry.offset + offset, value, size);
-    refresh_checksum(b);
-    const ProfileStatus status = open(b, &e);
-    return std::pair{status, std::string(e.message)};
+    return damaged_section(with, entry, offset, value, size);
   };
   const std::uint32_t zero = 0, many = kMaxClusterViews + 1, one = 1;
   const float half = 0.5f, big = 1.0f;
@@ -315,17 +314,7 @@ TEST(Profile, ClusterViewsSectionIsOptionalAndChecked) {
                  std::string("ClusterViews: value 38 (group 1) exceeds the Clusters section's bound")}));
   // Without the Clusters section it is refused (written alone: the Clusters section's id made unknown).
   {
-    Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
-      std::uint32_t id;
-      std::memcpy(&id, at, 4);
-      if (id == static_cast<std::uint32_t>(ProfileSection::Clusters)) id = 63;
-      std::memcpy(at, &id, 4);
-    }
-    refresh_checksum(b);
+    Blob b = with_unknown_id(with, ProfileSection::Clusters);
     EXPECT_EQ(open(b, &e), ProfileStatus::MissingSection);
     EXPECT_NE(std::string(e.message).find("ClusterViews needs the Clusters section"), std::string::npos);
   }
