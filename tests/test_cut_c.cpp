@@ -70,6 +70,25 @@ acuity_eye eye_gazing(float right_deg) {
   return e;
 }
 
+// Profile bytes copied into 8-byte-aligned storage, as open_profile needs them.
+acuity::Blob aligned(const std::vector<char>& bytes) {
+  acuity::Blob blob;
+  blob.storage.resize((bytes.size() + 7) / 8);
+  blob.size = bytes.size();
+  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  return blob;
+}
+
+// A C scheduler for one object, the default configuration otherwise (null on failure).
+acuity_scheduler* one_object_scheduler() {
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 1;
+  acuity_scheduler* s = nullptr;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  return s;
+}
+
 acuity::Frame frame_of(const acuity_eye& e, float dt) {
   acuity::Frame f;
   for (int k = 0; k < 3; ++k) f.eyes[0].position[k] = e.position[k];
@@ -245,10 +264,7 @@ TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
   std::ifstream in(std::string(ACUITY_TEST_DATA) + "/profile_v1.acuity", std::ios::binary);
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_EQ(bytes.size(), 592u);
-  acuity::Blob blob;
-  blob.storage.resize((bytes.size() + 7) / 8);
-  blob.size = bytes.size();
-  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  const acuity::Blob blob = aligned(bytes);
   acuity::Profile p{};
   ASSERT_EQ(acuity::open_profile(blob.data(), blob.size, &p), acuity::ProfileStatus::Ok);
   Made m;
@@ -268,11 +284,8 @@ TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
                                     uint32_t(loss.bands_cpod.size()), loss.diameter, lost.data(), &given),
             ACUITY_OK)
       << acuity_last_error();
-  acuity_config c;
-  acuity_config_default(&c);
-  c.max_objects = 1;
-  acuity_scheduler* s = nullptr;
-  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  acuity_scheduler* s = one_object_scheduler();
+  ASSERT_NE(s, nullptr);
   std::vector<uint32_t> memory_a(acuity_cut_memory_size(given), 0),
       memory_b(acuity_cut_memory_size(given), 0);
   std::vector<uint32_t> a(C), b(C);
@@ -381,10 +394,7 @@ TEST(CutC, LossFromAClusterProfileIsTheMeasuredLoss) {
     for (int v = 0; v < 2; ++v)
       for (uint32_t b = 0; b < B; ++b) cells.push_back(v == 0 ? 0.0f : m.lost[g * B + b]);
   const std::vector<char> bytes = with_cluster_sections(v1, m, hash, cells);
-  acuity::Blob blob;
-  blob.storage.resize((bytes.size() + 7) / 8);
-  blob.size = bytes.size();
-  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  const acuity::Blob blob = aligned(bytes);
   acuity::Profile p{};
   ASSERT_EQ(acuity::open_profile(blob.data(), blob.size, &p), acuity::ProfileStatus::Ok);
   acuity::ClusterLoss loss;
@@ -395,11 +405,8 @@ TEST(CutC, LossFromAClusterProfileIsTheMeasuredLoss) {
                                                  bytes.size(), &h),
             ACUITY_OK)
       << acuity_last_error();
-  acuity_config c;
-  acuity_config_default(&c);
-  c.max_objects = 1;
-  acuity_scheduler* s = nullptr;
-  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  acuity_scheduler* s = one_object_scheduler();
+  ASSERT_NE(s, nullptr);
   acuity::SchedulerConfig cc;
   cc.max_objects = 1;
   acuity::Scheduler cpp(cc);
