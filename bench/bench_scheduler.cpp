@@ -436,7 +436,7 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation) {
 // Cluster cuts (Scheduler::select_cut): range(0) objects, each a made-up hierarchy of 63 groups (32
 // groups of 4 finest clusters of 64 triangles along the object's x axis, each made into 2 clusters;
 // pairs of groups grouped again, up to 2 roots), errors doubling per level, a stand-in loss growing
-// with error; the objects 2 to 50 m in front of one eye, the gaze on the view axis. Per frame:
+// with error (with its logs, loss_logs(), as the C ABI and Python load it); the objects 2 to 50 m in front of one eye, the gaze on the view axis. Per frame:
 // begin_frame, then one select_cut per object (items: objects). Compare per object with
 // BM_scheduler/perceptual_static_exact and, per group, with the object rule's frame of 64x objects.
 void BM_cut(benchmark::State& state) {
@@ -481,7 +481,9 @@ void BM_cut(benchmark::State& state) {
   for (const ClusterGroup& g : groups)
     for (int k = 0; k < 6; ++k) lost.push_back(std::min(1.0f, g.error * 4.0f * float(1 << k)));
   const ClusterView view{clusters, groups, roots};
-  const ClusterLoss loss{bands, 2.0f, lost};
+  ClusterLoss loss{bands, 2.0f, lost};
+  const std::vector<float> ln_lost = loss_logs(lost);  // as the C ABI and Python load them
+  loss.ln_lost = ln_lost;
   SchedulerConfig c;
   c.max_objects = 1;
   c.evaluation = Evaluation::Exact;

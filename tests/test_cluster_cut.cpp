@@ -49,6 +49,21 @@ std::vector<float> stand_in_loss(const Built& b, ClusterLoss* loss) {
   return lost;
 }
 
+// Six view cells (+-x, +-y, +-z) whose loss is the stand-in's times a factor in [0, 1] drawn per group
+// and cell: each group's loss then depends on the side it is seen from, unlike its parent's.
+const float kSixCells[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+std::vector<float> six_cells(const std::vector<float>& lost, std::size_t groups, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0, 1);
+  std::vector<float> out;
+  for (std::size_t g = 0; g < groups; ++g)
+    for (int v = 0; v < 6; ++v) {
+      const float f = u(rng) < 0.3f ? 0.0f : u(rng);
+      for (int k = 0; k < 6; ++k) out.push_back(lost[g * 6 + std::size_t(k)] * f);
+    }
+  return out;
+}
+
 // The unit quaternion turning -Z onto unit direction d.
 std::array<float, 4> look_along(std::array<double, 3> d) {
   const double a[3] = {0, 0, -1};
@@ -94,6 +109,10 @@ TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
   ClusterLoss loss;
   const std::vector<float> lost = stand_in_loss(b, &loss);
   loss.lost = lost;
+  ClusterLoss per_cell = loss;  // every other view: the loss per view cell
+  const std::vector<float> cell_lost = six_cells(lost, b.h.groups.size(), 4802);
+  per_cell.view_directions = kSixCells;
+  per_cell.view_lost = cell_lost;
   const Edges e = edges(b.mesh, b.h);
   CrackCheck crack(e);
   std::mt19937 rng(4803);
@@ -123,7 +142,7 @@ TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
     Scheduler s(exact(float(0.5 + 1.5 * u(rng))));
     s.begin_frame(frame_at(eye, target, float(u(rng) * 80 - 40), float(u(rng) * 80 - 40)));
     const float velocity[3] = {float(u(rng) < 0.33 ? size : 0.0), 0, 0};
-    const CutResult r = s.select_cut(b.view(), loss, t, velocity, scratch, drawn);
+    const CutResult r = s.select_cut(b.view(), view % 2 ? per_cell : loss, t, velocity, scratch, drawn);
     ASSERT_EQ(r.status, CutStatus::Ok) << to_string(r.status);
     ASSERT_GT(r.clusters, 0u);
     const std::vector<std::uint32_t> cut(drawn.begin(), drawn.begin() + r.clusters);
@@ -220,6 +239,56 @@ TEST_P(ClosedMesh, NearerOrCloserToTheGazeNeverCoarser) {
   }
   EXPECT_GT(differed, 20u);
   EXPECT_GT(gazed, 50u);
+}
+
+// With the loss per view cell, each group reads the cell the eye is in, seen from the group's centre
+// in object space: a cell that loses nothing lets every group seen from it coarsen (the roots alone
+// are drawn when all are); the other cells' loss, equal to the loss over all views, draws the cut
+// without cells. Turning the object turns the cell the eye is in with it. The cells' arrays must
+// match the groups and bands (BadHierarchy otherwise).
+TEST(ClusterCut, ViewCellsReadTheCellTheEyeIsIn) {
+  const Built b = build("armadillo.off");
+  ClusterLoss loss;
+  const std::vector<float> lost = stand_in_loss(b, &loss);
+  loss.lost = lost;
+  const std::size_t G = b.h.groups.size();
+  std::vector<float> cells;  // +z (cell 4) loses nothing, every other cell what the loss over all views says
+  for (std::size_t g = 0; g < G; ++g)
+    for (int v = 0; v < 6; ++v)
+      for (int k = 0; k < 6; ++k) cells.push_back(v == 4 ? 0.0f : lost[g * 6 + std::size_t(k)]);
+  ClusterLoss per_cell = loss;
+  per_cell.view_directions = kSixCells;
+  per_cell.view_lost = cells;
+  std::vector<std::uint8_t> scratch(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  std::uint64_t roots = 0;
+  for (std::uint32_t r : b.roots) roots += b.h.clusters[r].triangle_count;
+  const double d = b.diameter * 3;
+  const auto cut = [&](const ClusterLoss& l, std::array<double, 3> eye, const std::array<float, 4>& q) {
+    Scheduler s(exact());
+    s.begin_frame(frame_at(eye, {0, 0, 0}, 0, 0));
+    ObjectTransform t;
+    for (int k = 0; k < 4; ++k) t.rotation[k] = q[std::size_t(k)];
+    const CutResult r = s.select_cut(b.view(), l, t, nullptr, scratch, drawn);
+    EXPECT_EQ(r.status, CutStatus::Ok);
+    return r.triangles;
+  };
+  const std::array<float, 4> identity = {0, 0, 0, 1};
+  const std::uint64_t finest = b.h.finest_triangles();
+  EXPECT_EQ(cut(per_cell, {0, 0, d}, identity), roots);  // the eye in +z: every group reads cell 4
+  EXPECT_EQ(cut(per_cell, {d, 0, 0}, identity), cut(loss, {d, 0, 0}, identity));
+  EXPECT_GT(cut(loss, {d, 0, 0}, identity), roots);
+  EXPECT_LE(cut(loss, {d, 0, 0}, identity), finest);
+  // The object turned 90 degrees about y (object +z to world +x): the eye in world +x sees its +z cell.
+  const float h = std::sqrt(0.5f);
+  EXPECT_EQ(cut(per_cell, {d, 0, 0}, {0, h, 0, h}), roots);
+  EXPECT_GT(cut(per_cell, {0, 0, d}, {0, h, 0, h}), roots);
+  ClusterLoss bad = per_cell;
+  bad.view_lost = std::span<const float>(cells).first(cells.size() - 1);
+  Scheduler s(exact());
+  s.begin_frame(frame_at({0, 0, d}, {0, 0, 0}, 0, 0));
+  EXPECT_EQ(s.select_cut(b.view(), bad, ObjectTransform{}, nullptr, scratch, drawn).status,
+            CutStatus::BadHierarchy);
 }
 
 INSTANTIATE_TEST_SUITE_P(Real, ClosedMesh, ::testing::Values("fandisk.off", "armadillo.off", "bunny00.off"));

@@ -70,6 +70,25 @@ acuity_eye eye_gazing(float right_deg) {
   return e;
 }
 
+// Profile bytes copied into 8-byte-aligned storage, as open_profile needs them.
+acuity::Blob aligned(const std::vector<char>& bytes) {
+  acuity::Blob blob;
+  blob.storage.resize((bytes.size() + 7) / 8);
+  blob.size = bytes.size();
+  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  return blob;
+}
+
+// A C scheduler for one object, the default configuration otherwise (null on failure).
+acuity_scheduler* one_object_scheduler() {
+  acuity_config c;
+  acuity_config_default(&c);
+  c.max_objects = 1;
+  acuity_scheduler* s = nullptr;
+  EXPECT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  return s;
+}
+
 acuity::Frame frame_of(const acuity_eye& e, float dt) {
   acuity::Frame f;
   for (int k = 0; k < 3; ++k) f.eyes[0].position[k] = e.position[k];
@@ -245,10 +264,7 @@ TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
   std::ifstream in(std::string(ACUITY_TEST_DATA) + "/profile_v1.acuity", std::ios::binary);
   const std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_EQ(bytes.size(), 592u);
-  acuity::Blob blob;
-  blob.storage.resize((bytes.size() + 7) / 8);
-  blob.size = bytes.size();
-  std::memcpy(blob.storage.data(), bytes.data(), bytes.size());
+  const acuity::Blob blob = aligned(bytes);
   acuity::Profile p{};
   ASSERT_EQ(acuity::open_profile(blob.data(), blob.size, &p), acuity::ProfileStatus::Ok);
   Made m;
@@ -268,11 +284,8 @@ TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
                                     uint32_t(loss.bands_cpod.size()), loss.diameter, lost.data(), &given),
             ACUITY_OK)
       << acuity_last_error();
-  acuity_config c;
-  acuity_config_default(&c);
-  c.max_objects = 1;
-  acuity_scheduler* s = nullptr;
-  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  acuity_scheduler* s = one_object_scheduler();
+  ASSERT_NE(s, nullptr);
   std::vector<uint32_t> memory_a(acuity_cut_memory_size(given), 0),
       memory_b(acuity_cut_memory_size(given), 0);
   std::vector<uint32_t> a(C), b(C);
@@ -306,5 +319,140 @@ TEST(CutC, LossFromAProfileIsTheProvisionalLoss) {
   EXPECT_EQ(none, nullptr);
   acuity_hierarchy_destroy(given);
   acuity_hierarchy_destroy(from_profile);
+  acuity_destroy(s);
+}
+
+namespace {
+// profile_v1.acuity with a Clusters section for `m` (and a ClusterViews section of two cells, +z and
+// -z, when cells is non-empty: [G 2 B]) appended, as `acuity profile` of a cluster glTF writes them.
+std::vector<char> with_cluster_sections(const std::vector<char>& v1, const Made& m, std::uint64_t hash,
+                                        const std::vector<float>& cells) {
+  acuity::ProfileHeader h;
+  std::memcpy(&h, v1.data(), sizeof h);
+  const std::size_t old_table_end = sizeof h + h.section_count * sizeof(acuity::ProfileSectionEntry);
+  std::vector<acuity::ProfileSectionEntry> table(h.section_count);
+  std::memcpy(static_cast<void*>(table.data()), v1.data() + sizeof h, old_table_end - sizeof h);
+  const std::size_t added = cells.empty() ? 1 : 2;
+  const std::size_t shift = added * sizeof(acuity::ProfileSectionEntry);
+  for (acuity::ProfileSectionEntry& e : table) e.offset += shift;
+  std::vector<char> body(old_table_end + shift, 0);
+  body.insert(body.end(), v1.begin() + std::ptrdiff_t(old_table_end),
+              v1.begin() + std::ptrdiff_t(h.total_size));
+  const auto append = [&](acuity::ProfileSection id, const std::vector<char>& bytes) {
+    body.resize((body.size() + 7) / 8 * 8, 0);
+    table.push_back({static_cast<std::uint32_t>(id), 0, body.size(), bytes.size()});
+    body.insert(body.end(), bytes.begin(), bytes.end());
+  };
+  const auto bytes_of = [](const void* p, std::size_t n) {
+    const char* c = static_cast<const char*>(p);
+    return std::vector<char>(c, c + n);
+  };
+  const acuity::ProfileClusterMeta meta{
+      uint32_t(m.groups.size()), uint32_t(m.bands.size()), 64, 12, hash, {0, 0}};
+  std::vector<char> section = bytes_of(&meta, sizeof meta);
+  for (const std::vector<float>* v : {&m.bands, &m.lost}) {
+    const std::vector<char> b = bytes_of(v->data(), v->size() * sizeof(float));
+    section.insert(section.end(), b.begin(), b.end());
+  }
+  append(acuity::ProfileSection::Clusters, section);
+  if (!cells.empty()) {
+    const acuity::ProfileClusterViewsMeta vm{2, acuity::kMinCellSamples, {0, 0}};
+    const float dirs[6] = {0, 0, 1, 0, 0, -1};
+    section = bytes_of(&vm, sizeof vm);
+    const std::vector<char> d = bytes_of(dirs, sizeof dirs), c = bytes_of(cells.data(), cells.size() * 4);
+    section.insert(section.end(), d.begin(), d.end());
+    section.insert(section.end(), c.begin(), c.end());
+    append(acuity::ProfileSection::ClusterViews, section);
+  }
+  h.section_count = uint32_t(table.size());
+  h.total_size = body.size();
+  h.checksum = 0;
+  std::memcpy(body.data(), &h, sizeof h);
+  std::memcpy(body.data() + sizeof h, table.data(), table.size() * sizeof(acuity::ProfileSectionEntry));
+  h.checksum = acuity::profile_checksum(body.data(), body.size());
+  std::memcpy(body.data(), &h, sizeof h);
+  return body;
+}
+}  // namespace
+
+// The measured loss of a cluster profile (its Clusters section, and its cells): read by
+// acuity_hierarchy_create_from_profile as measured_group_loss reads it for C++, so the cuts are
+// select_cut's with that loss, bit for bit; the eye in the cell that loses nothing draws the roots
+// alone; a section that measured another hierarchy is BAD_PROFILE.
+TEST(CutC, LossFromAClusterProfileIsTheMeasuredLoss) {
+  std::ifstream in(std::string(ACUITY_TEST_DATA) + "/profile_v1.acuity", std::ios::binary);
+  const std::vector<char> v1((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Made m;
+  const uint32_t C = uint32_t(m.clusters.size()), G = uint32_t(m.groups.size()), B = uint32_t(m.bands.size());
+  std::vector<acuity::Cluster> cr(C);
+  std::vector<acuity::ClusterGroup> gr(G);
+  std::memcpy(static_cast<void*>(cr.data()), m.clusters.data(), sizeof(acuity_cluster) * C);
+  std::memcpy(static_cast<void*>(gr.data()), m.groups.data(), sizeof(acuity_cluster_group) * G);
+  const std::uint64_t hash = acuity::cluster_hierarchy_hash(cr, gr);
+  std::vector<float> cells;  // cell +z loses nothing, cell -z the loss over all views
+  for (uint32_t g = 0; g < G; ++g)
+    for (int v = 0; v < 2; ++v)
+      for (uint32_t b = 0; b < B; ++b) cells.push_back(v == 0 ? 0.0f : m.lost[g * B + b]);
+  const std::vector<char> bytes = with_cluster_sections(v1, m, hash, cells);
+  const acuity::Blob blob = aligned(bytes);
+  acuity::Profile p{};
+  ASSERT_EQ(acuity::open_profile(blob.data(), blob.size, &p), acuity::ProfileStatus::Ok);
+  acuity::ClusterLoss loss;
+  ASSERT_EQ(acuity::measured_group_loss(p, cr, gr, &loss), acuity::GroupLossStatus::Measured);
+  ASSERT_EQ(loss.view_directions.size(), 6u);
+  acuity_hierarchy* h = nullptr;
+  ASSERT_EQ(acuity_hierarchy_create_from_profile(m.clusters.data(), C, m.groups.data(), G, bytes.data(),
+                                                 bytes.size(), &h),
+            ACUITY_OK)
+      << acuity_last_error();
+  acuity_scheduler* s = one_object_scheduler();
+  ASSERT_NE(s, nullptr);
+  acuity::SchedulerConfig cc;
+  cc.max_objects = 1;
+  acuity::Scheduler cpp(cc);
+  const std::vector<std::uint32_t> roots = acuity::cluster_roots(cr);
+  std::vector<uint32_t> memory(acuity_cut_memory_size(h), 0), drawn(C), expected(C);
+  std::vector<acuity::CutGroupMemory> remembered(G);
+  std::vector<std::uint8_t> scratch(G);
+  const double position[3] = {0, 0, 0};
+  const float rotation[4] = {0, 0, 0, 1};
+  std::set<uint64_t> triangles;
+  for (float z : {24.0f, -24.0f, 240.0f, -240.0f}) {
+    acuity_eye e = eye_gazing(0);
+    e.position[2] = z;
+    if (z < 0) {  // turned to look along +z at the object
+      e.orientation[1] = 1;
+      e.orientation[3] = 0;
+    }
+    ASSERT_EQ(acuity_begin_frame(s, &e, 1, 0), ACUITY_OK);
+    acuity::Frame f = frame_of(e, 0);
+    for (int k = 0; k < 4; ++k) f.eyes[0].orientation[k] = e.orientation[k];
+    cpp.begin_frame(f);
+    acuity_cut_result r;
+    r.struct_size = sizeof r;
+    ASSERT_EQ(acuity_select_cut(s, h, position, rotation, 1, nullptr, memory.data(), 4 * memory.size(), C,
+                                drawn.data(), &r),
+              ACUITY_OK);
+    acuity::ObjectTransform t;
+    const acuity::CutResult x =
+        cpp.select_cut({cr, gr, roots}, loss, t, nullptr, remembered, scratch, expected);
+    ASSERT_EQ(x.status, acuity::CutStatus::Ok);
+    ASSERT_EQ(r.clusters, x.clusters) << z;
+    EXPECT_TRUE(std::equal(drawn.begin(), drawn.begin() + r.clusters, expected.begin())) << z;
+    if (z > 0) { EXPECT_EQ(r.clusters, roots.size()) << "the eye in the cell that loses nothing"; }
+    triangles.insert(r.triangles);
+    ASSERT_EQ(acuity_end_frame(s), ACUITY_OK);
+    cpp.end_frame();
+  }
+  EXPECT_GE(triangles.size(), 2u);
+  acuity_hierarchy* none = nullptr;
+  const std::vector<char> other = with_cluster_sections(v1, m, hash ^ 1, {});
+  EXPECT_EQ(acuity_hierarchy_create_from_profile(m.clusters.data(), C, m.groups.data(), G, other.data(),
+                                                 other.size(), &none),
+            ACUITY_BAD_PROFILE);
+  EXPECT_NE(std::string(acuity_last_error()).find("another hierarchy"), std::string::npos)
+      << acuity_last_error();
+  EXPECT_EQ(none, nullptr);
+  acuity_hierarchy_destroy(h);
   acuity_destroy(s);
 }

@@ -140,6 +140,33 @@ ProfileSectionEntry section_entry(Blob& b, ProfileSection id) {
   }
   return {};
 }
+// The blob with section `id`'s table entry given an id no reader knows (63): what an older reader sees.
+Blob with_unknown_id(const Blob& with, ProfileSection id) {
+  Blob b = with;
+  ProfileHeader h;
+  std::memcpy(&h, bytes(b), sizeof h);
+  for (std::uint32_t i = 0; i < h.section_count; ++i) {
+    unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
+    std::uint32_t s;
+    std::memcpy(&s, at, 4);
+    if (s == static_cast<std::uint32_t>(id)) s = 63;
+    std::memcpy(at, &s, 4);
+  }
+  refresh_checksum(b);
+  return b;
+}
+// The blob with `size` bytes at `offset` into section `entry` replaced by `value` (checksum valid):
+// the status and message of opening it.
+std::pair<ProfileStatus, std::string> damaged_section(const Blob& with, const ProfileSectionEntry& entry,
+                                                      std::size_t offset, const void* value,
+                                                      std::size_t size) {
+  Blob b = with;
+  std::memcpy(bytes(b) + entry.offset + offset, value, size);
+  refresh_checksum(b);
+  ProfileError e;
+  const ProfileStatus status = open(b, &e);
+  return std::pair{status, std::string(e.message)};
+}
 }  // namespace
 
 TEST(Profile, ClustersSectionIsOptionalAndChecked) {
@@ -167,17 +194,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   // An older reader (ids it does not know are skipped) sees the profile without it: the same
   // blob with the section's id changed to an unknown one opens, with no Clusters.
   {
-    Blob b = with;
-    ProfileHeader h;
-    std::memcpy(&h, bytes(b), sizeof h);
-    for (std::uint32_t i = 0; i < h.section_count; ++i) {
-      unsigned char* at = bytes(b) + sizeof h + i * sizeof(ProfileSectionEntry);
-      std::uint32_t id;
-      std::memcpy(&id, at, 4);
-      if (id == static_cast<std::uint32_t>(ProfileSection::Clusters)) id = 63;
-      std::memcpy(at, &id, 4);
-    }
-    refresh_checksum(b);
+    Blob b = with_unknown_id(with, ProfileSection::Clusters);
     ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
     EXPECT_EQ(p.cluster_lost, nullptr);
   }
@@ -212,11 +229,7 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   EXPECT_GT(accepted, 100);
   // Specific damage, each with its own message.
   const auto damaged = [&](std::size_t offset, const void* value, std::size_t size) {
-    Blob b = with;
-    std::memcpy(bytes(b) + entry.offset + offset, value, size);
-    refresh_checksum(b);
-    const ProfileStatus status = open(b, &e);
-    return std::pair{status, std::string(e.message)};
+    return damaged_section(with, entry, offset, value, size);
   };
   const std::uint32_t zero = 0, many = kMaxClusterGroups + 1, bands_over = kMaxBands + 1;
   const float nan = std::nanf(""), negative = -0.5f, lower = 1.0f;
@@ -242,6 +255,71 @@ TEST(Profile, ClustersSectionIsOptionalAndChecked) {
   EXPECT_THROW(spectra::encode_profile(bad), spectra::InvalidProfile);
   bad = d;
   bad.clusters.view_count = 0;
+  EXPECT_THROW(spectra::encode_profile(bad), spectra::InvalidProfile);
+}
+
+// The optional ClusterViews section (issue 48: each group's loss per view cell): only with Clusters,
+// read back in place, skipped by older readers, and damage rejected naming it (truncations, counts,
+// a direction that is not a unit vector, a value above the Clusters section's bound).
+TEST(Profile, ClusterViewsSectionIsOptionalAndChecked) {
+  spectra::ProfileData d = with_clusters(5, 7);
+  const float dirs[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}};
+  for (const auto& v : dirs) d.clusters.view_directions.insert(d.clusters.view_directions.end(), v, v + 3);
+  for (std::uint32_t g = 0; g < 5; ++g)
+    for (std::uint32_t v = 0; v < 3; ++v)
+      for (std::uint32_t b = 0; b < 7; ++b)
+        d.clusters.view_lost.push_back(d.clusters.lost[g * 7 + b] * float(v) / 2);
+  d.clusters.view_samples = 42;
+  Profile p;
+  ProfileError e;
+  const Blob with = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(with.data(), with.size, &p, &e), ProfileStatus::Ok) << e.message;
+  ASSERT_NE(p.cluster_view_lost, nullptr);
+  EXPECT_EQ(p.cluster_views.view_count, 3u);
+  EXPECT_EQ(p.cluster_views.sample_count, 42u);
+  for (std::size_t i = 0; i < 9; ++i) EXPECT_EQ(p.cluster_view_directions[i], d.clusters.view_directions[i]);
+  for (std::size_t i = 0; i < d.clusters.view_lost.size(); ++i)
+    ASSERT_EQ(p.cluster_view_lost[i], d.clusters.view_lost[i]);
+  const ProfileSectionEntry entry = section_entry(const_cast<Blob&>(with), ProfileSection::ClusterViews);
+  EXPECT_EQ(entry.size, sizeof(ProfileClusterViewsMeta) + 4 * (9 + 5 * 3 * 7));
+  {  // skipped by a reader that does not know it (an unknown id): the Clusters section alone
+    Blob b = with_unknown_id(with, ProfileSection::ClusterViews);
+    ASSERT_EQ(open_profile(b.data(), b.size, &p, &e), ProfileStatus::Ok) << e.message;
+    EXPECT_EQ(p.cluster_view_lost, nullptr);
+    EXPECT_NE(p.cluster_lost, nullptr);
+  }
+  for (std::uint64_t n = 0; n < entry.size; ++n) {  // every truncation
+    Blob b = with;
+    set_section_size(b, ProfileSection::ClusterViews, n);
+    refresh_checksum(b);
+    ASSERT_NE(open(b, &e), ProfileStatus::Ok) << n;
+    ASSERT_NE(std::string(e.message).find("ClusterViews"), std::string::npos) << n << ": " << e.message;
+  }
+  const auto damaged = [&](std::size_t offset, const void* value, std::size_t size) {
+    return damaged_section(with, entry, offset, value, size);
+  };
+  const std::uint32_t zero = 0, many = kMaxClusterViews + 1, one = 1;
+  const float half = 0.5f, big = 1.0f;
+  EXPECT_EQ(damaged(0, &zero, 4).first, ProfileStatus::BadCounts);
+  EXPECT_EQ(damaged(0, &many, 4).first, ProfileStatus::BadCounts);
+  EXPECT_EQ(damaged(4, &one, 4).first, ProfileStatus::BadCounts);  // fewer samples than cells
+  EXPECT_EQ(damaged(8, &one, 4).first, ProfileStatus::BadCounts);  // reserved
+  EXPECT_EQ(
+      damaged(16 + 12, &half, 4),
+      (std::pair{ProfileStatus::BadValue, std::string("ClusterViews: direction 1 is not a unit vector")}));
+  // group 1, cell 2, band 3: above the Clusters section's value for group 1, band 3
+  EXPECT_EQ(
+      damaged(16 + 4 * (9 + (1 * 3 + 2) * 7 + 3), &big, 4),
+      (std::pair{ProfileStatus::BadValue,
+                 std::string("ClusterViews: value 38 (group 1) exceeds the Clusters section's bound")}));
+  // Without the Clusters section it is refused (written alone: the Clusters section's id made unknown).
+  {
+    Blob b = with_unknown_id(with, ProfileSection::Clusters);
+    EXPECT_EQ(open(b, &e), ProfileStatus::MissingSection);
+    EXPECT_NE(std::string(e.message).find("ClusterViews needs the Clusters section"), std::string::npos);
+  }
+  spectra::ProfileData bad = d;  // the writer wants whole rows
+  bad.clusters.view_lost.pop_back();
   EXPECT_THROW(spectra::encode_profile(bad), spectra::InvalidProfile);
 }
 

@@ -62,6 +62,18 @@ void run(const std::string& path, bool json) {
                      {"bands_cpod", std::vector<float>(p.cluster_bands, p.cluster_bands + c.band_count)},
                      {"max_lost_contrast_per_band", peak},
                      {"median_lost_contrast_per_band", median}};
+    if (p.cluster_view_lost) {  // the optional ClusterViews section: per band, the median over groups and cells
+      const std::size_t Vc = p.cluster_views.view_count, n = std::size_t(c.group_count) * Vc;
+      std::vector<float> cell(n), cell_median(c.band_count);
+      for (std::uint32_t b = 0; b < c.band_count; ++b) {
+        for (std::size_t i = 0; i < n; ++i) cell[i] = p.cluster_view_lost[i * c.band_count + b];
+        std::sort(cell.begin(), cell.end());
+        cell_median[b] = cell[n / 2];
+      }
+      j["clusters"]["view_cells"] = Vc;
+      j["clusters"]["view_samples"] = p.cluster_views.sample_count;
+      j["clusters"]["median_lost_contrast_per_band_and_cell"] = cell_median;
+    }
   }
   if (json) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -91,8 +103,13 @@ void run(const std::string& path, bool json) {
   const nlohmann::json& c = j["clusters"];
   std::printf("\nclusters  %u groups, each measured from %u directions in %u px windows\n",
               c["groups"].get<unsigned>(), c["views"].get<unsigned>(), c["window_pixels"].get<unsigned>());
-  for (const char* row : {"bands_cpod", "max_lost_contrast_per_band", "median_lost_contrast_per_band"}) {
-    std::printf("%-30s", row);
+  if (c.contains("view_cells"))
+    std::printf("          and per view: %u cells, each bounding the directions measured in or near it\n",
+                c["view_cells"].get<unsigned>());
+  for (const char* row : {"bands_cpod", "max_lost_contrast_per_band", "median_lost_contrast_per_band",
+                          "median_lost_contrast_per_band_and_cell"}) {
+    if (!c.contains(row)) continue;
+    std::printf("%-38s", row);
     for (float x : c[row].get<std::vector<float>>()) std::printf(" %6.3g", x);
     std::printf("\n");
   }

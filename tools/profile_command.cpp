@@ -69,8 +69,12 @@ void run_clusters(const ProfileOptions& o, const bake::ClusterFile& file, double
                              progress_bar, &report, &clusters);
   spectra::write_profile(o.output, data);
   const Blob blob = spectra::encode_profile(data);
-  const std::size_t section =
-      sizeof(ProfileClusterMeta) + sizeof(float) * (data.clusters.bands.size() + data.clusters.lost.size());
+  const spectra::ProfileClusterData& c = data.clusters;
+  const std::size_t section = sizeof(ProfileClusterMeta) + sizeof(float) * (c.bands.size() + c.lost.size());
+  const std::size_t cells =
+      c.view_lost.empty()
+          ? 0
+          : sizeof(ProfileClusterViewsMeta) + sizeof(float) * (c.view_directions.size() + c.view_lost.size());
   std::printf("profile   %s\n", o.output.c_str());
   std::printf("level 0   %u triangles, %u views kept\n", data.levels[0].triangles, report.views_kept);
   std::printf(
@@ -78,8 +82,12 @@ void run_clusters(const ProfileOptions& o, const bake::ClusterFile& file, double
       "diameter)\n",
       clusters.groups, clusters.views, clusters.hidden, b.window_pixels, data.clusters.bands.size(),
       data.clusters.bands.front(), data.clusters.bands.back());
-  std::printf("size      %zu bytes (Clusters section %zu: %.1f bytes per group)\n", blob.size, section,
-              double(section) / clusters.groups);
+  std::printf(
+      "size      %zu bytes (Clusters section %zu: %.1f bytes per group; ClusterViews %zu, %zu cells: %.1f "
+      "bytes "
+      "per group)\n",
+      blob.size, section, double(section) / clusters.groups, cells, c.view_directions.size() / 3,
+      double(cells) / clusters.groups);
   std::printf("time      load %.2f s, level 0 %.2f s, groups %.2f s\n", load_seconds, report.seconds,
               clusters.seconds);
 }

@@ -400,10 +400,14 @@ acuity_status acuity_hierarchy_create(const acuity_cluster* clusters, uint32_t c
                                       const acuity_cluster_group* groups, uint32_t group_count,
                                       const float* bands_cpod, uint32_t band_count, float diameter,
                                       const float* lost, acuity_hierarchy** out);
-/* The same with the loss derived from the object's profile (.acuity bytes of its chain, copied and
- * validated; BAD_PROFILE otherwise) by acuity::provisional_group_loss (acuity/clusters.hpp). Not yet
- * read here: a cluster profile's measured Clusters section (acuity::measured_group_loss, which C++
- * and Python's acuity.clusters.load use): open, issue 48. */
+/* The same with the loss read from the object's profile (.acuity bytes, copied and validated;
+ * BAD_PROFILE otherwise): the profile of the hierarchy's own glTF (`acuity profile OUT.glb`) gives
+ * each group's measured loss (its Clusters section, and per view cell its ClusterViews section when
+ * it measured 162 directions per group: acuity::measured_group_loss, as C++ and Python's
+ * acuity.clusters.load read it);
+ * BAD_PROFILE when that section measured another hierarchy (group count or hash differ). A profile
+ * without one (a chain of the same mesh) gives the fallback, acuity::provisional_group_loss
+ * (acuity/clusters.hpp). */
 acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* clusters, uint32_t cluster_count,
                                                    const acuity_cluster_group* groups, uint32_t group_count,
                                                    const void* profile, size_t profile_size,

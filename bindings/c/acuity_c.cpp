@@ -665,9 +665,13 @@ struct acuity_hierarchy {
   std::vector<acuity::ClusterGroup> groups;
   std::vector<std::uint32_t> roots;
   std::vector<float> bands, lost;
+  std::vector<float> view_directions, view_lost;  // the loss per view cell, or empty
+  std::vector<float> ln_lost, ln_view_lost;       // their logs (acuity::loss_logs)
   float diameter = 0;
   acuity::ClusterView view() const { return {clusters, groups, roots}; }
-  acuity::ClusterLoss loss() const { return {bands, diameter, lost}; }
+  acuity::ClusterLoss loss() const {
+    return {bands, diameter, lost, view_directions, view_lost, ln_lost, ln_view_lost};
+  }
 };
 static_assert(sizeof(acuity_cluster) == sizeof(acuity::Cluster) &&
                   offsetof(acuity_cluster, refined) == offsetof(acuity::Cluster, refined) &&
@@ -716,6 +720,7 @@ acuity_status make_hierarchy(const acuity_cluster* clusters, uint32_t cluster_co
   h->roots = acuity::cluster_roots(h->clusters);
   h->bands.assign(bands_cpod, bands_cpod + band_count);
   h->lost = lost;
+  h->ln_lost = acuity::loss_logs(lost);
   h->diameter = diameter;
   *out = h.release();
   return ACUITY_OK;
@@ -755,10 +760,32 @@ acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* cluster
     std::vector<acuity::ClusterGroup> records(group_count);
     if (group_count)
       std::memcpy(static_cast<void*>(records.data()), groups, sizeof(acuity_cluster_group) * group_count);
+    std::vector<acuity::Cluster> cluster_records(cluster_count);
+    std::memcpy(static_cast<void*>(cluster_records.data()), clusters, sizeof(acuity_cluster) * cluster_count);
+    // The measured loss (the profile's Clusters section, and its cells when it has them), else the
+    // provisional one derived from a chain profile.
     acuity::ClusterLoss loss;
-    const std::vector<float> lost = acuity::provisional_group_loss(p, records, &loss);
-    return make_hierarchy(clusters, cluster_count, groups, group_count, loss.bands_cpod.data(),
-                          uint32_t(loss.bands_cpod.size()), loss.diameter, lost, out, where);
+    std::vector<float> lost;
+    switch (acuity::measured_group_loss(p, cluster_records, records, &loss)) {
+      case acuity::GroupLossStatus::Measured:
+        lost.assign(loss.lost.begin(), loss.lost.end());
+        break;
+      case acuity::GroupLossStatus::NoSection:
+        lost = acuity::provisional_group_loss(p, records, &loss);
+        break;
+      case acuity::GroupLossStatus::OtherHierarchy:
+        return fail(ACUITY_BAD_PROFILE,
+                    std::string(where) + to_string(acuity::GroupLossStatus::OtherHierarchy));
+    }
+    const acuity_status st =
+        make_hierarchy(clusters, cluster_count, groups, group_count, loss.bands_cpod.data(),
+                       uint32_t(loss.bands_cpod.size()), loss.diameter, lost, out, where);
+    if (st == ACUITY_OK) {
+      (*out)->view_directions.assign(loss.view_directions.begin(), loss.view_directions.end());
+      (*out)->view_lost.assign(loss.view_lost.begin(), loss.view_lost.end());
+      (*out)->ln_view_lost = acuity::loss_logs(loss.view_lost);
+    }
+    return st;
   });
 }
 

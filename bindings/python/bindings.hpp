@@ -5,6 +5,7 @@
 #include <string>
 
 #include "acuity/blob.hpp"
+#include "acuity/models.hpp"
 #include "acuity/profile.hpp"
 
 namespace acuity::python {
@@ -25,4 +26,6 @@ void bind_sim(pybind11::module_ m);
 void bind_clusters(pybind11::module_ m);  // acuity.clusters: cluster cuts of one object
 // "threshold model name: default, ..." (acuity::threshold_model_names()), for the config properties.
 const char* threshold_model_doc();
+// The model a name names (parse_threshold_model); ValueError listing the names otherwise.
+ThresholdModel model_from(const std::string& name);
 }  // namespace acuity::python

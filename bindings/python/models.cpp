@@ -20,13 +20,6 @@ namespace {
 using Array = py::array_t<double, py::array::forcecast>;
 using Params = std::optional<ModelParams>;
 
-ThresholdModel model_from(const std::string& name) {
-  ThresholdModel m{};
-  if (!parse_threshold_model(name.c_str(), &m))
-    throw py::value_error("unknown model '" + name + "': expected one of " + threshold_model_names());
-  return m;
-}
-
 CsfFit fit_from(const std::string& name) {
   CsfFit f{};
   if (!parse_csf_fit(name.c_str(), &f))
@@ -45,6 +38,13 @@ auto vec(Fn fn) {
 const char* threshold_model_doc() {
   static const std::string doc = std::string("threshold model name: ") + threshold_model_names();
   return doc.c_str();
+}
+
+ThresholdModel model_from(const std::string& name) {
+  ThresholdModel m{};
+  if (!parse_threshold_model(name.c_str(), &m))
+    throw py::value_error("unknown model '" + name + "': expected one of " + threshold_model_names());
+  return m;
 }
 
 void bind_models(py::module_ m) {

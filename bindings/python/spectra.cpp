@@ -160,6 +160,32 @@ void bind_spectra(py::module_ m) {
       "lowest band's centre [cycles per image] (2).");
 
   m.def(
+      "lost_contrast_maps",
+      [](F32 level, F32 reference, std::uint32_t orientations, float lowest_band) -> py::tuple {
+        const Image a = to_image(level), b = to_image(reference);
+        if (!(lowest_band > 0) || !std::isfinite(lowest_band))
+          throw py::value_error("lowest_band: a positive number of cycles per image expected");
+        const LostContrast analyzer(a.width, analysis(orientations, 0, 1.0f, lowest_band));
+        const std::vector<std::vector<float>> maps = analyzer.contrast_maps(a, *analyzer.prepare(b));
+        py::list out;
+        const std::uint32_t B = analyzer.band_count();
+        for (std::uint32_t band = 0; band < B; ++band) {
+          const py::ssize_t m = analyzer.map_size(band);
+          py::array_t<float> x({py::ssize_t(orientations), m, m});
+          for (std::uint32_t t = 0; t < orientations; ++t)
+            std::memcpy(x.mutable_data() + std::size_t(t) * m * m, maps[std::size_t(t) * B + band].data(),
+                        std::size_t(m) * m * sizeof(float));
+          out.append(x);
+        }
+        return py::make_tuple(out, analyzer.bands());
+      },
+      "level"_a, "reference"_a, "orientations"_a = 8, "lowest_band"_a = AnalysisSettings{}.lowest_band,
+      "Where lost_contrast's loss lies (octave bands up to pixels / 4): (a list over bands of arrays\n"
+      "[orientations, m, m] of the lost contrast over the image, sample (r, c) at the centre of pixel\n"
+      "(r s, c s) with s = pixels / m; band centres [cycles per image]). Each array's maximum is\n"
+      "lost_contrast's value. For judges whose threshold varies over the image.");
+
+  m.def(
       "reddy_features",
       [](F32 image, std::uint32_t orientations) {
         return reddy_features(to_image(image), analysis(orientations, 0, 1.0f));

@@ -34,6 +34,12 @@ std::uint64_t cluster_hierarchy_hash(std::span<const Cluster> clusters,
                          groups.data(), groups.size_bytes());
 }
 
+std::vector<float> loss_logs(std::span<const float> values) {
+  std::vector<float> out(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) out[i] = std::log(values[i]);
+  return out;
+}
+
 const char* to_string(GroupLossStatus status) {
   switch (status) {
     case GroupLossStatus::Measured:
@@ -56,6 +62,11 @@ GroupLossStatus measured_group_loss(const Profile& p, std::span<const Cluster> c
   loss->bands_cpod = std::span<const float>(p.cluster_bands, B);
   loss->diameter = 2.0f * p.meta.sphere[3];
   loss->lost = std::span<const float>(p.cluster_lost, groups.size() * B);
+  const std::size_t V =
+      p.cluster_view_lost && p.cluster_views.sample_count >= kMinCellSamples ? p.cluster_views.view_count : 0;
+  loss->view_directions = std::span<const float>(p.cluster_view_directions, 3 * V);
+  loss->view_lost = std::span<const float>(p.cluster_view_lost, groups.size() * V * B);
+  loss->ln_lost = loss->ln_view_lost = {};
   return GroupLossStatus::Measured;
 }
 
@@ -94,13 +105,21 @@ std::vector<float> provisional_group_loss(const Profile& p, std::span<const Clus
   loss->bands_cpod = std::span<const float>(p.bands, B);
   loss->diameter = float(diameter);
   loss->lost = out;
+  loss->view_directions = loss->view_lost = loss->ln_lost = loss->ln_view_lost = {};
   return out;
 }
 
 // One object as the cut sees it from each eye.
 struct Scheduler::Impl::CutObject {
-  Vec3 origin[2];  // the object's origin relative to each eye [m]
-  float q[4];      // object to world
+  Vec3 origin[2];             // the object's origin relative to each eye [m]
+  float q[4];                 // object to world
+  float q_inv[4];             // world to object
+  const float* lost;          // [G B], the largest over the view cells
+  const float* view_dirs;     // the loss's view cells [V 3], object space, or null
+  const float* view_lost;     // [G V B]
+  const float* ln_lost;       // ln of lost, or null (taken per band)
+  const float* ln_view_lost;  // ln of view_lost, or null
+  std::uint32_t V;
   float scale;
   float size;      // loss.diameter x scale [m]
   bool moving[2];  // its image moves on the retina of each eye
@@ -115,7 +134,7 @@ struct Scheduler::Impl::CutObject {
 // first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
 // the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
 float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
-                                   const float* lost, GroupExplain* explain) const {
+                                   std::size_t index, GroupExplain* explain) const {
   const EyeCache& eye = eyes_[i];
   const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
   const float d = length(c), r = o.scale * g.radius;
@@ -126,6 +145,25 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
     return kInf;
   }
   const Vec3 u = (1.0f / d) * c;
+  // The loss seen from the eye's view cell: the cell whose direction (from the group towards the
+  // eye, object space) is nearest to the eye's.
+  std::size_t row = index * o.B;  // into lost (or view_lost) and their logs
+  if (o.view_dirs) {
+    const Vec3 to_eye = rotate(o.q_inv, -1.0f * u);
+    std::uint32_t best = 0;
+    float best_dot = -2.0f;
+    for (std::uint32_t v = 0; v < o.V; ++v) {
+      const float x = dot(to_eye, load(o.view_dirs + 3 * v));
+      if (x > best_dot) {
+        best_dot = x;
+        best = v;
+      }
+    }
+    row = (index * o.V + best) * o.B;
+  }
+  const float* lost = (o.view_dirs ? o.view_lost : o.lost) + row;
+  const float* ln_lost = o.view_dirs ? o.ln_view_lost : o.ln_lost;  // given, or taken here
+  if (ln_lost) ln_lost += row;
   const float radius_deg = angular_radius_deg(d, r);
   const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
   const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
@@ -143,7 +181,7 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
   float score = -kInf;
   std::uint32_t limit = 0;
   for (std::uint32_t b = 0; b < o.B; ++b) {
-    const float x = std::log(lost[b]) - ln_ct[b] - o.ln_q;
+    const float x = (ln_lost ? ln_lost[b] : std::log(lost[b])) - ln_ct[b] - o.ln_q;
     if (!(x <= score)) {  // NaN counts as visible
       score = x == x ? x : kInf;
       limit = b;
@@ -212,7 +250,11 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   };
   const std::size_t G = h.groups.size(), B = loss.bands_cpod.size();
   if (h.clusters.empty() || B == 0 || B > kMaxBands || loss.lost.size() != G * B || !(loss.diameter > 0.0f) ||
-      !std::isfinite(loss.diameter) || scratch.size() < G || (!memory.empty() && memory.size() < G))
+      !std::isfinite(loss.diameter) || scratch.size() < G || (!memory.empty() && memory.size() < G) ||
+      loss.view_directions.size() % 3 != 0 ||
+      loss.view_lost.size() != G * B * (loss.view_directions.size() / 3) ||
+      (!loss.ln_lost.empty() && loss.ln_lost.size() != loss.lost.size()) ||
+      (!loss.ln_view_lost.empty() && loss.ln_view_lost.size() != loss.view_lost.size()))
     return finest(CutStatus::BadHierarchy, 0);
 
   CutObject o;
@@ -235,6 +277,13 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     return finest(CutStatus::InvalidInput, kFlagInvalidInput);
   }
   for (int k = 0; k < 4; ++k) o.q[k] = t.rotation[k] / qn;
+  for (int k = 0; k < 4; ++k) o.q_inv[k] = k < 3 ? -o.q[k] : o.q[k];
+  o.lost = loss.lost.data();
+  o.V = std::uint32_t(loss.view_directions.size() / 3);
+  o.view_dirs = o.V ? loss.view_directions.data() : nullptr;
+  o.view_lost = loss.view_lost.data();
+  o.ln_lost = loss.ln_lost.empty() ? nullptr : loss.ln_lost.data();
+  o.ln_view_lost = loss.ln_view_lost.empty() ? nullptr : loss.ln_view_lost.data();
   o.scale = t.scale;
   o.size = loss.diameter * t.scale;
   o.bands = loss.bands_cpod.data();
@@ -255,17 +304,16 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     if (h.clusters[r].refined != kNoGroup) state[h.clusters[r].refined] |= kNeeded;
   for (std::size_t g = G; g-- > 0;) {
     const ClusterGroup& group = h.groups[g];
-    const float* lost = &loss.lost[g * B];
     bool visible = false;
     if (explain) {
       explain[g] = GroupExplain{};
-      for (std::uint32_t i = 0; i < eye_count_; ++i) group_score(i, o, group, lost, &explain[g]);
+      for (std::uint32_t i = 0; i < eye_count_; ++i) group_score(i, o, group, g, &explain[g]);
     }
     if (state[g] == kNeeded) {
       ++res.groups_evaluated;
       float score = -kInf;
       for (std::uint32_t i = 0; i < eye_count_ && !(score > 0.0f); ++i)
-        score = std::max(score, group_score(i, o, group, lost, nullptr));
+        score = std::max(score, group_score(i, o, group, g, nullptr));
       visible = score > 0.0f;
       if (!memory.empty())
         visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);

@@ -73,10 +73,10 @@ struct Scheduler::Impl {
                        float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
                        float* row) const;
   // Cluster cuts (clusters.cpp; Scheduler::select_cut, explain_cut): one eye's score of one group
-  // [ln lost / (q CT), max over bands; +inf visible at once], and the cut (explain: nullable, one per
-  // group, every group scored).
+  // [ln lost / (q CT), max over bands, the loss of the view cell the eye is in when the loss has
+  // cells; +inf visible at once], and the cut (explain: nullable, one per group, every group scored).
   struct CutObject;
-  float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, const float* lost,
+  float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, std::size_t index,
                     GroupExplain* explain) const;
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<CutGroupMemory> memory,

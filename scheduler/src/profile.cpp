@@ -16,11 +16,12 @@ namespace acuity {
 namespace {
 
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
-constexpr std::uint32_t kSectionIds = 10;
-constexpr std::uint32_t kRequiredSections = 8;  // ids 1..8; Detail (9) and Clusters (10) are optional
-const char* const kSectionNames[kSectionIds + 1] = {"?",        "Meta",         "Levels",  "Views",
-                                                    "Lookup",   "Orientations", "Bands",   "Lost",
-                                                    "Features", "Detail",       "Clusters"};
+constexpr std::uint32_t kSectionIds = 11;
+constexpr std::uint32_t kRequiredSections =
+    8;  // ids 1..8; Detail (9), Clusters (10), ClusterViews (11) optional
+const char* const kSectionNames[kSectionIds + 1] = {"?",        "Meta",         "Levels",   "Views",
+                                                    "Lookup",   "Orientations", "Bands",    "Lost",
+                                                    "Features", "Detail",       "Clusters", "ClusterViews"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -113,17 +114,52 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
       return fail(error, ProfileStatus::BadValue, "Clusters: value %zu (group %zu) is negative or not finite",
                   bad, bad / c.band_count);
   }
+  if (p.cluster_view_lost) {
+    const std::uint32_t Vc = p.cluster_views.view_count, Bc = p.clusters.band_count;
+    for (std::uint32_t v = 0; v < Vc; ++v) {
+      const float* d = &p.cluster_view_directions[3 * std::size_t(v)];
+      const float n = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      if (!(std::abs(n - 1.0f) <= 1e-3f))
+        return fail(error, ProfileStatus::BadValue, "ClusterViews: direction %u is not a unit vector", v);
+    }
+    const std::size_t n = std::size_t(p.clusters.group_count) * Vc * Bc;
+    if (!finite_nonnegative(p.cluster_view_lost, n, &bad))
+      return fail(error, ProfileStatus::BadValue,
+                  "ClusterViews: value %zu (group %zu) is negative or not finite", bad,
+                  bad / (std::size_t(Vc) * Bc));
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t g = i / (std::size_t(Vc) * Bc), b = i % Bc;
+      if (!(p.cluster_view_lost[i] <= p.cluster_lost[g * Bc + b]))
+        return fail(error, ProfileStatus::BadValue,
+                    "ClusterViews: value %zu (group %zu) exceeds the Clusters section's bound", i, g);
+    }
+  }
   return ProfileStatus::Ok;
+}
+
+// An optional section's fixed header, copied out, or BadSize naming the section.
+template <class Header>
+ProfileStatus section_header(const unsigned char* at, std::uint64_t size, const char* name, Header* h,
+                             ProfileError* error) {
+  if (size < sizeof(Header))
+    return fail(error, ProfileStatus::BadSize, "section %s: size %llu, shorter than its %zu-byte header",
+                name, static_cast<unsigned long long>(size), sizeof(Header));
+  std::memcpy(h, at, sizeof(Header));
+  return ProfileStatus::Ok;
+}
+// BadSize naming the section unless its size is the one its header's counts give.
+ProfileStatus section_size(std::uint64_t size, std::uint64_t expected, const char* name,
+                           ProfileError* error) {
+  if (size == expected) return ProfileStatus::Ok;
+  return fail(error, ProfileStatus::BadSize, "section %s: size %llu, expected %llu", name,
+              static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
 }
 
 // The optional Clusters section: its header's counts, then its size from them.
 ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile* p, ProfileError* error) {
-  if (size < sizeof(ProfileClusterMeta))
-    return fail(error, ProfileStatus::BadSize,
-                "section Clusters: size %llu, shorter than its %zu-byte header",
-                static_cast<unsigned long long>(size), sizeof(ProfileClusterMeta));
   ProfileClusterMeta c;
-  std::memcpy(&c, at, sizeof c);
+  if (const ProfileStatus st = section_header(at, size, "Clusters", &c, error); st != ProfileStatus::Ok)
+    return st;
   if (c.group_count == 0 || c.group_count > kMaxClusterGroups)
     return fail(error, ProfileStatus::BadCounts, "Clusters: group_count = %u (allowed 1..%u)", c.group_count,
                 kMaxClusterGroups);
@@ -136,12 +172,35 @@ ProfileStatus open_clusters(const unsigned char* at, std::uint64_t size, Profile
                 c.view_count);
   const std::uint64_t expected =
       sizeof c + std::uint64_t(c.band_count) * sizeof(float) * (1 + std::uint64_t(c.group_count));
-  if (size != expected)
-    return fail(error, ProfileStatus::BadSize, "section Clusters: size %llu, expected %llu",
-                static_cast<unsigned long long>(size), static_cast<unsigned long long>(expected));
+  if (const ProfileStatus st = section_size(size, expected, "Clusters", error); st != ProfileStatus::Ok)
+    return st;
   p->clusters = c;
   p->cluster_bands = reinterpret_cast<const float*>(at + sizeof c);
   p->cluster_lost = p->cluster_bands + c.band_count;
+  return ProfileStatus::Ok;
+}
+
+// The optional ClusterViews section (after Clusters, whose counts it takes): its header, then its size.
+ProfileStatus open_cluster_views(const unsigned char* at, std::uint64_t size, Profile* p,
+                                 ProfileError* error) {
+  if (!p->cluster_lost)
+    return fail(error, ProfileStatus::MissingSection, "section ClusterViews needs the Clusters section");
+  ProfileClusterViewsMeta c;
+  if (const ProfileStatus st = section_header(at, size, "ClusterViews", &c, error); st != ProfileStatus::Ok)
+    return st;
+  if (c.view_count == 0 || c.view_count > kMaxClusterViews || c.sample_count < c.view_count ||
+      c.reserved[0] || c.reserved[1])
+    return fail(error, ProfileStatus::BadCounts,
+                "ClusterViews: view_count %u (allowed 1..%u), sample_count %u (>= view_count), reserved 0",
+                c.view_count, kMaxClusterViews, c.sample_count);
+  const std::uint64_t expected =
+      sizeof c + sizeof(float) * std::uint64_t(c.view_count) *
+                     (3 + std::uint64_t(p->clusters.group_count) * p->clusters.band_count);
+  if (const ProfileStatus st = section_size(size, expected, "ClusterViews", error); st != ProfileStatus::Ok)
+    return st;
+  p->cluster_views = c;
+  p->cluster_view_directions = reinterpret_cast<const float*>(at + sizeof c);
+  p->cluster_view_lost = p->cluster_view_directions + 3 * std::size_t(c.view_count);
   return ProfileStatus::Ok;
 }
 // The section table of a blob of `total` bytes whose table ends at `table_end`: bounds, alignment,
@@ -269,6 +328,12 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
     const ProfileStatus c =
         open_clusters(at(ProfileSection::Clusters),
                       found[static_cast<std::uint32_t>(ProfileSection::Clusters)].size, &p, error);
+    if (c != ProfileStatus::Ok) return c;
+  }
+  if (found[static_cast<std::uint32_t>(ProfileSection::ClusterViews)].id) {
+    const ProfileStatus c =
+        open_cluster_views(at(ProfileSection::ClusterViews),
+                           found[static_cast<std::uint32_t>(ProfileSection::ClusterViews)].size, &p, error);
     if (c != ProfileStatus::Ok) return c;
   }
 

@@ -205,9 +205,15 @@ ProfileClusterData measure_cluster_loss(const ClusterMesh& mesh, const Material&
     views.push_back(make_view(ico.positions[3 * v], ico.positions[3 * v + 1], ico.positions[3 * v + 2]));
   const std::size_t G = mesh.groups.size(), V = views.size(), T = m.orientations(), Bw = m.window_bands();
   const std::size_t Bc = m.bands().size();
+  // The cells: the first kClusterCells directions (the icosahedron's vertices), each bounding the
+  // measured directions in or near it.
+  std::vector<std::size_t> cell_views(kClusterCells);
+  for (std::size_t j = 0; j < kClusterCells; ++j) cell_views[j] = j;
+  const std::vector<std::vector<std::size_t>> cells = view_cells(views, cell_views);
+  const std::size_t C = cells.size();
 
-  // own[g Bw + i]: the largest over views and orientations in g's window band i.
-  std::vector<float> own(G * Bw, 0.0f);
+  // own[(g V + v) Bw + i]: the largest over orientations in g's window band i from direction v.
+  std::vector<float> own(G * V * Bw, 0.0f);
   std::vector<std::uint8_t> hidden(G * V, 0);
   std::mutex mutex;
   std::size_t done = 0;
@@ -215,35 +221,47 @@ ProfileClusterData measure_cluster_loss(const ClusterMesh& mesh, const Material&
     const std::size_t g = job / V, v = job % V;
     const std::vector<float> lost = m.measure(std::uint32_t(g), views[v]);
     hidden[job] = std::all_of(lost.begin(), lost.end(), [](float x) { return x == 0.0f; });
-    std::lock_guard<std::mutex> lock(mutex);
     for (std::size_t t = 0; t < T; ++t)
-      for (std::size_t i = 0; i < Bw; ++i) own[g * Bw + i] = std::max(own[g * Bw + i], lost[t * Bw + i]);
+      for (std::size_t i = 0; i < Bw; ++i) own[job * Bw + i] = std::max(own[job * Bw + i], lost[t * Bw + i]);
+    std::lock_guard<std::mutex> lock(mutex);
     if (progress) progress("windows", ++done, G * V);
   });
 
-  // Onto the stored band grid, in group order (the groups that made a group's members come first).
+  // Per cell, onto the stored band grid, in group order (the groups that made a group's members
+  // come first); the Clusters section's row is the largest over the cells.
   ProfileClusterData out;
   out.bands = m.bands();
   out.lost.assign(G * Bc, 0.0f);
+  out.view_lost.assign(G * C * Bc, 0.0f);
+  std::vector<float> mine(Bw);
   for (std::size_t g = 0; g < G; ++g) {
-    float* row = &out.lost[g * Bc];
-    const float* mine = &own[g * Bw];
     const std::size_t first = m.first_band(std::uint32_t(g));
-    for (std::size_t j = 0; j < Bc; ++j) {
-      if (j < first)  // coarser than the window: its lowest band's value falling as f^2
-        row[j] = mine[0] * (out.bands[j] / out.bands[first]) * (out.bands[j] / out.bands[first]);
-      else if (j < first + Bw)
-        row[j] = mine[j - first];
-      else
-        row[j] = mine[Bw - 1];  // finer than the window: flat beyond its finest band ...
-    }
     const ClusterGroup& group = mesh.groups[g];
-    for (std::uint32_t k = group.first_member; k < group.first_member + group.member_count; ++k) {
-      const std::uint32_t from = mesh.clusters[k].refined;  // ... or what finer windows measured there
-      if (from == kNoGroup) continue;
-      for (std::size_t j = first + Bw; j < Bc; ++j) row[j] = std::max(row[j], out.lost[from * Bc + j]);
+    for (std::size_t c = 0; c < C; ++c) {
+      float* row = &out.view_lost[(g * C + c) * Bc];
+      std::fill(mine.begin(), mine.end(), 0.0f);
+      for (std::size_t v : cells[c])
+        for (std::size_t i = 0; i < Bw; ++i) mine[i] = std::max(mine[i], own[(g * V + v) * Bw + i]);
+      for (std::size_t j = 0; j < Bc; ++j) {
+        if (j < first)  // coarser than the window: its lowest band's value falling as f^2
+          row[j] = mine[0] * (out.bands[j] / out.bands[first]) * (out.bands[j] / out.bands[first]);
+        else if (j < first + Bw)
+          row[j] = mine[j - first];
+        else
+          row[j] = mine[Bw - 1];  // finer than the window: flat beyond its finest band ...
+      }
+      for (std::uint32_t k = group.first_member; k < group.first_member + group.member_count; ++k) {
+        const std::uint32_t from = mesh.clusters[k].refined;  // ... or what finer windows measured there
+        if (from == kNoGroup) continue;
+        for (std::size_t j = first + Bw; j < Bc; ++j)
+          row[j] = std::max(row[j], out.view_lost[(from * C + c) * Bc + j]);
+      }
+      for (std::size_t j = 0; j < Bc; ++j) out.lost[g * Bc + j] = std::max(out.lost[g * Bc + j], row[j]);
     }
   }
+  for (std::size_t c = 0; c < C; ++c)
+    out.view_directions.insert(out.view_directions.end(), views[c].direction, views[c].direction + 3);
+  out.view_samples = std::uint32_t(V);
   out.window_pixels = settings.render.pixels;
   out.view_count = settings.views;
   out.hierarchy_hash = cluster_hierarchy_hash(mesh.clusters, mesh.groups);

@@ -221,9 +221,10 @@ constexpr float kBorderMargin = 2.0f * 3.14159265f / 180.0f;
 
 float angle_between(const float* a, const float* b) { return std::acos(std::clamp(dot3(a, b), -1.0f, 1.0f)); }
 
-// For each kept view (index into `kept`), the measured directions in or near its cell.
-std::vector<std::vector<std::size_t>> cells(const std::vector<ProfileView>& views,
-                                            const std::vector<std::size_t>& kept) {
+}  // namespace
+
+std::vector<std::vector<std::size_t>> view_cells(const std::vector<ProfileView>& views,
+                                                 const std::vector<std::size_t>& kept) {
   std::vector<std::vector<std::size_t>> out(kept.size());
   std::vector<float> angles(kept.size());
   for (std::size_t s = 0; s < views.size(); ++s) {
@@ -235,6 +236,8 @@ std::vector<std::vector<std::size_t>> cells(const std::vector<ProfileView>& view
   }
   return out;
 }
+
+namespace {
 
 // The bound of one cell: per level, orientation and band the largest lost contrast over its
 // members, in the frame of view `v`.
@@ -282,7 +285,7 @@ BoundState bound_state(const std::vector<ProfileView>& views, const std::vector<
                        const std::vector<std::size_t>& kept, const std::vector<float>& bands, std::size_t T) {
   const std::size_t B = bands.size();
   BoundState st;
-  st.members = cells(views, kept);
+  st.members = view_cells(views, kept);
   for (std::size_t j = 0; j < kept.size(); ++j) {
     st.lost.push_back(cell_bound(views, data, kept[j], st.members[j], T, B));
     std::vector<float> sw;

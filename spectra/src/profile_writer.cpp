@@ -108,7 +108,14 @@ Blob encode_profile(const ProfileData& data) {
             "clusters: lost has " + std::to_string(c.lost.size()) + " values, not groups (1.." +
                 std::to_string(kMaxClusterGroups) + ") x " + std::to_string(Bc) + " bands");
     require(c.window_pixels >= 1 && c.view_count >= 1, "clusters: window_pixels and view_count must be >= 1");
+    const std::size_t Vc = c.view_directions.size() / 3;
+    require(c.view_directions.size() % 3 == 0 && Vc <= kMaxClusterViews &&
+                c.view_lost.size() == Vc * c.lost.size() && (Vc == 0 || c.view_samples >= Vc),
+            "clusters: view_directions (" + std::to_string(c.view_directions.size()) +
+                " values) and view_lost (" + std::to_string(c.view_lost.size()) + ") must be cells (0.." +
+                std::to_string(kMaxClusterViews) + ") x 3 and cells x groups x bands, view_samples >= cells");
   }
+  const bool views_section = !c.empty() && !c.view_lost.empty();
   std::uint32_t r = data.lookup_resolution;
   if (r == 0)
     r = std::clamp(static_cast<std::uint32_t>(std::ceil(std::sqrt(double(V)))) + 1, 1u, kMaxLookupResolution);
@@ -125,10 +132,11 @@ Blob encode_profile(const ProfileData& data) {
   const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
 
   // Header and table are written last, once the offsets are known.
-  const std::size_t section_count = 8 + (data.detail.empty() ? 0 : 1) + (c.empty() ? 0 : 1);
+  const std::size_t section_count =
+      8 + (data.detail.empty() ? 0 : 1) + (c.empty() ? 0 : 1) + (views_section ? 1 : 0);
   const std::size_t table_end = sizeof(ProfileHeader) + section_count * sizeof(ProfileSectionEntry);
   std::vector<unsigned char> body(table_end, 0);
-  ProfileSectionEntry table[10] = {};
+  ProfileSectionEntry table[11] = {};
   std::size_t n = 0;
   auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
     const std::size_t offset = body.size();
@@ -157,6 +165,18 @@ Blob encode_profile(const ProfileData& data) {
     std::memcpy(bytes.data() + sizeof meta_c + Bc * sizeof(float), c.lost.data(),
                 c.lost.size() * sizeof(float));
     section(ProfileSection::Clusters, bytes.data(), bytes.size());
+  }
+  if (views_section) {  // header, directions and loss in one section
+    const ProfileClusterViewsMeta meta_v{
+        static_cast<std::uint32_t>(c.view_directions.size() / 3), c.view_samples, {0, 0}};
+    std::vector<unsigned char> bytes(sizeof meta_v +
+                                     (c.view_directions.size() + c.view_lost.size()) * sizeof(float));
+    std::memcpy(bytes.data(), &meta_v, sizeof meta_v);
+    std::memcpy(bytes.data() + sizeof meta_v, c.view_directions.data(),
+                c.view_directions.size() * sizeof(float));
+    std::memcpy(bytes.data() + sizeof meta_v + c.view_directions.size() * sizeof(float), c.view_lost.data(),
+                c.view_lost.size() * sizeof(float));
+    section(ProfileSection::ClusterViews, bytes.data(), bytes.size());
   }
 
   ProfileHeader header{

@@ -27,6 +27,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (std::size_t i = 0; i < std::size_t(p.clusters.group_count) * p.clusters.band_count; ++i)
         sum = sum + p.cluster_lost[i];
     }
+    if (p.cluster_view_lost) {  // the optional ClusterViews section: every direction and value
+      const std::size_t Vc = p.cluster_views.view_count;
+      for (std::size_t i = 0; i < 3 * Vc; ++i) sum = sum + p.cluster_view_directions[i];
+      for (std::size_t i = 0; i < std::size_t(p.clusters.group_count) * Vc * p.clusters.band_count; ++i)
+        sum = sum + p.cluster_view_lost[i];
+    }
   }
   return 0;
 }

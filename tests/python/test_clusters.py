@@ -81,6 +81,16 @@ def test_load_finest_and_the_cut_arrays(armadillo):
     assert f.clusters.dtype == np.uint32 and f.triangles == h.finest_triangles
     assert h.loss.shape == (h.group_count, len(h.bands)) and np.all(np.isfinite(h.loss)) and np.all(h.loss >= 0)
     assert np.all(np.diff(h.bands) > 0) and h.loss.max() > 0
+    assert f.normals.dtype == np.float32 and f.normals.shape == f.positions.shape
+    # The loss per view cell (the profile's ClusterViews section): measured from 12 directions here, so
+    # not read by default (kMinCellSamples: 162); view_cells=True reads its 12 cells, each at most the
+    # loss over all views, which is their largest.
+    assert h.view_directions.shape == (0, 3)
+    cells = acuity.clusters.load(str(armadillo["glb"]), str(armadillo["measured"]), view_cells=True)
+    assert cells.view_directions.shape == (12, 3)
+    assert np.allclose(np.linalg.norm(cells.view_directions, axis=1), 1, atol=1e-5)
+    assert cells.view_loss.shape == (h.group_count, 12, len(h.bands))
+    assert np.all(cells.view_loss <= h.loss[:, None, :]) and np.array_equal(cells.view_loss.max(axis=1), h.loss)
     # `acuity inspect` shows the section: per band the largest loss over groups.
     shown = json.loads(run("inspect", armadillo["measured"], "--json").stdout)["clusters"]
     assert shown["groups"] == h.group_count and shown["bands_cpod"] == pytest.approx(h.bands.tolist())
@@ -178,3 +188,46 @@ def test_gaze_on_one_edge_of_a_40_degree_object(armadillo):
               f"{r_left}); on the right edge {on_right.triangles} (left {l_right}, right {r_right}); left half "
               f"x{l_left / max(l_right, 1):.2f}, right half x{r_right / max(r_left, 1):.2f}")
         assert l_left >= l_right and r_right >= r_left
+
+
+def test_explain_names_each_groups_limit(armadillo):
+    """h.explain: per group the score over the eyes and bands, its limiting band, and whether select()
+    refines it; a refined group's own test says visible (score > 1)."""
+    h = load(armadillo)
+    eye, pos, _, _ = placed(armadillo, 30)
+    g = gaze_towards(0, -1)
+    x = h.explain(eye, g, pos, (0, 0, 0, 1))
+    for key in ("score", "band", "eye", "flags", "visible", "frequency_cpd", "threshold", "distance_m",
+                "eccentricity_deg"):
+        assert x[key].shape == (h.group_count,), key
+    assert np.all(x["band"] < len(h.bands)) and np.all(x["threshold"] > 0)
+    refined = x["visible"] == 1
+    assert refined.any() and np.all(x["score"][refined] > 1)
+    cut = h.select(eye, g, pos, (0, 0, 0, 1))
+    assert (cut.triangles < h.finest_triangles) == (not refined.all())
+
+
+def test_memory_holds_a_group_before_it_coarsens(armadillo):
+    """select(memory=h.new_memory(), dt=..., hysteresis_seconds=...): each group refines at once and
+    coarsens only after the hysteresis, as an object would; without memory it coarsens at once."""
+    h = load(armadillo)
+    m = h.new_memory()
+    assert m.dtype == np.uint8 and m.size == 12 * h.group_count and not m.any()
+    g = gaze_towards(0, -1)
+    eye, near, _, _ = placed(armadillo, 30)
+    _, far, _, _ = placed(armadillo, 2)
+    hold = dict(memory=m, dt=1 / 60, hysteresis_seconds=0.5)
+    first = h.select(eye, g, near, (0, 0, 0, 1), **hold)
+    assert m.any() and first.triangles == h.select(eye, g, near, (0, 0, 0, 1)).triangles
+    away = gaze_towards(math.tan(math.radians(30)), -1)  # the 2-degree object 30 degrees from the gaze
+    free = h.select(eye, away, far, (0, 0, 0, 1))
+    held = h.select(eye, away, far, (0, 0, 0, 1), **hold)
+    assert free.triangles < first.triangles and held.triangles == first.triangles
+    for _ in range(20):  # 0.35 s in all: still held
+        later = h.select(eye, away, far, (0, 0, 0, 1), **hold)
+    assert later.triangles == first.triangles
+    for _ in range(40):  # 1 s in all: past the hysteresis
+        later = h.select(eye, away, far, (0, 0, 0, 1), **hold)
+    assert later.triangles == free.triangles
+    with pytest.raises(ValueError, match="memory"):
+        h.select(eye, away, far, (0, 0, 0, 1), memory=np.zeros(3, np.uint8))

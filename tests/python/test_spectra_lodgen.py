@@ -23,6 +23,26 @@ def test_lost_contrast_of_a_grating():
     assert not same.any()
 
 
+def test_lost_contrast_maps_show_where_the_loss_lies():
+    """A grating patch in the left half: the map of its band holds the loss there (its maximum is
+    lost_contrast's), the right half holds almost none."""
+    n = 128
+    y, x = np.mgrid[0:n, 0:n]
+    reference = np.full((n, n), 0.5, np.float32)
+    window = np.exp(-((x - 32) ** 2 + (y - 64) ** 2) / (2 * 10.0 ** 2))
+    level = (0.5 * (1 + 0.2 * window * np.cos(2 * np.pi * 16 * x / n))).astype(np.float32)
+    lost, bands = acuity.spectra.lost_contrast(level, reference)
+    maps, map_bands = acuity.spectra.lost_contrast_maps(level, reference)
+    assert list(map_bands) == list(bands) and len(maps) == len(bands)
+    for b, m in enumerate(maps):
+        assert m.shape[0] == 8 and m.shape[1] == m.shape[2] and n % m.shape[1] == 0
+        assert np.allclose(m.max(axis=(1, 2)), lost[:, b], rtol=1e-6, atol=1e-9)
+    b = list(bands).index(16.0)
+    m = maps[b][0]
+    half = m.shape[1] // 2
+    assert m[:, :half].max() == pytest.approx(lost[0, b]) and m[:, half + half // 4:].max() < 0.05 * lost[0, b]
+
+
 def test_render_and_features_of_a_sphere_chain():
     import math
     # An octahedron-based sphere: coarse levels lose contrast the finest does not.

@@ -85,7 +85,28 @@ struct ClusterLoss {
       bands_cpod;               // band centres [cycles per diameter], increasing [Size: B, 1 .. kMaxBands]
   float diameter = 0;           // the length the bands are per [object units] [Limit: > 0, finite]
   std::span<const float> lost;  // [Size: groups x B] [Unit: contrast]
+  // Optional (both empty, or both sized): the loss per view cell (the profile's ClusterViews
+  // section). view_lost[(g * V + v) * B + b] is what group g loses in band b seen from within the
+  // cell of view_directions[3v .. 3v+2] (a unit vector from the object towards the eye, object
+  // space; a cell is the directions nearer to it than to any other); the cut reads the cell the eye
+  // is in from each group's centre. Each value is at most lost's of its group and band.
+  std::span<const float> view_directions = {};  // [Size: V x 3, V 0 .. kMaxClusterViews]
+  std::span<const float> view_lost = {};        // [Size: groups x V x B] [Unit: contrast]
+  // Optional: the natural logs of lost and of view_lost (each empty, or of its size: loss_logs() makes
+  // them once at load), which the cut reads instead of taking a log per band of every group it
+  // evaluates each frame (most of its arithmetic). The same cut either way.
+  std::span<const float> ln_lost = {};
+  std::span<const float> ln_view_lost = {};
 };
+
+// The directions a ClusterViews section must have measured per group for measured_group_loss to read
+// its cells: with fewer (42 over 12 cells) a cell's row bounds only 0.90 of what a group loses from
+// directions within the cell (tests/test_cluster_loss.cpp), too optimistic for the cut.
+inline constexpr std::uint32_t kMinCellSamples = 162;
+
+// ln of each value (std::log: 0 gives -inf, NaN stays NaN): ClusterLoss::ln_lost and ln_view_lost,
+// made once when a hierarchy's loss is loaded. Allocates.
+std::vector<float> loss_logs(std::span<const float> values);
 
 // FNV-1a 64 over a hierarchy's records as stored (the clusters' bytes, then the groups'): the name a
 // profile's Clusters section gives the hierarchy it measured. Linear; no allocation.
@@ -100,7 +121,9 @@ const char* to_string(GroupLossStatus status);
 
 // The per-group loss a profile's Clusters section measured for this hierarchy (issue 48 item 2;
 // acuity/spectra/cluster_loss.hpp measures it): sets *loss to read the profile's bytes in place
-// (its cluster bands, Meta's sphere's diameter, its lost values), which must outlive it. On any
+// (its cluster bands, Meta's sphere's diameter, its lost values, and the ClusterViews section's cells
+// when it has one measured from at least kMinCellSamples directions, else none), which must outlive
+// it. On any
 // other status *loss is unchanged. No allocation.
 GroupLossStatus measured_group_loss(const Profile& profile, std::span<const Cluster> clusters,
                                     std::span<const ClusterGroup> groups, ClusterLoss* loss);
@@ -127,7 +150,8 @@ enum class CutStatus : std::uint8_t {
   InvalidInput,    // non-finite or non-unit transform, scale <= 0, non-finite velocity, or no valid
                    // eye: the finest cut (kFlagInvalidInput)
   BadHierarchy,    // loss or hierarchy arrays of mismatched sizes (lost != groups x bands, no band,
-                   // over kMaxBands, a diameter <= 0, scratch smaller than the groups, no clusters):
+                   // over kMaxBands, a diameter <= 0, scratch smaller than the groups, no clusters,
+                   // view_lost != groups x views x bands, logs of other sizes than their values):
                    // the finest cut
   BufferTooSmall,  // `drawn` could not hold the cut: `clusters` says how many it needs, nothing usable written
 };

@@ -12,6 +12,7 @@
 //                        unknown ids are skipped so a newer writer may add sections without a
 //                        version bump), the optional Detail (issue 47: older readers skip it) and
 //                        the optional Clusters (issue 48: what each group of a cluster hierarchy loses)
+//                        and ClusterViews (the same per view cell)
 // checksum: FNV-1a 64 over the whole blob with the checksum field read as zero.
 // Compatibility: a reader accepts versions <= its own and rejects newer ones (re-bake on upgrade).
 // tests/data/profile_v1.acuity is a version-1 profile that every later reader must still open
@@ -35,6 +36,7 @@ inline constexpr std::uint32_t kLookupCandidates = 3;  // nearest views stored p
 
 inline constexpr std::uint32_t kMaxProfileSections = 64;      // entries a reader accepts in the section table
 inline constexpr std::uint32_t kMaxClusterGroups = 1u << 22;  // groups in a Clusters section
+inline constexpr std::uint32_t kMaxClusterViews = 162;        // view cells in a ClusterViews section
 
 // The file header, at offset 0.
 struct ProfileHeader {
@@ -75,6 +77,7 @@ enum class ProfileSection : std::uint32_t {
   Features = 8,
   Detail = 9,     // optional: the loss's extent and frequency within each band (ProfileDetail)
   Clusters = 10,  // optional: what each group of the object's cluster hierarchy loses (ProfileClusterMeta)
+  ClusterViews = 11,  // optional, with Clusters: the same per view cell (ProfileClusterViewsMeta)
 };
 
 enum class ProfileStatus : std::uint8_t {
@@ -101,7 +104,9 @@ struct ProfileError {
 //   Levels ProfileLevel[K], Views ProfileView[V], Lookup u16[6 R R][kLookupCandidates],
 //   Orientations f32[T], Bands f32[B], Lost f32[(K-1) V T B], Features f32[K V T],
 //   Detail (optional) ProfileDetail[(K-1) V T B],
-//   Clusters (optional) ProfileClusterMeta, then f32 bands[Bc], then f32 lost[G Bc] (no padding).
+//   Clusters (optional) ProfileClusterMeta, then f32 bands[Bc], then f32 lost[G Bc] (no padding),
+//   ClusterViews (optional, only with Clusters) ProfileClusterViewsMeta, then f32 directions[Vc 3],
+//   then f32 lost[G Vc Bc] (no padding).
 struct ProfileLevel {
   std::uint32_t triangles;  // cost of drawing this level
   float geometric_error;    // Hausdorff distance to level 0 [object diameters]
@@ -168,6 +173,22 @@ static_assert(sizeof(ProfileClusterMeta) == 32 && offsetof(ProfileClusterMeta, v
                   offsetof(ProfileClusterMeta, reserved) == 24,
               "ProfileClusterMeta is part of the file format");
 
+// Section ClusterViews (optional, only with Clusters; issue 48): the Clusters section's loss per
+// view cell, so that the cut reads what a group loses from the direction it is seen from (a group
+// hidden behind the object, or seen face-on rather than at the silhouette, loses less). This header
+// (16 bytes) is followed by f32 directions[view_count * 3] (unit vectors from the object towards the
+// camera, object space; a direction's cell is the directions nearer to it than to any other) and f32
+// lost[(g * view_count + v) * Bc + b]: the largest lost contrast of group g in band b (the Clusters
+// section's bands) over the orientations and the measured directions in or near v's cell (a bound
+// over the cell), never above the Clusters section's lost[g * Bc + b].
+struct ProfileClusterViewsMeta {
+  std::uint32_t view_count;    // Vc: cells [Limit: 1 .. kMaxClusterViews]
+  std::uint32_t sample_count;  // directions measured per group, over all cells [Limit: >= view_count]
+  std::uint32_t reserved[2];   // 0
+};
+static_assert(sizeof(ProfileClusterViewsMeta) == 16 && offsetof(ProfileClusterViewsMeta, sample_count) == 4,
+              "ProfileClusterViewsMeta is part of the file format");
+
 static_assert(sizeof(ProfileMeta) == 48 && offsetof(ProfileMeta, lookup_resolution) == 16 &&
                   offsetof(ProfileMeta, snapshot_pixels) == 20 && offsetof(ProfileMeta, sphere) == 24 &&
                   offsetof(ProfileMeta, reserved) == 40,
@@ -193,6 +214,11 @@ struct Profile {
   ProfileClusterMeta clusters = {};
   const float* cluster_bands = nullptr;
   const float* cluster_lost = nullptr;
+  // The optional ClusterViews section: its header (view_count 0 when absent), directions [Vc 3]
+  // and per-group, per-view loss [G Vc Bc] (ProfileClusterViewsMeta), or nullptr.
+  ProfileClusterViewsMeta cluster_views = {};
+  const float* cluster_view_directions = nullptr;
+  const float* cluster_view_lost = nullptr;
 
   // Lost contrast of level k (1 <= k < K) seen from view v, orientation t, band b.
   float lost_contrast(std::uint32_t k, std::uint32_t v, std::uint32_t t, std::uint32_t b) const {

@@ -327,7 +327,9 @@ class Scheduler {
   // no-gaze disc), band b's frequency loss.bands_cpod[b] / (the angle loss.diameter x scale
   // subtends there) [cpd], bands above the display's Nyquist frequency invisible (taken at the
   // sphere's point farthest off the view axis). A group is invisible when every band's lost contrast
-  // is at most q x CT for both eyes. The loss carries no orientation, so a moving object is
+  // is at most q x CT for both eyes; with loss per view cell (loss.view_directions), each eye reads
+  // the cell it is in, seen from the group's centre in object space (a group hidden from there, or
+  // seen face-on rather than at the silhouette, loses less). The loss carries no orientation, so a moving object is
   // evaluated at the least retinal speed over orientations, the drift floor, with the velocity
   // envelope (as the object rule treats a moving component at that speed); a still one (no motion
   // relative to an eye, no head rotation, no measured gaze motion) at the floor without it. So,

@@ -63,8 +63,19 @@ class LostContrast {
   // The same in one call (area, offset, turn: as above, [T * B], when given).
   std::vector<float> measure(const Image& level, const Image& reference, std::vector<float>* area = nullptr,
                              std::vector<float>* offset = nullptr, std::vector<float>* turn = nullptr) const;
+  // Where the contrast is lost: maps[t * B + b] is band b's lost contrast at orientation t over the
+  // image, map_size(b) x map_size(b) samples (row-major, row 0 at the top; sample (r, c) lies at the
+  // centre of pixel (r s, c s), s = pixels / map_size(b)), whose maximum is measure()'s value. For judges whose
+  // threshold varies over the image (a cut's eccentricity). Thread-safe.
+  std::vector<std::vector<float>> contrast_maps(const Image& level, const Reference& reference) const;
+  std::uint32_t map_size(std::uint32_t band) const { return crop_[band]; }
 
  private:
+  // Calls fn(t, b, filtered, contrast, count) for every orientation and band: the band's filtered
+  // spectrum of level - reference on its crop grid (an internal FFT buffer) and its lost contrast
+  // there (count = map_size(b)^2 values).
+  template <class Fn>
+  void each_map(const Image& level, const Reference& reference, Fn&& fn) const;
   struct Plans;
   std::uint32_t n_;
   AnalysisSettings settings_;

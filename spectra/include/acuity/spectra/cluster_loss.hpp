@@ -21,6 +21,11 @@
 //     falls as f^2; tests/test_cluster_loss.cpp compares it with direct measurements in wider windows);
 //   - bands above its finest: the larger of its finest band's value (a flat spectrum beyond it) and
 //     what the groups that made its members lost there (their finer windows measured it).
+// and per view cell (the profile's ClusterViews section): the same folding of the largest over the
+// orientations and the measured directions in or near each of kClusterCells cells (the directions of
+// the icosahedron's vertices), so the cut reads what a group loses seen from where the eye is (a
+// group hidden from a whole cell loses nothing there). The Clusters section's row is the largest
+// over the cells.
 // Thread-safe measurement; the builder runs groups x views on oneTBB.
 #include <cstdint>
 #include <span>
@@ -42,6 +47,8 @@ struct ClusterMesh {
   std::span<const ClusterGroup> groups;
 };
 
+inline constexpr std::uint32_t kClusterCells = 12;  // view cells per group (ClusterViews section)
+
 struct ClusterLossSettings {
   RenderSettings render;      // pixels: across each group's window [Limit: power of two, 16 .. 4096];
                               // supersample, background, ambient; the sphere is the object's (set
@@ -49,7 +56,8 @@ struct ClusterLossSettings {
   AnalysisSettings analysis;  // orientations, lowest_band, bands_per_octave [Limit: an integer >= 1],
                               // mean_floor; every band up to pixels / 4 is measured (bands unused)
   std::uint32_t views = 12;   // directions per group: the first 12, 42 or 162 vertices of icosphere(2)
-                              // (nested), framed by make_view [Limit: 12, 42 or 162]
+                              // (nested), framed by make_view [Limit: 12, 42 or 162]; the cells are
+                              // read by the cut only from 162 (kMinCellSamples)
   float margin = 1.25f;       // a window's radius is at least this x its group's [Limit: >= 1]
   unsigned jobs = 0;          // worker threads; 0: all cores
 };

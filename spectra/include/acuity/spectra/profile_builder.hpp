@@ -118,6 +118,11 @@ std::vector<ProfileView> fibonacci_views(std::uint32_t count);
 std::vector<ProfileView> bound_sample_views();
 // Index of the view in `views` whose direction is nearest to unit vector d (the runtime's lookup).
 std::size_t nearest_view(const std::vector<ProfileView>& views, const float* d);
+// The cells of the views `kept` (indices into `views`) among the directions of `views`: for each
+// kept view, the directions nearer to it than to any other kept view, or within 2 degrees of that
+// (a direction near a border counts for both cells), in increasing order.
+std::vector<std::vector<std::size_t>> view_cells(const std::vector<ProfileView>& views,
+                                                 const std::vector<std::size_t>& kept);
 // Lost contrast `lost` [T B] measured in view `from`'s image frame, read in view `to`'s frame:
 // out[t B + b] = the larger of the two orientations of `from` nearest to `to`'s orientation t
 // (orientations uniform over [0, 180), as orientation_angles()). Directions may differ (the roll

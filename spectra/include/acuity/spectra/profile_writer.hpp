@@ -18,6 +18,12 @@ struct ProfileClusterData {
   std::uint32_t window_pixels = 0;   // pixels across each group's window
   std::uint32_t view_count = 0;      // directions measured per group
   std::uint64_t hierarchy_hash = 0;  // acuity::cluster_hierarchy_hash() of the hierarchy measured
+  // The optional ClusterViews section (acuity::ProfileClusterViewsMeta), or both empty: the cells'
+  // directions [Vc 3] and per group, cell and band the largest loss over the cell [G Vc Bc] (each at
+  // most lost's value of its group and band).
+  std::vector<float> view_directions;
+  std::vector<float> view_lost;
+  std::uint32_t view_samples = 0;  // directions measured per group over all cells (>= Vc)
   bool empty() const { return lost.empty(); }
 };
 
