@@ -83,24 +83,35 @@ Detector::Detector(std::uint32_t pixels, const DetectionSettings& settings)
     throw std::invalid_argument("detection needs a white luminance > 0 and beta >= 1");
 }
 
-std::shared_ptr<const spectra::LostContrast::Reference> Detector::prepare(
-    const spectra::Image& reference) const {
-  return analyzer_.prepare(reference);
+struct Detector::Prepared {
+  std::shared_ptr<const spectra::LostContrast::Reference> reference;
+  Placement placement;
+  std::map<std::uint32_t, Field> fields;  // per band grid's side
+};
+
+std::shared_ptr<const Detector::Prepared> Detector::prepare(const spectra::Image& reference,
+                                                            const Placement& pl) const {
+  const double distance = glm::length(pl.centre);
+  if (!(pl.radius > 0) || !(distance > 0) || !std::isfinite(distance) || !std::isfinite(pl.radius))
+    throw std::invalid_argument("detection needs an image of radius > 0 at a finite distance > 0");
+  auto p = std::make_shared<Prepared>();
+  p->reference = analyzer_.prepare(reference);
+  p->placement = pl;
+  for (std::uint32_t m = 8; m <= reference.width; m *= 2)  // every band grid's side (a power of two)
+    p->fields.emplace(m, field(pl, reference.width, m));
+  return p;
 }
 
 Detection Detector::detect(const spectra::Image& level, const spectra::Image& reference,
                            const Placement& placement) const {
-  return detect(level, *prepare(reference), placement);
+  return detect(level, *prepare(reference, placement));
 }
 
-Detection Detector::detect(const spectra::Image& level, const spectra::LostContrast::Reference& reference,
-                           const Placement& pl) const {
+Detection Detector::detect(const spectra::Image& level, const Prepared& prepared) const {
+  const Placement& pl = prepared.placement;
   const double distance = glm::length(pl.centre);
-  if (!(pl.radius > 0) || !(distance > 0) || !std::isfinite(distance) || !std::isfinite(pl.radius))
-    throw std::invalid_argument("detection needs an image of radius > 0 at a finite distance > 0");
   const std::vector<float>& bands = analyzer_.bands();
   const std::vector<float> angles = spectra::orientation_angles(settings_.analysis);
-  const std::uint32_t n = level.width;
   const double width_deg = 2 * std::atan(pl.radius / distance) * kDeg;
   const StelaConstants& sc = settings_.params.stela;
   const double inf = std::numeric_limits<double>::infinity();
@@ -108,7 +119,6 @@ Detection Detector::detect(const spectra::Image& level, const spectra::LostContr
   const double speed = std::max(0.0, glm::length(pl.retinal_velocity) - settings_.params.drift);
   const double heading = std::atan2(pl.retinal_velocity.y, pl.retinal_velocity.x);
 
-  std::map<std::uint32_t, Field> fields;  // per grid size
   struct Band {
     bool seen = false;
     const Field* field = nullptr;
@@ -118,16 +128,14 @@ Detection Detector::detect(const spectra::Image& level, const spectra::LostContr
   };
   std::vector<Band> state(bands.size());
   const double spacing = 180.0 / double(std::max(1u, analyzer_.orientation_count()));
-  analyzer_.visit(level, reference, [&](const spectra::LostContrast::Channel& ch) {
+  analyzer_.visit(level, *prepared.reference, [&](const spectra::LostContrast::Channel& ch) {
     const double centre_f = double(bands[ch.band]) / width_deg;
     if (centre_f > settings_.nyquist_cpd) return;
     Band& s = state[ch.band];
     const std::size_t count = std::size_t(ch.m) * ch.m;
     if (ch.orientation == 0) {
       s.seen = true;
-      auto it = fields.find(ch.m);
-      if (it == fields.end()) it = fields.emplace(ch.m, field(pl, n, ch.m)).first;
-      s.field = &it->second;
+      s.field = &prepared.fields.at(ch.m);
       s.log2_l.resize(count);
       s.low = 1e300;
       s.high = -1e300;

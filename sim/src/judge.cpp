@@ -131,12 +131,12 @@ std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::
     std::copy(spheres[a].begin(), spheres[a].end(), rs.sphere);
     const spectra::Material& material = scene.assets[a].material;
     const Detector& d = *detectors.at(tasks[i].pixels);
-    const auto reference =
-        d.prepare(spectra::render_snapshot(inputs[a][0].mesh, material, tasks[i].view, rs));
+    const auto reference = d.prepare(spectra::render_snapshot(inputs[a][0].mesh, material, tasks[i].view, rs),
+                                     tasks[i].placement);
     out[i].pixels = tasks[i].pixels;
     for (std::size_t k = 1; k < inputs[a].size() && k < kMaxLevels; ++k) {
       const spectra::Image level = spectra::render_snapshot(inputs[a][k].mesh, material, tasks[i].view, rs);
-      out[i].scores[k] = float(d.detect(level, *reference, tasks[i].placement).score);
+      out[i].scores[k] = float(d.detect(level, *reference).score);
     }
   });
   return out;

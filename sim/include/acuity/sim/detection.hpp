@@ -69,10 +69,12 @@ class Detector {
   const spectra::LostContrast& analyzer() const { return analyzer_; }
   const DetectionSettings& settings() const { return settings_; }
 
-  // The reference prepared once for several levels.
-  std::shared_ptr<const spectra::LostContrast::Reference> prepare(const spectra::Image& reference) const;
-  Detection detect(const spectra::Image& level, const spectra::LostContrast::Reference& reference,
-                   const Placement& placement) const;
+  // The reference at its placement, prepared once for several levels: its spectrum and local means,
+  // every band grid's eccentricities and meridians. Throws std::invalid_argument for a radius or
+  // distance that is not finite and > 0.
+  struct Prepared;
+  std::shared_ptr<const Prepared> prepare(const spectra::Image& reference, const Placement& placement) const;
+  Detection detect(const spectra::Image& level, const Prepared& prepared) const;
   Detection detect(const spectra::Image& level, const spectra::Image& reference,
                    const Placement& placement) const;
 
