@@ -70,8 +70,9 @@ LuminanceTable luminance_table(double f, double omega, double low, double high, 
   const std::size_t steps = std::size_t(std::ceil((high - low) / kLuminanceStep)) + 1;
   const double inf = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k < std::max<std::size_t>(steps, 2); ++k)
-    t.ln_s.push_back(
-        std::log(stela_csf(f, omega, std::exp2(low + kLuminanceStep * double(k)), inf, 0.0, 0.0, c)));
+    t.ln_s.push_back(std::max(  // S = 0 (e.g. a temporal frequency past both mechanisms) as e^-700
+        -700.0,
+        std::log(stela_csf(f, omega, std::exp2(low + kLuminanceStep * double(k)), inf, 0.0, 0.0, c))));
   return t;
 }
 
