@@ -471,6 +471,12 @@ TEST(Simulate, ThirdPartyAssetsAreReportedApart) {
     EXPECT_NEAR(g.triangles[i], sim.rules()[i].triangles / double(r.frames), 1e-9 * r.all_finest);
     EXPECT_EQ(g.visible_losses[i], r.visible_losses[i]);
   }
+  // The oracle beside them: the whole run's when the group is every instance.
+  EXPECT_EQ(g.oracle.same, r.oracle.same);
+  EXPECT_EQ(g.oracle.finer, r.oracle.finer);
+  EXPECT_EQ(g.oracle.coarser, r.oracle.coarser);
+  EXPECT_DOUBLE_EQ(g.oracle.rule_triangles, r.oracle.rule_triangles);
+  EXPECT_DOUBLE_EQ(g.oracle.oracle_triangles, r.oracle.oracle_triangles);
   EXPECT_NE(summary_text(sim, r).find("Third-party assets (ball): 9 of the 9 objects, 20 of the 20 judged"),
             std::string::npos)
       << summary_text(sim, r);

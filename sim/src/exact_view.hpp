@@ -28,9 +28,13 @@ struct ExactScores {
 };
 
 // Each view rendered at the display's resolution (2 x its angular diameter x `ppd` px/deg, a power
-// of two from 64 to 512), every level against level 0, the lost contrast scored by the thresholds
-// of `perceptual` (its quality, model and display; no hysteresis) in that frame. Views are measured
-// in parallel; the result is in their order and does not depend on the thread count.
+// of two from 64 to 512), every level against level 0, the difference scored by the judge's
+// detection model (acuity/sim/detection.hpp): stelaCSF per point of the image with the point's
+// eccentricity from the frame's gazes, the object's retinal slip (against the tracked gaze, else
+// Daly's pursuit model; a saccade counts as fixation, as the scheduler takes it), the display's white
+// at `perceptual`.params.luminance and its Nyquist frequency ppd / 2. Of `perceptual` only those and
+// the gaze's confidence floor are read: the judge is not the rule. Views are measured in parallel;
+// the result is in their order and does not depend on the thread count.
 std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
                                            const SchedulerConfig& perceptual, double ppd);
 

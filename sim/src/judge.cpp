@@ -9,111 +9,136 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include "acuity/sim/detection.hpp"
 #include "acuity/sim/simulation.hpp"
-#include "acuity/spectra/profile_writer.hpp"
+#include "acuity/spectra/render.hpp"
 #include "exact_view.hpp"
 #include "geometry.hpp"
 
 namespace acuity::sim {
 
+namespace {
+
+// The exact view of one decision: the snapshot's direction and up in object space, its pixels, and
+// where it lies in the visual field of the frame's eyes.
+struct Task {
+  ProfileView view;
+  std::uint32_t pixels = 0;
+  Placement placement;
+};
+
+glm::dvec3 vec(const double* p) { return {p[0], p[1], p[2]}; }
+glm::dvec3 vec(const float* p) { return {p[0], p[1], p[2]}; }
+glm::dquat rotation(const float* q) { return glm::dquat(q[3], q[0], q[1], q[2]); }
+
+Task exact_task(const SceneAssets& scene, const ExactView& v, const SchedulerConfig& c, double ppd) {
+  Task t;
+  const Frame& fr = *v.frame;
+  const std::uint32_t eyes = std::clamp<std::uint32_t>(fr.eye_count, 1, 2);
+  glm::dvec3 eye(0.0), eye_velocity(0.0);
+  for (std::uint32_t e = 0; e < eyes; ++e) {
+    eye += vec(fr.eyes[e].position) / double(eyes);
+    eye_velocity += glm::dvec3(vec(fr.eyes[e].velocity)) / double(eyes);
+  }
+  const ObjectTransform& tr = v.transform;
+  const glm::dquat q = rotation(tr.rotation);
+  const glm::dvec3 centre = world_centre(scene.assets[std::size_t(v.asset)], tr);
+  const glm::dquat head = rotation(fr.eyes[0].orientation);
+  // The snapshot's frame in the world: direction (object to eye), up (the head's, made
+  // perpendicular) and right = -direction x up, as the renderer's; in object space for the render.
+  const glm::dvec3 dir = glm::normalize(eye - centre);
+  glm::dvec3 up = head * glm::dvec3(0, 1, 0);
+  up -= dir * glm::dot(up, dir);
+  if (glm::length(up) < 1e-6) up = std::abs(dir.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0);
+  up = glm::normalize(up - dir * glm::dot(up, dir));
+  const glm::dvec3 od = glm::inverse(q) * dir, ou = glm::inverse(q) * up;
+  for (int k = 0; k < 3; ++k) {
+    t.view.direction[k] = float(od[k]);
+    t.view.up[k] = float(ou[k]);
+  }
+  const double distance = glm::length(eye - centre);
+  const double theta = distance > v.radius ? 2 * std::asin(v.radius / distance) * kDeg : 180.0;
+  t.pixels = 64;
+  while (t.pixels < 512 && double(t.pixels) < 2 * theta * ppd)
+    t.pixels *= 2;  // bands up to px / 4 reach the display's Nyquist
+
+  Placement& p = t.placement;
+  p.centre = centre - eye;
+  p.radius = v.radius;
+  p.up = up;
+  p.right = glm::normalize(glm::cross(-dir, up));
+  p.head_up = head * glm::dvec3(0, 1, 0);
+  // The gazes the scheduler would take (valid, confident, finite); a saccade counts as fixation.
+  glm::dvec3 gaze_velocity(0.0);
+  bool tracked = false;
+  for (std::uint32_t e = 0; e < eyes; ++e) {
+    const Gaze& g = fr.gaze[e];
+    const glm::dvec3 gd = vec(g.direction);
+    const double gl = glm::length(gd);
+    if (!g.valid || g.confidence < c.min_gaze_confidence || !std::isfinite(gl) || gl < 0.5) continue;
+    const glm::dquat er = rotation(fr.eyes[e].orientation);
+    p.gazes.push_back(er * (gd / gl));
+    const glm::dvec3 gw = vec(g.angular_velocity);
+    if (e == 0 && g.has_velocity && std::isfinite(glm::length(gw)) &&
+        !(c.saccade_speed > 0 && glm::length(gw) > double(c.saccade_speed))) {
+      tracked = true;  // d(gaze)/dt in the world [deg/s]: eye in head, carried by the head, and the head's
+      gaze_velocity = er * glm::cross(gw, gd / gl) + glm::cross(vec(fr.eyes[0].angular_velocity), p.gazes[0]);
+    }
+  }
+  // The image's motion [deg/s] at the object's centre, and its slip on the retina: against the
+  // tracked gaze, or Daly's pursuit of it.
+  const glm::dvec3 u = -dir, rel = v.velocity - eye_velocity;
+  const glm::dvec3 image = kDeg * (rel - glm::dot(rel, u) * u) / std::max(distance, 1e-9) -
+                           glm::cross(vec(fr.eyes[0].angular_velocity), u);
+  glm::dvec3 slip = image - gaze_velocity;
+  if (!tracked) {
+    const double vi = glm::length(image);
+    slip = vi > 0 ? image * (daly_retinal_velocity(vi, c.params) / vi) : glm::dvec3(0.0);
+  }
+  p.retinal_velocity = {glm::dot(slip, p.right), glm::dot(slip, p.up)};
+  return t;
+}
+
+}  // namespace
+
 std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
                                            const SchedulerConfig& perceptual, double ppd) {
-  // The exact view's direction and up in object space, and the snapshot's pixels.
-  struct Task {
-    ProfileView view;
-    std::uint32_t pixels;
-  };
   std::vector<Task> tasks;
-  for (const ExactView& v : views) {
-    Task t{};
-    const Frame& fr = *v.frame;
-    glm::dvec3 eye(0.0);
-    for (std::uint32_t e = 0; e < fr.eye_count; ++e)
-      eye += glm::dvec3(fr.eyes[e].position[0], fr.eyes[e].position[1], fr.eyes[e].position[2]) /
-             double(fr.eye_count);
-    const ObjectTransform& tr = v.transform;
-    const glm::dquat q(tr.rotation[3], tr.rotation[0], tr.rotation[1], tr.rotation[2]);
-    const glm::dvec3 centre = world_centre(scene.assets[std::size_t(v.asset)], tr);
-    const glm::dvec3 d = glm::inverse(q) * (eye - centre);
-    const glm::dquat head(fr.eyes[0].orientation[3], fr.eyes[0].orientation[0], fr.eyes[0].orientation[1],
-                          fr.eyes[0].orientation[2]);
-    glm::dvec3 up = glm::inverse(q) * (head * glm::dvec3(0, 1, 0));
-    const glm::dvec3 dir = glm::normalize(d);
-    up -= dir * glm::dot(up, dir);
-    if (glm::length(up) < 1e-6) {
-      t.view = spectra::make_view(float(dir.x), float(dir.y), float(dir.z));
-    } else {
-      up = glm::normalize(up);
-      for (int k = 0; k < 3; ++k) {
-        t.view.direction[k] = float(dir[k]);
-        t.view.up[k] = float(up[k]);
-      }
-    }
-    const double distance = glm::length(eye - centre);
-    const double theta = distance > v.radius ? 2 * std::asin(v.radius / distance) * kDeg : 180.0;
-    t.pixels = 64;
-    while (t.pixels < 512 && double(t.pixels) < 2 * theta * ppd)
-      t.pixels *= 2;  // bands up to px / 4 reach the display's Nyquist
-    tasks.push_back(t);
-  }
+  for (const ExactView& v : views) tasks.push_back(exact_task(scene, v, perceptual, ppd));
 
-  // One measurer per asset and resolution (FFTW plans are made here, serially), then the views in parallel.
-  std::map<std::pair<int, std::uint32_t>, std::unique_ptr<spectra::ProfileMeasurer>> measurers;
+  // One detector per resolution and the chains' render inputs (FFTW plans are made here, serially),
+  // then the views in parallel.
+  DetectionSettings settings;
+  settings.white_luminance = perceptual.params.luminance;
+  settings.nyquist_cpd = 0.5 * ppd;
+  settings.params = perceptual.params;
+  std::map<std::uint32_t, std::unique_ptr<Detector>> detectors;
   std::vector<std::vector<spectra::LevelInput>> inputs(scene.assets.size());
+  std::vector<std::array<float, 4>> spheres(scene.assets.size());
   for (std::size_t i = 0; i < views.size(); ++i) {
-    const int a = views[i].asset;
-    auto& m = measurers[{a, tasks[i].pixels}];
-    if (m) continue;
-    if (inputs[std::size_t(a)].empty())
-      inputs[std::size_t(a)] = bake::spectra_levels(scene.assets[std::size_t(a)].chain);
-    spectra::ProfileSettings ps;
-    ps.render.pixels = tasks[i].pixels;
-    m = std::make_unique<spectra::ProfileMeasurer>(inputs[std::size_t(a)],
-                                                   scene.assets[std::size_t(a)].material, ps);
+    auto& d = detectors[tasks[i].pixels];
+    if (!d) d = std::make_unique<Detector>(tasks[i].pixels, settings);
+    const std::size_t a = std::size_t(views[i].asset);
+    if (!inputs[a].empty()) continue;
+    inputs[a] = bake::spectra_levels(scene.assets[a].chain);
+    spectra::bounding_sphere(inputs[a][0].mesh, spheres[a].data());  // every level framed by level 0's
   }
-  std::vector<spectra::ViewMeasurement> measured(tasks.size());
+  std::vector<ExactScores> out(tasks.size());
   tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t i) {
-    measured[i] = measurers.at({views[i].asset, tasks[i].pixels})->measure(tasks[i].view);
+    const std::size_t a = std::size_t(views[i].asset);
+    spectra::RenderSettings rs;
+    rs.pixels = tasks[i].pixels;
+    std::copy(spheres[a].begin(), spheres[a].end(), rs.sphere);
+    const spectra::Material& material = scene.assets[a].material;
+    const Detector& d = *detectors.at(tasks[i].pixels);
+    const auto reference = d.prepare(spectra::render_snapshot(inputs[a][0].mesh, material, tasks[i].view, rs),
+                                     tasks[i].placement);
+    out[i].pixels = tasks[i].pixels;
+    for (std::size_t k = 1; k < inputs[a].size() && k < kMaxLevels; ++k) {
+      const spectra::Image level = spectra::render_snapshot(inputs[a][k].mesh, material, tasks[i].view, rs);
+      out[i].scores[k] = float(d.detect(level, *reference).score);
+    }
   });
-
-  // Score every level with the perceptual rule's thresholds on a one-view profile of that exact view.
-  std::vector<ExactScores> out;
-  for (std::size_t i = 0; i < tasks.size(); ++i) {
-    const ExactView& v = views[i];
-    const Asset& a = scene.assets[std::size_t(v.asset)];
-    const spectra::ProfileMeasurer& m = *measurers.at({v.asset, tasks[i].pixels});
-    spectra::ProfileData d;
-    std::copy(m.sphere(), m.sphere() + 4, d.sphere);
-    d.snapshot_pixels = tasks[i].pixels;
-    d.levels.assign(a.profile.levels, a.profile.levels + a.profile.meta.level_count);
-    d.views = {tasks[i].view};
-    d.orientations = spectra::orientation_angles(spectra::AnalysisSettings{});
-    d.bands = m.analyzer().bands();
-    d.lost = measured[i].lost;
-    d.features = measured[i].features;
-    const Blob blob = spectra::encode_profile(d);
-    Profile p;
-    if (open_profile(blob.data(), blob.size, &p) != ProfileStatus::Ok)
-      throw std::logic_error("ground-truth profile does not open");
-    SchedulerConfig c = perceptual;
-    c.max_objects = 1;
-    c.max_profiles = 1;
-    c.hysteresis_margin = 0;
-    c.hysteresis_frames = 0;
-    c.saccade_speed = 0;
-    c.keep_scores = true;
-    Scheduler s(c);
-    s.add_profile(p);
-    const ObjectId id = s.add_object(0, v.transform);
-    const float vf[3] = {float(v.velocity.x), float(v.velocity.y), float(v.velocity.z)};
-    s.set_velocity(id, vf);
-    s.run_frame(*v.frame);
-    ExactScores e;
-    e.pixels = tasks[i].pixels;
-    const float* scores = s.scores(id);
-    for (std::uint32_t k = 0; k < p.meta.level_count; ++k) e.scores[k] = scores[k];
-    out.push_back(e);
-  }
   return out;
 }
 

@@ -138,7 +138,12 @@ std::string summary_json(const Simulation& sim, const Results& r) {
   const Results::Group& g = r.third_party;
   summary["third_party"] = {{"objects", g.objects},
                             {"judged_decisions", g.judged},
-                            {"all_finest_triangles_per_frame", g.all_finest}};
+                            {"all_finest_triangles_per_frame", g.all_finest},
+                            {"oracle",
+                             {{"ratio", g.oracle.ratio()},
+                              {"same", g.oracle.same},
+                              {"finer", g.oracle.finer},
+                              {"coarser", g.oracle.coarser}}}};
   for (std::size_t i = 0; i < rules.size(); ++i)
     if (!rules[i].sweep)
       summary["third_party"]["rules"][rules[i].name] = {{"triangles_per_frame", g.triangles[i]},

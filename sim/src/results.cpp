@@ -103,7 +103,18 @@ Results::Group third_party(const Simulation& sim, const std::vector<Judged>& jud
       losses += in_group[j.object] && j.scores[run.levels[std::size_t(j.frame) * objects + j.object]] > 1.0f;
     g.visible_losses.push_back(losses);
   }
-  for (const Judged& j : judged) g.judged += in_group[j.object] != nullptr;
+  std::vector<const Profile*> profiles;
+  std::vector<Judged> mine;
+  std::vector<std::uint8_t> levels;
+  const RuleRun& perceptual = sim.rule("perceptual");
+  for (const Judged& j : judged)
+    if (in_group[j.object]) {
+      profiles.push_back(in_group[j.object]);
+      mine.push_back(j);
+      levels.push_back(perceptual.levels[std::size_t(j.frame) * objects + j.object]);
+    }
+  g.judged = mine.size();
+  g.oracle = against_oracle(profiles, levels, mine);
   return g;
 }
 
@@ -358,12 +369,22 @@ std::string summary_text(const Simulation& sim, const Results& r) {
                 g.visible_losses[i], g.judged);
       appendf(&out, "\n");
     }
+    if (g.judged > 0) {
+      const Oracle& o3 = g.oracle;
+      appendf(
+          &out,
+          "over its %zu judged decisions the perceptual rule draws %.0f triangles, the oracle (the coarsest "
+          "level the judge\nfinds invisible) %.0f: %.2fx; it picks the oracle's level in %u, a finer one in "
+          "%u, a coarser one in %u\n",
+          g.judged, o3.rule_triangles, o3.oracle_triangles, o3.ratio(), o3.same, o3.finer, o3.coarser);
+    }
   }
   if (r.judged == 0) return out;
-  appendf(&out,
-          "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged by rendering "
-          "both levels at the exact view; the baselines' sweeps interpolated):\n",
-          100.0 * r.fraction(std::size_t(r.perceptual)), r.judged);
+  appendf(
+      &out,
+      "\nAt the perceptual rule's rate of visible losses (%.1f%% of %zu decisions judged at the exact view "
+      "by the detection model; the baselines' sweeps interpolated):\n",
+      100.0 * r.fraction(std::size_t(r.perceptual)), r.judged);
   appendf(
       &out, "  %-12s %s\n", "screen-size",
       match_text(entries, r.screen_size, "pixel error", "the perceptual rule's", "triangles/frame").c_str());
@@ -383,12 +404,11 @@ std::string summary_text(const Simulation& sim, const Results& r) {
               .c_str());
   const Oracle& oracle = r.oracle;
   const double n = double(oracle.same + oracle.finer + oracle.coarser);
-  appendf(
-      &out,
-      "Against the oracle (per judged decision, the coarsest level the exact-view check finds invisible):\n"
-      "  the perceptual rule draws %.2fx the oracle's triangles over the judged decisions; it picks the "
-      "oracle's level in %.1f%%, a finer one in %.1f%%, a coarser one in %.1f%%\n",
-      oracle.ratio(), 100.0 * oracle.same / n, 100.0 * oracle.finer / n, 100.0 * oracle.coarser / n);
+  appendf(&out,
+          "Against the oracle (per judged decision, the coarsest level the judge finds invisible):\n"
+          "  the perceptual rule draws %.2fx the oracle's triangles over the judged decisions; it picks the "
+          "oracle's level in %.1f%%, a finer one in %.1f%%, a coarser one in %.1f%%\n",
+          oracle.ratio(), 100.0 * oracle.same / n, 100.0 * oracle.finer / n, 100.0 * oracle.coarser / n);
   const Oracle& ungated = r.ungated;
   appendf(&out,
           "  switching at once (ungated), its choices draw %.2fx: the oracle's level in %.1f%%, a finer one "

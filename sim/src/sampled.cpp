@@ -153,7 +153,7 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
     run.margins.push_back(std::move(change));
   }
 
-  // Every decision judged at its exact view, by the perceptual rule's thresholds.
+  // Every decision judged at its exact view by the judge's detection model.
   std::vector<ExactView> views;
   for (const SampledDecision& d : run.decisions) {
     const Profile& p = scene.assets[std::size_t(d.asset)].profile;
@@ -184,8 +184,8 @@ std::string sampled_text(const SceneAssets& scene, const SampledRun& run) {
       "%zu decisions sampled (seed %u): each one of the scene's %zu meshes at a random turn, %.3g-%.3g deg "
       "across (log-uniform),\nits centre %.3g-%.3g deg from the gaze (uniform), %.0f%% of them moving at "
       "%.3g-%.3g deg/s on the retina (log-uniform, any direction);\none eye, %u px over %.3g deg, the gaze "
-      "tracked and still; every rule chooses once (no hysteresis) and each decision is\njudged by rendering "
-      "its levels at the exact view. All at their finest: %.0f triangles\n\n",
+      "tracked and still; every rule chooses once (no hysteresis) and each decision is\njudged at its exact "
+      "view by the detection model. All at their finest: %.0f triangles\n\n",
       n, o.seed, scene.assets.size(), o.min_diameter_deg, o.max_diameter_deg, 0.0, o.max_eccentricity_deg,
       100.0 * o.moving, o.min_speed_deg_s, o.max_speed_deg_s, o.viewport, double(o.fov_deg), run.all_finest);
   appendf(&out, "%-12s %16s %14s %14s %18s\n", "rule", "triangles", "of all-finest", "of perceptual",
@@ -229,7 +229,7 @@ std::string sampled_text(const SceneAssets& scene, const SampledRun& run) {
   const Oracle oracle = against_oracle(profiles, run.levels[0], run.judged);
   appendf(
       &out,
-      "Against the oracle (per decision, the coarsest level the exact-view check finds invisible):\n"
+      "Against the oracle (per decision, the coarsest level the judge finds invisible):\n"
       "  the perceptual rule draws %.2fx the oracle's triangles; it picks the oracle's level in %.1f%%, a "
       "finer one in %.1f%%, a coarser one in %.1f%%\n",
       oracle.ratio(), 100.0 * oracle.same / double(n), 100.0 * oracle.finer / double(n),

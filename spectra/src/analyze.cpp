@@ -184,8 +184,8 @@ std::shared_ptr<const LostContrast::Reference> LostContrast::prepare(const Image
   return ref;
 }
 
-template <class Fn>
-void LostContrast::each_map(const Image& level, const Reference& ref, Fn&& fn) const {
+void LostContrast::channels(const Image& level, const Reference& ref, bool position,
+                            const ChannelVisitor& visit) const {
   Buffer diff(std::size_t(n_) * n_);
   forward(plans_->forward, level, n_, diff);
   for (std::size_t i = 0; i < diff.n; ++i) {  // linearity: FFT(level - reference)
@@ -199,60 +199,65 @@ void LostContrast::each_map(const Image& level, const Reference& ref, Fn&& fn) c
     const std::uint32_t m = crop_[b];
     Buffer in(std::size_t(m) * m), out(std::size_t(m) * m);
     const std::vector<float>& mean = ref.mean[b];
-    c.resize(mean.size());
+    std::vector<float> contrast(mean.size());
     for (std::uint32_t t = 0; t < T; ++t) {
       crop(diff, n_, m, plans_->band_filter[std::size_t(b) * T + t], in);
-      fftwf_execute_dft(plans_->backward.at(m), in.p, out.p);  // out of place: `in` is kept
+      Channel c{b, t, m, contrast.data(), mean.data(), 0.0f, 0.0f};
+      if (position) {  // the filtered spectrum's energy-weighted mean position (`in`)
+        double power = 0, weighted = 0, turned = 0;
+        const std::vector<float>& lo = plans_->log_offset[b];
+        const std::vector<float>& angle = plans_->angle[b];
+        const float centre = spacing_ * float(t);
+        for (std::size_t i = 0; i < lo.size(); ++i) {
+          const double p = double(in.p[i][0]) * in.p[i][0] + double(in.p[i][1]) * in.p[i][1];
+          if (p == 0) continue;
+          float delta = angle[i] - centre;
+          delta -= 360.0f * std::round(delta / 360.0f);
+          power += p;
+          weighted += p * lo[i];
+          turned += p * delta;
+        }
+        c.offset = power > 0 ? float(weighted / power) : 0.0f;
+        c.turn = power > 0 ? float(turned / power) / spacing_ : 0.0f;
+      }
+      fftwf_execute_dft(plans_->backward.at(m), in.p, out.p);
       for (std::size_t i = 0; i < mean.size(); ++i)
-        c[i] = std::hypot(out.p[i][0], out.p[i][1]) * norm / mean[i];
-      fn(t, b, in, c.data(), c.size());
+        contrast[i] = std::hypot(out.p[i][0], out.p[i][1]) * norm / mean[i];
+      visit(c);
     }
   }
+}
+
+void LostContrast::visit(const Image& level, const Reference& ref, const ChannelVisitor& visit) const {
+  channels(level, ref, true, visit);
+}
+
+std::vector<std::vector<float>> LostContrast::contrast_maps(const Image& level, const Reference& ref) const {
+  const std::uint32_t B = band_count();
+  std::vector<std::vector<float>> out(std::size_t(settings_.orientations) * B);
+  channels(level, ref, false, [&](const Channel& c) {
+    out[std::size_t(c.orientation) * B + c.band].assign(c.contrast, c.contrast + std::size_t(c.m) * c.m);
+  });
+  return out;
 }
 
 void LostContrast::measure(const Image& level, const Reference& ref, float* result, float* area,
                            float* offset, float* turn) const {
   const std::uint32_t B = band_count();
-  each_map(level, ref,
-           [&](std::uint32_t t, std::uint32_t b, const Buffer& in, const float* c, std::size_t count) {
-             if (offset || turn) {  // the filtered spectrum's energy-weighted mean position (`in`)
-               double power = 0, weighted = 0, turned = 0;
-               const std::vector<float>& lo = plans_->log_offset[b];
-               const std::vector<float>& angle = plans_->angle[b];
-               const float centre = spacing_ * float(t);
-               for (std::size_t i = 0; i < lo.size(); ++i) {
-                 const double p = double(in.p[i][0]) * in.p[i][0] + double(in.p[i][1]) * in.p[i][1];
-                 if (p == 0) continue;
-                 float delta = angle[i] - centre;
-                 delta -= 360.0f * std::round(delta / 360.0f);
-                 power += p;
-                 weighted += p * lo[i];
-                 turned += p * delta;
-               }
-               if (offset) offset[std::size_t(t) * B + b] = power > 0 ? float(weighted / power) : 0.0f;
-               if (turn) turn[std::size_t(t) * B + b] = power > 0 ? float(turned / power) / spacing_ : 0.0f;
-             }
-             float best = 0;
-             double energy = 0;
-             for (std::size_t i = 0; i < count; ++i) {
-               best = std::max(best, c[i]);
-               energy += double(c[i]) * c[i];
-             }
-             result[std::size_t(t) * B + b] = best;
-             if (area)
-               area[std::size_t(t) * B + b] =
-                   best > 0 ? float(std::min(1.0, energy / (double(best) * best) / double(count))) : 0.0f;
-           });
-}
-
-std::vector<std::vector<float>> LostContrast::contrast_maps(const Image& level, const Reference& ref) const {
-  std::vector<std::vector<float>> out(std::size_t(settings_.orientations) * band_count());
-  const std::uint32_t B = band_count();
-  each_map(level, ref,
-           [&](std::uint32_t t, std::uint32_t b, const Buffer&, const float* c, std::size_t count) {
-             out[std::size_t(t) * B + b].assign(c, c + count);
-           });
-  return out;
+  channels(level, ref, offset || turn, [&](const Channel& c) {
+    float best = 0;
+    double energy = 0;
+    const std::size_t count = std::size_t(c.m) * c.m, at = std::size_t(c.orientation) * B + c.band;
+    for (std::size_t i = 0; i < count; ++i) {
+      best = std::max(best, c.contrast[i]);
+      energy += double(c.contrast[i]) * c.contrast[i];
+    }
+    result[at] = best;
+    if (area)
+      area[at] = best > 0 ? float(std::min(1.0, energy / (double(best) * best) / double(count))) : 0.0f;
+    if (offset) offset[at] = c.offset;
+    if (turn) turn[at] = c.turn;
+  });
 }
 
 std::vector<float> LostContrast::measure(const Image& level, const Image& reference, std::vector<float>* area,

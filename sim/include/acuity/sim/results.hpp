@@ -103,6 +103,7 @@ struct Results {
     double all_finest = 0;                      // triangles per frame (sum over frames / frames)
     std::vector<double> triangles;              // [rule] per frame
     std::vector<std::uint32_t> visible_losses;  // [rule] among its judged decisions
+    Oracle oracle;                              // the perceptual rule against the oracle on them
   } third_party;
   // visible_losses[rule] over judged; 0 when nothing was judged.
   double fraction(std::size_t rule) const { return judged > 0 ? visible_losses[rule] / double(judged) : 0.0; }

@@ -105,9 +105,10 @@ class Simulation {
 };
 
 // Ground truth: for sampled (frame, object) decisions in view, the exact view (from the eyes'
-// midpoint, the head's up, the object's pose at that frame) rendered at
-// the display's resolution (capped), lost contrast analysed, every level scored by the perceptual
-// rule's thresholds. A rule's decision is a visible loss when its level scores above 1.
+// midpoint, the head's up, the object's pose at that frame) rendered at the display's resolution
+// (capped), every level against level 0 scored by the judge's detection model (acuity/sim/detection.hpp:
+// stelaCSF per point with its eccentricity from the gaze, pooled over space and bands; 1 = just
+// detectable). A rule's decision is a visible loss when its level scores above 1.
 struct Judged {
   std::uint32_t frame, object, pixels;
   std::array<float, kMaxLevels> scores;  // [level]; level 0 is 0

@@ -13,6 +13,7 @@
 // [0, 180). Images wrap around in the FFT: the object sits inside the frame with background at the
 // edges, which keeps the wrap harmless (a documented limitation for objects touching the frame).
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -60,23 +61,36 @@ class LostContrast {
   // centre, in orientation spacings (a grating half-way between two orientations: +-1/2).
   void measure(const Image& level, const Reference& reference, float* out, float* area = nullptr,
                float* offset = nullptr, float* turn = nullptr) const;
+  // The lost contrast behind measure(), pixel by pixel: visit(channel) once per band b and
+  // orientation t (bands outermost), with c(x) and the floored local mean (R * L_b)(x) of the
+  // reference on band b's m x m grid (m a power of two <= pixels, the band's bandwidth: grid point
+  // (i, j) samples the image at pixel (i pixels / m, j pixels / m), row 0 at the top), and the
+  // channel's offset and turn as measure() gives them. The pointers are valid during the call only.
+  // Thread-safe.
+  struct Channel {
+    std::uint32_t band, orientation, m;
+    const float* contrast;  // [m * m]
+    const float* mean;      // [m * m]
+    float offset, turn;     // [octaves], [orientation spacings]
+  };
+  using ChannelVisitor = std::function<void(const Channel&)>;
+  void visit(const Image& level, const Reference& reference, const ChannelVisitor& visit) const;
   // The same in one call (area, offset, turn: as above, [T * B], when given).
   std::vector<float> measure(const Image& level, const Image& reference, std::vector<float>* area = nullptr,
                              std::vector<float>* offset = nullptr, std::vector<float>* turn = nullptr) const;
-  // Where the contrast is lost: maps[t * B + b] is band b's lost contrast at orientation t over the
-  // image, map_size(b) x map_size(b) samples (row-major, row 0 at the top; sample (r, c) lies at the
+  // Where the contrast is lost (visit()'s maps, kept): maps[t * B + b] is band b's lost contrast at
+  // orientation t over the image, map_size(b) x map_size(b) samples (row-major, row 0 at the top; sample (r, c) lies at the
   // centre of pixel (r s, c s), s = pixels / map_size(b)), whose maximum is measure()'s value. For judges whose
   // threshold varies over the image (a cut's eccentricity). Thread-safe.
   std::vector<std::vector<float>> contrast_maps(const Image& level, const Reference& reference) const;
   std::uint32_t map_size(std::uint32_t band) const { return crop_[band]; }
 
  private:
-  // Calls fn(t, b, filtered, contrast, count) for every orientation and band: the band's filtered
-  // spectrum of level - reference on its crop grid (an internal FFT buffer) and its lost contrast
-  // there (count = map_size(b)^2 values).
-  template <class Fn>
-  void each_map(const Image& level, const Reference& reference, Fn&& fn) const;
   struct Plans;
+  // The one loop of measure() and visit(): every channel's map, with its offset and turn when
+  // `position` (else 0).
+  void channels(const Image& level, const Reference& reference, bool position,
+                const ChannelVisitor& visit) const;
   std::uint32_t n_;
   AnalysisSettings settings_;
   std::vector<float> bands_;
