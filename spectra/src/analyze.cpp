@@ -194,7 +194,6 @@ void LostContrast::channels(const Image& level, const Reference& ref, bool posit
   }
   const std::uint32_t T = settings_.orientations, B = band_count();
   const float norm = 1.0f / (float(n_) * float(n_));
-  std::vector<float> c;
   for (std::uint32_t b = 0; b < B; ++b) {
     const std::uint32_t m = crop_[b];
     Buffer in(std::size_t(m) * m), out(std::size_t(m) * m);
