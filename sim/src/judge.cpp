@@ -85,11 +85,13 @@ Task exact_task(const SceneAssets& scene, const ExactView& v, const SchedulerCon
       gaze_velocity = er * glm::cross(gw, gd / gl) + glm::cross(vec(fr.eyes[0].angular_velocity), p.gazes[0]);
     }
   }
-  // The image's motion [deg/s] at the object's centre, and its slip on the retina: against the
-  // tracked gaze, or Daly's pursuit of it.
+  // The image's motion [deg/s] at the object's centre, and its slip on the retina, as the scheduler
+  // takes them (image_to_track, scheduler/src/geometry.hpp): against the tracked gaze, the motion in
+  // the world; else Daly's pursuit of the slower of the motion in the world and in the turning head.
   const glm::dvec3 u = -dir, rel = v.velocity - eye_velocity;
-  const glm::dvec3 image = kDeg * (rel - glm::dot(rel, u) * u) / std::max(distance, 1e-9) -
-                           glm::cross(vec(fr.eyes[0].angular_velocity), u);
+  const glm::dvec3 world = kDeg * (rel - glm::dot(rel, u) * u) / std::max(distance, 1e-9);
+  const glm::dvec3 in_head = world - glm::cross(vec(fr.eyes[0].angular_velocity), u);  // deg/s
+  const glm::dvec3 image = tracked || glm::dot(world, world) <= glm::dot(in_head, in_head) ? world : in_head;
   glm::dvec3 slip = image - gaze_velocity;
   if (!tracked) {
     const double vi = glm::length(image);
