@@ -3,6 +3,7 @@
 // double precision through acuity::log_threshold().
 #include <gtest/gtest.h>
 
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -319,6 +320,35 @@ TEST(SchedulerSlip, HeadRotationAndTheVestibuloOcularReflex) {
   const Seen no_vor = seen(nullptr, true, true, 0);
   EXPECT_NEAR(no_vor.slip, kYaw, 0.01f * kYaw);
   EXPECT_EQ(no_vor.level, slipping.level);
+}
+
+// The public rule the offline judge shares (object_retinal_slip), against slips worked by hand.
+TEST(SchedulerSlip, ThePublicRuleMatchesHandWorkedCases) {
+  const ModelParams params;
+  const auto slip = [&](std::array<float, 3> world, std::array<float, 3> turn, const float* gaze) {
+    std::array<float, 3> out{};
+    object_retinal_slip(world.data(), turn.data(), gaze, params, out.data());
+    return out;
+  };
+  const float daly10 = daly_retinal_velocity(10.0f, params), daly20 = daly_retinal_velocity(20.0f, params);
+  // A still object, the head turning, no gaze velocity: the eye holds the world (no slip at all).
+  EXPECT_EQ(slip({0, 0, 0}, {30, 0, 0}, nullptr), (std::array<float, 3>{0, 0, 0}));
+  // Moving at 10 deg/s in the world while the head sweeps it at 30: the world motion is slower.
+  auto s = slip({10, 0, 0}, {30, 0, 0}, nullptr);
+  EXPECT_FLOAT_EQ(s[0], daly10);
+  EXPECT_EQ(s[1], 0.0f);
+  // Moving at 50 deg/s with a head that turns along at 30: the motion in the head (20) is slower.
+  s = slip({0, 50, 0}, {0, 30, 0}, nullptr);
+  EXPECT_FLOAT_EQ(s[1], daly20);
+  EXPECT_EQ(s[0], 0.0f);
+  // A measured gaze velocity: the world motion less the gaze's, whatever the head does.
+  const float gaze[3] = {4, -3, 0};
+  s = slip({10, 0, 0}, {30, 0, 0}, gaze);
+  EXPECT_EQ(s, (std::array<float, 3>{6, 3, 0}));
+  // A gaze fixed in the head, the head turning at 30 past a still object: it slips at 30.
+  const float fixed[3] = {30, 0, 0};
+  s = slip({0, 0, 0}, {30, 0, 0}, fixed);
+  EXPECT_EQ(s, (std::array<float, 3>{-30, 0, 0}));
 }
 
 // ---- Reddy's fence (section 5.2) -------------------------------------------------------------------

@@ -133,4 +133,15 @@ void Scheduler::Impl::aim(ObjectId id, Sight* s) const {
   s->moving = s->vx != 0.0f || s->vy != 0.0f;
 }
 
+void object_retinal_slip(const float world[3], const float turn[3], const float* gaze_velocity,
+                         const ModelParams& p, float slip[3]) {
+  const Vec3 w{world[0], world[1], world[2]}, t{turn[0], turn[1], turn[2]};
+  const bool tracked = gaze_velocity != nullptr;
+  const Vec3 gaze = tracked ? Vec3{gaze_velocity[0], gaze_velocity[1], gaze_velocity[2]} : Vec3{0, 0, 0};
+  const Vec3 s = internal::retinal_slip(internal::image_to_track(w, t, tracked), tracked, gaze, p);
+  slip[0] = s.x;
+  slip[1] = s.y;
+  slip[2] = s.z;
+}
+
 }  // namespace acuity

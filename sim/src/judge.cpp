@@ -85,18 +85,15 @@ Task exact_task(const SceneAssets& scene, const ExactView& v, const SchedulerCon
       gaze_velocity = er * glm::cross(gw, gd / gl) + glm::cross(vec(fr.eyes[0].angular_velocity), p.gazes[0]);
     }
   }
-  // The image's motion [deg/s] at the object's centre, and its slip on the retina, as the scheduler
-  // takes them (image_to_track, scheduler/src/geometry.hpp): against the tracked gaze, the motion in
-  // the world; else Daly's pursuit of the slower of the motion in the world and in the turning head.
+  // The image's motion [deg/s] at the object's centre, and its slip on the retina by the scheduler's
+  // own rule (object_retinal_slip).
   const glm::dvec3 u = -dir, rel = v.velocity - eye_velocity;
-  const glm::dvec3 world = kDeg * (rel - glm::dot(rel, u) * u) / std::max(distance, 1e-9);
-  const glm::dvec3 in_head = world - glm::cross(vec(fr.eyes[0].angular_velocity), u);  // deg/s
-  const glm::dvec3 image = tracked || glm::dot(world, world) <= glm::dot(in_head, in_head) ? world : in_head;
-  glm::dvec3 slip = image - gaze_velocity;
-  if (!tracked) {
-    const double vi = glm::length(image);
-    slip = vi > 0 ? image * (daly_retinal_velocity(vi, c.params) / vi) : glm::dvec3(0.0);
-  }
+  const glm::vec3 world(kDeg * (rel - glm::dot(rel, u) * u) / std::max(distance, 1e-9));
+  const glm::vec3 turn(kDeg * glm::cross(vec(fr.eyes[0].angular_velocity), u));
+  const glm::vec3 gaze(gaze_velocity);
+  glm::vec3 slip_f;
+  object_retinal_slip(&world.x, &turn.x, tracked ? &gaze.x : nullptr, c.params, &slip_f.x);
+  const glm::dvec3 slip(slip_f);
   p.retinal_velocity = {glm::dot(slip, p.right), glm::dot(slip, p.up)};
   return t;
 }

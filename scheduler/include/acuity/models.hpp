@@ -119,6 +119,17 @@ T daly_eye_velocity(T v_image, const ModelParams& p = {});
 // Retinal velocity |v_image - v_eye| [deg/s], floored at p.drift (it is exactly 0 at 0.8333 deg/s).
 template <class T>
 T daly_retinal_velocity(T v_image, const ModelParams& p = {});
+// The retinal slip [deg/s] every decision takes for an object, all three vectors tangent at its
+// direction from the eye, in world axes. world: its image's angular velocity in the world (its
+// velocity relative to the eye, across the direction, over the distance) [deg/s]; turn: the head's
+// angular velocity x the direction [deg/s] (what a gaze fixed in the head sweeps past it);
+// gaze_velocity: the gaze direction's angular velocity in the world [deg/s] where measured, else
+// null. Measured: the slip is world - gaze_velocity. Else Daly's pursuit (daly_retinal_velocity) of the
+// slower of the motions in the world (the eye holds the world still: the vestibulo-ocular reflex)
+// and in the head (world - turn: a head that follows the object, or head-locked content); its
+// direction is that motion's. docs/design.md section 3.
+void object_retinal_slip(const float world[3], const float turn[3], const float* gaze_velocity,
+                         const ModelParams& p, float slip[3]);
 // Daly's spatio-velocity CSF at frequency f [cpd] and retinal velocity v [deg/s], fit p.fit:
 // c0 c2 v (2 pi c1 f)^2 exp(-4 pi c1 f / rho_max) k(c2 v), rho_max = 45.9 / (c2 v + 2)
 // (Laird2006: prefactor c0 c1 c2). v is floored at max(p.drift, 0.1 for Laird2006).
