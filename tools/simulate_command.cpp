@@ -68,6 +68,7 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{
           {"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
       ->default_str("tabulated");
+  add_model_option(cmd, o->sim.model);
 }
 
 void simulate(const SimulateOptions& o) {
