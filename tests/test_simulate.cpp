@@ -455,8 +455,8 @@ TEST(Simulate, UngatedRuleCoarsensAtOnceWhereThePerceptualRuleWaits) {
 }
 
 // SimulationOptions::model: the perceptual rule, ungated and the quality sweep take it; Reddy and
-// the baselines keep their own choices, level for level; the summary and summary.json name it, with
-// the evaluation the scheduler really used (stela-csf has no tables: exact).
+// the baselines keep their own choices, level for level; perceptual_text (what the commands print)
+// and summary.json name it, with the evaluation the scheduler really used (stela-csf has no tables).
 TEST(Simulate, ModelReachesThePerceptualRulesOnly) {
   const SceneAssets& scene = small_scene();
   SimulationOptions o = small_options("");
@@ -483,12 +483,12 @@ TEST(Simulate, ModelReachesThePerceptualRulesOnly) {
     ASSERT_GT(eb.level_count, 1u);
     EXPECT_NE(ea.levels[1].threshold, eb.levels[1].threshold) << b.name;
   }
-  const Results r = analyse(stela, {});
-  EXPECT_NE(summary_text(stela, r).find("(perceptual: model stela-csf, exact thresholds;"), std::string::npos)
-      << summary_text(stela, r);
-  EXPECT_NE(summary_text(base, analyse(base, {})).find("(perceptual: model default, tabulated thresholds;"),
-            std::string::npos);
-  write_outputs(stela, r, {}, o.output);
+  const ProfileMeta& meta = scene.assets[0].profile.meta;
+  EXPECT_EQ(perceptual_text(stela.rule("perceptual").scheduler->config(), meta),
+            "model stela-csf, exact thresholds");
+  EXPECT_EQ(perceptual_text(base.rule("perceptual").scheduler->config(), meta),
+            "model default, tabulated thresholds");
+  write_outputs(stela, analyse(stela, {}), {}, o.output);
   const std::string json = slurp(fs::path(o.output) / "summary.json");
   EXPECT_NE(json.find("\"model\": \"stela-csf\""), std::string::npos) << json;
 }

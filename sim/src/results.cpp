@@ -347,10 +347,9 @@ std::string summary_text(const Simulation& sim, const Results& r) {
   }
   const SchedulerConfig& gated = perceptual.scheduler->config();
   appendf(&out,
-          "(perceptual: %s; ungated: the perceptual rule switching at once; every other rule coarsens "
-          "after %u calm frames at a score <= %.2g, in a saccade or after %u frames)\n",
-          perceptual_text(gated, sim.scene().assets[0].profile.meta).c_str(), gated.hysteresis_frames,
-          1.0 - double(gated.hysteresis_margin), gated.max_coarsen_wait);
+          "(ungated: the perceptual rule switching at once; every other rule coarsens after %u calm frames "
+          "at a score <= %.2g, in a saccade or after %u frames)\n",
+          gated.hysteresis_frames, 1.0 - double(gated.hysteresis_margin), gated.max_coarsen_wait);
   const Results::Group& g = r.third_party;
   if (g.objects > 0) {
     appendf(&out, "\nThird-party assets (");

@@ -185,11 +185,10 @@ std::string sampled_text(const SceneAssets& scene, const SampledRun& run) {
       "%zu decisions sampled (seed %u): each one of the scene's %zu meshes at a random turn, %.3g-%.3g deg "
       "across (log-uniform),\nits centre %.3g-%.3g deg from the gaze (uniform), %.0f%% of them moving at "
       "%.3g-%.3g deg/s on the retina (log-uniform, any direction);\none eye, %u px over %.3g deg, the gaze "
-      "tracked and still; every rule chooses once (no hysteresis; perceptual: %s) and each decision is\n"
-      "judged at its exact view by the detection model. All at their finest: %.0f triangles\n\n",
+      "tracked and still; every rule chooses once (no hysteresis) and each decision is\njudged at its exact "
+      "view by the detection model. All at their finest: %.0f triangles\n\n",
       n, o.seed, scene.assets.size(), o.min_diameter_deg, o.max_diameter_deg, 0.0, o.max_eccentricity_deg,
-      100.0 * o.moving, o.min_speed_deg_s, o.max_speed_deg_s, o.viewport, double(o.fov_deg),
-      perceptual_text(run.perceptual, scene.assets[0].profile.meta).c_str(), run.all_finest);
+      100.0 * o.moving, o.min_speed_deg_s, o.max_speed_deg_s, o.viewport, double(o.fov_deg), run.all_finest);
   appendf(&out, "%-12s %16s %14s %14s %18s\n", "rule", "triangles", "of all-finest", "of perceptual",
           "visible losses");
   const double perceptual = run.rules[0].point.triangles;
