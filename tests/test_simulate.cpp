@@ -454,6 +454,45 @@ TEST(Simulate, UngatedRuleCoarsensAtOnceWhereThePerceptualRuleWaits) {
   EXPECT_GE(ungated.switches, gated.switches);
 }
 
+// SimulationOptions::model: the perceptual rule, ungated and the quality sweep take it; Reddy and
+// the baselines keep their own choices, level for level; perceptual_text (what the commands print)
+// and summary.json name it, with the evaluation the scheduler really used (stela-csf has no tables).
+TEST(Simulate, ModelReachesThePerceptualRulesOnly) {
+  const SceneAssets& scene = small_scene();
+  SimulationOptions o = small_options("");
+  o.seconds = 1;
+  o.validate = 0;
+  Simulation base(scene, o);
+  base.run();
+  o.model = ThresholdModel::StelaCsf;
+  o.output = scratch("stela-model").string();
+  o.images = 0;
+  Simulation stela(scene, o);
+  stela.run();
+  for (std::size_t r = 0; r < stela.rules().size(); ++r) {
+    const RuleRun &a = base.rules()[r], &b = stela.rules()[r];
+    const bool perceptual = b.scheduler->config().rule == SelectionRule::Perceptual;
+    EXPECT_EQ(b.scheduler->config().model, perceptual ? ThresholdModel::StelaCsf : ThresholdModel::Default)
+        << b.name;
+    if (!perceptual) {
+      EXPECT_EQ(a.levels, b.levels) << b.name;
+      continue;
+    }
+    ObjectExplain ea{}, eb{};  // the last frame's thresholds of object 0: the model's own
+    ASSERT_TRUE(a.scheduler->explain(0, &ea) && b.scheduler->explain(0, &eb)) << b.name;
+    ASSERT_GT(eb.level_count, 1u);
+    EXPECT_NE(ea.levels[1].threshold, eb.levels[1].threshold) << b.name;
+  }
+  const ProfileMeta& meta = scene.assets[0].profile.meta;
+  EXPECT_EQ(perceptual_text(stela.rule("perceptual").scheduler->config(), meta),
+            "model stela-csf, exact thresholds");
+  EXPECT_EQ(perceptual_text(base.rule("perceptual").scheduler->config(), meta),
+            "model default, tabulated thresholds");
+  write_outputs(stela, analyse(stela, {}), {}, o.output);
+  const std::string json = slurp(fs::path(o.output) / "summary.json");
+  EXPECT_NE(json.find("\"model\": \"stela-csf\""), std::string::npos) << json;
+}
+
 TEST(Simulate, ThirdPartyAssetsAreReportedApart) {
   const SceneAssets& scene = small_scene();
   SimulationOptions o = small_options("");

@@ -28,8 +28,11 @@ void run(const DemoCommand& o, const std::string& program) {
     sim::SampleOptions sampled;
     sampled.count = o.sampled;
     sampled.seed = o.demo.sim.seed;
+    sampled.model = o.demo.sim.model;
     std::printf("\nsampled decisions: %u, judged by rendering each at its exact view\n", o.sampled);
     const sim::SampledRun run = sim::run_sampled(*scene.assets, sampled);
+    std::printf("the perceptual rule: %s\n",
+                sim::perceptual_text(run.perceptual, scene.assets->assets[0].profile.meta).c_str());
     std::printf("\n%s\nacuity demo finished in %.1f s.\n", sim::sampled_text(*scene.assets, run).c_str(),
                 seconds());
     return;
@@ -74,6 +77,7 @@ void add_demo_command(CLI::App& app, const std::string& program) {
                   "Instead of the fly-through, this many decisions sampled over size, eccentricity and "
                   "retinal speed (docs/demo.md), each judged")
       ->check(CLI::Range(1u, 100000u));
+  add_model_option(cmd, d.sim.model);
   cmd->add_flag("--flat", d.flat,
                 "Flat-shaded chains and profiles (every edge a crease), as an engine drawing faceted "
                 "meshes shows them, kept apart from the smooth ones");

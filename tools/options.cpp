@@ -40,4 +40,21 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
       ->check(CLI::IsMember({12, 42, 162}));
 }
 
+void add_model_option(CLI::App* cmd, ThresholdModel& model) {
+  const CLI::Validator name(
+      [](std::string& text) -> std::string {
+        ThresholdModel m{};
+        if (!parse_threshold_model(text.c_str(), &m))
+          return "unknown model '" + text + "' (" + threshold_model_names() + ")";
+        text = std::to_string(int(m));  // the enum's value, which CLI11 then reads
+        return {};
+      },
+      "");
+  cmd->add_option("--model", model,
+                  std::string("The perceptual rule's threshold model: ") + threshold_model_names())
+      ->transform(name)
+      ->type_name("NAME")
+      ->default_str(to_string(model));
+}
+
 }  // namespace acuity::tools

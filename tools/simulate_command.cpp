@@ -68,6 +68,7 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
       ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{
           {"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
       ->default_str("tabulated");
+  add_model_option(cmd, o->sim.model);
 }
 
 void simulate(const SimulateOptions& o) {
@@ -94,6 +95,9 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
       "\nsimulated %zu frames x %zu rule settings in %.1f s; judged %zu decisions by render-and-analyze in "
       "%.1f s\n",
       sim.frame_count(), sim.rules().size(), run.simulate_seconds, run.judged.size(), run.judge_seconds);
+  std::printf(
+      "the perceptual rule: %s\n",
+      sim::perceptual_text(sim.rule("perceptual").scheduler->config(), scene.assets[0].profile.meta).c_str());
   std::fputs(sim::summary_text(sim, run.results).c_str(), stdout);
   if (!options.output.empty())
     std::fputs(

@@ -64,6 +64,9 @@ SceneRun load(const std::string& scene, const py::kwargs& kw) {
     else if (k == "evaluation") {
       if (!parse_evaluation(value.cast<std::string>().c_str(), &o.evaluation))
         throw py::value_error("evaluation: 'tabulated' or 'exact'");
+    } else if (k == "model") {
+      if (!parse_threshold_model(value.cast<std::string>().c_str(), &o.model))
+        throw py::value_error(std::string("model: ") + threshold_model_names());
     } else
       throw py::type_error("unknown option '" + k + "'");
   }
@@ -109,9 +112,10 @@ void bind_sim(py::module_ m) {
       "scene"_a,
       "Run a glTF scene along a head path and gaze trace through the four LOD rules and their sweeps,\n"
       "as `acuity simulate` does (the same code). Options (keywords, the command's defaults): seconds,\n"
-      "fps, seed, movers, viewport, fov, saccade_speed, evaluation ('tabulated'/'exact'), validate\n"
-      "(decisions judged by render-and-analyze), images, output (folder for CSV/JSON/PNG), head and\n"
-      "gaze (track files), profiles (folder of .acuity), res (snapshot px), asset_root.\n"
+      "fps, seed, movers, viewport, fov, saccade_speed, evaluation ('tabulated'/'exact'), model (the\n"
+      "perceptual rule's: 'default', 'stela-csf', ...), validate (decisions judged by\n"
+      "render-and-analyze), images, output (folder for CSV/JSON/PNG), head and gaze (track files),\n"
+      "profiles (folder of .acuity), res (snapshot px), asset_root.\n"
       "Returns a dict: summary (the text acuity simulate prints), frames, objects, judged, all_finest\n"
       "(triangles per frame at level 0), rules (name, parameter, sweep, triangles_per_frame, switches,\n"
       "switches_outside_saccades, visible_losses when judged), written (paths), simulate_seconds,\n"

@@ -94,6 +94,8 @@ std::string summary_json(const Simulation& sim, const Results& r) {
   summary["frames"] = r.frames;
   summary["objects"] = r.objects;
   summary["seed"] = sim.options().seed;
+  summary["model"] = to_string(sim.options().model);  // the perceptual rule's
+  summary["evaluation"] = to_string(sim.options().evaluation);
   summary["all_finest_triangles_per_frame"] = r.all_finest;
   summary["judged_decisions"] = r.judged;
   for (std::size_t i = 0; i < rules.size(); ++i)

@@ -131,12 +131,13 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
   std::vector<Tuning> tunings = main_tunings();
   const std::size_t main_rules = tunings.size();
   for (const Tuning& t : swept_tunings(kWider)) tunings.push_back(t);
-  SchedulerConfig perceptual;
+  SchedulerConfig& perceptual = run.perceptual;
   for (const Tuning& t : tunings) {
     SchedulerConfig c;
     c.max_objects = o.count;
     c.max_profiles = std::uint32_t(scene.assets.size());
     c.evaluation = o.evaluation;
+    if (t.rule == SelectionRule::Perceptual) c.model = o.model;
     c.hysteresis_margin = 0;
     c.hysteresis_frames = 0;
     tune(&c, t.rule, t.parameter);

@@ -32,6 +32,11 @@ void tune(SchedulerConfig* c, SelectionRule rule, double parameter) {
   if (rule == SelectionRule::Distance) c->distance_scale = float(parameter);
 }
 
+std::string perceptual_text(const SchedulerConfig& c, const ProfileMeta& meta) {
+  return std::string("model ") + to_string(c.model) + ", " +
+         (Scheduler::table_bytes(meta, c) > 0 ? "tabulated" : "exact") + " thresholds";
+}
+
 Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : scene_(scene), options_(o) {
   if (!(o.fps > 0) || !(o.seconds > 0))
     throw std::runtime_error("simulate: seconds and fps must be positive");
@@ -139,6 +144,7 @@ Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : s
     c2.hysteresis_frames = 3;
     c2.saccade_speed = o.saccade_speed;
     c2.evaluation = o.evaluation;
+    if (rule == SelectionRule::Perceptual) c2.model = o.model;
     if (name == "ungated") {
       c2.hysteresis_margin = 0;
       c2.hysteresis_frames = 0;

@@ -75,7 +75,8 @@ def test_bad_options_are_refused_by_name(scene):
     glb = str(scene / "elephant.glb")
     for kw, match in ((dict(seconds=0), "seconds"), (dict(fps=float("nan")), "fps"), (dict(fov=200), "fov"),
                       (dict(viewport=8), "viewport"), (dict(saccade_speed=float("inf")), "saccade"),
-                      (dict(evaluation="fast"), "evaluation")):
+                      (dict(evaluation="fast"), "evaluation"),
+                      (dict(model="daly"), "model")):
         with pytest.raises(ValueError, match=match):
             acuity.sim.simulate(glb, validate=0, images=0, res=64, **kw)
     with pytest.raises(TypeError, match="colour"):

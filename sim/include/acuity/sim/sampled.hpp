@@ -23,6 +23,7 @@ struct SampleOptions {
   std::uint32_t viewport = 1920;                       // the eye's, square [px]
   float fov_deg = 90;                                  // full angle
   Evaluation evaluation = Evaluation::Tabulated;       // the perceptual rule's
+  ThresholdModel model = ThresholdModel::Default;      // the perceptual rule's (its sweep's, margins')
 };
 
 struct SampledDecision {
@@ -43,6 +44,7 @@ struct SampledRun {
   std::vector<std::vector<std::uint8_t>> levels;  // [rule][decision]
   std::vector<std::uint32_t> visible;             // [rule] decisions judged a visible loss
   double all_finest = 0;                          // every decision at level 0
+  SchedulerConfig perceptual;                     // the perceptual rule's (q = 1), whose params judge
   // The perceptual rule (q = 1) with one safety margin changed at a time (margin_changes()), over
   // the same judged decisions: what each margin costs in triangles and which losses it prevents.
   struct MarginChange {

@@ -24,16 +24,18 @@ namespace acuity::sim {
 struct SimulationOptions {
   double seconds = 20, fps = 60;
   unsigned seed = 1;
-  std::string head_file, gaze_file;               // empty: the built-in fly-through and gaze generator
-  std::uint32_t movers = 3;                       // objects moving on circles (pursuit targets)
-  double eye_separation = 0.064;                  // [m]
-  std::uint32_t viewport = 1920;                  // per eye, square [px]
-  float fov_deg = 90;                             // per eye, full angle
-  float saccade_speed = 100;                      // gaze faster than this is a saccade [deg/s]
-  Evaluation evaluation = Evaluation::Tabulated;  // the perceptual rule's thresholds
-  std::uint32_t validate = 200;                   // decisions judged by render-and-analyze (0: none)
-  std::uint32_t images = 3;                       // frames rendered as PNG
-  std::vector<std::string> third_party;           // asset names whose instances the summary reports apart
+  std::string head_file, gaze_file;                // empty: the built-in fly-through and gaze generator
+  std::uint32_t movers = 3;                        // objects moving on circles (pursuit targets)
+  double eye_separation = 0.064;                   // [m]
+  std::uint32_t viewport = 1920;                   // per eye, square [px]
+  float fov_deg = 90;                              // per eye, full angle
+  float saccade_speed = 100;                       // gaze faster than this is a saccade [deg/s]
+  Evaluation evaluation = Evaluation::Tabulated;   // the perceptual rule's thresholds
+  ThresholdModel model = ThresholdModel::Default;  // the perceptual rule's threshold model (and its
+                                                   // sweep's, ungated's); the others ignore it
+  std::uint32_t validate = 200;                    // decisions judged by render-and-analyze (0: none)
+  std::uint32_t images = 3;                        // frames rendered as PNG
+  std::vector<std::string> third_party;            // asset names whose instances the summary reports apart
   std::string output;  // directory for CSV, JSON, images (write_outputs); empty: none
 };
 
@@ -62,6 +64,9 @@ std::vector<Tuning> swept_tunings(int wider = 0);
 std::vector<Tuning> main_tunings();
 // `c` set to `rule` at tuning `parameter` (quality, pixel error or distance scale; else unused).
 void tune(SchedulerConfig* c, SelectionRule rule, double parameter);
+// How the perceptual rule of `c` decides on a profile like `meta`, as the commands print it: "model
+// stela-csf, exact thresholds" (exact also where c asks for tables the model has none of).
+std::string perceptual_text(const SchedulerConfig& c, const ProfileMeta& meta);
 
 class Simulation {
  public:
