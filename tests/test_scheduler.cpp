@@ -1825,6 +1825,43 @@ TEST(SchedulerTabulated, ObjectsAtRestLeaveTheirRestsInTime) {
     }
 }
 
+// Objects at rest while the head turns: still objects, no eye velocity and no gaze velocity (the eye
+// may hold the world, so their images stay still on the retina however the head turns). The head
+// first turns at 30 deg/s in place (angular velocity reported, the same pose every frame, as the
+// bench turns it), then sweeps +-15 deg at that speed with the gaze fixed in it, leaving the rests
+// set while it turned in place. Rests bound the turn of the gaze and of the view axis; each level
+// must be the scored scheduler's, and most objects must rest while the head turns in place.
+TEST(SchedulerTabulated, ObjectsRestWhileTheHeadTurns) {
+  const TestProfile halves(6, 8, 8, 0.0f, 0.3f, 1.0f);
+  const int objects = 2000, frames = 200, in_place = 100;
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    SCOPED_TRACE(blend == ViewBlend::Nearest ? "nearest" : "max3");
+    AgainstScored pair(blend, objects, halves.profile);
+    Rng rng(29);
+    for (int i = 0; i < objects; ++i) pair.add_object(random_object(rng, 0).t, ObjectId(i));
+    Frame fr = looking_forward();
+    gaze_at(fr, 0.2, 0.05, -1);
+    float yaw = 0, speed = 30.0f;       // [deg], [deg/s]
+    std::uint64_t at_rest_turning = 0;  // over the last 40 frames in place
+    for (int f = 0; f < frames; ++f) {
+      if (f >= in_place) {
+        yaw += speed * fr.dt;
+        if (std::abs(yaw) > 15.0f) speed = -speed;
+      }
+      fr.eyes[0].angular_velocity[1] = speed;
+      fr.eyes[0].orientation[1] = std::sin(0.5f * yaw * 3.14159265f / 180.0f);
+      fr.eyes[0].orientation[3] = std::cos(0.5f * yaw * 3.14159265f / 180.0f);
+      pair.run_frame(fr);
+      if (f >= in_place - 40 && f < in_place) at_rest_turning += pair.fast.stats().at_rest;
+      EXPECT_EQ(pair.scored.stats().at_rest, 0u);
+    }
+    pair.expect_same_levels(blend == ViewBlend::Nearest ? "nearest" : "max3", objects / 10, "the sweep");
+    EXPECT_GT(at_rest_turning, std::uint64_t(objects) * 40 / 2) << at_rest_turning << " of " << objects * 40;
+    std::printf("at rest turning in place: %llu of %d object-frames\n",
+                static_cast<unsigned long long>(at_rest_turning), objects * 40);
+  }
+}
+
 // Extreme but valid profiles: loss near 0 or enormous, a tiny object, one level. Tables stay finite
 // (decisions defined, never coarser than exact), and invalid input still falls back with a flag.
 TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {

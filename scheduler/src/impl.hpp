@@ -103,7 +103,9 @@ struct Scheduler::Impl {
       const std::uint32_t settled = calm_now >= hold_need;
       const std::uint32_t was_settled = std::uint32_t(calm > 0.0f) & std::uint32_t(calm >= hold_need);
       const float wait_now = std::min(wait + (was_settled ? wait_step : 0.0f), kMost);
-      const std::uint32_t waited = both_seconds ? calm_now >= both_need : wait_now >= wait_need;
+      // Masks, not a select on both_seconds: GCC vectorises no select between two comparisons.
+      const std::uint32_t waited = (both_seconds & std::uint32_t(calm_now >= both_need)) |
+                                   ((both_seconds ^ 1u) & std::uint32_t(wait_now >= wait_need));
       return {calm_now, wait_now, settled & (gate_open | waited)};
     }
   };

@@ -7,8 +7,11 @@ namespace acuity {
 void Scheduler::Impl::Memo::observe(std::uint32_t frame, const EyeCache* eye) {
   Pose now{};
   const auto zero = [](Vec3 v) { return v.x == 0.0f && v.y == 0.0f && v.z == 0.0f; };
-  // A still image stays still only while nothing moves it: no eye or head velocity, no gaze velocity.
-  usable = eye && eye->valid && zero(eye->velocity) && zero(eye->omega) && !eye->gaze_moving;
+  // A still image stays still only while nothing moves it: no eye velocity, no gaze velocity. The
+  // head may turn: without a measured gaze the eye may hold the world (image_to_track()), so a still
+  // object's image stays still on the retina; the turn moves the gaze and the view axis, which
+  // `turned` measures and a rest bounds (stands_at_rest()).
+  usable = eye && eye->valid && zero(eye->velocity) && !eye->gaze_moving;
   if (usable) {
     now = {{eye->position[0], eye->position[1], eye->position[2]},
            eye->gaze_dir,
