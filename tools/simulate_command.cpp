@@ -87,7 +87,8 @@ void explain(const SimulateOptions& o) {
 
 }  // namespace
 
-RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint) {
+RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint,
+                         const std::function<std::string(const sim::Simulation&)>& more) {
   const sim::Run run = sim::simulate(scene, options);
   const Simulation& sim = *run.simulation;
   std::printf(
@@ -95,6 +96,7 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
       "%.1f s\n",
       sim.frame_count(), sim.rules().size(), run.simulate_seconds, run.judged.size(), run.judge_seconds);
   std::fputs(sim::summary_text(sim, run.results).c_str(), stdout);
+  if (more) std::fputs(more(sim).c_str(), stdout);
   if (!options.output.empty())
     std::fputs(
         sim::outputs_text(run.results, run.written, options.output, plot_hint ? plot_script() : "").c_str(),
