@@ -51,6 +51,14 @@ std::vector<float> stand_in_loss(const Built& b, ClusterLoss* loss) {
   return lost;
 }
 
+// The stand-in loss of a hierarchy with its values beside it (not copyable: loss points into lost).
+struct StandIn {
+  ClusterLoss loss;
+  std::vector<float> lost;
+  explicit StandIn(const Built& b) : lost(stand_in_loss(b, &loss)) { loss.lost = lost; }
+  StandIn(const StandIn&) = delete;
+};
+
 // Six view cells (+-x, +-y, +-z) whose loss is the stand-in's times a factor in [0, 1] drawn per group
 // and cell: each group's loss then depends on the side it is seen from, unlike its parent's.
 const float kSixCells[18] = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
@@ -139,9 +147,9 @@ class ClosedMesh : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
   const Built b = build(GetParam());
-  ClusterLoss loss;
-  const std::vector<float> lost = stand_in_loss(b, &loss);
-  loss.lost = lost;
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
+  const std::vector<float>& lost = stand_in.lost;
   ClusterLoss per_cell = loss;  // every other view: the loss per view cell
   const std::vector<float> cell_lost = six_cells(lost, b.h.groups.size(), 4802);
   per_cell.view_directions = kSixCells;
@@ -576,6 +584,15 @@ namespace {
 // groups (visible[g] != 0) drawing `triangles`, coarsen the visible group of least harm (explain_cut's
 // score per triangle saved, at least 1; ties to the lower group) none of whose members' makers is
 // visible and no eye inside (score +inf), until at most `budget` are drawn.
+// Whether none of group g's members' makers is visible (visible(group) says which are).
+template <class Visible>
+bool frontier(const Built& b, std::size_t g, Visible&& visible) {
+  const ClusterGroup& group = b.h.groups[g];
+  for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+    if (b.h.clusters[m].refined != kNoGroup && visible(b.h.clusters[m].refined)) return false;
+  return true;
+}
+
 struct Greedy {
   std::vector<std::uint8_t> visible;
   std::uint64_t triangles = 0;
@@ -598,12 +615,11 @@ Greedy greedy(const Built& b, std::vector<std::uint8_t> visible, std::uint64_t t
     std::size_t best = groups.size();
     float best_harm = 0;
     for (std::size_t g = 0; g < groups.size(); ++g) {
-      if (!visible[g] || std::isinf(ex[g].score)) continue;
-      bool frontier = true;
-      for (std::uint32_t m = groups[g].first_member; m < groups[g].first_member + groups[g].member_count; ++m)
-        frontier = frontier && (clusters[m].refined == kNoGroup || !visible[clusters[m].refined]);
+      if (!visible[g] || std::isinf(ex[g].score) ||
+          !frontier(b, g, [&](std::uint32_t k) { return visible[k] != 0; }))
+        continue;
       const float harm = ex[g].score / float(std::max<std::int64_t>(saved(g), 1));
-      if (frontier && (best == groups.size() || harm < best_harm)) {
+      if (best == groups.size() || harm < best_harm) {
         best = g;
         best_harm = harm;
       }
@@ -628,9 +644,8 @@ Greedy greedy(const Built& b, std::vector<std::uint8_t> visible, std::uint64_t t
 // forced past visibility (kFlagBudgetForced). A smaller budget coarsens a superset of the groups.
 TEST_P(ClosedMesh, TriangleBudgetCoarsensTheLeastVisibleGroupsFirst) {
   const Built b = build(GetParam());
-  ClusterLoss loss;
-  const std::vector<float> lost = stand_in_loss(b, &loss);
-  loss.lost = lost;
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
   const Edges e = edges(b.mesh, b.h);
   CrackCheck crack(e);
   std::mt19937 rng(4848);
@@ -698,12 +713,8 @@ TEST_P(ClosedMesh, TriangleBudgetCoarsensTheLeastVisibleGroupsFirst) {
       ++unmet;
       for (std::size_t g = 0; g < G; ++g) {
         if (!(budgeted[g] & 4)) continue;
-        bool frontier = true;
-        for (std::uint32_t m = b.h.groups[g].first_member;
-             m < b.h.groups[g].first_member + b.h.groups[g].member_count; ++m)
-          frontier =
-              frontier && (b.h.clusters[m].refined == kNoGroup || !(budgeted[b.h.clusters[m].refined] & 4));
-        EXPECT_FALSE(frontier && !std::isinf(ex[g].score))
+        const bool could = frontier(b, g, [&](std::uint32_t k) { return (budgeted[k] & 4) != 0; });
+        EXPECT_FALSE(could && !std::isinf(ex[g].score))
             << "view " << view << ": group " << g << " could coarsen";
       }
     }
@@ -726,9 +737,8 @@ TEST_P(ClosedMesh, TriangleBudgetCoarsensTheLeastVisibleGroupsFirst) {
 // 1 triangle leaves the roots alone. Missing budget scratch or made index: BadHierarchy, the finest cut.
 TEST(ClusterCut, TriangleBudgetWithMemoryAndBadSizes) {
   const Built b = build("armadillo.off");
-  ClusterLoss loss;
-  const std::vector<float> lost = stand_in_loss(b, &loss);
-  loss.lost = lost;
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
   SchedulerConfig c = exact();
   c.hysteresis_frames = 30;
   Scheduler s(c);
