@@ -59,7 +59,7 @@ def files(build, mesh, work):
     if not os.path.exists(prof):
         t = time.time()
         run([tool, "lodgen", src, "--clusters", "-o", glb, "-q"])
-        run([tool, "profile", glb, "-o", prof, "--group-views", str(GROUP_VIEWS)])
+        run([tool, "profile", glb, "-o", prof, "--group-views", str(GROUP_VIEWS), "--view-cells"])
         seconds = time.time() - t
     return glb, prof, seconds
 

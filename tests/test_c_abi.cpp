@@ -96,7 +96,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 8);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 9);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {

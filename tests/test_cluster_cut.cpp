@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <random>
 
 #include "acuity/lodgen/chain.hpp"
@@ -22,9 +23,9 @@ const std::string kMeshes = ACUITY_MESH_DIR;
 struct Built {
   lodgen::Mesh mesh;
   lodgen::ClusterHierarchy h;
-  std::vector<std::uint32_t> roots;
+  std::vector<std::uint32_t> roots, made;
   double diameter = 0;
-  ClusterView view() const { return {h.clusters, h.groups, roots}; }
+  ClusterView view() const { return {h.clusters, h.groups, roots, made}; }
 };
 Built build(const std::string& file) {
   BuiltHierarchy built = built_hierarchy(kMeshes + "/" + file);
@@ -32,6 +33,7 @@ Built build(const std::string& file) {
   b.mesh = std::move(built.mesh);
   b.h = std::move(built.h);
   b.roots = cluster_roots(b.h.clusters);
+  b.made = cluster_made_index(b.h.clusters, b.h.groups.size());
   b.diameter = lodgen::diameter(b.mesh);
   return b;
 }
@@ -48,6 +50,14 @@ std::vector<float> stand_in_loss(const Built& b, ClusterLoss* loss) {
   loss->diameter = float(b.diameter);
   return lost;
 }
+
+// The stand-in loss of a hierarchy with its values beside it (not copyable: loss points into lost).
+struct StandIn {
+  ClusterLoss loss;
+  std::vector<float> lost;
+  explicit StandIn(const Built& b) : lost(stand_in_loss(b, &loss)) { loss.lost = lost; }
+  StandIn(const StandIn&) = delete;
+};
 
 // Six view cells (+-x, +-y, +-z) whose loss is the stand-in's times a factor in [0, 1] drawn per group
 // and cell: each group's loss then depends on the side it is seen from, unlike its parent's.
@@ -100,15 +110,46 @@ SchedulerConfig exact(float quality = 1.0f) {
   return c;
 }
 
+// A random view of an object: at the origin, turned and scaled at random; an eye 0.3 to 10
+// diameters (scaled) away looking near it; the gaze anywhere within 40 degrees of the view axis;
+// q 0.5 .. 2; a third moving.
+struct RandomView {
+  ObjectTransform t;
+  Frame frame;
+  float quality = 1;
+  float velocity[3] = {0, 0, 0};
+};
+RandomView random_view(std::mt19937& rng, double diameter) {
+  std::uniform_real_distribution<double> u(0, 1);
+  RandomView v;
+  const std::array<float, 4> q = look_along([&] {
+    std::array<double, 3> d = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
+    const double n = std::hypot(d[0], d[1], d[2]) + 1e-12;
+    return std::array<double, 3>{d[0] / n, d[1] / n, d[2] / n};
+  }());
+  for (int k = 0; k < 4; ++k) v.t.rotation[k] = q[std::size_t(k)];
+  v.t.scale = float(std::pow(10.0, u(rng) * 2 - 1));
+  const double size = diameter * v.t.scale;
+  std::array<double, 3> dir = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
+  const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12, dist = size * 0.3 * std::pow(10 / 0.3, u(rng));
+  const std::array<double, 3> eye = {dir[0] / n * dist, dir[1] / n * dist, dir[2] / n * dist};
+  const std::array<double, 3> target = {(u(rng) - 0.5) * size, (u(rng) - 0.5) * size, (u(rng) - 0.5) * size};
+  v.quality = float(0.5 + 1.5 * u(rng));
+  const float right = float(u(rng) * 80 - 40), up = float(u(rng) * 80 - 40);
+  v.frame = frame_at(eye, target, right, up);
+  v.velocity[0] = float(u(rng) < 0.33 ? size : 0.0);
+  return v;
+}
+
 class ClosedMesh : public ::testing::TestWithParam<const char*> {};
 
 }  // namespace
 
 TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
   const Built b = build(GetParam());
-  ClusterLoss loss;
-  const std::vector<float> lost = stand_in_loss(b, &loss);
-  loss.lost = lost;
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
+  const std::vector<float>& lost = stand_in.lost;
   ClusterLoss per_cell = loss;  // every other view: the loss per view cell
   const std::vector<float> cell_lost = six_cells(lost, b.h.groups.size(), 4802);
   per_cell.view_directions = kSixCells;
@@ -116,33 +157,15 @@ TEST_P(ClosedMesh, ThousandRandomViewsAndGazesAreCrackFree) {
   const Edges e = edges(b.mesh, b.h);
   CrackCheck crack(e);
   std::mt19937 rng(4803);
-  std::uniform_real_distribution<double> u(0, 1);
   std::vector<std::uint8_t> scratch(b.h.groups.size());
   std::vector<std::uint32_t> drawn(b.h.clusters.size());
   std::vector<bool> is_drawn(b.h.clusters.size(), false);
   std::size_t mixed = 0, coarser = 0;
   for (int view = 0; view < 1000; ++view) {
-    // The object at the origin, turned and scaled at random; an eye 0.3 to 10 diameters (scaled) away
-    // looking near it; the gaze anywhere within 40 degrees of the view axis; q 0.5 .. 2; a third moving.
-    ObjectTransform t;
-    const std::array<float, 4> q = look_along([&] {
-      std::array<double, 3> d = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
-      const double n = std::hypot(d[0], d[1], d[2]) + 1e-12;
-      return std::array<double, 3>{d[0] / n, d[1] / n, d[2] / n};
-    }());
-    for (int k = 0; k < 4; ++k) t.rotation[k] = q[std::size_t(k)];
-    t.scale = float(std::pow(10.0, u(rng) * 2 - 1));
-    const double size = b.diameter * t.scale;
-    std::array<double, 3> dir = {u(rng) * 2 - 1, u(rng) * 2 - 1, u(rng) * 2 - 1};
-    const double n = std::hypot(dir[0], dir[1], dir[2]) + 1e-12,
-                 dist = size * 0.3 * std::pow(10 / 0.3, u(rng));
-    const std::array<double, 3> eye = {dir[0] / n * dist, dir[1] / n * dist, dir[2] / n * dist};
-    const std::array<double, 3> target = {(u(rng) - 0.5) * size, (u(rng) - 0.5) * size,
-                                          (u(rng) - 0.5) * size};
-    Scheduler s(exact(float(0.5 + 1.5 * u(rng))));
-    s.begin_frame(frame_at(eye, target, float(u(rng) * 80 - 40), float(u(rng) * 80 - 40)));
-    const float velocity[3] = {float(u(rng) < 0.33 ? size : 0.0), 0, 0};
-    const CutResult r = s.select_cut(b.view(), view % 2 ? per_cell : loss, t, velocity, scratch, drawn);
+    const RandomView v = random_view(rng, b.diameter);
+    Scheduler s(exact(v.quality));
+    s.begin_frame(v.frame);
+    const CutResult r = s.select_cut(b.view(), view % 2 ? per_cell : loss, v.t, v.velocity, scratch, drawn);
     ASSERT_EQ(r.status, CutStatus::Ok) << to_string(r.status);
     ASSERT_GT(r.clusters, 0u);
     const std::vector<std::uint32_t> cut(drawn.begin(), drawn.begin() + r.clusters);
@@ -554,4 +577,207 @@ TEST(ClusterCut, ExplainNamesEachGroupsLimitingBand) {
   ObjectTransform bad = t;
   bad.scale = -1;
   EXPECT_EQ(s.explain_cut(b.view(), loss, bad, nullptr, scratch, ex), CutStatus::InvalidInput);
+}
+
+namespace {
+// The triangle budget's greedy, naively (no heap, no made index): from the perceptual cut's visible
+// groups (visible[g] != 0) drawing `triangles`, coarsen the visible group of least harm (explain_cut's
+// score per triangle saved, at least 1; ties to the lower group) none of whose members' makers is
+// visible and no eye inside (score +inf), until at most `budget` are drawn.
+// Whether none of group g's members' makers is visible (visible(group) says which are).
+template <class Visible>
+bool frontier(const Built& b, std::size_t g, Visible&& visible) {
+  const ClusterGroup& group = b.h.groups[g];
+  for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+    if (b.h.clusters[m].refined != kNoGroup && visible(b.h.clusters[m].refined)) return false;
+  return true;
+}
+
+struct Greedy {
+  std::vector<std::uint8_t> visible;
+  std::uint64_t triangles = 0;
+  std::uint32_t coarsened = 0, forced = 0;
+};
+Greedy greedy(const Built& b, std::vector<std::uint8_t> visible, std::uint64_t triangles,
+              const std::vector<GroupExplain>& ex, std::uint64_t budget) {
+  const auto& groups = b.h.groups;
+  const auto& clusters = b.h.clusters;
+  const auto saved = [&](std::size_t g) {
+    std::int64_t s = 0;
+    for (std::uint32_t m = groups[g].first_member; m < groups[g].first_member + groups[g].member_count; ++m)
+      s += clusters[m].triangle_count;
+    for (const Cluster& c : clusters)
+      if (c.refined == g) s -= c.triangle_count;
+    return s;
+  };
+  Greedy out;
+  while (triangles > budget) {
+    std::size_t best = groups.size();
+    float best_harm = 0;
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      if (!visible[g] || std::isinf(ex[g].score) ||
+          !frontier(b, g, [&](std::uint32_t k) { return visible[k] != 0; }))
+        continue;
+      const float harm = ex[g].score / float(std::max<std::int64_t>(saved(g), 1));
+      if (best == groups.size() || harm < best_harm) {
+        best = g;
+        best_harm = harm;
+      }
+    }
+    if (best == groups.size()) break;
+    visible[best] = 0;
+    triangles = std::uint64_t(std::int64_t(triangles) - saved(best));
+    ++out.coarsened;
+    out.forced += ex[best].score > 1.0f;
+  }
+  out.visible = std::move(visible);
+  out.triangles = triangles;
+  return out;
+}
+}  // namespace
+
+// The triangle budget over clusters (select_cut with a CutBudget), over 300 random views per mesh:
+// a budget at or above the perceptual cut changes nothing; below it the cut is crack-free, never a
+// cluster beside one it replaces, at most the budget whenever a group is left that could coarsen
+// (else every visible group whose makers are all invisible has an eye inside), and exactly the
+// naive greedy's: the groups coarsened in order of least score per triangle saved, the same count
+// forced past visibility (kFlagBudgetForced). A smaller budget coarsens a superset of the groups.
+TEST_P(ClosedMesh, TriangleBudgetCoarsensTheLeastVisibleGroupsFirst) {
+  const Built b = build(GetParam());
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
+  const Edges e = edges(b.mesh, b.h);
+  CrackCheck crack(e);
+  std::mt19937 rng(4848);
+  std::uniform_real_distribution<double> u(0, 1);
+  const std::size_t G = b.h.groups.size();
+  std::vector<std::uint8_t> scratch(G), budgeted(G), smaller(G);
+  std::vector<CutCandidate> candidates(G);
+  std::vector<GroupExplain> ex(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size()), drawn_budget(b.h.clusters.size());
+  std::uint64_t roots = 0;
+  for (std::uint32_t r : b.roots) roots += b.h.clusters[r].triangle_count;
+  std::size_t met = 0, forced = 0, unmet = 0, coarsened = 0;
+  for (int view = 0; view < 300; ++view) {
+    const RandomView v = random_view(rng, b.diameter);
+    Scheduler s(exact(v.quality));
+    s.begin_frame(v.frame);
+    const CutResult r = s.select_cut(b.view(), loss, v.t, v.velocity, scratch, drawn);
+    ASSERT_EQ(r.status, CutStatus::Ok);
+    const auto cut = [&](std::uint64_t triangles, std::vector<std::uint8_t>& state) {
+      return s.select_cut(b.view(), loss, v.t, v.velocity, {}, CutBudget{triangles, candidates}, state,
+                          drawn_budget);
+    };
+    for (std::uint64_t above : {r.triangles, r.triangles + 1 + std::uint64_t(u(rng) * 1000)}) {
+      const CutResult x = cut(above, budgeted);
+      EXPECT_EQ(x.triangles, r.triangles);
+      EXPECT_EQ(x.budget_coarsened, 0u);
+      ASSERT_EQ(x.clusters, r.clusters);
+      EXPECT_TRUE(std::equal(drawn.begin(), drawn.begin() + r.clusters, drawn_budget.begin()));
+    }
+    if (r.triangles <= roots) continue;
+    const std::uint64_t budget = roots / 2 + std::uint64_t(u(rng) * double(r.triangles - roots / 2));
+    const long before = g_allocations;
+    const CutResult x = cut(budget, budgeted);
+    EXPECT_EQ(g_allocations, before) << "a budgeted cut allocates nothing";
+    ASSERT_EQ(x.status, CutStatus::Ok);
+    const std::vector<std::uint32_t> drawn_cut(drawn_budget.begin(), drawn_budget.begin() + x.clusters);
+    ASSERT_EQ(crack.first(drawn_cut), UINT32_MAX) << "view " << view << ": the budgeted cut opens an edge";
+    std::vector<bool> is_drawn(b.h.clusters.size(), false);
+    std::uint64_t triangles = 0;
+    for (std::uint32_t k : drawn_cut) {
+      is_drawn[k] = true;
+      triangles += b.h.clusters[k].triangle_count;
+    }
+    EXPECT_EQ(triangles, x.triangles);
+    for (std::uint32_t k : drawn_cut) {
+      const std::uint32_t g = b.h.clusters[k].refined;
+      if (g == kNoGroup) continue;
+      for (std::uint32_t m = b.h.groups[g].first_member;
+           m < b.h.groups[g].first_member + b.h.groups[g].member_count; ++m) {
+        ASSERT_FALSE(is_drawn[m]) << "view " << view << " draws cluster " << k << " and " << m;
+      }
+    }
+    // The naive greedy from explain_cut's scores lands on the same groups.
+    ASSERT_EQ(s.explain_cut(b.view(), loss, v.t, v.velocity, smaller, ex), CutStatus::Ok);
+    const Greedy want = greedy(b, visible_of(scratch), r.triangles, ex, budget);
+    EXPECT_EQ(visible_of(budgeted), want.visible) << "view " << view;
+    EXPECT_EQ(x.triangles, want.triangles);
+    EXPECT_EQ(x.budget_coarsened, want.coarsened);
+    EXPECT_EQ(x.budget_forced, want.forced);
+    EXPECT_EQ((x.flags & kFlagBudgetForced) != 0, x.budget_forced > 0);
+    coarsened += x.budget_coarsened > 0;
+    if (x.triangles <= budget) {
+      ++met;
+    } else {  // nothing left to coarsen: every candidate has an eye inside
+      ++unmet;
+      for (std::size_t g = 0; g < G; ++g) {
+        if (!(budgeted[g] & 4)) continue;
+        const bool could = frontier(b, g, [&](std::uint32_t k) { return (budgeted[k] & 4) != 0; });
+        EXPECT_FALSE(could && !std::isinf(ex[g].score))
+            << "view " << view << ": group " << g << " could coarsen";
+      }
+    }
+    forced += x.budget_forced > 0;
+    // Half the budget coarsens at least the same groups.
+    const CutResult y = cut(std::max<std::uint64_t>(budget / 2, 1), smaller);
+    EXPECT_LE(y.triangles, x.triangles);
+    for (std::size_t g = 0; g < G; ++g)
+      if (smaller[g] & 4) { ASSERT_TRUE(budgeted[g] & 4) << "view " << view << ": group " << g; }
+  }
+  EXPECT_GT(met, 100u);
+  EXPECT_GT(coarsened, 200u);
+  EXPECT_GT(forced, 20u);
+  std::cout << GetParam() << ": budgets met " << met << ", unmet " << unmet << ", coarsened " << coarsened
+            << ", forced " << forced << "\n";
+}
+
+// The budget with memory: the groups it coarsens are remembered invisible, and refine at once once
+// the budget is lifted (the perceptual cut again, however long the hysteresis); far away, a budget of
+// 1 triangle leaves the roots alone. Missing budget scratch or made index: BadHierarchy, the finest cut.
+TEST(ClusterCut, TriangleBudgetWithMemoryAndBadSizes) {
+  const Built b = build("armadillo.off");
+  const StandIn stand_in(b);
+  const ClusterLoss& loss = stand_in.loss;
+  SchedulerConfig c = exact();
+  c.hysteresis_frames = 30;
+  Scheduler s(c);
+  const std::size_t G = b.h.groups.size();
+  std::vector<CutGroupMemory> memory(G);
+  std::vector<CutCandidate> candidates(G);
+  std::vector<std::uint8_t> scratch(G), plain(G);
+  std::vector<std::uint32_t> drawn(b.h.clusters.size());
+  ObjectTransform t;
+  s.begin_frame(frame_at({0, 0, 1.5 * b.diameter}, {0, 0, 0}, 5, 0));
+  const CutResult p = s.select_cut(b.view(), loss, t, nullptr, plain, drawn);
+  const CutResult x = s.select_cut(b.view(), loss, t, nullptr, memory, CutBudget{p.triangles / 2, candidates},
+                                   scratch, drawn);
+  ASSERT_EQ(x.status, CutStatus::Ok);
+  EXPECT_LE(x.triangles, p.triangles / 2);
+  EXPECT_GT(x.budget_forced, 0u);
+  for (std::size_t g = 0; g < G; ++g)
+    if ((plain[g] & 4) && !(scratch[g] & 4)) { EXPECT_EQ(memory[g].state, kCutKnown) << "group " << g; }
+  const CutResult lifted = s.select_cut(b.view(), loss, t, nullptr, memory, CutBudget{}, scratch, drawn);
+  EXPECT_EQ(lifted.triangles, p.triangles);
+  EXPECT_EQ(visible_of(scratch), visible_of(plain));
+  std::uint64_t roots = 0;
+  for (std::uint32_t r : b.roots) roots += b.h.clusters[r].triangle_count;
+  s.begin_frame(frame_at({0, 0, 3 * b.diameter}, {0, 0, 0}, 0, 0));
+  const CutResult least =
+      s.select_cut(b.view(), loss, t, nullptr, {}, CutBudget{1, candidates}, scratch, drawn);
+  EXPECT_EQ(least.triangles, roots);
+  EXPECT_EQ(least.clusters, b.roots.size());
+  // Bad sizes.
+  const std::span<CutCandidate> short_scratch = std::span<CutCandidate>(candidates).first(G - 1);
+  EXPECT_EQ(s.select_cut(b.view(), loss, t, nullptr, {}, CutBudget{1, short_scratch}, scratch, drawn).status,
+            CutStatus::BadHierarchy);
+  ClusterView no_index = b.view();
+  no_index.made = {};
+  const CutResult bad =
+      s.select_cut(no_index, loss, t, nullptr, {}, CutBudget{1, candidates}, scratch, drawn);
+  EXPECT_EQ(bad.status, CutStatus::BadHierarchy);
+  EXPECT_EQ(bad.triangles, b.h.finest_triangles());
+  // Without a budget the index is not needed.
+  EXPECT_EQ(s.select_cut(no_index, loss, t, nullptr, {}, CutBudget{0, {}}, scratch, drawn).status,
+            CutStatus::Ok);
 }

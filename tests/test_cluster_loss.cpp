@@ -72,7 +72,8 @@ const Measured& elephant() {
   static const Measured* e = [] {
     auto* out = new Measured;
     out->b = build("elephant.off");
-    const spectra::ClusterLossSettings s = settings(128, 42);
+    spectra::ClusterLossSettings s = settings(128, 42);
+    s.view_cells = true;  // asked for: from 42 directions the cells are not written by default
     out->m = std::make_unique<spectra::ClusterLossMeasurer>(out->b.view(), out->material, s);
     out->data = spectra::measure_cluster_loss(out->b.view(), out->material, s, {}, &out->report);
     return out;
@@ -249,6 +250,8 @@ TEST(ClusterLoss, CoarserBandsBoundDirectMeasurementsInTheWholeWindow) {
   const spectra::ClusterLossSettings s = settings(128, 12);
   const spectra::ClusterLossMeasurer m(b.view(), material, s);
   const spectra::ProfileClusterData data = spectra::measure_cluster_loss(b.view(), material, s);
+  // From 12 directions, not asked for: no loss per view cell (no ClusterViews section).
+  EXPECT_TRUE(data.view_lost.empty() && data.view_directions.empty() && data.view_samples == 0);
   const std::size_t Bc = data.bands.size(), Bw = m.window_bands(), T = m.orientations();
   std::mt19937 rng(9);
   std::size_t groups = 0;

@@ -114,7 +114,8 @@ TEST(CutC, SameCutsAsCppFrameAfterFrameAndTheyFollowTheGaze) {
   acuity::Scheduler ref(cc);
   acuity_hierarchy* h = m.create();
   const std::size_t G = m.groups.size(), C = m.clusters.size();
-  ASSERT_EQ(acuity_cut_memory_size(h), G * (sizeof(acuity::CutGroupMemory) + 1));
+  ASSERT_EQ(acuity_cut_memory_size(h),
+            G * (sizeof(acuity::CutGroupMemory) + sizeof(acuity::CutCandidate) + 1));
   std::vector<uint32_t> memory_words((acuity_cut_memory_size(h) + 3) / 4, 0);  // 4-byte aligned, zeroed
   std::vector<acuity::CutGroupMemory> ref_memory(G);
   std::vector<uint8_t> ref_scratch(G);
@@ -453,6 +454,88 @@ TEST(CutC, LossFromAClusterProfileIsTheMeasuredLoss) {
   EXPECT_NE(std::string(acuity_last_error()).find("another hierarchy"), std::string::npos)
       << acuity_last_error();
   EXPECT_EQ(none, nullptr);
+  acuity_hierarchy_destroy(h);
+  acuity_destroy(s);
+}
+
+// A cut under a triangle budget (acuity_select_cut_budget): the C++ budgeted cut's, bit for bit,
+// with its counts; a budget above the cut, or 0, changes nothing; a version-8 caller's 32-byte
+// result gets the version-8 fields and no byte more.
+TEST(CutC, BudgetIsTheCppBudgetAndVersion8ResultsStayThatSize) {
+  const Made m;
+  acuity_scheduler* s = one_object_scheduler();
+  ASSERT_NE(s, nullptr);
+  acuity_hierarchy* h = m.create();
+  const std::size_t G = m.groups.size(), C = m.clusters.size();
+  std::vector<acuity::Cluster> rc(C);
+  std::vector<acuity::ClusterGroup> rg(G);
+  std::memcpy(static_cast<void*>(rc.data()), m.clusters.data(), sizeof(acuity_cluster) * C);
+  std::memcpy(static_cast<void*>(rg.data()), m.groups.data(), sizeof(acuity_cluster_group) * G);
+  const std::vector<uint32_t> roots = acuity::cluster_roots(rc), made = acuity::cluster_made_index(rc, G);
+  const acuity::ClusterView view{rc, rg, roots, made};
+  const acuity::ClusterLoss loss{m.bands, m.diameter, m.lost};
+  acuity::SchedulerConfig cc;
+  cc.max_objects = 1;
+  acuity::Scheduler cpp(cc);
+  std::vector<uint32_t> memory((acuity_cut_memory_size(h) + 3) / 4, 0), drawn(C), expected(C);
+  std::vector<acuity::CutGroupMemory> remembered(G);
+  std::vector<acuity::CutCandidate> candidates(G);
+  std::vector<std::uint8_t> scratch(G);
+  const double p[3] = {0, 0, 0};
+  const float q[4] = {0, 0, 0, 1};
+  const acuity_eye e = eye_gazing(-10);
+  ASSERT_EQ(acuity_begin_frame(s, &e, 1, 0), ACUITY_OK);
+  cpp.begin_frame(frame_of(e, 0));
+  acuity_cut_result r;
+  r.struct_size = sizeof r;
+  ASSERT_EQ(acuity_select_cut(s, h, p, q, 1, nullptr, memory.data(), acuity_cut_memory_size(h), uint32_t(C),
+                              drawn.data(), &r),
+            ACUITY_OK);
+  const uint64_t perceptual = r.triangles;
+  ASSERT_GT(perceptual, 300u) << "the view refines some groups";
+  std::set<uint32_t> coarsened;
+  for (uint64_t budget :
+       {uint64_t(0), perceptual + 50, perceptual, perceptual - 100, perceptual / 2, uint64_t(1)}) {
+    ASSERT_EQ(acuity_select_cut_budget(s, h, p, q, 1, nullptr, budget, memory.data(),
+                                       acuity_cut_memory_size(h), uint32_t(C), drawn.data(), &r),
+              ACUITY_OK)
+        << acuity_last_error();
+    acuity::ObjectTransform t;
+    const acuity::CutResult x = cpp.select_cut(view, loss, t, nullptr, remembered,
+                                               acuity::CutBudget{budget, candidates}, scratch, expected);
+    ASSERT_EQ(x.status, acuity::CutStatus::Ok);
+    ASSERT_EQ(r.clusters, x.clusters) << budget;
+    EXPECT_TRUE(std::equal(drawn.begin(), drawn.begin() + r.clusters, expected.begin())) << budget;
+    EXPECT_EQ(r.triangles, x.triangles);
+    EXPECT_EQ(r.budget_coarsened, x.budget_coarsened);
+    EXPECT_EQ(r.budget_forced, x.budget_forced);
+    EXPECT_EQ(r.flags, x.flags);
+    EXPECT_EQ(std::memcmp(memory.data(), remembered.data(), G * sizeof(acuity::CutGroupMemory)), 0);
+    if (budget == 0 || budget >= perceptual) {
+      EXPECT_EQ(r.triangles, perceptual) << budget;
+      EXPECT_EQ(r.budget_coarsened, 0u);
+    } else {
+      EXPECT_LE(r.triangles, budget == 1 ? 100u : budget) << "the root alone at the least";
+      EXPECT_GT(r.budget_coarsened, 0u);
+    }
+    coarsened.insert(r.budget_coarsened);
+  }
+  EXPECT_GE(coarsened.size(), 3u);
+  // A version-8 caller: 32 bytes written, the next 8 untouched.
+  struct {
+    unsigned char v8[ACUITY_CUT_RESULT_SIZE_V8];
+    uint64_t after;
+  } old;
+  const uint32_t v8 = ACUITY_CUT_RESULT_SIZE_V8;
+  std::memcpy(old.v8, &v8, sizeof v8);
+  old.after = 0x5555;
+  ASSERT_EQ(acuity_select_cut_budget(s, h, p, q, 1, nullptr, 1, memory.data(), acuity_cut_memory_size(h),
+                                     uint32_t(C), drawn.data(), reinterpret_cast<acuity_cut_result*>(old.v8)),
+            ACUITY_OK);
+  EXPECT_EQ(old.after, 0x5555u);
+  uint32_t clusters = 0;
+  std::memcpy(&clusters, old.v8 + offsetof(acuity_cut_result, clusters), sizeof clusters);
+  EXPECT_EQ(clusters, 1u) << "a budget of 1 triangle: the root";
   acuity_hierarchy_destroy(h);
   acuity_destroy(s);
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -60,7 +61,9 @@ struct RunResult {
   std::vector<std::string> written;
   sim::Decision example;
 };
-// Runs every frame, judges options.validate decisions, prints the summary, writes the outputs into
-// options.output (when set) and lists them, with the command that plots them when plot_hint.
-RunResult run_simulation(const SceneAssets& scene, const sim::SimulationOptions& options, bool plot_hint);
+// Runs every frame, judges options.validate decisions, prints the summary (and what `more` returns
+// of the run, when given), writes the outputs into options.output (when set) and lists them, with the
+// command that plots them when plot_hint.
+RunResult run_simulation(const SceneAssets& scene, const sim::SimulationOptions& options, bool plot_hint,
+                         const std::function<std::string(const sim::Simulation&)>& more = {});
 }  // namespace acuity::tools

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "acuity/sim/demo.hpp"
+#include "acuity/sim/large_object.hpp"
 #include "acuity/sim/sampled.hpp"
 #include "commands.hpp"
 
@@ -15,6 +16,7 @@ namespace {
 struct DemoCommand {
   sim::DemoOptions demo;
   std::uint32_t sampled = 0;  // > 0: that many sampled decisions instead of the fly-through
+  bool large_object = true;   // the fly-through's gaze over a large object: object rule vs cluster cut
 };
 
 void run(const DemoCommand& o, const std::string& program) {
@@ -40,7 +42,17 @@ void run(const DemoCommand& o, const std::string& program) {
   const sim::SimulationOptions& so = scene.sim;
   std::printf("\nsimulate: %.0f s at %.0f Hz, fixations, saccades, pursuit of %u moving objects, blinks\n",
               so.seconds, so.fps, so.movers);
-  const RunResult result = run_simulation(*scene.assets, so, true);
+  sim::LargeObjectOptions large;
+  large.profiles = scene.profiles;
+  const auto more = [&](const sim::Simulation& sim) {
+    // Its profile's line (made once, then cached) goes to stderr: it would land inside the summary,
+    // which docs/demo.md holds verbatim, only on a first run.
+    const sim::LargeObjectRun r =
+        sim::run_large_object(sim, large, [](const std::string& text) { std::fputs(text.c_str(), stderr); });
+    return sim::large_object_text(r, large);
+  };
+  const RunResult result = run_simulation(
+      *scene.assets, so, true, o.large_object ? more : std::function<std::string(const sim::Simulation&)>{});
   std::printf("\nacuity demo finished in %.1f s.\n", seconds());
   if (result.example.object >= 0)
     std::printf(
@@ -78,6 +90,10 @@ void add_demo_command(CLI::App& app, const std::string& program) {
                   "retinal speed (docs/demo.md), each judged")
       ->check(CLI::Range(1u, 100000u));
   add_model_option(cmd, d.sim.model);
+  cmd->add_flag(
+      "!--no-large-object", o->large_object,
+      "Leave out the large object spanning the gaze (one demo mesh as a cluster hierarchy: the object "
+      "rule against the cluster cut, judged)");
   cmd->add_flag("--flat", d.flat,
                 "Flat-shaded chains and profiles (every edge a crease), as an engine drawing faceted "
                 "meshes shows them, kept apart from the smooth ones");

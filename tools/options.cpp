@@ -38,6 +38,10 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
   cmd->add_option("--group-views", b.group_views, "Cluster hierarchies: directions measured per group")
       ->capture_default_str()
       ->check(CLI::IsMember({12, 42, 162}));
+  cmd->add_flag("--view-cells", b.view_cells,
+                "Cluster hierarchies: also store each group's loss per view cell (the ClusterViews section, "
+                "about 337 bytes per group) when measured from fewer than 162 directions, where the runtime "
+                "does not read it");
 }
 
 void add_model_option(CLI::App* cmd, ThresholdModel& model) {

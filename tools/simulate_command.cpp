@@ -88,7 +88,8 @@ void explain(const SimulateOptions& o) {
 
 }  // namespace
 
-RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint) {
+RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& options, bool plot_hint,
+                         const std::function<std::string(const sim::Simulation&)>& more) {
   const sim::Run run = sim::simulate(scene, options);
   const Simulation& sim = *run.simulation;
   std::printf(
@@ -99,6 +100,7 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
       "the perceptual rule: %s\n",
       sim::perceptual_text(sim.rule("perceptual").scheduler->config(), scene.assets[0].profile.meta).c_str());
   std::fputs(sim::summary_text(sim, run.results).c_str(), stdout);
+  if (more) std::fputs(more(sim).c_str(), stdout);
   if (!options.output.empty())
     std::fputs(
         sim::outputs_text(run.results, run.written, options.output, plot_hint ? plot_script() : "").c_str(),

@@ -57,6 +57,7 @@ json to_json(const BakeOptions& o) {
           {"clusters", o.clusters},
           {"window_pixels", o.window_pixels},
           {"group_views", o.group_views},
+          {"view_cells", o.view_cells},
           {"asset_root", o.asset_root}};
 }
 
@@ -101,11 +102,12 @@ BakeOptions from_json(const json& j, BakeOptions o, const std::string& where) {
       o.window_pixels = number<std::uint32_t>(v, where, key, 16, 4096);
     else if (key == "group_views")
       o.group_views = number<std::uint32_t>(v, where, key, 12, 162);
-    else if (key == "lock_border" || key == "bound_cells" || key == "clusters") {
+    else if (key == "lock_border" || key == "bound_cells" || key == "clusters" || key == "view_cells") {
       if (!v.is_boolean()) throw lodgen::InputError(where + ": option '" + key + "' must be true or false");
       (key == "lock_border"   ? o.lock_border
        : key == "bound_cells" ? o.bound_cells
-                              : o.clusters) = v.get<bool>();
+       : key == "clusters"    ? o.clusters
+                              : o.view_cells) = v.get<bool>();
     } else if (key == "backend" || key == "asset_root") {
       if (!v.is_string()) throw lodgen::InputError(where + ": option '" + key + "' must be a string");
       (key == "backend" ? o.backend : o.asset_root) = v.get<std::string>();
@@ -368,6 +370,7 @@ spectra::ClusterLossSettings cluster_loss_settings(const BakeOptions& o, unsigne
   s.render.pixels = o.window_pixels;
   s.analysis.orientations = o.orientations;
   s.views = o.group_views;
+  s.view_cells = o.view_cells;
   s.jobs = jobs;
   return s;
 }

@@ -43,8 +43,10 @@ extern "C" {
  * ACUITY_MODEL_STELA_CSF (appended).
  * Version 8 added cluster cuts: acuity_hierarchy (acuity_hierarchy_create, _create_from_profile,
  * _destroy), acuity_cluster,
- * acuity_cluster_group, acuity_cut_memory_size, acuity_cut_result and acuity_select_cut. */
-#define ACUITY_C_API_VERSION 8
+ * acuity_cluster_group, acuity_cut_memory_size, acuity_cut_result and acuity_select_cut.
+ * Version 9 added acuity_select_cut_budget (a cut under a triangle budget) and appended
+ * acuity_cut_result.budget_coarsened and budget_forced (ACUITY_CUT_RESULT_SIZE_V9). */
+#define ACUITY_C_API_VERSION 9
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -414,7 +416,8 @@ acuity_status acuity_hierarchy_create_from_profile(const acuity_cluster* cluster
                                                    acuity_hierarchy** out);
 void acuity_hierarchy_destroy(acuity_hierarchy* hierarchy); /* null: no-op */
 /* Bytes of one object's cut memory for this hierarchy (0 for null): what the cut remembers between
- * frames (hysteresis and saccade gating per group) and its walk's scratch. The caller allocates it
+ * frames (hysteresis and saccade gating per group) and its walk's and budget's scratch (version 9:
+ * 21 bytes per group, was 13; always ask this function). The caller allocates it
  * 4-byte aligned and zeroed (nothing remembered: the next cut takes its groups at once), one per
  * object drawn with the hierarchy, and keeps it between frames. */
 size_t acuity_cut_memory_size(const acuity_hierarchy* hierarchy);
@@ -427,17 +430,22 @@ enum {
 };
 /* What acuity_select_cut did (acuity::CutResult). Growth rule as acuity_frame_stats': the caller sets
  * struct_size = sizeof(acuity_cut_result) as it compiled it (at least ACUITY_CUT_RESULT_SIZE_V8, a
- * multiple of 8, at most 65536); fields are only appended; the library writes the ones it knows. */
+ * multiple of 8, at most 65536); fields are only appended; the library writes the ones it knows
+ * (and no byte beyond struct_size: a version-8 caller's 32 bytes get the version-8 fields). */
 typedef struct acuity_cut_result {
   uint32_t struct_size;      /* sizeof(acuity_cut_result), set by the caller */
   uint32_t status;           /* ACUITY_CUT_* */
-  uint32_t flags;            /* ACUITY_FLAG_INVALID_INPUT, _EYE_INSIDE, _NO_GAZE, _HELD */
+  uint32_t flags;            /* ACUITY_FLAG_INVALID_INPUT, _EYE_INSIDE, _NO_GAZE, _HELD, _BUDGET_FORCED */
   uint32_t clusters;         /* drawn: drawn[0 .. clusters) */
   uint64_t triangles;        /* drawn */
   uint32_t groups_evaluated; /* groups whose thresholds were evaluated */
   uint32_t held;             /* groups kept visible by hysteresis or saccade gating */
+  /* Version 9: */
+  uint32_t budget_coarsened; /* visible groups the triangle budget coarsened (acuity_select_cut_budget) */
+  uint32_t budget_forced;    /* ... of them a visible loss (score > 1; ACUITY_FLAG_BUDGET_FORCED) */
 } acuity_cut_result;
 #define ACUITY_CUT_RESULT_SIZE_V8 32u
+#define ACUITY_CUT_RESULT_SIZE_V9 40u
 
 /* One object's cut this frame (acuity::Scheduler::select_cut with memory): after acuity_begin_frame
  * (the frame's eyes and gaze, this scheduler's model, quality, gaze handling, hysteresis and saccade
@@ -455,6 +463,16 @@ acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarch
                                 const double position[3], const float rotation[4], float scale,
                                 const float* velocity, void* memory, size_t memory_size, uint32_t capacity,
                                 uint32_t* drawn, acuity_cut_result* result);
+/* The same under a triangle budget (acuity::Scheduler::select_cut with a CutBudget; 0: none, as
+ * acuity_select_cut): when the cut draws more than triangle_budget triangles, the visible groups
+ * whose loss is least visible per triangle saved are coarsened first, one whole group at a time
+ * (crack-free), until it draws at most the budget or only groups an eye is inside are left to
+ * coarsen; result->budget_coarsened and budget_forced (ACUITY_FLAG_BUDGET_FORCED) say what it cost. */
+acuity_status acuity_select_cut_budget(const acuity_scheduler* s, const acuity_hierarchy* h,
+                                       const double position[3], const float rotation[4], float scale,
+                                       const float* velocity, uint64_t triangle_budget, void* memory,
+                                       size_t memory_size, uint32_t capacity, uint32_t* drawn,
+                                       acuity_cut_result* result);
 
 /* ---- Foveation planner (acuity/foveation_plan.hpp) --------------------------------------------
  * Per eye and frame: a variable-rate-shading image (pixels per shade in x and y: 1, 2 or 4) and a

@@ -663,12 +663,12 @@ acuity_status acuity_get_frame_stats(const acuity_scheduler* s, acuity_frame_sta
 struct acuity_hierarchy {
   std::vector<acuity::Cluster> clusters;
   std::vector<acuity::ClusterGroup> groups;
-  std::vector<std::uint32_t> roots;
+  std::vector<std::uint32_t> roots, made;  // acuity::cluster_roots, cluster_made_index
   std::vector<float> bands, lost;
   std::vector<float> view_directions, view_lost;  // the loss per view cell, or empty
   std::vector<float> ln_lost, ln_view_lost;       // their logs (acuity::loss_logs)
   float diameter = 0;
-  acuity::ClusterView view() const { return {clusters, groups, roots}; }
+  acuity::ClusterView view() const { return {clusters, groups, roots, made}; }
   acuity::ClusterLoss loss() const {
     return {bands, diameter, lost, view_directions, view_lost, ln_lost, ln_view_lost};
   }
@@ -680,15 +680,18 @@ static_assert(sizeof(acuity_cluster) == sizeof(acuity::Cluster) &&
                   offsetof(acuity_cluster_group, level) == offsetof(acuity::ClusterGroup, level) &&
                   ACUITY_NO_GROUP == acuity::kNoGroup,
               "the C records are the C++ ones");
-static_assert(sizeof(acuity_cut_result) == ACUITY_CUT_RESULT_SIZE_V8 &&
+static_assert(sizeof(acuity_cut_result) == ACUITY_CUT_RESULT_SIZE_V9 &&
+                  offsetof(acuity_cut_result, budget_coarsened) == ACUITY_CUT_RESULT_SIZE_V8 &&
                   offsetof(acuity_cut_result, struct_size) == 0,
-              "the version-8 cut result");
+              "the version-9 cut result: version 8's, then the budget's fields");
 static_assert(ACUITY_CUT_OK == int(acuity::CutStatus::Ok) &&
               ACUITY_CUT_INVALID_INPUT == int(acuity::CutStatus::InvalidInput));
 
 namespace {
-// One object's cut memory: per group what the cut remembers, then the walk's scratch byte.
-constexpr std::size_t kCutBytesPerGroup = sizeof(acuity::CutGroupMemory) + 1;
+// One object's cut memory: per group what the cut remembers, then the budget's candidates
+// (4-byte aligned after the memory's 12 bytes per group), then the walk's scratch byte.
+constexpr std::size_t kCutBytesPerGroup = sizeof(acuity::CutGroupMemory) + sizeof(acuity::CutCandidate) + 1;
+static_assert(sizeof(acuity::CutGroupMemory) % alignof(acuity::CutCandidate) == 0);
 
 // The checks and copies of both acuity_hierarchy_create calls (lost: groups x bands, already copied).
 acuity_status make_hierarchy(const acuity_cluster* clusters, uint32_t cluster_count,
@@ -718,6 +721,7 @@ acuity_status make_hierarchy(const acuity_cluster* clusters, uint32_t cluster_co
       !fault.empty())
     return fail(ACUITY_INVALID_ARGUMENT, std::string(where) + fault);
   h->roots = acuity::cluster_roots(h->clusters);
+  h->made = acuity::cluster_made_index(h->clusters, h->groups.size());
   h->bands.assign(bands_cpod, bands_cpod + band_count);
   h->lost = lost;
   h->ln_lost = acuity::loss_logs(lost);
@@ -799,8 +803,17 @@ acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarch
                                 const double position[3], const float rotation[4], float scale,
                                 const float* velocity, void* memory, size_t memory_size, uint32_t capacity,
                                 uint32_t* drawn, acuity_cut_result* result) {
+  return acuity_select_cut_budget(s, h, position, rotation, scale, velocity, 0, memory, memory_size, capacity,
+                                  drawn, result);
+}
+
+acuity_status acuity_select_cut_budget(const acuity_scheduler* s, const acuity_hierarchy* h,
+                                       const double position[3], const float rotation[4], float scale,
+                                       const float* velocity, uint64_t triangle_budget, void* memory,
+                                       size_t memory_size, uint32_t capacity, uint32_t* drawn,
+                                       acuity_cut_result* result) {
   return guarded([&] {
-    const std::string where = "acuity_select_cut: ";
+    const std::string where = triangle_budget ? "acuity_select_cut_budget: " : "acuity_select_cut: ";
     if (!s || !h || !position || !rotation || !memory || !drawn || !result)
       return fail(ACUITY_INVALID_ARGUMENT, where + "null argument");
     const uint32_t size = result->struct_size;
@@ -824,9 +837,11 @@ acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarch
     for (int k = 0; k < 4; ++k) t.rotation[k] = rotation[k];
     t.scale = scale;
     auto* remembered = static_cast<acuity::CutGroupMemory*>(memory);
-    auto* scratch = static_cast<std::uint8_t*>(memory) + G * sizeof(acuity::CutGroupMemory);
+    auto* candidates = reinterpret_cast<acuity::CutCandidate*>(remembered + G);
+    auto* scratch = reinterpret_cast<std::uint8_t*>(candidates + G);
+    const acuity::CutBudget budget{triangle_budget, {candidates, G}};
     const acuity::CutResult r = s->scheduler.select_cut(h->view(), h->loss(), t, velocity, {remembered, G},
-                                                        {scratch, G}, {drawn, capacity});
+                                                        budget, {scratch, G}, {drawn, capacity});
     acuity_cut_result out;
     std::memset(&out, 0, sizeof out);
     out.struct_size = size;
@@ -836,6 +851,8 @@ acuity_status acuity_select_cut(const acuity_scheduler* s, const acuity_hierarch
     out.triangles = r.triangles;
     out.groups_evaluated = r.groups_evaluated;
     out.held = r.held;
+    out.budget_coarsened = r.budget_coarsened;
+    out.budget_forced = r.budget_forced;
     std::memcpy(result, &out, std::min<std::size_t>(size, sizeof out));
     return ACUITY_OK;
   });

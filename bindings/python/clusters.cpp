@@ -29,6 +29,7 @@ struct Cut {
   py::array_t<std::uint32_t> clusters;
   std::uint64_t triangles = 0;
   std::uint32_t groups_evaluated = 0;
+  std::uint32_t budget_coarsened = 0, budget_forced = 0;
   std::uint8_t flags = 0;
 };
 
@@ -36,14 +37,15 @@ struct Hierarchy {
   std::shared_ptr<OwnedProfile> profile;
   lodgen::Mesh mesh;
   lodgen::ClusterHierarchy h;
-  std::vector<std::uint32_t> roots;
+  std::vector<std::uint32_t> roots, made;  // cluster_roots, cluster_made_index
   std::vector<float> lost;  // the provisional loss (a chain profile), else empty: loss reads the profile
   std::vector<float> ln_lost, ln_view_lost;  // their logs, which the cut reads (loss_logs)
   ClusterLoss loss;
   bool measured = false;
   std::vector<std::uint8_t> scratch;
+  std::vector<CutCandidate> candidates;  // the triangle budget's scratch
   std::vector<std::uint32_t> drawn;
-  ClusterView view() const { return {h.clusters, h.groups, roots}; }
+  ClusterView view() const { return {h.clusters, h.groups, roots, made}; }
 
   Cut cut(std::span<const std::uint32_t> ids, const CutResult* r) const {
     Cut c;
@@ -67,6 +69,8 @@ struct Hierarchy {
     c.triangles = triangles;
     if (r) {
       c.groups_evaluated = r->groups_evaluated;
+      c.budget_coarsened = r->budget_coarsened;
+      c.budget_forced = r->budget_forced;
       c.flags = r->flags;
     }
     return c;
@@ -113,7 +117,7 @@ struct Hierarchy {
   Cut select(const Eye& eye, const Gaze& gaze, const std::array<double, 3>& position,
              const std::array<float, 4>& orientation, float scale, const std::array<float, 3>& velocity,
              float quality, const std::string& model, const py::object& memory, float dt,
-             float hysteresis_seconds) {
+             float hysteresis_seconds, std::uint64_t triangle_budget) {
     if (!(hysteresis_seconds >= 0) || !std::isfinite(hysteresis_seconds))
       throw py::value_error("select: hysteresis_seconds must be finite and >= 0");
     const std::unique_ptr<Scheduler> s = begun(eye, gaze, quality, model, dt, hysteresis_seconds);
@@ -127,7 +131,7 @@ struct Hierarchy {
       remembered = {reinterpret_cast<CutGroupMemory*>(a.mutable_data()), h.groups.size()};
     }
     const CutResult r = s->select_cut(view(), loss, placed(position, orientation, scale), velocity.data(),
-                                      remembered, scratch, drawn);
+                                      remembered, CutBudget{triangle_budget, candidates}, scratch, drawn);
     if (r.status != CutStatus::Ok) throw py::value_error(std::string("select: ") + to_string(r.status));
     return cut(std::span<const std::uint32_t>(drawn.data(), r.clusters), &r);
   }
@@ -177,7 +181,9 @@ std::shared_ptr<Hierarchy> load(const std::string& glb_path, const std::string& 
   out->profile = profile_from_file(profile_path);
   const Profile& p = out->profile->view;
   out->roots = cluster_roots(out->h.clusters);
+  out->made = cluster_made_index(out->h.clusters, out->h.groups.size());
   out->scratch.resize(out->h.groups.size());
+  out->candidates.resize(out->h.groups.size());
   out->drawn.resize(out->h.clusters.size());
   const GroupLossStatus measured = measured_group_loss(p, out->h.clusters, out->h.groups, &out->loss);
   if (measured == GroupLossStatus::OtherHierarchy)
@@ -231,7 +237,11 @@ void bind_clusters(py::module_ m) {
       .def_readonly("clusters", &Cut::clusters, "uint32: the drawn cluster ids")
       .def_readonly("triangles", &Cut::triangles, "drawn triangles (m)")
       .def_readonly("groups_evaluated", &Cut::groups_evaluated, "groups whose thresholds the walk evaluated")
-      .def_readonly("flags", &Cut::flags, "FLAG_* bits: FLAG_EYE_INSIDE, FLAG_NO_GAZE");
+      .def_readonly("budget_coarsened", &Cut::budget_coarsened,
+                    "visible groups the triangle budget coarsened (select(..., triangle_budget=))")
+      .def_readonly("budget_forced", &Cut::budget_forced,
+                    "... of them with a score > 1: a visible loss (FLAG_BUDGET_FORCED)")
+      .def_readonly("flags", &Cut::flags, "FLAG_* bits: FLAG_EYE_INSIDE, FLAG_NO_GAZE, FLAG_BUDGET_FORCED");
   py::class_<Hierarchy, std::shared_ptr<Hierarchy>>(m, "Hierarchy",
                                                     "A mesh's cluster hierarchy with its per-group loss.")
       .def("finest", &Hierarchy::finest, "The finest cut: the mesh as lodgen wrote it (level 0).")
@@ -253,14 +263,17 @@ void bind_clusters(py::module_ m) {
            "band's 'frequency_cpd', 'threshold' (CT at q = 1), 'distance_m' and 'eccentricity_deg'.")
       .def("select", &Hierarchy::select, "eye"_a, "gaze"_a, "position"_a, "orientation"_a, "scale"_a = 1.0f,
            "velocity"_a = std::array<float, 3>{0, 0, 0}, "quality"_a = 1.0f, "model"_a = "default",
-           "memory"_a = py::none(), "dt"_a = 0.0f, "hysteresis_seconds"_a = 0.0f,
+           "memory"_a = py::none(), "dt"_a = 0.0f, "hysteresis_seconds"_a = 0.0f, "triangle_budget"_a = 0,
            "The cut for one eye (acuity.Eye) and its gaze (acuity.Gaze) with the object at `position`\n"
            "[m, world], turned by `orientation` (unit quaternion x y z w, object to world), scaled by\n"
            "`scale`, moving at `velocity` [m/s]; the perceptual rule's `model` (a threshold model name) at "
            "quality q,\n"
            "evaluated exactly (Scheduler::select_cut). memory (new_memory()'s array): hysteresis per group,\n"
            "this call one frame of dt seconds after the last: a group refines at once and coarsens once it\n"
-           "has been invisible for hysteresis_seconds; None: each group decided at once. ValueError for "
+           "has been invisible for hysteresis_seconds; None: each group decided at once. triangle_budget\n"
+           "(0: none): when the cut draws more, the visible groups of least score per triangle saved are\n"
+           "coarsened first, a whole group at a time (crack-free), until it draws at most that or only\n"
+           "groups an eye is inside are left (Cut.budget_coarsened, .budget_forced). ValueError for "
            "invalid input\n"
            "(non-finite or non-unit transform, scale <= 0, an invalid eye, a wrong memory).")
       .def_property_readonly("cluster_count", [](const Hierarchy& h) { return h.h.clusters.size(); })

@@ -1,6 +1,9 @@
 // Cluster cuts (acuity/clusters.hpp, Scheduler::select_cut): a hierarchy's groups tested with the
 // perceptual rule's thresholds, top down; the measured per-group loss of a profile's Clusters
 // section, and the provisional one from a chain profile (the fallback).
+#include <algorithm>
+#include <limits>
+
 #include "fnv1a.hpp"
 #include "geometry.hpp"
 
@@ -12,6 +15,54 @@ std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters) {
     if (clusters[c].group == kNoGroup) out.push_back(std::uint32_t(c));
   return out;
 }
+
+std::vector<std::uint32_t> cluster_made_index(std::span<const Cluster> clusters, std::size_t group_count) {
+  const std::size_t G = group_count;
+  std::vector<std::uint32_t> out(G + 1, 0);
+  for (const Cluster& k : clusters)
+    if (k.refined < G) ++out[k.refined + 1];
+  for (std::size_t g = 0; g < G; ++g) out[g + 1] += out[g];
+  out.resize(G + 1 + out[G]);
+  std::vector<std::uint32_t> next(out.begin(), out.begin() + std::ptrdiff_t(G));
+  for (std::size_t c = 0; c < clusters.size(); ++c)
+    if (clusters[c].refined < G) out[G + 1 + next[clusters[c].refined]++] = std::uint32_t(c);
+  return out;
+}
+
+namespace {
+
+// select_cut's state of each group (its scratch byte): the walk's marks, and the budget's.
+constexpr std::uint8_t kNeeded = 1, kBlocked = 2, kVisible = 4;
+constexpr std::uint8_t kQueued = 8;    // the budget: a candidate already (or an eye inside it)
+constexpr std::uint8_t kOverOne = 16;  // ... its score is above 1: coarsening it is a visible loss
+
+// Calls f(c) for every cluster the cut of this state draws: the members of visible groups whose
+// maker is invisible (or that are finest), then the roots likewise.
+template <class F>
+void for_each_drawn(const ClusterView& h, const std::uint8_t* state, F&& f) {
+  for (std::size_t g = 0; g < h.groups.size(); ++g) {
+    if (!(state[g] & kVisible)) continue;
+    const ClusterGroup& group = h.groups[g];
+    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+      if (h.clusters[m].refined == kNoGroup || !(state[h.clusters[m].refined] & kVisible)) f(m);
+  }
+  for (std::uint32_t r : h.roots)
+    if (h.clusters[r].refined == kNoGroup || !(state[h.clusters[r].refined] & kVisible)) f(r);
+}
+
+// The triangles group g's members hold less those of the clusters it made (h.made): what coarsening
+// it saves.
+std::int64_t triangles_saved(const ClusterView& h, std::uint32_t g) {
+  const ClusterGroup& group = h.groups[g];
+  std::int64_t saved = 0;
+  for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
+    saved += h.clusters[m].triangle_count;
+  const std::uint32_t* made = h.made.data() + h.groups.size() + 1;
+  for (std::uint32_t k = h.made[g]; k < h.made[g + 1]; ++k) saved -= h.clusters[made[k]].triangle_count;
+  return saved;
+}
+
+}  // namespace
 
 const char* to_string(CutStatus status) {
   switch (status) {
@@ -134,7 +185,7 @@ struct Scheduler::Impl::CutObject {
 // first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
 // the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
 float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
-                                   std::size_t index, GroupExplain* explain) const {
+                                   std::size_t index, GroupExplain* explain, bool every_band) const {
   const EyeCache& eye = eyes_[i];
   const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
   const float d = length(c), r = o.scale * g.radius;
@@ -185,7 +236,7 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
     if (!(x <= score)) {  // NaN counts as visible
       score = x == x ? x : kInf;
       limit = b;
-      if (score > 0.0f && !explain) break;  // visible: the cut needs no more (hysteresis only coarsens)
+      if (score > 0.0f && !explain && !every_band) break;  // visible: the walk needs no more
     }
   }
   if (explain && (i == 0 || score > std::log(explain->score))) {
@@ -227,10 +278,59 @@ bool Scheduler::Impl::remember_group(CutGroupMemory& m, bool visible, float scor
   return visible;
 }
 
+// Funkhouser & Sequin over groups, as apply_budget() over objects: while over budget, coarsen the
+// candidate of least harm (its score per triangle saved; ties to the lower group). A candidate is a
+// visible group none of whose members' makers is visible, so coarsening it replaces exactly its
+// members by the clusters it made and visibility stays monotone up the hierarchy (crack-free);
+// coarsening it may make the groups holding those clusters candidates. Each group is offered at
+// most once per maker it has and queued at most once: the heap never outgrows the groups.
+void Scheduler::Impl::spend_cut_budget(const ClusterView& h, const CutObject& o, const CutBudget& budget,
+                                       std::uint64_t triangles, std::uint8_t* state,
+                                       std::span<CutGroupMemory> memory, CutResult* res) const {
+  CutCandidate* heap = budget.scratch.data();
+  std::size_t n = 0;
+  const auto later = [](const CutCandidate& a, const CutCandidate& b) {
+    return a.harm != b.harm ? a.harm > b.harm : a.group > b.group;
+  };
+  const auto offer = [&](std::uint32_t g) {
+    if ((state[g] & (kVisible | kQueued)) != kVisible) return;
+    const ClusterGroup& group = h.groups[g];
+    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m) {
+      const std::uint32_t maker = h.clusters[m].refined;
+      if (maker != kNoGroup && (state[maker] & kVisible)) return;
+    }
+    state[g] |= kQueued;
+    float score = -kInf;
+    for (std::uint32_t i = 0; i < eye_count_; ++i)
+      score = std::max(score, group_score(i, o, group, g, nullptr, true));
+    if (!(score < kInf)) return;  // an eye inside it, or a NaN loss: never coarsened
+    if (score > 0.0f) state[g] |= kOverOne;
+    const float saved = float(std::max<std::int64_t>(triangles_saved(h, g), 1));
+    heap[n++] = CutCandidate{std::exp(score) / saved, g};
+    std::push_heap(heap, heap + n, later);
+  };
+  for (std::uint32_t g = 0; g < h.groups.size(); ++g) offer(g);
+  std::int64_t total = std::int64_t(triangles);
+  const std::int64_t most =
+      std::int64_t(std::min<std::uint64_t>(budget.triangles, std::numeric_limits<std::int64_t>::max()));
+  const std::uint32_t* made = h.made.data() + h.groups.size() + 1;
+  while (total > most && n > 0) {
+    std::pop_heap(heap, heap + n, later);
+    const std::uint32_t g = heap[--n].group;
+    total -= triangles_saved(h, g);
+    state[g] = std::uint8_t(state[g] & ~kVisible);
+    ++res->budget_coarsened;
+    res->budget_forced += (state[g] & kOverOne) != 0;
+    if (!memory.empty()) memory[g] = CutGroupMemory{0, 0, kCutKnown};
+    for (std::uint32_t k = h.made[g]; k < h.made[g + 1]; ++k)
+      if (h.clusters[made[k]].group != kNoGroup) offer(h.clusters[made[k]].group);
+  }
+}
+
 CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& t,
                                       const float velocity[3], std::span<CutGroupMemory> memory,
                                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
-                                      GroupExplain* explain) const {
+                                      GroupExplain* explain, const CutBudget* budget) const {
   CutResult res;
   std::uint32_t n = 0;
   const auto emit = [&](std::uint32_t c) {
@@ -255,6 +355,9 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
       loss.view_lost.size() != G * B * (loss.view_directions.size() / 3) ||
       (!loss.ln_lost.empty() && loss.ln_lost.size() != loss.lost.size()) ||
       (!loss.ln_view_lost.empty() && loss.ln_view_lost.size() != loss.view_lost.size()))
+    return finest(CutStatus::BadHierarchy, 0);
+  const bool budgeted = budget && budget->triangles > 0 && !explain;
+  if (budgeted && (budget->scratch.size() < G || h.made.size() < G + 1 || h.made.size() != G + 1 + h.made[G]))
     return finest(CutStatus::BadHierarchy, 0);
 
   CutObject o;
@@ -297,7 +400,6 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
 
   // Top down: a group is evaluated when some group holding a cluster it made is visible (or such a
   // cluster is a root) and none is invisible; either way its makers learn which it is.
-  constexpr std::uint8_t kNeeded = 1, kBlocked = 2, kVisible = 4;
   std::uint8_t* state = scratch.data();
   std::fill_n(state, G, std::uint8_t(0));
   for (std::uint32_t r : h.roots)
@@ -331,17 +433,14 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
       if (h.clusters[m].refined != kNoGroup) state[h.clusters[m].refined] |= mark;
   }
-  // Drawn: the members of visible groups whose maker is invisible (or that are finest), then the
-  // roots likewise.
-  for (std::size_t g = 0; g < G; ++g) {
-    if (!(state[g] & kVisible)) continue;
-    const ClusterGroup& group = h.groups[g];
-    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
-      if (h.clusters[m].refined == kNoGroup || !(state[h.clusters[m].refined] & kVisible)) emit(m);
+  if (budgeted) {
+    std::uint64_t total = 0;
+    for_each_drawn(h, state, [&](std::uint32_t c) { total += h.clusters[c].triangle_count; });
+    if (total > budget->triangles) spend_cut_budget(h, o, *budget, total, state, memory, &res);
   }
-  for (std::uint32_t r : h.roots)
-    if (h.clusters[r].refined == kNoGroup || !(state[h.clusters[r].refined] & kVisible)) emit(r);
-  res.flags = std::uint8_t(o.flags | (res.held ? kFlagHeld : 0));
+  for_each_drawn(h, state, emit);
+  res.flags =
+      std::uint8_t(o.flags | (res.held ? kFlagHeld : 0) | (res.budget_forced ? kFlagBudgetForced : 0));
   return finish(CutStatus::Ok);
 }
 

@@ -76,12 +76,18 @@ struct Scheduler::Impl {
   // [ln lost / (q CT), max over bands, the loss of the view cell the eye is in when the loss has
   // cells; +inf visible at once], and the cut (explain: nullable, one per group, every group scored).
   struct CutObject;
+  // every_band: the largest over bands even when visible (else the first band above 0 ends it).
   float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, std::size_t index,
-                    GroupExplain* explain) const;
+                    GroupExplain* explain, bool every_band = false) const;
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<CutGroupMemory> memory,
-                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
-                       GroupExplain* explain) const;
+                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn, GroupExplain* explain,
+                       const CutBudget* budget = nullptr) const;
+  // select_cut's triangle budget (clusters.cpp): coarsens visible groups of the walk's state until
+  // the cut draws at most budget.triangles (from `triangles`, what it draws now).
+  void spend_cut_budget(const ClusterView& h, const CutObject& o, const CutBudget& budget,
+                        std::uint64_t triangles, std::uint8_t* state, std::span<CutGroupMemory> memory,
+                        CutResult* res) const;
   // One frame of the wait to coarsen (SchedulerConfig's timing), the one arithmetic of settle()'s
   // objects and select_cut's groups. step() takes how long the coarser choice has been wanted (calm)
   // and waited for a saccade since the hysteresis was met (wait) before this frame, and gives both

@@ -379,6 +379,12 @@ CutResult Scheduler::select_cut(const ClusterView& h, const ClusterLoss& loss,
                                 std::span<std::uint32_t> drawn) const {
   return impl_->select_cut(h, loss, transform, velocity, memory, scratch, drawn, nullptr);
 }
+CutResult Scheduler::select_cut(const ClusterView& h, const ClusterLoss& loss,
+                                const ObjectTransform& transform, const float velocity[3],
+                                std::span<CutGroupMemory> memory, const CutBudget& budget,
+                                std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const {
+  return impl_->select_cut(h, loss, transform, velocity, memory, scratch, drawn, nullptr, &budget);
+}
 CutStatus Scheduler::explain_cut(const ClusterView& h, const ClusterLoss& loss,
                                  const ObjectTransform& transform, const float velocity[3],
                                  std::span<std::uint8_t> scratch, std::span<GroupExplain> out) const {

@@ -38,4 +38,11 @@ struct ExactScores {
 std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
                                            const SchedulerConfig& perceptual, double ppd);
 
+// The same judge of other triangles of an asset's level 0: view i's `indices[i]` (three per triangle,
+// into level 0's vertices: a cluster cut of a hierarchy built on level 0) against level 0 itself.
+// Returns one score per view.
+std::vector<float> judge_exact_triangles(const SceneAssets& scene, const std::vector<ExactView>& views,
+                                         const std::vector<std::vector<std::uint32_t>>& indices,
+                                         const SchedulerConfig& perceptual, double ppd);
+
 }  // namespace acuity::sim

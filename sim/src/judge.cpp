@@ -98,45 +98,78 @@ Task exact_task(const SceneAssets& scene, const ExactView& v, const SchedulerCon
   return t;
 }
 
+// The exact views' tasks, one detector per resolution and the chains' render inputs (FFTW plans are
+// made here, serially); then each view rendered and scored in parallel (score(i, render)).
+struct ExactJudge {
+  const SceneAssets& scene;
+  const std::vector<ExactView>& views;
+  std::vector<Task> tasks;
+  std::map<std::uint32_t, std::unique_ptr<Detector>> detectors;
+  std::vector<std::vector<spectra::LevelInput>> inputs;
+  std::vector<std::array<float, 4>> spheres;
+
+  ExactJudge(const SceneAssets& s, const std::vector<ExactView>& v, const SchedulerConfig& perceptual,
+             double ppd)
+      : scene(s), views(v), inputs(s.assets.size()), spheres(s.assets.size()) {
+    for (const ExactView& view : views) tasks.push_back(exact_task(scene, view, perceptual, ppd));
+    DetectionSettings settings;
+    settings.white_luminance = perceptual.params.luminance;
+    settings.nyquist_cpd = 0.5 * ppd;
+    settings.params = perceptual.params;
+    for (std::size_t i = 0; i < views.size(); ++i) {
+      auto& d = detectors[tasks[i].pixels];
+      if (!d) d = std::make_unique<Detector>(tasks[i].pixels, settings);
+      const std::size_t a = std::size_t(views[i].asset);
+      if (!inputs[a].empty()) continue;
+      inputs[a] = bake::spectra_levels(scene.assets[a].chain);
+      spectra::bounding_sphere(inputs[a][0].mesh, spheres[a].data());  // every level framed by level 0's
+    }
+  }
+  // Calls each(i, render, score) for every view in parallel: render(mesh) draws a mesh of the view's
+  // asset at the view, score(image) is the detection model's score of it against level 0's.
+  template <class F>
+  void run(F&& each) const {
+    tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t i) {
+      const std::size_t a = std::size_t(views[i].asset);
+      spectra::RenderSettings rs;
+      rs.pixels = tasks[i].pixels;
+      std::copy(spheres[a].begin(), spheres[a].end(), rs.sphere);
+      const spectra::Material& material = scene.assets[a].material;
+      const Detector& d = *detectors.at(tasks[i].pixels);
+      const auto render = [&](const spectra::MeshView& mesh) {
+        return spectra::render_snapshot(mesh, material, tasks[i].view, rs);
+      };
+      const auto reference = d.prepare(render(inputs[a][0].mesh), tasks[i].placement);
+      each(i, render, [&](const spectra::Image& image) { return float(d.detect(image, *reference).score); });
+    });
+  }
+};
+
 }  // namespace
 
 std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
                                            const SchedulerConfig& perceptual, double ppd) {
-  std::vector<Task> tasks;
-  for (const ExactView& v : views) tasks.push_back(exact_task(scene, v, perceptual, ppd));
+  const ExactJudge judge(scene, views, perceptual, ppd);
+  std::vector<ExactScores> out(views.size());
+  judge.run([&](std::size_t i, const auto& render, const auto& score) {
+    const std::vector<spectra::LevelInput>& levels = judge.inputs[std::size_t(views[i].asset)];
+    out[i].pixels = judge.tasks[i].pixels;
+    for (std::size_t k = 1; k < levels.size() && k < kMaxLevels; ++k)
+      out[i].scores[k] = score(render(levels[k].mesh));
+  });
+  return out;
+}
 
-  // One detector per resolution and the chains' render inputs (FFTW plans are made here, serially),
-  // then the views in parallel.
-  DetectionSettings settings;
-  settings.white_luminance = perceptual.params.luminance;
-  settings.nyquist_cpd = 0.5 * ppd;
-  settings.params = perceptual.params;
-  std::map<std::uint32_t, std::unique_ptr<Detector>> detectors;
-  std::vector<std::vector<spectra::LevelInput>> inputs(scene.assets.size());
-  std::vector<std::array<float, 4>> spheres(scene.assets.size());
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    auto& d = detectors[tasks[i].pixels];
-    if (!d) d = std::make_unique<Detector>(tasks[i].pixels, settings);
-    const std::size_t a = std::size_t(views[i].asset);
-    if (!inputs[a].empty()) continue;
-    inputs[a] = bake::spectra_levels(scene.assets[a].chain);
-    spectra::bounding_sphere(inputs[a][0].mesh, spheres[a].data());  // every level framed by level 0's
-  }
-  std::vector<ExactScores> out(tasks.size());
-  tbb::parallel_for(std::size_t(0), tasks.size(), [&](std::size_t i) {
-    const std::size_t a = std::size_t(views[i].asset);
-    spectra::RenderSettings rs;
-    rs.pixels = tasks[i].pixels;
-    std::copy(spheres[a].begin(), spheres[a].end(), rs.sphere);
-    const spectra::Material& material = scene.assets[a].material;
-    const Detector& d = *detectors.at(tasks[i].pixels);
-    const auto reference = d.prepare(spectra::render_snapshot(inputs[a][0].mesh, material, tasks[i].view, rs),
-                                     tasks[i].placement);
-    out[i].pixels = tasks[i].pixels;
-    for (std::size_t k = 1; k < inputs[a].size() && k < kMaxLevels; ++k) {
-      const spectra::Image level = spectra::render_snapshot(inputs[a][k].mesh, material, tasks[i].view, rs);
-      out[i].scores[k] = float(d.detect(level, *reference).score);
-    }
+std::vector<float> judge_exact_triangles(const SceneAssets& scene, const std::vector<ExactView>& views,
+                                         const std::vector<std::vector<std::uint32_t>>& indices,
+                                         const SchedulerConfig& perceptual, double ppd) {
+  const ExactJudge judge(scene, views, perceptual, ppd);
+  std::vector<float> out(views.size());
+  judge.run([&](std::size_t i, const auto& render, const auto& score) {
+    spectra::MeshView mesh = judge.inputs[std::size_t(views[i].asset)][0].mesh;
+    mesh.indices = indices[i].data();
+    mesh.index_count = indices[i].size();
+    out[i] = score(render(mesh));
   });
   return out;
 }

@@ -259,9 +259,13 @@ ProfileClusterData measure_cluster_loss(const ClusterMesh& mesh, const Material&
       for (std::size_t j = 0; j < Bc; ++j) out.lost[g * Bc + j] = std::max(out.lost[g * Bc + j], row[j]);
     }
   }
-  for (std::size_t c = 0; c < C; ++c)
-    out.view_directions.insert(out.view_directions.end(), views[c].direction, views[c].direction + 3);
-  out.view_samples = std::uint32_t(V);
+  if (settings.views >= kMinCellSamples || settings.view_cells) {
+    for (std::size_t c = 0; c < C; ++c)
+      out.view_directions.insert(out.view_directions.end(), views[c].direction, views[c].direction + 3);
+    out.view_samples = std::uint32_t(V);
+  } else {  // the cut would not read them (kMinCellSamples): no ClusterViews section
+    out.view_lost = {};
+  }
   out.window_pixels = settings.render.pixels;
   out.view_count = settings.views;
   out.hierarchy_hash = cluster_hierarchy_hash(mesh.clusters, mesh.groups);

@@ -40,7 +40,7 @@ def armadillo(tmp_path_factory):
     mesh = os.path.join(MESHES, "elephant.off")
     run("lodgen", mesh, "--clusters", "-o", d / "c.glb", "-q")
     run("profile", d / "c.glb", "-o", d / "c.acuity", "--res", "64", "--views", "6", "--window-pixels", "64",
-        "--group-views", "12")
+        "--group-views", "12", "--view-cells")
     run("lodgen", mesh, "-o", d / "chain.glb", "-q")
     run("profile", d / "chain.glb", "-o", d / "chain.acuity", "--res", "64", "--views", "6")
     return {"glb": d / "c.glb", "measured": d / "c.acuity", "chain": d / "chain.glb",
@@ -231,3 +231,56 @@ def test_memory_holds_a_group_before_it_coarsens(armadillo):
     assert later.triangles == free.triangles
     with pytest.raises(ValueError, match="memory"):
         h.select(eye, away, far, (0, 0, 0, 1), memory=np.zeros(3, np.uint8))
+
+
+def open_edges(cut):
+    """The edges of the cut's triangles used once, between welded positions (exact)."""
+    _, weld = np.unique(cut.positions, axis=0, return_inverse=True)
+    t = weld.reshape(-1)[cut.indices]
+    e = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    edges, counts = np.unique(e, axis=0, return_counts=True)
+    return {tuple(x) for x in edges[counts == 1]}
+
+
+def test_triangle_budget_coarsens_the_cut_to_fit(armadillo):
+    """select(..., triangle_budget=N): a budget at or above the cut changes nothing; below it the cut
+    draws at most N (the roots allow it here: no eye inside a group), opens no edge the finest mesh
+    lacks, and counts what it coarsened past visibility; a smaller budget never draws more."""
+    h = load(armadillo)
+    eye, pos, _, _ = placed(armadillo, 30)
+    g = gaze_towards(0, -1)
+    cut = h.select(eye, g, pos, (0, 0, 0, 1))
+    same = h.select(eye, g, pos, (0, 0, 0, 1), triangle_budget=cut.triangles)
+    assert same.triangles == cut.triangles and same.budget_coarsened == 0
+    assert np.array_equal(same.clusters, cut.clusters)
+    finest_open = open_edges(h.finest())
+    drawn = []
+    for fraction in (0.8, 0.5, 0.25):
+        budget = int(cut.triangles * fraction)
+        b = h.select(eye, g, pos, (0, 0, 0, 1), triangle_budget=budget)
+        assert b.triangles <= budget and b.budget_coarsened > 0
+        assert b.budget_forced > 0 and b.flags & acuity.FLAG_BUDGET_FORCED
+        assert open_edges(b) <= finest_open
+        drawn.append(b.triangles)
+    print(f"\n30 deg, gaze on the centre: the perceptual cut {cut.triangles}; budgets of 0.8, 0.5, 0.25 "
+          f"of it draw {drawn}")
+    assert drawn == sorted(drawn, reverse=True)
+
+
+def test_view_cells_are_written_only_when_asked(armadillo, tmp_path):
+    """`acuity profile` of a cluster file measured from fewer than 162 directions per group writes no
+    ClusterViews section (the cut would not read it) unless --view-cells asks: the same groups' loss,
+    12 x bands x 4 bytes per group fewer (and the section's header)."""
+    sizes, loaded = {}, {}
+    for name, extra in (("plain", []), ("asked", ["--view-cells"])):
+        out = tmp_path / f"{name}.acuity"
+        run("profile", armadillo["glb"], "-o", out, "--res", "64", "--views", "6", "--window-pixels", "64",
+            "--group-views", "12", *extra)
+        sizes[name] = os.path.getsize(out)
+        loaded[name] = acuity.clusters.load(str(armadillo["glb"]), str(out), view_cells=True)
+    h, asked = loaded["plain"], loaded["asked"]
+    assert h.view_directions.shape == (0, 3) and asked.view_directions.shape == (12, 3)
+    assert np.array_equal(h.loss, asked.loss)
+    saved = sizes["asked"] - sizes["plain"]
+    print(f"\nClusterViews at 12 directions: {saved} bytes, {saved / h.group_count:.1f} per group")
+    assert saved >= 12 * len(h.bands) * 4 * h.group_count

@@ -93,7 +93,7 @@ def bake(input, out, client=None, cache=None, workers=None, jobs=0, profile_jobs
     scheduler address such as "tcp://host:8786", runs one task per asset there (each task bakes with
     `profile_jobs` threads). cache: the cache folder (default out/.cache), shared by the workers.
     options: levels, ratio, max_error, backend, lock_border, crease, measure_seconds, reference_height, pixels, orientations,
-    bands, views, tolerance, bound_cells, clusters, window_pixels, group_views, asset_root (as `acuity bake`; a manifest
+    bands, views, tolerance, bound_cells, clusters, window_pixels, group_views, view_cells, asset_root (as `acuity bake`; a manifest
     may override them per asset).
 
     Returns the index (the dict written to out/index.json). A failed asset is listed with

@@ -56,6 +56,9 @@ struct ClusterView {
   std::span<const Cluster> clusters;
   std::span<const ClusterGroup> groups;
   std::span<const std::uint32_t> roots;  // the clusters in no group, as cluster_roots() lists them
+  // Optional (a cut under a triangle budget needs it): the clusters each group made, as
+  // cluster_made_index() lists them.
+  std::span<const std::uint32_t> made = {};
 };
 
 // "" when `clusters` and `groups` are laid out as ClusterView requires (and lodgen writes), else the
@@ -73,6 +76,12 @@ std::string check_cluster_records(std::span<const Cluster> clusters, std::span<c
 
 // The clusters with group == kNoGroup, in order (once per hierarchy, at load; allocates).
 std::vector<std::uint32_t> cluster_roots(std::span<const Cluster> clusters);
+
+// The clusters each group made (Cluster::refined), grouped by their maker (once per hierarchy, at
+// load; allocates): G + 1 offsets, then the ids; group g made the clusters out[G + 1 + out[g]] ..
+// out[G + 1 + out[g + 1] - 1], in increasing order. ClusterView::made. Clusters naming a maker of
+// group_count or more are left out (check_cluster_records rejects them).
+std::vector<std::uint32_t> cluster_made_index(std::span<const Cluster> clusters, std::size_t group_count);
 
 // What each group's simplification loses, per band: lost[g * bands.size() + b] is the largest
 // local band contrast (docs/design.md section 3) that group g's clusters lose against the finest
@@ -146,12 +155,14 @@ std::vector<float> provisional_group_loss(const Profile& profile, std::span<cons
 
 // What select_cut did (Scheduler::select_cut).
 enum class CutStatus : std::uint8_t {
-  Ok,              // the perceptual cut
+  Ok,              // the perceptual cut (under a budget: coarsened to meet it, as far as it can be)
   InvalidInput,    // non-finite or non-unit transform, scale <= 0, non-finite velocity, or no valid
                    // eye: the finest cut (kFlagInvalidInput)
   BadHierarchy,    // loss or hierarchy arrays of mismatched sizes (lost != groups x bands, no band,
                    // over kMaxBands, a diameter <= 0, scratch smaller than the groups, no clusters,
-                   // view_lost != groups x views x bands, logs of other sizes than their values):
+                   // view_lost != groups x views x bands, logs of other sizes than their values;
+                   // with a budget, CutBudget::scratch smaller than the groups or ClusterView::made
+                   // not of cluster_made_index()'s size):
                    // the finest cut
   BufferTooSmall,  // `drawn` could not hold the cut: `clusters` says how many it needs, nothing usable written
 };
@@ -159,11 +170,29 @@ const char* to_string(CutStatus status);
 
 struct CutResult {
   CutStatus status = CutStatus::Ok;
-  std::uint8_t flags = 0;       // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze, kFlagHeld
+  std::uint8_t flags = 0;       // ObjectFlag bits: kFlagInvalidInput, kFlagEyeInside, kFlagNoGaze, kFlagHeld,
+                                // kFlagBudgetForced
   std::uint32_t clusters = 0;   // drawn (or needed, BufferTooSmall)
   std::uint64_t triangles = 0;  // drawn
   std::uint32_t groups_evaluated = 0;  // groups whose thresholds were evaluated (the walk's work)
   std::uint32_t held = 0;  // groups kept visible by hysteresis or saccade gating (with memory; kFlagHeld)
+  std::uint32_t budget_coarsened = 0;  // visible groups the triangle budget coarsened (CutBudget)
+  std::uint32_t budget_forced = 0;     // ... of them with a score > 1: a visible loss (kFlagBudgetForced)
+};
+
+// One entry of a budgeted cut's scratch (CutBudget::scratch): storage the caller gives, one per
+// group; what it holds between the calls is not read (each call starts afresh). 8 bytes.
+struct CutCandidate {
+  float harm = 0;
+  std::uint32_t group = 0;
+};
+static_assert(sizeof(CutCandidate) == 8, "CutCandidate's layout (the C ABI's cut memory)");
+
+// A triangle budget for one cut (Scheduler::select_cut with a budget): when the perceptual cut draws
+// more than `triangles`, coarsen the visible groups whose loss is least visible first.
+struct CutBudget {
+  std::uint64_t triangles = 0;           // the most the cut should draw; 0: no budget
+  std::span<CutCandidate> scratch = {};  // the caller's, at least one per group when triangles > 0
 };
 
 // What a cut remembers of one group from one frame to the next (Scheduler::select_cut with memory),

@@ -344,7 +344,7 @@ class Scheduler {
   // group (the caller's: calls may run concurrently on separate scratch, between begin_frame and
   // end_frame); on return with CutStatus::Ok, scratch[g] & 4 is set exactly when group g is visible
   // (its members, or finer, are drawn). Allocation-free, deterministic. Bad input falls back to the finest cut (CutStatus).
-  // Not yet: the triangle budget over clusters, tabulated thresholds (issue 48 item 3).
+  // Not yet: tabulated thresholds (issue 48 item 3).
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<std::uint8_t> scratch,
                        std::span<std::uint32_t> drawn) const;
@@ -362,6 +362,22 @@ class Scheduler {
   // smaller than the groups, among the rest) leaves memory untouched; BufferTooSmall has stepped it.
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<CutGroupMemory> memory,
+                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const;
+  // The same under a triangle budget (memory may be empty: none). When the cut (after hysteresis)
+  // draws more than budget.triangles (> 0), it coarsens one group at a time, as the frame's budget
+  // coarsens objects (Funkhouser & Sequin): of the visible groups none of whose members' makers is
+  // visible (so only a whole group's members are replaced by the clusters it made, and the cut
+  // stays crack-free), the one of least harm, its score (lost / (q CT), the largest over eyes and
+  // bands, as explain_cut's) per triangle it saves (at least 1); ties go to the lower group. Until
+  // the cut draws at most budget.triangles or no such group is left: a group an eye is inside (or
+  // with a NaN loss; score +inf) is never coarsened, as the frame's budget never coarsens an
+  // object an eye is inside, nor is invalid input's finest cut. CutResult::budget_coarsened counts
+  // the groups, budget_forced those of a score > 1 (kFlagBudgetForced); memory remembers them
+  // invisible (they refine at once when the budget allows). Needs h.made (cluster_made_index) and
+  // budget.scratch (one per group, the caller's like scratch). A budget at or above the cut
+  // changes nothing. Allocation-free, deterministic.
+  CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
+                       const float velocity[3], std::span<CutGroupMemory> memory, const CutBudget& budget,
                        std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn) const;
   // Why select_cut decides as it does (for debugging, not every frame): for every group (out, one per
   // group) its score over both eyes with the limiting band, eye and their frequency, threshold,

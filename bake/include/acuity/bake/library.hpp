@@ -46,6 +46,7 @@ struct BakeOptions {
   std::uint32_t window_pixels =
       128;                         // clusters: pixels across each group's window (power of two, 16 .. 4096)
   std::uint32_t group_views = 12;  // clusters: directions measured per group: 12, 42 or 162 (cells read: 162)
+  bool view_cells = false;         // clusters: keep the loss per view cell (ClusterViews) from fewer than 162
   std::string asset_root;          // folder a glTF's uris may read ("": the glTF's own folder)
 };
 

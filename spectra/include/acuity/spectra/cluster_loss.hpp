@@ -58,8 +58,12 @@ struct ClusterLossSettings {
   std::uint32_t views = 12;   // directions per group: the first 12, 42 or 162 vertices of icosphere(2)
                               // (nested), framed by make_view [Limit: 12, 42 or 162]; the cells are
                               // read by the cut only from 162 (kMinCellSamples)
-  float margin = 1.25f;       // a window's radius is at least this x its group's [Limit: >= 1]
-  unsigned jobs = 0;          // worker threads; 0: all cores
+  // The loss per view cell (the profile's ClusterViews section, 12 cells x bands per group: about
+  // 337 bytes per group at 7 bands) is kept only when the cut reads it, from kMinCellSamples (162)
+  // directions, or when asked here (an experiment: from fewer its rows do not bound the loss).
+  bool view_cells = false;
+  float margin = 1.25f;  // a window's radius is at least this x its group's [Limit: >= 1]
+  unsigned jobs = 0;     // worker threads; 0: all cores
 };
 
 // Renders and analyses one group's window from one view; shared by the builder and by tests'
@@ -120,7 +124,9 @@ struct ClusterLossReport {
 };
 
 // Every group's loss over settings.views directions, as the profile's Clusters section stores it
-// (bands, lost [G Bc], window_pixels, view_count, hierarchy_hash). progress: ("windows", done, total),
+// (bands, lost [G Bc], window_pixels, view_count, hierarchy_hash), and per view cell (view_directions,
+// view_lost, view_samples: the ClusterViews section) when settings.views >= kMinCellSamples or
+// settings.view_cells, else those empty. progress: ("windows", done, total),
 // one window per group and view.
 ProfileClusterData measure_cluster_loss(const ClusterMesh& mesh, const Material& material,
                                         const ClusterLossSettings& settings, const ProgressFn& progress = {},
