@@ -41,8 +41,9 @@ void add_chain_options(CLI::App* cmd, bake::BakeOptions& options);
 // The options `acuity profile` and `acuity bake` share: snapshot pixels, orientations, bands, the
 // adaptive views' tolerance.
 void add_profile_options(CLI::App* cmd, bake::BakeOptions& options);
-// `--model NAME`: the perceptual rule's threshold model, by the names parse_threshold_model reads.
-void add_model_option(CLI::App* cmd, ThresholdModel& model);
+// `--model NAME`: a threshold model, by the names parse_threshold_model reads; `what` begins the help.
+void add_model_option(CLI::App* cmd, ThresholdModel& model,
+                      const std::string& what = "The perceptual rule's threshold model");
 
 void add_models_report(CLI::App& app);  // `acuity models`
 void print_models_report();             // the same tables with the defaults

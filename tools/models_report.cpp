@@ -19,17 +19,14 @@ void print_row_header(const char* corner) {
   std::printf("\n");
 }
 
-void report(double contrast, const std::string& model_name, const std::string& fit_name) {
+void report(double contrast, ThresholdModel model, const std::string& fit_name) {
   ModelParams p;
-  ThresholdModel model{};
-  if (!parse_threshold_model(model_name.c_str(), &model))
-    throw std::runtime_error("unknown model '" + model_name + "' (" + threshold_model_names() + ")");
   if (!parse_csf_fit(fit_name.c_str(), &p.fit))
     throw std::runtime_error("unknown CSF fit '" + fit_name + "' (daly1998, laird2006)");
 
   std::printf("acuity vision models (shared/reference/vision-models.md)\n\n");
   std::printf("Highest visible frequency [cpd] at contrast %.3g, model '%s', CSF fit '%s'.\n", contrast,
-              model_name.c_str(), fit_name.c_str());
+              to_string(model), fit_name.c_str());
   std::printf("Rows: image velocity [deg/s] -> Daly retinal velocity; columns: eccentricity [deg].\n");
   print_row_header("v_image (v_retinal)");
   for (double v : kImageSpeeds) {
@@ -70,12 +67,13 @@ void report(double contrast, const std::string& model_name, const std::string& f
 
 }  // namespace
 
-void print_models_report() { report(1.0, "default", "daly1998"); }
+void print_models_report() { report(1.0, ThresholdModel::Default, "daly1998"); }
 
 void add_models_report(CLI::App& app) {
   struct Options {
     double contrast = 1.0;
-    std::string model = "default", fit = "daly1998";
+    ThresholdModel model = ThresholdModel::Default;
+    std::string fit = "daly1998";
   };
   auto opts = std::make_shared<Options>();
   CLI::App* cmd =
@@ -83,7 +81,7 @@ void add_models_report(CLI::App& app) {
   cmd->add_option("--contrast", opts->contrast, "Contrast for the highest-visible-frequency table")
       ->check(Finite)
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--model", opts->model, threshold_model_names());
+  add_model_option(cmd, opts->model, "Threshold model");
   cmd->add_option("--fit", opts->fit, "daly1998 | laird2006");
   cmd->callback([opts] { report(opts->contrast, opts->model, opts->fit); });
 }

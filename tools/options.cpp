@@ -44,7 +44,7 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
                 "does not read it");
 }
 
-void add_model_option(CLI::App* cmd, ThresholdModel& model) {
+void add_model_option(CLI::App* cmd, ThresholdModel& model, const std::string& what) {
   const CLI::Validator name(
       [](std::string& text) -> std::string {
         ThresholdModel m{};
@@ -54,8 +54,7 @@ void add_model_option(CLI::App* cmd, ThresholdModel& model) {
         return {};
       },
       "");
-  cmd->add_option("--model", model,
-                  std::string("The perceptual rule's threshold model: ") + threshold_model_names())
+  cmd->add_option("--model", model, what + ": " + threshold_model_names())
       ->transform(name)
       ->type_name("NAME")
       ->default_str(to_string(model));

@@ -29,7 +29,7 @@ struct Options {
   double fps = 90;
   std::size_t frame = 0;
   std::uint32_t tile = 16;
-  std::string model = "default";
+  ThresholdModel model = ThresholdModel::Default;
   float quality = 1.0f, uncertainty = 1.0f, no_gaze_radius = 30.0f, fovea = 2.5f, head_speed = 0.0f;
   unsigned max_rate = 4;
   std::string png, csv;
@@ -39,8 +39,7 @@ struct Options {
 
 void run(const Options& o) {
   FoveationConfig config;
-  if (!parse_threshold_model(o.model.c_str(), &config.model))
-    throw std::runtime_error("unknown model '" + o.model + "' (" + threshold_model_names() + ")");
+  config.model = o.model;
   config.quality = o.quality;
   config.gaze_uncertainty_deg = o.uncertainty;
   config.no_gaze_radius_deg = o.no_gaze_radius;
@@ -83,7 +82,7 @@ void run(const Options& o) {
   std::printf(
       "display %ux%u px, %.1f deg horizontal, tile %u px, model %s, q %.2f: %zu frame(s), mean shading work "
       "saved %.1f%%\n",
-      w, h, o.fov, o.tile, o.model.c_str(), double(o.quality), gazes.size(),
+      w, h, o.fov, o.tile, to_string(o.model), double(o.quality), gazes.size(),
       100 * plan.total_saved / double(gazes.size()));
   std::printf("frame %zu: %s, saved %.1f%% (tiles %u x %u)\n", o.frame, to_string(shown.status),
               100 * shown.saved(), shown.maps.cols, shown.maps.rows);
@@ -96,7 +95,7 @@ void run(const Options& o) {
     std::snprintf(caption, sizeof caption,
                   "%ux%u PX, %.0f DEG, GAZE %s, TILE %u PX, MODEL %s, Q %.2f: SHADING WORK SAVED %.1f%%", w,
                   h, o.fov, shown.status == FoveationStatus::Ok ? "TRACKED" : "NONE (30 DEG DISC)", o.tile,
-                  o.model.c_str(), double(o.quality), 100 * shown.saved());
+                  to_string(o.model), double(o.quality), 100 * shown.saved());
     write_png(o.png, draw_plan(eye, gazes[o.frame], shown, o.panel, caption));
     std::printf("wrote %s\n", o.png.c_str());
   }
@@ -124,8 +123,7 @@ void add_plan_command(CLI::App& app) {
   cmd->add_option("--tile", o->tile, "Tile size [px]")
       ->capture_default_str()
       ->check(CLI::IsMember({8u, 16u, 32u}));
-  cmd->add_option("--model", o->model, std::string("Threshold model: ") + threshold_model_names())
-      ->capture_default_str();
+  add_model_option(cmd, o->model, "Threshold model");
   add_number(cmd, "--quality", o->quality, "q: invisible when lost contrast <= q CT", 0.01f, 100.0f);
   add_number(cmd, "--uncertainty", o->uncertainty, "Gaze uncertainty [deg]", 0.0f, 90.0f);
   add_number(cmd, "--no-gaze-radius", o->no_gaze_radius, "No-gaze disc radius [deg]", 0.0f, 90.0f);
