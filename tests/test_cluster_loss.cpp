@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 #include "acuity/bake/scene.hpp"
@@ -27,6 +28,10 @@ const std::string kMeshes = ACUITY_MESH_DIR;
 struct Built : BuiltHierarchy {
   spectra::ClusterMesh view() const { return bake::cluster_mesh(mesh, h); }
 };
+// Random directions each group is measured from directly, against its stored loss. The sanitizer
+// run (ACUITY_QUICK_TESTS) takes fewer: the same code, a third of the renders.
+int check_directions() { return std::getenv("ACUITY_QUICK_TESTS") ? 6 : 16; }
+
 Built build(const std::string& file) { return {built_hierarchy(kMeshes + "/" + file)}; }
 
 spectra::ClusterLossSettings settings(std::uint32_t pixels, std::uint32_t views) {
@@ -164,8 +169,8 @@ TEST(ClusterLoss, TheStoredRowFoldsTheWindowsAsStated) {
 
 // What the stored loss claims: for each group and band, the largest lost contrast seen from any
 // direction. Checked against direct measurements (the same windows, rendered and analysed again) of
-// every group from 16 random directions none of the 42 measured: the share of (group, direction,
-// band) values the stored loss bounds, and how far above it the rest reach.
+// every group from 16 random directions (6 in the sanitizer run) none of the 42 measured: the share
+// of (group, direction, band) values the stored loss bounds, and how far above it the rest reach.
 TEST(ClusterLoss, TheStoredLossBoundsDirectMeasurementsFromOtherDirections) {
   const Measured& e = elephant();
   const spectra::ClusterMesh cm = e.b.view();
@@ -173,7 +178,7 @@ TEST(ClusterLoss, TheStoredLossBoundsDirectMeasurementsFromOtherDirections) {
   std::mt19937 rng(7);
   BoundTally tally;
   for (std::uint32_t g = 0; g < cm.groups.size(); ++g)
-    for (int k = 0; k < 16; ++k) {
+    for (int k = 0; k < check_directions(); ++k) {
       const std::vector<float> l = e.m->measure(g, random_view(rng));
       for (std::size_t i = 0; i < Bw; ++i) {
         float direct = 0;
@@ -191,9 +196,9 @@ TEST(ClusterLoss, TheStoredLossBoundsDirectMeasurementsFromOtherDirections) {
 
 // The loss per view cell (the ClusterViews section): each cell's row at most the row over all views,
 // which is the largest over the cells; groups hidden from a whole cell lose nothing there; and checked
-// as the row over all views is, against direct measurements of every group from 16 random directions,
-// each against the cell it lies in (the one the cut reads: the nearest cell direction). At 42
-// directions (12 cells) they are not quite a bound.
+// as the row over all views is, against direct measurements of every group from 16 random directions
+// (6 in the sanitizer run), each against the cell it lies in (the one the cut reads: the nearest cell
+// direction). At 42 directions (12 cells) they are not quite a bound.
 TEST(ClusterLoss, EachViewCellBoundsDirectMeasurementsFromWithinIt) {
   const Measured& e = elephant();
   const spectra::ClusterMesh cm = e.b.view();
@@ -223,7 +228,7 @@ TEST(ClusterLoss, EachViewCellBoundsDirectMeasurementsFromWithinIt) {
   std::mt19937 rng(8);
   BoundTally tally;
   for (std::uint32_t g = 0; g < G; ++g)
-    for (int k = 0; k < 16; ++k) {
+    for (int k = 0; k < check_directions(); ++k) {
       const ProfileView v = random_view(rng);
       const std::size_t c = spectra::nearest_view(cells, v.direction);
       const std::vector<float> l = e.m->measure(g, v);
