@@ -34,7 +34,9 @@ namespace {
 // 2: profiles bound the loss over each view's cell (spectra::ProfileSettings::bound_cells), so
 // entries of 1 (one view's own measurement) are not reused; lodgen's meshopt chains continue from
 // the welded level after a rejected one.
-constexpr const char* kCacheFormat = "acuity-bake-cache 2";
+// 3: profiles carry the Detail section (what stelaCSF's area term reads) and write ClusterViews only
+// when asked (162 directions or --view-cells): caches made before lacked the one and held the other.
+constexpr const char* kCacheFormat = "acuity-bake-cache 3";
 constexpr const char* kInputToken = "{input}";  // stands for the asset's path in cached error messages
 
 // ---- Options ------------------------------------------------------------------------------------

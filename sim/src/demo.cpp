@@ -49,7 +49,10 @@ lodgen::LodObject chain_for(const DemoMesh& mesh, const DemoOptions& o,
 DemoScene build_demo(const DemoOptions& o, const std::function<void(const std::string&)>& progress) {
   const std::vector<DemoMesh> meshes = demo_meshes(o.meshes, o.assimp_models, o.webxr_profiles);
   std::vector<std::string> names;
-  for (const DemoMesh& m : meshes) names.push_back(m.name);
+  for (const DemoMesh& m : meshes) {
+    names.push_back(m.name);
+    names.push_back(m.name + "-clusters");  // a large object's hierarchy profile (sim/large_object.hpp)
+  }
   if (!(o.ratio > 0.0 && o.ratio < 1.0))
     throw std::runtime_error("demo: the chain's ratio must lie in (0, 1)");
   const std::string settings = "profile pixels " + std::to_string(o.pixels) +

@@ -18,9 +18,9 @@ struct DemoOptions {
   // Where the meshes are (demo_meshes): Debian's libcgal-demo OFF files, Debian's
   // assimp-testmodels, npm @webxr-input-profiles/assets' profiles folder.
   std::string meshes, assimp_models, webxr_profiles;
-  // Where chains (<cache>/<name>.glb), profiles (<cache>/profiles) and the field
-  // (<cache>/field.glb) are kept between runs, under a stamp of the code and settings
-  // (bake::refresh_cache).
+  // Where chains (<cache>/<name>.glb), profiles (<cache>/profiles, the large object's
+  // <name>-clusters.acuity among them) and the field (<cache>/field.glb) are kept between runs, under
+  // a stamp of the code and settings (bake::refresh_cache): a stamp that differs removes them all.
   std::string cache;
   std::uint32_t pixels = 256;  // snapshot pixels of the profiles
   bool flat = false;           // every level flat-shaded (every edge a crease), as a faceted engine draws
