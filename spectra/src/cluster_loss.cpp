@@ -1,8 +1,8 @@
 // What each group of a cluster hierarchy loses: window snapshots of the finest mesh against the
 // mesh with one group drawn coarse. See acuity/spectra/cluster_loss.hpp.
 #include "acuity/spectra/cluster_loss.hpp"
+#include "thread_limit.hpp"
 
-#include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
@@ -10,7 +10,6 @@
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 
 namespace acuity::spectra {
 namespace {
@@ -196,8 +195,7 @@ ProfileClusterData measure_cluster_loss(const ClusterMesh& mesh, const Material&
                                         ClusterLossReport* report) {
   const auto start = std::chrono::steady_clock::now();
   const ClusterLossMeasurer m(mesh, material, settings);
-  const unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
-  oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, jobs);
+  const auto limit = thread_limit(settings.jobs);
 
   const SphereMesh ico = icosphere(2);
   std::vector<ProfileView> views;

@@ -1,8 +1,8 @@
 #include "acuity/spectra/profile_builder.hpp"
 
 #include "acuity/models.hpp"
+#include "thread_limit.hpp"
 
-#include <oneapi/tbb/global_control.h>
 #include <oneapi/tbb/parallel_for.h>
 
 #include <algorithm>
@@ -11,7 +11,6 @@
 #include <map>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 
 namespace acuity::spectra {
 
@@ -363,8 +362,7 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
                           ProfileReport* report) {
   const auto start = std::chrono::steady_clock::now();
   const ProfileMeasurer measurer(levels, material, settings);
-  const unsigned jobs = settings.jobs ? settings.jobs : std::max(1u, std::thread::hardware_concurrency());
-  oneapi::tbb::global_control limit(oneapi::tbb::global_control::max_allowed_parallelism, jobs);
+  const auto limit = thread_limit(settings.jobs);
 
   std::vector<ProfileView> views;
   std::vector<ViewMeasurement> data;
