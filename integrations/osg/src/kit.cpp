@@ -236,10 +236,11 @@ void Kit::set_view_cameras(const std::vector<ViewCamera>& cameras) {
     view_settings_.push_back(v.settings);
   }
   views_.assign(cameras.size(), View{});
+  view_camera_count_.store(view_cameras_.size(), std::memory_order_release);
 }
 
 int Kit::view_class_of(const ::osg::Camera* camera) {
-  if (!camera) return -1;
+  if (!camera || view_camera_count_.load(std::memory_order_acquire) == 0) return -1;
   std::lock_guard<std::mutex> lock(mutex_);
   for (std::size_t i = 0; i < view_cameras_.size(); ++i)
     if (view_cameras_[i].get() == camera) return int(view_settings_[i].view_class);
@@ -275,8 +276,10 @@ void Kit::read_eyes(const ::osg::Camera* fallback, double dt) {
 }
 
 void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallback) {
-  std::lock_guard<std::mutex> lock(mutex_);
   const std::uint32_t number = stamp.getFrameNumber();
+  // This frame already ran: every cull after the first returns here without the mutex.
+  if (completed_frame_.load(std::memory_order_acquire) == std::uint64_t(number) + 1) return;
+  std::lock_guard<std::mutex> lock(mutex_);
   if (ran_ && number == frame_number_) return;
   const auto t0 = std::chrono::steady_clock::now();
   const double time = stamp.getSimulationTime();
@@ -310,6 +313,7 @@ void Kit::run_frame(const ::osg::FrameStamp& stamp, const ::osg::Camera* fallbac
   const auto t1 = std::chrono::steady_clock::now();
   scheduler_->run_frame(frame_);
   ran_ = true;
+  completed_frame_.store(std::uint64_t(number) + 1, std::memory_order_release);
   const auto t2 = std::chrono::steady_clock::now();
   acuity_ms_ = std::chrono::duration<double, std::milli>(t2 - t0).count();
   transforms_ms_ = std::chrono::duration<double, std::milli>(t1 - t0).count();

@@ -16,11 +16,14 @@
 // a LodNode has one parent path), dt from the frame stamp's simulation time. Then every LodNode
 // culled draws the scheduler's level; while a transition fades (transition_seconds > 0) it draws
 // both levels, the new one where an 8x8 ordered dither is below the fade and the old one elsewhere.
-// Thread-safe for OSG's threading models: the frame runs under a mutex, once per frame number.
+// Thread-safe for OSG's threading models: the frame runs under a mutex, once per frame number; the
+// culls after it take no lock of the kit's (the frame's number is published when it has run, and
+// the view cameras are looked up under the mutex only when there are any).
 //
 // Views beyond the eyes (acuity::View): set_view_cameras() names cameras that render the scene for
 // something else, osgShadow's light camera or a mirror's render-to-texture camera; a cull under one
 // of them draws its view class's level (Scheduler::view_level_array), not the eyes'.
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -193,6 +196,10 @@ class Kit : public ::osg::Referenced {
   ::osg::ref_ptr<::osg::Callback> callback_;  // the cull callback added to each eye camera
   ::osg::ref_ptr<GazeSource> gaze_;
   std::mutex mutex_;
+  // Published after a frame has run (its number + 1; 0 before any) and the number of view cameras:
+  // read without the mutex by each cull (run_frame, view_class_of).
+  std::atomic<std::uint64_t> completed_frame_{0};
+  std::atomic<std::size_t> view_camera_count_{0};
   std::uint32_t frame_number_ = 0xffffffffu;
   double time_ = 0;
   bool ran_ = false;
