@@ -159,31 +159,56 @@ struct Scheduler::Impl::Curves {
     if (bracket >= 0) *hint = bracket;
     return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
   }
-  // min over bands of sampled_size() (each band's into sampled[] and bracket[]): at most one sample
-  // step below smallest_size(), from the samples alone.
-  static float smallest_sampled(const float* curve, const float* y, const float* ln_band, std::uint32_t bands,
-                                int* hint, float* sampled, int* bracket) {
-    float least = -kNever;
+  // Whether sampled_size(curve, y, ln_band) is at least s (strict: above s), exactly as that computes
+  // it but without its search: its value ln_band - (kCurveU0 + kCurveStep hi) falls as the bracket's
+  // upper end hi rises (float rounding is monotone), so it is at least s where hi is at most the
+  // last index c whose value is: where curve[c] >= y (hi is the first index whose sample is).
+  static bool sampled_at_least(const float* curve, float y, float ln_band, float s, bool strict) {
+    const auto passes = [&](float v) { return strict ? v > s : v >= s; };
+    if (!(y > curve[0])) return passes(ln_band - kCurveU0);
+    if (y > curve[kCurveSamples - 1]) return passes(ln_band - kCurveU1);
+    const auto value = [&](int i) { return ln_band - (kCurveU0 + kCurveStep * float(i)); };
+    const float guess = std::floor((ln_band - s - kCurveU0) / kCurveStep);  // c, give or take a step
+    int c = guess >= 0.0f ? static_cast<int>(std::min(guess, float(kCurveSamples - 1))) : -1;
+    while (c + 1 < kCurveSamples && passes(value(c + 1))) ++c;
+    while (c >= 0 && !passes(value(c))) --c;
+    return c >= 1 && curve[c] >= y;  // here curve[0] < y <= curve[last]: hi >= 1
+  }
+  // min over bands of sampled_size(): one search for the band `*lead` (in: the least band at a
+  // neighbouring node, out: the least here), and for each other band one comparison at an index
+  // (sampled_at_least()), searched only where it lies below. The same value as a search per band,
+  // in a fraction of the work (one band is usually least over a region of the grid).
+  static float least_sampled(const float* curve, const float* y, const float* ln_band, std::uint32_t bands,
+                             int* hint, std::uint32_t* lead) {
+    if (bands == 0) return -kNever;
+    int bracket;
+    const std::uint32_t first = std::min(*lead, bands - 1);
+    *lead = first;
+    float least = sampled_size(curve, y[first], ln_band[first], &bracket, hint[first]);
+    if (bracket >= 0) hint[first] = bracket;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      sampled[b] = sampled_size(curve, y[b], ln_band[b], &bracket[b], hint[b]);
-      if (bracket[b] >= 0) hint[b] = bracket[b];
-      least = std::min(least, sampled[b]);
+      if (b == first || sampled_at_least(curve, y[b], ln_band[b], least, false)) continue;
+      least = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b]);  // below the least so far
+      if (bracket >= 0) hint[b] = bracket;
+      *lead = b;
     }
     return least;
   }
   // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
-  // (a refinement raises a value by less than one sample step). Same result, a fraction of the work.
+  // (a refinement raises a value by less than one sample step); the bands above that are not
+  // searched (sampled_at_least()): they cannot be the minimum. Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
                              const float* y, const float* ln_band, std::uint32_t bands, float e, float v,
-                             bool moving, int* hint) {
-    float sampled[kMaxBands];
-    int bracket[kMaxBands];
-    const float least = smallest_sampled(curve, y, ln_band, bands, hint, sampled, bracket);
+                             bool moving, int* hint, std::uint32_t* lead) {
+    const float near = least_sampled(curve, y, ln_band, bands, hint, lead) + 1.01f * kCurveStep;
     float m = -kNever;
-    for (std::uint32_t b = 0; b < bands; ++b)
-      m = std::min(m, bracket[b] >= 0 && sampled[b] <= least + 1.01f * kCurveStep
-                          ? refine(pre, c, bracket[b], y[b], ln_band[b], e, v, moving)
-                          : sampled[b]);
+    for (std::uint32_t b = 0; b < bands; ++b) {
+      if (sampled_at_least(curve, y[b], ln_band[b], near, true)) continue;
+      int bracket;
+      const float sampled = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b]);
+      if (bracket >= 0) hint[b] = bracket;
+      m = std::min(m, bracket >= 0 ? refine(pre, c, bracket, y[b], ln_band[b], e, v, moving) : sampled);
+    }
     return m;
   }
 };

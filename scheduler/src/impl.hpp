@@ -160,7 +160,7 @@ struct Scheduler::Impl {
   void build_curves();  // at creation
   void build_tables(ProfileCache& c) const;
   void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
-  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
+  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const;
   void build_any_view(ProfileCache& c, std::uint32_t set) const;
   void lower_speed_rows(const float* nodes, const float* ys, const float* ln_band, std::uint32_t B,
                         std::uint32_t T, float* lowers) const;

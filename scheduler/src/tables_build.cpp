@@ -69,10 +69,8 @@ void Scheduler::Impl::build_tables(ProfileCache& c) const {
     c.sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
     c.sets[set].moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
-      for (std::uint32_t k = 1; k < K; ++k) {
-        build_still(c, set, ln_q, w, k);
-        build_moving(c, set, ln_q, w, k);
-      }
+      for (std::uint32_t k = 1; k < K; ++k) build_still(c, set, ln_q, w, k);
+    build_moving(c, set, ln_q);
     build_any_view(c, set);
   }
 }
@@ -135,42 +133,51 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   }
 }
 
-// The moving tables of view w and level k in table set `set` (ln_q: its ln q).
-void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
-                                   std::uint32_t k) const {
+// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation at once
+// (a row each): each curve is read for every row in turn while it is in the cache (built per view
+// and level, every curve was read again for each). Each row's entries are what they were when built
+// one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
+// lead band changes only how fast it finds its value (Curves::least_sampled()).
+void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count,
                       L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
-  const std::size_t kv = std::size_t(k - 1) * V + w, N = std::size_t(kMovingS) * kMovingE;
-  // Per orientation at its own speed, every band: the nodes, then what they come down by.
-  std::vector<float> y(std::size_t(T) * kMaxBands), nodes(T * N), lowers(T * N, 0.0f);
-  for (std::uint32_t t = 0; t < T; ++t) {
-    for (std::uint32_t b = 0; b < B; ++b) y[t * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
-    int hint[kMaxBands];  // each band's bracket at the previous node
-    std::fill(hint, hint + kMaxBands, kCurveSamples / 2);
-    for (std::uint32_t i = 0; i < kMovingS; ++i)
-      for (std::uint32_t j = 0; j < kMovingE; ++j)
-        nodes[t * N + i * kMovingE + j] = Curves::smallest_size(
-            pre, config_, &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)],
-            &y[t * kMaxBands], c.ln_band.data(), B, moving_e_node(j), Curves::speed(i, pre.floor_velocity),
-            true, hint);
-  }
+  const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * T;
+  // Row r = (w L + (k - 1)) T + t: view w, level k, orientation t at its own speed, every band.
+  std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
+  std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
+  std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
+  for (std::uint32_t w = 0; w < V; ++w)
+    for (std::uint32_t k = 1; k <= L; ++k)
+      for (std::uint32_t t = 0; t < T; ++t) {
+        const std::size_t r = (std::size_t(w) * L + (k - 1)) * T + t, kv = std::size_t(k - 1) * V + w;
+        for (std::uint32_t b = 0; b < B; ++b) y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
+      }
+  for (std::uint32_t i = 0; i < kMovingS; ++i)
+    for (std::uint32_t j = 0; j < kMovingE; ++j) {
+      const float* curve = &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)];
+      for (std::size_t r = 0; r < R; ++r)
+        nodes[r * N + i * kMovingE + j] = Curves::smallest_size(
+            pre, config_, curve, &y[r * kMaxBands], c.ln_band.data(), B, moving_e_node(j),
+            Curves::speed(i, pre.floor_velocity), true, &hints[r * kMaxBands], &leads[r]);
+    }
   if (!curves_->row_checks.empty())
-    lower_speed_rows(nodes.data(), y.data(), c.ln_band.data(), B, T, lowers.data());
-  std::vector<std::int16_t>& moving = c.sets[set].moving;
-  for (std::uint32_t t = 0; t < T; ++t) {
-    const float* node = &nodes[t * N];
-    float* lower = &lowers[t * N];
-    int centre_hint[kMaxBands];  // each band's bracket at the previous cell
-    std::fill(centre_hint, centre_hint + kMaxBands, kCurveSamples / 2);
-    // Concave along eccentricity keeps the cell's rows' blend below; where the midpoint shows the
-    // bilinear surface above the truth, the cell's corners come down by the excess.
-    for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
-      for (std::uint32_t j = 0; j + 1 < kMovingE; ++j) {
-        const std::uint32_t corner[4] = {i * kMovingE + j, i * kMovingE + j + 1, (i + 1) * kMovingE + j,
-                                         (i + 1) * kMovingE + j + 1};
+    lower_speed_rows(nodes.data(), y.data(), c.ln_band.data(), B, static_cast<std::uint32_t>(R),
+                     lowers.data());
+  // Concave along eccentricity keeps the cell's rows' blend below; where the midpoint shows the
+  // bilinear surface above the truth, the cell's corners come down by the excess.
+  std::fill(hints.begin(), hints.end(), kCurveSamples / 2);  // now each row's brackets at the previous cell
+  for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
+    for (std::uint32_t j = 0; j + 1 < kMovingE; ++j) {
+      const std::uint32_t corner[4] = {i * kMovingE + j, i * kMovingE + j + 1, (i + 1) * kMovingE + j,
+                                       (i + 1) * kMovingE + j + 1};
+      const float* centre =
+          midpoints ? &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)] : nullptr;
+      for (std::size_t r = 0; r < R; ++r) {
+        const float* node = &nodes[r * N];
+        float* lower = &lowers[r * N];
         if (node[corner[0]] <= kNever || node[corner[3]] >= -kNever) continue;
         if (!midpoints) {  // Reddy: known in advance
           const Curves::Lift v = curves_->speed_lift[i], e = curves_->moving_e_lift[j];
@@ -180,16 +187,20 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         }
         const float mean = 0.25f * (node[corner[0]] + node[corner[1]] + node[corner[2]] + node[corner[3]]);
         const float truth = Curves::smallest_size(
-            pre, config_, &curves_->centre[(i * (kMovingE - 1) + j) * std::size_t(kCurveSamples)],
-            &y[t * kMaxBands], c.ln_band.data(), B, Curves::centre_e(j),
-            Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true, centre_hint);
+            pre, config_, centre, &y[r * kMaxBands], c.ln_band.data(), B, Curves::centre_e(j),
+            Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true, &hints[r * kMaxBands],
+            &leads[r]);
         const float excess = mean - truth;
         if (excess > 0)
           for (const std::uint32_t q : corner) lower[q] = std::max(lower[q], excess);
       }
-    for (std::uint32_t i = 0; i < N; ++i)
-      moving[((std::size_t(w) * T + t) * N + i) * L + (k - 1)] =
-          encode_size(node[i] - lower[i] - kBilinearMargin);
+    }
+  std::vector<std::int16_t>& moving = c.sets[set].moving;
+  for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) T + t; entries [w][t][i][k - 1]
+    const std::size_t t = r % T, k = (r / T) % L, w = r / (std::size_t(T) * L);
+    for (std::size_t n = 0; n < N; ++n)
+      moving[((w * T + t) * N + n) * L + k] =
+          encode_size(nodes[r * N + n] - lowers[r * N + n] - kBilinearMargin);
   }
 }
 
@@ -199,9 +210,9 @@ struct Scheduler::Impl::Need {
   int check;  // the row check whose truth it compares with
 };
 
-// Lowers the moving table's nodes of one level and view (per orientation t: nodes[t N ..] less
-// lowers[t N ..], as build_moving() stores them, for ln lost contrast ys[t kMaxBands ..] over q per
-// band; N = kMovingS kMovingE) so that along speed, at each
+// Lowers the moving table's nodes of T rows (build_moving()'s: a view, level and orientation each;
+// row t: nodes[t N ..] less lowers[t N ..], as build_moving() stores them, for ln lost contrast
+// ys[t kMaxBands ..] over q per band; N = kMovingS kMovingE) so that along speed, at each
 // eccentricity node, the interpolation stays at or below the truth (the largest invisible size) at
 // the row checks' speeds inside each cell. The truth there is first read from the samples alone (at
 // most one sample step low); where that shows a need, refined on the model. Between two checks the
@@ -216,11 +227,10 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
   const Precomputed& pre = *pre_;
   constexpr int M = Curves::kRowChecks;
   const std::size_t N = std::size_t(kMovingS) * kMovingE;
-  // Each orientation's and check's brackets at the previous cell.
+  // Each row's and check's brackets at the previous cell.
   std::vector<int> hints(std::size_t(T) * M * kMaxBands, kCurveSamples / 2);
-  float sampled[kMaxBands];
-  int bracket[kMaxBands];
-  // Cells outside, orientations inside: a cell's check curves stay in the cache for all of them.
+  std::vector<std::uint32_t> leads(std::size_t(T) * M, 0);  // and their least bands there
+  // Cells outside, rows inside: a cell's check curves stay in the cache for all of them.
   for (std::uint32_t i = 0; i + 1 < kMovingS; ++i)
     for (std::uint32_t j = 0; j < kMovingE; ++j)
       for (std::uint32_t t = 0; t < T; ++t) {
@@ -228,6 +238,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
         const float* y = &ys[t * kMaxBands];
         float* lower = &lowers[t * N];
         int* hint = &hints[std::size_t(t) * M * kMaxBands];
+        std::uint32_t* lead = &leads[std::size_t(t) * M];
         const std::uint32_t at0 = i * kMovingE + j, at1 = (i + 1) * kMovingE + j;
         if (node[at0] <= kNever || node[at1] >= -kNever) continue;  // no size passes, or every size does
         const float a0 = node[at0] - lower[at0], a1 = node[at1] - lower[at1], rise = (a1 - a0) / M;
@@ -235,8 +246,8 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
         truth[0] = node[at0];
         truth[M] = node[at1];
         for (int m = 1; m < M; ++m)
-          truth[m] = Curves::smallest_sampled(&curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band,
-                                              B, &hint[m * kMaxBands], sampled, bracket);
+          truth[m] = Curves::least_sampled(&curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
+                                           &hint[m * kMaxBands], &lead[m]);
         Need needs[3 * M];  // what the row needs (only where it must come down)
         int count = 0;
         const auto gather = [&] {
@@ -262,10 +273,11 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
           refined[m] = true;
           int refine_hint[kMaxBands];
           std::copy(&hint[m * kMaxBands], &hint[(m + 1) * kMaxBands], refine_hint);
+          std::uint32_t refine_lead = lead[m];
           truth[m] = Curves::smallest_size(
               pre, config_, &curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
               moving_e_node(j), Curves::speed_at(i, float(m) / M, pre.floor_velocity, pre.speed_offset), true,
-              refine_hint);
+              refine_hint, &refine_lead);
         }
         if (gather() == 0) continue;
         const Lowering d = least_lowering(needs, count);
