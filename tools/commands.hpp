@@ -44,6 +44,8 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& options);
 // `--model NAME`: a threshold model, by the names parse_threshold_model reads; `what` begins the help.
 void add_model_option(CLI::App* cmd, ThresholdModel& model,
                       const std::string& what = "The perceptual rule's threshold model");
+// `--evaluation NAME`: tabulated or exact, by the names parse_evaluation reads.
+void add_evaluation_option(CLI::App* cmd, Evaluation& evaluation, const std::string& what);
 
 void add_models_report(CLI::App& app);  // `acuity models`
 void print_models_report();             // the same tables with the defaults

@@ -44,20 +44,36 @@ void add_profile_options(CLI::App* cmd, bake::BakeOptions& b) {
                 "does not read it");
 }
 
-void add_model_option(CLI::App* cmd, ThresholdModel& model, const std::string& what) {
+namespace {
+// An option naming one value of an enum (`noun`: "model"), checked at parse time by the library's
+// own parser, its names in the help and the error, its default printed by the library's to_string.
+template <class Enum>
+void add_named_option(CLI::App* cmd, const std::string& flag, Enum& value, const std::string& help,
+                      const char* noun, bool (*parse)(const char*, Enum*), const std::string& names) {
   const CLI::Validator name(
-      [](std::string& text) -> std::string {
-        ThresholdModel m{};
-        if (!parse_threshold_model(text.c_str(), &m))
-          return "unknown model '" + text + "' (" + threshold_model_names() + ")";
-        text = std::to_string(int(m));  // the enum's value, which CLI11 then reads
+      [parse, noun, names](std::string& text) -> std::string {
+        Enum v{};
+        if (!parse(text.c_str(), &v))
+          return std::string("unknown ") + noun + " '" + text + "' (" + names + ")";
+        text = std::to_string(int(v));  // the enum's value, which CLI11 then reads
         return {};
       },
       "");
-  cmd->add_option("--model", model, what + ": " + threshold_model_names())
+  cmd->add_option(flag, value, help + ": " + names)
       ->transform(name)
       ->type_name("NAME")
-      ->default_str(to_string(model));
+      ->default_str(to_string(value));
+}
+}  // namespace
+
+void add_model_option(CLI::App* cmd, ThresholdModel& model, const std::string& what) {
+  add_named_option(cmd, "--model", model, what, "model", parse_threshold_model, threshold_model_names());
+}
+
+void add_evaluation_option(CLI::App* cmd, Evaluation& evaluation, const std::string& what) {
+  const std::string names =
+      std::string(to_string(Evaluation::Tabulated)) + ", " + to_string(Evaluation::Exact);
+  add_named_option(cmd, "--evaluation", evaluation, what, "evaluation", parse_evaluation, names);
 }
 
 }  // namespace acuity::tools

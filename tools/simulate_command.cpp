@@ -2,7 +2,6 @@
 // head path with a gaze trace (given or generated), four rules per frame (acuity/sim/simulation.hpp).
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <string>
 
@@ -63,11 +62,8 @@ void add_scene_options(CLI::App* cmd, SimulateOptions* o) {
       ->capture_default_str()
       ->check(Finite)
       ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--evaluation", o->sim.evaluation,
-                  "The perceptual rule's thresholds: tabulated (conservative tables) or exact")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, Evaluation>{
-          {"tabulated", Evaluation::Tabulated}, {"exact", Evaluation::Exact}}))
-      ->default_str("tabulated");
+  add_evaluation_option(cmd, o->sim.evaluation,
+                        "The perceptual rule's thresholds, conservative tables or the exact evaluation");
   add_model_option(cmd, o->sim.model);
 }
 
