@@ -153,7 +153,7 @@ struct Scheduler::Impl {
   void hold_view(Memo& memo, ObjectId id, const ProfileCache& pc, const Probe& o, const std::uint16_t* cand,
                  const Block& b, std::uint32_t j, bool quartered, bool still) const;
   static int view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set, bool quartered,
-                             std::uint32_t spread, std::int32_t* lo, std::int32_t* hi);
+                             std::int32_t* lo, std::int32_t* hi);
   static const std::int16_t* any_view_row(const ProfileCache& pc, std::uint32_t L, std::uint32_t bands,
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;

@@ -47,13 +47,8 @@ struct Scheduler::Impl::Memo {
   // decision that its whole cells leave open may stand over the quarters of its cells it lies in
   // (kQuartered; the eccentricity cell of the still grid too, in w_from and w_to): the keys then
   // also hold the moving eccentricity cell's quarter and each orientation's speed quarter, 2 bits
-  // each (profiles of at most kQuarterKeyOrientations orientations). A moving image's decision over
-  // whole cells is first tried over kSpeedSpread speed cells either side of each orientation's own
-  // (a measured gaze velocity wanders by a few deg/s from frame to frame, and each orientation's
-  // speed with it): where it decides there, speed_key holds each orientation's lowest cell of the
-  // span and speed_top its highest, and the memo stands while every speed lies in its span.
+  // each (profiles of at most kQuarterKeyOrientations orientations).
   static constexpr std::uint32_t kSpeedKeyOrientations = 16, kQuarterKeyOrientations = 10;
-  static constexpr std::uint32_t kSpeedSpread = 1;
   static constexpr std::uint32_t kQuartered = 1 << 7;
   // A decision through the view that stands only at the object's place (the whole cells left it
   // open, and it moves, or no box around its place keeps it): its fine and coarse level in the memo.
@@ -67,13 +62,6 @@ struct Scheduler::Impl::Memo {
   // The keys of a probe's view and cells (o.cells set where it moves), with the quarters or not.
   static std::uint32_t view_key_of(const Probe& o, bool quartered);
   static std::uint64_t speed_key_of(const Probe& o, std::uint32_t T, bool quartered);
-  // The span of speed cells a decision over whole cells made `spread` cells either side of the
-  // probe's stands over (view_cell_level()'s): each orientation's lowest and highest cell, keyed
-  // as speed_key_of()'s cells.
-  static void speed_span(const Probe& o, std::uint32_t T, std::uint32_t spread, std::uint64_t* low,
-                         std::uint64_t* high);
-  // Whether each orientation's cell of `cells` (speed_key_of()'s, not quartered) lies in [low, high].
-  static bool in_span(std::uint64_t cells, std::uint64_t low, std::uint64_t high, std::uint32_t T);
   // A decision stands for x [1/1024 ln deg] in [x_from, x_to] (Stand's (lo, hi]) and for the
   // eccentricity cell's weight w in [w_from, w_to] / kWeightSteps (every w for a decision made over
   // the whole cell).
@@ -84,7 +72,6 @@ struct Scheduler::Impl::Memo {
   std::vector<std::uint8_t> fine, coarse;
   std::vector<std::uint32_t> view_key;  // read only where the key has kThroughView
   std::vector<std::uint64_t> speed_key;
-  std::vector<std::uint64_t> speed_top;  // not quartered: each orientation's highest speed cell
   // Where a decision through the view (not kAtPlace) keeps its view_key and speed_key, so that the
   // frame loop need not find the view and the slip in its axes again: while the direction from the
   // object to the eye (object space) stays within `turn` [chord of unit vectors] of `direction`, the
@@ -135,7 +122,6 @@ struct Scheduler::Impl::Memo {
         coarse(n, 0),
         view_key(n, 0),
         speed_key(n, 0),
-        speed_top(n, 0),
         hold(n, Hold{{0, 0, 0}, -1.0f, {0, 0, 0}, 0.0f, 0.0f, 0.0f}),
         rest_frame(n, 0u - kPoses),
         rest_m(n, -1.0f),
@@ -184,28 +170,6 @@ inline std::uint64_t Scheduler::Impl::Memo::speed_key_of(const Probe& o, std::ui
     if (quartered) k |= std::uint64_t(quarter_of(o.speed_w[t])) << (4 * T + 2 * t);
   }
   return k;
-}
-
-inline void Scheduler::Impl::Memo::speed_span(const Probe& o, std::uint32_t T, std::uint32_t spread,
-                                              std::uint64_t* low, std::uint64_t* high) {
-  std::uint64_t lo = 0, hi = 0;
-  for (std::uint32_t t = 0; o.moving && t < T; ++t) {
-    const std::uint32_t j = o.speed_j[t];
-    lo |= std::uint64_t(j - std::min(j, spread)) << (4 * t);
-    hi |= std::uint64_t(std::min(j + spread, kMovingS - 2)) << (4 * t);
-  }
-  *low = lo;
-  *high = hi;
-}
-
-inline bool Scheduler::Impl::Memo::in_span(std::uint64_t cells, std::uint64_t low, std::uint64_t high,
-                                           std::uint32_t T) {
-  std::uint32_t inside = 1;
-  for (std::uint32_t t = 0; t < T; ++t) {
-    const std::uint64_t c = cells >> (4 * t) & 15u;
-    inside &= std::uint32_t(c >= (low >> (4 * t) & 15u)) & std::uint32_t(c <= (high >> (4 * t) & 15u));
-  }
-  return inside != 0;
 }
 
 }  // namespace acuity

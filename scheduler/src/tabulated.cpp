@@ -89,12 +89,9 @@ void any_view_lines(const std::int16_t* row, std::uint32_t L, bool still, const 
 // weights' ranges (interpolation rounds monotonically), so the coarsest level passing the least
 // passes there too, and none failing the most does. Integers, x and (*lo, *hi] as in
 // any_view_level(): a bound in table steps rounded down for the least, up for the most (entries,
-// the whole cells' corners, are exact). A moving object's cells must be set (o.cells). `spread`
-// (whole cells only): wherever each orientation's speed is in the `spread` cells either side of its
-// own too (Memo::speed_span()), over the nodes of them all.
+// the whole cells' corners, are exact). A moving object's cells must be set (o.cells).
 int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std::int32_t x, int set,
-                                     bool quartered, std::uint32_t spread, std::int32_t* lo,
-                                     std::int32_t* hi) {
+                                     bool quartered, std::int32_t* lo, std::int32_t* hi) {
   const ProfileMeta& m = pc.profile.meta;
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
   const ProfileCache::Tables& tables = pc.sets[o.tables + set];
@@ -121,22 +118,11 @@ int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std
         bool moving_least = true, moving_most = !view_most;
         for (std::uint32_t t = 0; t < T && (moving_least || moving_most); ++t) {
           const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
-          const std::size_t node = std::size_t(kMovingE) * L;  // from one speed node's rows to the next
-          const std::int16_t* r1 = r0 + node;
+          const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
           // Over whole cells the corners are the four entries (between() at weights 0 and 1 gives
-          // them exactly): their least and most in integers, as the floats below would give them;
-          // with a spread, over every node of the cells spanned.
+          // them exactly): their least and most in integers, as the floats below would give them.
           std::int32_t least_corner = std::min(std::min(r0[0], r0[L]), std::min(r1[0], r1[L]));
           std::int32_t most_corner = std::max(std::max(r0[0], r0[L]), std::max(r1[0], r1[L]));
-          if (spread) {
-            const std::uint32_t j = o.speed_j[t], from = j - std::min(j, spread),
-                                to = std::min(j + spread, kMovingS - 2) + 1;  // nodes
-            for (std::uint32_t s = from; s <= to; ++s) {
-              const std::int16_t* r = r0 + (std::ptrdiff_t(s) - std::ptrdiff_t(j)) * std::ptrdiff_t(node);
-              least_corner = std::min({least_corner, std::int32_t(r[0]), std::int32_t(r[L])});
-              most_corner = std::max({most_corner, std::int32_t(r[0]), std::int32_t(r[L])});
-            }
-          }
           if (quartered) {
             float s_from, s_to;
             weight_range(quartered, o.speed_w[t], &s_from, &s_to);
@@ -343,7 +329,6 @@ void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, st
     if (view_memo[j]) {    // its memo through the view decides if the view and cells are the same
       ACUITY_PREFETCH(&memo.view_key[id]);
       ACUITY_PREFETCH(&memo.speed_key[id]);
-      ACUITY_PREFETCH(&memo.speed_top[id]);
       continue;
     }
     todo[j] = 2;
@@ -456,10 +441,8 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
     if (view_memo[j] && Memo::keyable(o.moving, T)) {  // the same view and cells?
       if (o.moving) speed_cells(pc, b.e[j], &o);
       const bool quartered = (memo.view_key[id] & Memo::kQuartered) != 0;
-      const std::uint64_t cells = Memo::speed_key_of(o, T, quartered);
       const bool same = memo.view_key[id] == Memo::view_key_of(o, quartered) &&
-                        (quartered ? memo.speed_key[id] == cells
-                                   : Memo::in_span(cells, memo.speed_key[id], memo.speed_top[id], T));
+                        memo.speed_key[id] == Memo::speed_key_of(o, T, quartered);
       o.at_place = same && memo.fine[id] == Memo::kAtPlace;
       o.decided = same && !o.at_place;
       standing[j] = o.decided;
@@ -529,30 +512,10 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
     const std::uint32_t T = pc.profile.meta.orientation_count;
     if (!scores && !o.at_place && Memo::keyable(o.moving, T)) {
       if (o.moving && !o.cells) speed_cells(pc, b.e[j], &o);
-      // Over whole cells; where those decide a moving image, over a spread of its speed cells too,
-      // which a memo keeps longer (Memo::kSpeedSpread); else over the quarters of its cells it lies in.
-      Stand stand;
-      std::uint32_t spread = 0;
-      const auto level = [&](bool quartered, int* fine_out) {
-        *fine_out = view_cell_level(pc, o, x_step[j], 0, quartered, spread, &stand.lo, &stand.hi);
-        return sets > 1 && *fine_out >= 0
-                   ? view_cell_level(pc, o, x_step[j], 1, quartered, spread, &stand.lo, &stand.hi)
-                   : *fine_out;
-      };
-      int fine = -1, coarse = level(false, &fine);
-      if (coarse >= 0 && o.moving) {  // the same level wherever the spread decides (it holds the cells)
-        const Stand cells = stand;
-        const int cells_fine = fine, cells_coarse = coarse;
-        stand = Stand{};
-        spread = Memo::kSpeedSpread;
-        coarse = level(false, &fine);
-        if (coarse < 0) {
-          stand = cells;
-          fine = cells_fine;
-          coarse = cells_coarse;
-          spread = 0;
-        }
-      }
+      Stand stand;  // the whole cells
+      int fine = view_cell_level(pc, o, x_step[j], 0, false, &stand.lo, &stand.hi);
+      int coarse =
+          sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, false, &stand.lo, &stand.hi) : fine;
       bool stands = coarse >= 0, quartered = false;
       if (!stands && o.moving && Memo::quarterable(T)) {  // a moving image: over its cells' quarters
         stand = Stand{};
@@ -560,7 +523,9 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
         weight_range(true, o.ec.w, &w_from, &w_to);
         stand.w_from = static_cast<std::uint16_t>(w_from * kWeightSteps);
         stand.w_to = static_cast<std::uint16_t>(w_to * kWeightSteps);
-        coarse = level(true, &fine);
+        fine = view_cell_level(pc, o, x_step[j], 0, true, &stand.lo, &stand.hi);
+        coarse =
+            sets > 1 && fine >= 0 ? view_cell_level(pc, o, x_step[j], 1, true, &stand.lo, &stand.hi) : fine;
         stands = quartered = coarse >= 0;
       }
       if (!stands && !o.moving) {  // a still image: decided at its place in the cell, remembered around it
@@ -582,10 +547,7 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
                     &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j],
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
       memo.view_key[id] = Memo::view_key_of(o, quartered);
-      if (quartered)
-        memo.speed_key[id] = memo.speed_top[id] = Memo::speed_key_of(o, T, true);
-      else
-        Memo::speed_span(o, T, stands ? spread : 0u, &memo.speed_key[id], &memo.speed_top[id]);
+      memo.speed_key[id] = Memo::speed_key_of(o, T, quartered);
       if (stands && tb.holds) hold_view(memo, id, pc, o, cand[j], b, j, quartered, still[j]);
       standing[j] = stands;
       if (coarse >= 0) {
