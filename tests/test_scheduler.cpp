@@ -1673,7 +1673,7 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
 // wandering slip must change levels.
 TEST(SchedulerTabulated, MovingImagesUnderAWanderingMeasuredGaze) {
   const TestProfile six(6, 8, 8, 0.5f, 0.6f);
-  const int objects = 3000, frames = 120;
+  const int objects = 1500, frames = 90;
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, six.profile);
     Rng rng(31);
