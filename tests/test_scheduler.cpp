@@ -1665,6 +1665,40 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
   }
 }
 
+// A measured gaze that holds the world, as a headset reports it: its velocity wanders by a few deg/s
+// from frame to frame (finite differences of the head and of the eye in it), so every image slips and
+// each orientation's speed moves across its cells, where memos through the view stand or not. The
+// eye sways by millimetres (velocity reported) and a fifth of the objects move. Each frame's levels
+// must be those of a scheduler that keeps every level's score, in both view blends, and the
+// wandering slip must change levels.
+TEST(SchedulerTabulated, MovingImagesUnderAWanderingMeasuredGaze) {
+  const TestProfile six(6, 8, 8, 0.5f, 0.6f);
+  const int objects = 1500, frames = 90;
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    AgainstScored pair(blend, objects, six.profile);
+    Rng rng(31);
+    for (int i = 0; i < objects; ++i) {
+      const RandomObject o = random_object(rng, 20);
+      pair.add_object(o.t, ObjectId(i));
+      pair.fast.set_velocity(ObjectId(i), o.v);
+      pair.scored.set_velocity(ObjectId(i), o.v);
+    }
+    Frame fr = looking_forward();
+    fr.gaze[0].has_velocity = true;
+    for (int f = 0; f < frames; ++f) {
+      const double t = f * double(fr.dt);
+      fr.eyes[0].position[0] = 0.004 * std::sin(2.0 * t);
+      fr.eyes[0].velocity[0] = float(0.008 * std::cos(2.0 * t));
+      gaze_at(fr, 0.1 + 0.02 * std::sin(0.5 * t), 0.05, -1);
+      fr.gaze[0].has_velocity = true;
+      for (int k = 0; k < 2; ++k)  // [deg/s]: a few of wander, a slow drift under it
+        fr.gaze[0].angular_velocity[k] = rng.uniform(-4.0f, 4.0f) + 3.0f * float(std::sin(0.3 * f + k));
+      pair.run_frame(fr);
+    }
+    pair.expect_same_levels(blend == ViewBlend::Nearest ? "nearest" : "max3", objects / 10, "the wander");
+  }
+}
+
 // A head that turns steadily for a few frames, then changes its speed every frame, in turn, while it
 // sweeps (so eccentricities change), over moving images: holds of the view are set only while the
 // eye is steady (EyeCache::steady), and one set earlier for the same memo may be read after frames
