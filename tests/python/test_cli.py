@@ -4,6 +4,7 @@ import base64
 import io
 import json
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -293,6 +294,41 @@ def test_simulate_then_explain_a_plain_mesh_scene(tmp_path):
     assert "retinal velocity" in e.stdout and "eccentricity" in e.stdout
     bad = run("explain", scene, *common, "--frame", "30", "--object", "nothing")
     assert bad.returncode != 0 and "no object 'nothing'" in bad.stderr
+
+
+def test_simulate_large_object(tmp_path):
+    """simulate --large-object NAME: one of the scene's meshes drawn large as a cluster hierarchy under
+    the run's gaze, the object rule's triangles per frame against the cluster cut's, both judged (the
+    demo's large object, sim::run_large_object); its hierarchy's profile cached in --profiles and
+    reused; a name the scene lacks, or no --profiles, refused."""
+    scene = tmp_path / "grid.gltf"
+    textured_gltf(scene)
+    profiles = tmp_path / "profiles"
+    common = ["--profiles", profiles, "--res", "32", "--seconds", "0.2", "--validate", "0", "--images", "0",
+              "--no-plots"]
+    r = run("simulate", scene, *common, "--large-object", "grid")
+    assert r.returncode == 0, r.stderr
+    assert "grid-clusters.acuity" in r.stderr  # its profile, made once
+    text = r.stdout[r.stdout.index("A large object spanning the gaze"):]
+    head = re.search(r"grid, (\d+) triangles as (\d+) clusters in (\d+) groups .* for (\d+) frames", text)
+    assert head, text
+    finest, clusters, groups, frames = map(int, head.groups())
+    assert finest == 512 and clusters >= 4 and groups >= 1 and frames == 12, text
+    rows = re.findall(r"(?:(\d+) deg)?\s+(object rule|cluster cut) \([^)]*\)\s+(\d+)\s+([\d.]+)%\s+(\d+) of (\d+)",
+                      text)
+    assert [(x[0], x[1]) for x in rows] == [("40", "object rule"), ("", "cluster cut"),
+                                           ("20", "object rule"), ("", "cluster cut")], text
+    for _, _, triangles, share, visible, judged in rows:
+        assert 0 < int(triangles) <= finest and float(share) == pytest.approx(100 * int(triangles) / finest, abs=0.1)
+        assert int(judged) == 10 and int(visible) <= int(judged)
+    assert (profiles / "grid-clusters.acuity").exists()
+    again = run("simulate", scene, *common, "--large-object", "grid")
+    assert again.returncode == 0 and "grid-clusters.acuity" not in again.stderr  # reused
+    assert again.stdout[again.stdout.index("A large object"):] == text  # deterministic
+    bad = run("simulate", scene, *common, "--large-object", "nothing")
+    assert bad.returncode != 0 and "--large-object: the scene has no asset 'nothing' (it has grid)" in bad.stderr
+    alone = run("simulate", scene, "--res", "32", "--seconds", "0.2", "--large-object", "grid")
+    assert alone.returncode != 0 and "--profiles" in alone.stderr
 
 
 def test_simulate_bad_track_fails_cleanly(tmp_path):
