@@ -25,7 +25,7 @@ struct SimulateOptions {
   bool plot_hint = true;
   std::size_t frame = 0;
   std::string object;
-  sim::LargeObjectOptions large;  // large.asset empty: no large object
+  std::string large_object;  // an asset drawn large as a cluster hierarchy; empty: none
 };
 
 // The plot script: next to the sources in a build tree, in share/acuity when installed.
@@ -79,7 +79,8 @@ void simulate(const SimulateOptions& o) {
   io::check_output_folder(o.assets.profiles);
   std::printf("acuity simulate %s\nassets:\n", o.scene.c_str());
   const std::unique_ptr<SceneAssets> scene = load_scene_assets(o.scene, o.assets);
-  sim::LargeObjectOptions large = o.large;
+  sim::LargeObjectOptions large;
+  large.asset = o.large_object;
   large.profiles = o.assets.profiles;
   if (!large.asset.empty() && std::none_of(scene->assets.begin(), scene->assets.end(),
                                            [&](const auto& a) { return a.name == large.asset; })) {
@@ -138,7 +139,7 @@ void add_simulate_commands(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--images", o->sim.images, "Frames rendered as PNG")->capture_default_str();
   cmd->add_flag("!--no-plots", o->plot_hint, "Do not print the command that plots the run");
-  cmd->add_option("--large-object", o->large.asset,
+  cmd->add_option("--large-object", o->large_object,
                   "Also draw this asset (a mesh name of the scene) large in front of a still head under the "
                   "run's gaze, as a cluster hierarchy of its finest level (lodgen --clusters; its profile "
                   "cached in --profiles as NAME-clusters.acuity), 40 and 20 deg across: triangles per frame "
