@@ -4,12 +4,12 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "acuity/bake/library.hpp"
 #include "acuity/bake/scene.hpp"
+#include "acuity/sim/large_object.hpp"
 #include "acuity/sim/simulation.hpp"
 
 namespace acuity::tools {
@@ -64,9 +64,10 @@ struct RunResult {
   std::vector<std::string> written;
   sim::Decision example;
 };
-// Runs every frame, judges options.validate decisions, prints the summary (and what `more` returns
-// of the run, when given), writes the outputs into options.output (when set) and lists them, with the
-// command that plots them when plot_hint.
+// Runs every frame, judges options.validate decisions, prints the summary (and, when large is given,
+// the large object's block: sim::run_large_object over the run, its profile's line on stderr), writes
+// the outputs into options.output (when set) and lists them, with the command that plots them when
+// plot_hint.
 RunResult run_simulation(const SceneAssets& scene, const sim::SimulationOptions& options, bool plot_hint,
-                         const std::function<std::string(const sim::Simulation&)>& more = {});
+                         const sim::LargeObjectOptions* large = nullptr);
 }  // namespace acuity::tools

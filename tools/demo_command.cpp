@@ -6,7 +6,6 @@
 #include <string>
 
 #include "acuity/sim/demo.hpp"
-#include "acuity/sim/large_object.hpp"
 #include "acuity/sim/sampled.hpp"
 #include "commands.hpp"
 
@@ -44,15 +43,7 @@ void run(const DemoCommand& o, const std::string& program) {
               so.seconds, so.fps, so.movers);
   sim::LargeObjectOptions large;
   large.profiles = scene.profiles;
-  const auto more = [&](const sim::Simulation& sim) {
-    // Its profile's line (made once, then cached) goes to stderr: it would land inside the summary,
-    // which docs/demo.md holds verbatim, only on a first run.
-    const sim::LargeObjectRun r =
-        sim::run_large_object(sim, large, [](const std::string& text) { std::fputs(text.c_str(), stderr); });
-    return sim::large_object_text(r, large);
-  };
-  const RunResult result = run_simulation(
-      *scene.assets, so, true, o.large_object ? more : std::function<std::string(const sim::Simulation&)>{});
+  const RunResult result = run_simulation(*scene.assets, so, true, o.large_object ? &large : nullptr);
   std::printf("\nacuity demo finished in %.1f s.\n", seconds());
   if (result.example.object >= 0)
     std::printf(

@@ -93,6 +93,8 @@ export interface CutResult {
   /** The drawn cluster ids. */
   clusters: Uint32Array;
   triangles: number; groupsEvaluated: number; held: number;
+  /** Visible groups the triangle budget coarsened, and of them those whose loss is visible (FLAG.budgetForced). */
+  budgetCoarsened: number; budgetForced: number;
 }
 
 export interface FrameStats {
@@ -118,9 +120,10 @@ export class Scheduler {
   getLevels(ids: Uint32Array, levels: Uint8Array, flags?: Uint8Array | null): void;
   /** Writes each id's level for a view class (after frame/endFrame). */
   getViewLevels(viewClass: number, ids: Uint32Array, levels: Uint8Array): void;
-  /** One object's cut this frame (after frame/beginFrame): position [m], rotation x y z w, scale, velocity [m/s]. */
+  /** One object's cut this frame (after frame/beginFrame): position [m], rotation x y z w, scale, velocity [m/s],
+   *  triangleBudget: the most triangles the cut should draw (0: none; an integer up to 2^53). */
   selectCut(h: Hierarchy, cut: CutState, position: ArrayLike<number>, rotation: ArrayLike<number>, scale?: number,
-            velocity?: ArrayLike<number> | null): CutResult;
+            velocity?: ArrayLike<number> | null, triangleBudget?: number): CutResult;
   frameTriangles(): number;
   frameStats(): FrameStats;
   destroy(): void;

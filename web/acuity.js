@@ -22,6 +22,7 @@
 export const RULE = Object.freeze({ perceptual: 0, reddy: 1, distance: 2, screenSize: 3 });
 export const FLAG = Object.freeze({ invalidInput: 1, eyeInside: 2, noGaze: 4, budgetForced: 8, changed: 16, held: 32 });
 export const STATUS = Object.freeze(['ok', 'invalid argument', 'bad profile', 'full', 'out of memory', 'internal error']);
+const CUT_RESULT_BYTES = 40;  // acuity_cut_result as C ABI version 9 lays it out (ACUITY_CUT_RESULT_SIZE_V9)
 
 export class AcuityError extends Error {
   constructor(message, status) {
@@ -309,24 +310,30 @@ export class Scheduler {
     levels.set(new Uint8Array(this.m.HEAPU8.buffer, l, n));
   }
 
-  // One object's cut this frame (acuity_select_cut; after frame() or beginFrame()): hierarchy h, its
-  // cut state (h.createCut(), once per object), position [3] m, rotation [4] x y z w, scale, velocity
-  // [3] m/s or null. Returns { status (0 ok, 1 invalid input: the finest cut), flags, clusters (the
-  // drawn cluster ids, a Uint32Array copy), triangles, groupsEvaluated, held }.
-  selectCut(h, cut, position, rotation, scale = 1, velocity = null) {
+  // One object's cut this frame (acuity_select_cut_budget; after frame() or beginFrame()): hierarchy
+  // h, its cut state (h.createCut(), once per object), position [3] m, rotation [4] x y z w, scale,
+  // velocity [3] m/s or null, triangleBudget: the most triangles the cut should draw (0: none; an
+  // integer up to 2^53). Returns { status (0 ok, 1 invalid input: the finest cut), flags, clusters
+  // (the drawn cluster ids, a Uint32Array copy), triangles, groupsEvaluated, held, budgetCoarsened
+  // (visible groups the budget coarsened), budgetForced (... of them a visible loss) }.
+  selectCut(h, cut, position, rotation, scale = 1, velocity = null, triangleBudget = 0) {
+    if (!(Number.isSafeInteger(triangleBudget) && triangleBudget >= 0))
+      throw new AcuityError(`selectCut: triangleBudget ${triangleBudget} is not an integer 0 .. 2^53`, 1);
     const p = Float64Array.from(position), q = Float32Array.from(rotation);
     const v = velocity ? Float32Array.from(velocity) : null;
-    const result = new Uint32Array(8);
-    result[0] = 32;  // struct_size: the version-8 acuity_cut_result
+    const result = new Uint32Array(CUT_RESULT_BYTES / 4);
+    result[0] = CUT_RESULT_BYTES;  // struct_size: the version-9 acuity_cut_result
     const [pp, pq, pr, pv] = this.stage(v ? [p, q, result, v] : [p, q, result]);
-    this.a.check(this.m._acuity_select_cut(this.s, h.h, pp, pq, scale, v ? pv : 0, cut.memory, h.memoryBytes,
-                                           h.clusterCount, cut.drawn, pr), 'acuity_select_cut');
-    const r = new DataView(this.m.HEAPU8.buffer, pr, 32);
+    this.a.check(this.m._acuity_select_cut_budget(this.s, h.h, pp, pq, scale, v ? pv : 0, BigInt(triangleBudget),
+                                                  cut.memory, h.memoryBytes, h.clusterCount, cut.drawn, pr),
+                 'acuity_select_cut_budget');
+    const r = new DataView(this.m.HEAPU8.buffer, pr, CUT_RESULT_BYTES);
     const count = r.getUint32(12, true);
     return {
       status: r.getUint32(4, true), flags: r.getUint32(8, true),
       clusters: new Uint32Array(this.m.HEAPU8.buffer, cut.drawn, count).slice(),
       triangles: Number(r.getBigUint64(16, true)), groupsEvaluated: r.getUint32(24, true), held: r.getUint32(28, true),
+      budgetCoarsened: r.getUint32(32, true), budgetForced: r.getUint32(36, true),
     };
   }
 

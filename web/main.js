@@ -3,7 +3,8 @@
 //
 // URL parameters: scene (default content/field.glb), profiles (default content/profiles/), quality,
 // cut and cutProfile (an object with a cluster hierarchy, lodgen --clusters' glTF, and its chain's
-// profile: drawn as acuity's cut, 3 m across, in front of the field), and for tests frames=N: a
+// profile: drawn as acuity's cut, 3 m across, in front of the field), cutBudget (the most triangles
+// the cut may draw, spent on its least visible groups first; default none), and for tests frames=N: a
 // scripted camera and gaze for N frames at 60 Hz (with a cut: the camera still before it, the gaze
 // sweeping across it), then window.acuityRecord holds every frame's inputs and levels (and cuts)
 // and window.acuityDone is true.
@@ -19,6 +20,7 @@ const sceneUrl = params.get('scene') || 'content/field.glb';
 const profileDir = params.get('profiles') || 'content/profiles/';
 const scriptedFrames = Number(params.get('frames') || 0);
 const cutUrl = params.get('cut'), cutProfileUrl = params.get('cutProfile');
+const cutBudget = Number(params.get('cutBudget') || 0);
 const PALETTE = [0x2060ff, 0x20d0e0, 0x30c040, 0xf0e020, 0xff8020, 0xe02020, 0xc040c0, 0xffffff];
 
 const overlay = document.getElementById('overlay');
@@ -269,14 +271,16 @@ async function main() {
       if (cut) {  // the cut of this frame's eyes and gaze; the index buffer rebuilt when it changed
         cut.mesh.updateMatrixWorld(true);
         cut.mesh.matrixWorld.decompose(p, q, sc);
-        const r = scheduler.selectCut(cut.hierarchy, cut.state, [p.x, p.y, p.z], [q.x, q.y, q.z, q.w], Math.max(sc.x, sc.y, sc.z));
+        const r = scheduler.selectCut(cut.hierarchy, cut.state, [p.x, p.y, p.z], [q.x, q.y, q.z, q.w], Math.max(sc.x, sc.y, sc.z),
+                                      null, cutBudget);
         const same = cut.ids && cut.ids.length === r.clusters.length && cut.ids.every((c, k) => c === r.clusters[k]);
         if (!same) {
           cut.triangles = showCut(cut, r.clusters);
           cut.ids = r.clusters;
         }
         cutFrame = { triangles: r.triangles, clusters: Array.from(r.clusters), drawnIndices: cut.mesh.geometry.index.count,
-                     status: r.status, held: r.held, rebuilt: !same,
+                     status: r.status, flags: r.flags, held: r.held, budgetCoarsened: r.budgetCoarsened,
+                     budgetForced: r.budgetForced, rebuilt: !same,
                      transform: { position: [p.x, p.y, p.z], rotation: [q.x, q.y, q.z, q.w], scale: Math.max(sc.x, sc.y, sc.z) } };
       }
       const lodLevels = [];
@@ -307,7 +311,8 @@ async function main() {
         `acuity per frame  ${acuityMs.toFixed(3)} ms\n` +
         `objects per level ${counts.join(' / ')}\n` +
         `gaze              ${renderer.xr.isPresenting ? 'WebXR' : !ndc ? 'none' : scriptedFrames ? 'scripted' : 'mouse'}` +
-        (cut ? `\ncut               ${cut.triangles.toLocaleString('en')} of ${(cut.indices.length / 3).toLocaleString('en')} hierarchy triangles, ${cut.ids.length} clusters` : '');
+        (cut ? `\ncut               ${cut.triangles.toLocaleString('en')} of ${(cut.indices.length / 3).toLocaleString('en')} hierarchy triangles, ${cut.ids.length} clusters` +
+               (cutBudget ? ` (budget ${cutBudget.toLocaleString('en')})` : '') : '');
       window.acuityStats = { drawn, finest, inView, acuityMs };
 
       if (scriptedFrames) {

@@ -62,6 +62,36 @@ std::int64_t triangles_saved(const ClusterView& h, std::uint32_t g) {
   return saved;
 }
 
+// The budget's candidates in its scratch (CutBudget::scratch, one entry per group): a binary heap of
+// group ids in the `group` fields of entry[0 .. n-1], ordered by each group's harm in its own entry
+// (entry[g].harm), the least on top, ties to the lower group. (Any heap pops the same sequence: the
+// order is total.)
+struct CandidateHeap {
+  CutCandidate* entry;
+  std::size_t n = 0;
+  bool later(std::uint32_t a, std::uint32_t b) const {
+    return entry[a].harm != entry[b].harm ? entry[a].harm > entry[b].harm : a > b;
+  }
+  void push(std::uint32_t g) {
+    std::size_t k = n++;
+    for (; k > 0 && later(entry[(k - 1) / 2].group, g); k = (k - 1) / 2)
+      entry[k].group = entry[(k - 1) / 2].group;
+    entry[k].group = g;
+  }
+  std::uint32_t pop() {
+    const std::uint32_t top = entry[0].group, last = entry[--n].group;
+    std::size_t k = 0;
+    for (std::size_t c = 1; c < n; c = 2 * k + 1) {
+      if (c + 1 < n && later(entry[c].group, entry[c + 1].group)) ++c;
+      if (!later(last, entry[c].group)) break;
+      entry[k].group = entry[c].group;
+      k = c;
+    }
+    if (n > 0) entry[k].group = last;
+    return top;
+  }
+};
+
 }  // namespace
 
 const char* to_string(CutStatus status) {
@@ -283,15 +313,13 @@ bool Scheduler::Impl::remember_group(CutGroupMemory& m, bool visible, float scor
 // visible group none of whose members' makers is visible, so coarsening it replaces exactly its
 // members by the clusters it made and visibility stays monotone up the hierarchy (crack-free);
 // coarsening it may make the groups holding those clusters candidates. Each group is offered at
-// most once per maker it has and queued at most once: the heap never outgrows the groups.
-void Scheduler::Impl::spend_cut_budget(const ClusterView& h, const CutObject& o, const CutBudget& budget,
-                                       std::uint64_t triangles, std::uint8_t* state,
-                                       std::span<CutGroupMemory> memory, CutResult* res) const {
-  CutCandidate* heap = budget.scratch.data();
-  std::size_t n = 0;
-  const auto later = [](const CutCandidate& a, const CutCandidate& b) {
-    return a.harm != b.harm ? a.harm > b.harm : a.group > b.group;
-  };
+// most once per maker it has and queued at most once: the heap never outgrows the groups. Every
+// visible group's score is the walk's (budget.scratch[g].harm, over every eye and band), which its
+// harm replaces when it is queued.
+void Scheduler::Impl::spend_cut_budget(const ClusterView& h, const CutBudget& budget, std::uint64_t triangles,
+                                       std::uint8_t* state, std::span<CutGroupMemory> memory,
+                                       CutResult* res) const {
+  CandidateHeap heap{budget.scratch.data()};
   const auto offer = [&](std::uint32_t g) {
     if ((state[g] & (kVisible | kQueued)) != kVisible) return;
     const ClusterGroup& group = h.groups[g];
@@ -300,23 +328,20 @@ void Scheduler::Impl::spend_cut_budget(const ClusterView& h, const CutObject& o,
       if (maker != kNoGroup && (state[maker] & kVisible)) return;
     }
     state[g] |= kQueued;
-    float score = -kInf;
-    for (std::uint32_t i = 0; i < eye_count_; ++i)
-      score = std::max(score, group_score(i, o, group, g, nullptr, true));
+    CutCandidate& entry = heap.entry[g];
+    const float score = entry.harm;
     if (!(score < kInf)) return;  // an eye inside it, or a NaN loss: never coarsened
     if (score > 0.0f) state[g] |= kOverOne;
-    const float saved = float(std::max<std::int64_t>(triangles_saved(h, g), 1));
-    heap[n++] = CutCandidate{std::exp(score) / saved, g};
-    std::push_heap(heap, heap + n, later);
+    entry.harm = std::exp(score) / float(std::max<std::int64_t>(triangles_saved(h, g), 1));
+    heap.push(g);
   };
   for (std::uint32_t g = 0; g < h.groups.size(); ++g) offer(g);
   std::int64_t total = std::int64_t(triangles);
   const std::int64_t most =
       std::int64_t(std::min<std::uint64_t>(budget.triangles, std::numeric_limits<std::int64_t>::max()));
   const std::uint32_t* made = h.made.data() + h.groups.size() + 1;
-  while (total > most && n > 0) {
-    std::pop_heap(heap, heap + n, later);
-    const std::uint32_t g = heap[--n].group;
+  while (total > most && heap.n > 0) {
+    const std::uint32_t g = heap.pop();
     total -= triangles_saved(h, g);
     state[g] = std::uint8_t(state[g] & ~kVisible);
     ++res->budget_coarsened;
@@ -413,9 +438,11 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     }
     if (state[g] == kNeeded) {
       ++res.groups_evaluated;
+      // Under a budget, every eye and band: the budget's harm is the largest score, kept.
       float score = -kInf;
-      for (std::uint32_t i = 0; i < eye_count_ && !(score > 0.0f); ++i)
-        score = std::max(score, group_score(i, o, group, g, nullptr));
+      for (std::uint32_t i = 0; i < eye_count_ && (budgeted || !(score > 0.0f)); ++i)
+        score = std::max(score, group_score(i, o, group, g, nullptr, budgeted));
+      if (budgeted) budget->scratch[g].harm = score;
       visible = score > 0.0f;
       if (!memory.empty())
         visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);
@@ -436,7 +463,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   if (budgeted) {
     std::uint64_t total = 0;
     for_each_drawn(h, state, [&](std::uint32_t c) { total += h.clusters[c].triangle_count; });
-    if (total > budget->triangles) spend_cut_budget(h, o, *budget, total, state, memory, &res);
+    if (total > budget->triangles) spend_cut_budget(h, *budget, total, state, memory, &res);
   }
   for_each_drawn(h, state, emit);
   res.flags =

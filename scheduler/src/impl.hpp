@@ -84,10 +84,10 @@ struct Scheduler::Impl {
                        std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn, GroupExplain* explain,
                        const CutBudget* budget = nullptr) const;
   // select_cut's triangle budget (clusters.cpp): coarsens visible groups of the walk's state until
-  // the cut draws at most budget.triangles (from `triangles`, what it draws now).
-  void spend_cut_budget(const ClusterView& h, const CutObject& o, const CutBudget& budget,
-                        std::uint64_t triangles, std::uint8_t* state, std::span<CutGroupMemory> memory,
-                        CutResult* res) const;
+  // the cut draws at most budget.triangles (from `triangles`, what it draws now); the walk left each
+  // visible group's score in budget.scratch[g].harm.
+  void spend_cut_budget(const ClusterView& h, const CutBudget& budget, std::uint64_t triangles,
+                        std::uint8_t* state, std::span<CutGroupMemory> memory, CutResult* res) const;
   // One frame of the wait to coarsen (SchedulerConfig's timing), the one arithmetic of settle()'s
   // objects and select_cut's groups. step() takes how long the coarser choice has been wanted (calm)
   // and waited for a saccade since the hysteresis was met (wait) before this frame, and gives both

@@ -4,6 +4,7 @@ import base64
 import io
 import json
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -264,14 +265,17 @@ def test_profile_reads_lodgens_gltf(tmp_path):
 
 def test_simulate_then_explain_a_plain_mesh_scene(tmp_path):
     """A glTF of plain meshes (no LOD levels): simulate chains and profiles them on the fly, runs the
-    rules and writes its outputs; explain reports the level simulate recorded for that frame."""
+    rules and writes its outputs (and, --large-object, the mesh drawn large as a cluster hierarchy);
+    explain reports the level simulate recorded for that frame."""
     scene = tmp_path / "grid.gltf"
     textured_gltf(scene)
     out, profiles = tmp_path / "out", tmp_path / "profiles"
     common = ["--profiles", profiles, "--res", "64", "--seconds", "1", "--seed", "3"]
-    r = run("simulate", scene, *common, "--validate", "4", "--images", "1", "--no-plots", "-o", out)
+    r = run("simulate", scene, *common, "--validate", "4", "--images", "1", "--no-plots", "-o", out,
+            "--large-object", "grid")
     assert r.returncode == 0, r.stderr
     assert "visible losses" in r.stdout and "tuned to" in r.stdout
+    check_large_object(r.stdout, r.stderr, "grid", 512, 60)
     frames = (out / "frames.csv").read_text().splitlines()
     assert len(frames) == 61 and frames[0].startswith("frame,seconds,saccade")
     assert (out / "frame_0030.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -293,6 +297,34 @@ def test_simulate_then_explain_a_plain_mesh_scene(tmp_path):
     assert "retinal velocity" in e.stdout and "eccentricity" in e.stdout
     bad = run("explain", scene, *common, "--frame", "30", "--object", "nothing")
     assert bad.returncode != 0 and "no object 'nothing'" in bad.stderr
+
+
+def check_large_object(stdout, stderr, name, finest, frames):
+    """simulate --large-object's block (sim::large_object_text, as the demo prints it): the mesh as a
+    cluster hierarchy, each span's object rule and cluster cut, triangles per frame and judged."""
+    assert f"{name}-clusters.acuity" in stderr  # its profile, made (and cached) once
+    text = stdout[stdout.index("A large object spanning the gaze"):]
+    head = re.search(rf"{name}, (\d+) triangles as (\d+) clusters in (\d+) groups .* for (\d+) frames", text)
+    assert head, text
+    assert int(head[1]) == finest and int(head[2]) >= 4 and int(head[3]) >= 1 and int(head[4]) == frames, text
+    rows = re.findall(r"(?:(\d+) deg)?\s+(object rule|cluster cut) \([^)]*\)\s+(\d+)\s+([\d.]+)%\s+(\d+) of (\d+)",
+                      text)
+    assert [(x[0], x[1]) for x in rows] == [("40", "object rule"), ("", "cluster cut"),
+                                           ("20", "object rule"), ("", "cluster cut")], text
+    for _, _, triangles, share, visible, judged in rows:
+        assert 0 < int(triangles) <= finest and float(share) == pytest.approx(100 * int(triangles) / finest, abs=0.1)
+        assert int(judged) == 10 and int(visible) <= int(judged)
+
+
+def test_simulate_large_object_refused(tmp_path):
+    """--large-object names a mesh of the scene and needs --profiles (where its profile is cached)."""
+    scene = tmp_path / "grid.gltf"
+    textured_gltf(scene)
+    bad = run("simulate", scene, "--profiles", tmp_path / "p", "--res", "32", "--seconds", "0.1", "--validate", "0",
+              "--images", "0", "--no-plots", "--large-object", "nothing")
+    assert bad.returncode != 0 and "--large-object: the scene has no asset 'nothing' (it has grid)" in bad.stderr
+    alone = run("simulate", scene, "--res", "32", "--seconds", "0.1", "--large-object", "grid")
+    assert alone.returncode != 0 and "--profiles" in alone.stderr
 
 
 def test_simulate_bad_track_fails_cleanly(tmp_path):

@@ -7,12 +7,20 @@
  *   config NAME VALUE                       any number; acuity_config field names
  *   profile FILE                            a file name in the scene's folder (no '/')
  *   objects N   then N x: PROFILE PX PY PZ QX QY QZ QW SCALE
+ *   cut CLUSTERS GROUPS PROFILE BUDGET      optional: one object drawn as a cluster cut; file names in
+ *                                           the scene's folder: the hierarchy's records as
+ *                                           ACUITY_cluster_hierarchy stores them (16 bytes per
+ *                                           cluster, 32 per group) and its profile; BUDGET triangles
+ *                                           (0: none, acuity_select_cut_budget)
  *   frames M    then M x: frame DT EYES MOVES
  *                           EYES x:  eye + 28 numbers (the layout of web/acuity_web.c)
  *                           MOVES x: move INDEX PX PY PZ QX QY QZ QW SCALE
+ *                           with a cut: cut PX PY PZ QX QY QZ QW SCALE (its transform that frame)
  *   end
  *
- * Output, per frame k: "frame k triangles T", "levels L...", "flags F...".
+ * Output, per frame k: "frame k triangles T", "levels L...", "flags F...", and with a cut (selected
+ * after the frame's acuity_end_frame) "cut S F T H C B ids...": its status, flags, triangles, held,
+ * budget_coarsened, budget_forced and drawn cluster ids.
  * Options: --repeat R runs the frames R times and prints only the time per frame (for bench.mjs).
  */
 #include <stdio.h>
@@ -91,9 +99,9 @@ static void set_config(acuity_config* c, const char* name, double v) {
     die("unknown config field");
 }
 
-static unsigned char* read_profile(const char* name, size_t* size) {
+static unsigned char* read_file(const char* name, size_t* size) {
   if (strchr(name, '/') || !strcmp(name, "..") || !strcmp(name, "."))
-    die("a profile must be a file name in the scene's folder");
+    die("a profile or hierarchy must be a file name in the scene's folder");
   const char* slash = strrchr(scene_path, '/');
   const size_t dir = slash ? (size_t)(slash - scene_path + 1) : 0;
   char* path = malloc(dir + strlen(name) + 1);
@@ -101,13 +109,13 @@ static unsigned char* read_profile(const char* name, size_t* size) {
   memcpy(path, scene_path, dir);
   strcpy(path + dir, name);
   FILE* f = fopen(path, "rb");
-  if (!f) die("cannot open a profile");
+  if (!f) die("cannot open a profile or hierarchy");
   unsigned char* bytes = NULL;
   size_t n = 0, cap = 0;
   for (;;) {
     if (n == cap) {
       cap = cap ? 2 * cap : 65536;
-      if (cap > ((size_t)1 << 30)) die("profile too large");
+      if (cap > ((size_t)1 << 30)) die("profile or hierarchy too large");
       unsigned char* grown = realloc(bytes, cap);
       if (!grown) die("out of memory");
       bytes = grown;
@@ -126,6 +134,8 @@ typedef struct Frame {
   float dt;
   uint32_t eye_count, move_count;
   acuity_eye eyes[2];
+  double cut_position[3];
+  float cut_rotation[4], cut_scale;
   uint32_t* move_index;
   double* move_position;
   float *move_rotation, *move_scale;
@@ -175,14 +185,16 @@ int main(int argc, char** argv) {
   const char* w;
   char name[256];
   while (!strcmp(w = word(), "config")) {
-    snprintf(name, sizeof name, "%s", word());
+    const char* key = word();
+    if (strlen(key) >= sizeof name) die("config field name too long");
+    memcpy(name, key, strlen(key) + 1);
     set_config(&config, name, number());
   }
   acuity_scheduler* s = NULL;
   check(acuity_create(&config, &s), "acuity_create");
   while (!strcmp(w, "profile")) {
     size_t size = 0;
-    unsigned char* bytes = read_profile(word(), &size);
+    unsigned char* bytes = read_file(word(), &size);
     int32_t index = -1;
     check(acuity_load_profile(s, bytes, size, &index), "acuity_load_profile");
     free(bytes);
@@ -204,7 +216,34 @@ int main(int argc, char** argv) {
   }
   check(acuity_add_objects(s, n, profiles, positions, 0, rotations, 0, scales, ids), "acuity_add_objects");
 
-  expect("frames");
+  acuity_hierarchy* h = NULL;
+  uint64_t cut_budget = 0;
+  uint32_t cluster_count = 0;
+  void* cut_memory = NULL;
+  uint32_t* cut_drawn = NULL;
+  w = word();
+  if (!strcmp(w, "cut")) {
+    size_t cluster_bytes = 0, group_bytes = 0, profile_bytes = 0;
+    unsigned char* clusters = read_file(word(), &cluster_bytes);
+    unsigned char* groups = read_file(word(), &group_bytes);
+    unsigned char* profile = read_file(word(), &profile_bytes);
+    cut_budget = (uint64_t)count(9007199254740992ul);
+    if (cluster_bytes % sizeof(acuity_cluster) || group_bytes % sizeof(acuity_cluster_group))
+      die("hierarchy records of a size that is not whole records");
+    cluster_count = (uint32_t)(cluster_bytes / sizeof(acuity_cluster));
+    check(acuity_hierarchy_create_from_profile(
+              (const acuity_cluster*)clusters, cluster_count, (const acuity_cluster_group*)groups,
+              (uint32_t)(group_bytes / sizeof(acuity_cluster_group)), profile, profile_bytes, &h),
+          "acuity_hierarchy_create_from_profile");
+    free(clusters);
+    free(groups);
+    free(profile);
+    cut_memory = calloc(acuity_cut_memory_size(h) / 4 + 1, 4); /* zeroed, 4-byte aligned */
+    cut_drawn = malloc(cluster_count * sizeof *cut_drawn + 1);
+    if (!cut_memory || !cut_drawn) die("out of memory");
+    w = word();
+  }
+  if (strcmp(w, "frames")) die("expected 'frames'");
   const uint32_t m = (uint32_t)count(1000000ul);
   Frame* frames = calloc(m + 1, sizeof *frames);
   if (!frames) die("out of memory");
@@ -228,6 +267,10 @@ int main(int argc, char** argv) {
       const uint32_t i = (uint32_t)count(n - 1);
       fr->move_index[k] = ids[i];
       read_transform(fr->move_position + 3 * k, fr->move_rotation + 4 * k, fr->move_scale + k);
+    }
+    if (h) {
+      expect("cut");
+      read_transform(fr->cut_position, fr->cut_rotation, &fr->cut_scale);
     }
   }
   expect("end");
@@ -253,12 +296,27 @@ int main(int argc, char** argv) {
       printf("\nflags");
       for (uint32_t i = 0; i < n; ++i) printf(" %u", flags[i]);
       printf("\n");
+      if (!h) continue;
+      acuity_cut_result r;
+      memset(&r, 0, sizeof r);
+      r.struct_size = sizeof r;
+      check(
+          acuity_select_cut_budget(s, h, fr->cut_position, fr->cut_rotation, fr->cut_scale, NULL, cut_budget,
+                                   cut_memory, acuity_cut_memory_size(h), cluster_count, cut_drawn, &r),
+          "acuity_select_cut_budget");
+      printf("cut %u %u %llu %u %u %u", r.status, r.flags, (unsigned long long)r.triangles, r.held,
+             r.budget_coarsened, r.budget_forced);
+      for (uint32_t c = 0; c < r.clusters; ++c) printf(" %u", cut_drawn[c]);
+      printf("\n");
     }
   clock_gettime(CLOCK_MONOTONIC, &t1);
   if (repeat > 0)
     printf("{\"frames\": %ld, \"objects\": %u, \"seconds_per_frame\": %.9g}\n", rounds * (long)m, n,
            ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec)) /
                (double)(rounds * (long)m));
+  acuity_hierarchy_destroy(h);
+  free(cut_memory);
+  free(cut_drawn);
   acuity_destroy(s);
   return 0;
 }

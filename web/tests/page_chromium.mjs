@@ -4,7 +4,8 @@
 // the canvas is not blank and, coloured by level, shows those levels' colours. Bad content (a missing
 // scene, a profile failing validation, a file that is not glTF, a glTF that is not lodgen's) shows a
 // message on the page and in the console, and nothing throws uncaught. An object with a cluster
-// hierarchy is drawn as acuity's cut (select_cut's, checked in node), which follows the gaze.
+// hierarchy is drawn as acuity's cut under a triangle budget (checked in node and against the native
+// library), which follows the gaze.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
@@ -146,12 +147,15 @@ try {
   await page.close();
 
   // ---- A cluster cut: an object drawn as acuity's cut while the gaze sweeps across it ----------------
-  // Each frame the page's index buffer holds exactly select_cut's triangles; the same cuts come out of
-  // acuity.js in node on the eyes the page recorded (the same hysteresis, frame after frame); the
-  // triangle count changes with the gaze, and the buffer is rebuilt only when the cut changes.
+  // Under a triangle budget (?cutBudget=) that binds while the gaze is on the object and not while it
+  // is far from it. Each frame the page's index buffer holds exactly the cut's triangles; the same cuts
+  // come out of acuity.js in node and, bit for bit, of the native library (native_reference) on the
+  // eyes the page recorded (the same hysteresis, frame after frame); the triangle count changes with
+  // the gaze, and the buffer is rebuilt only when the cut changes.
   {
-    const CUT_FRAMES = 60;
-    const cutRun = await open(`?cut=content/${env('ACUITY_CUT_GLB')}&cutProfile=content/profiles/${env('ACUITY_CUT_PROFILE')}&frames=${CUT_FRAMES}`);
+    const CUT_FRAMES = 60, CUT_BUDGET = 8000;
+    const cutRun = await open(`?cut=content/${env('ACUITY_CUT_GLB')}&cutProfile=content/profiles/${env('ACUITY_CUT_PROFILE')}` +
+                              `&cutBudget=${CUT_BUDGET}&frames=${CUT_FRAMES}`);
     assert.equal(await cutRun.page.evaluate(() => window.acuityError ?? null), null, 'the cut page stopped with an error');
     assert.deepEqual(cutRun.uncaught, [], 'uncaught exceptions');
     assert.deepEqual(cutRun.errors, [], 'console errors');
@@ -164,24 +168,36 @@ try {
     const h = acuity.createHierarchy(Uint32Array.from(cr.cut.clusters), Uint8Array.from(cr.cut.groups),
                                      new Uint8Array(fs.readFileSync(path.join(fieldDir, 'profiles', env('ACUITY_CUT_PROFILE')))));
     const state = h.createCut();
+    const native = runNative({
+      config: {}, profiles: [], profileDir: path.join(fieldDir, 'profiles'),
+      objects: { profiles: new Int32Array(0), positions: new Float64Array(0), rotations: new Float32Array(0), scales: new Float32Array(0) },
+      cut: { clusters: Uint32Array.from(cr.cut.clusters), groups: Uint8Array.from(cr.cut.groups), profile: env('ACUITY_CUT_PROFILE'), budget: CUT_BUDGET },
+      frames: cr.frames.map(f => ({ dt: f.dt, eyeCount: f.eyeCount, eyes: Float64Array.from(f.eyes), moves: null, cut: f.cut.transform })),
+    }, path.join(work, 'native'), 'page_cut');
     let previous = null;
     cr.frames.forEach((f, k) => {
       const c = f.cut;
       assert.equal(c.status, 0, `frame ${k}: cut status`);
       assert.equal(c.drawnIndices, 3 * c.triangles, `frame ${k}: the index buffer holds the cut's triangles`);
       s.beginFrame(Float64Array.from(f.eyes), f.eyeCount, f.dt);
-      const r = s.selectCut(h, state, c.transform.position, c.transform.rotation, c.transform.scale);
+      const r = s.selectCut(h, state, c.transform.position, c.transform.rotation, c.transform.scale, null, CUT_BUDGET);
       s.endFrame();
-      assert.deepEqual(Array.from(r.clusters), c.clusters, `frame ${k}: the page drew another cut than select_cut's`);
-      assert.equal(r.triangles, c.triangles);
+      const fields = x => ({ status: x.status, flags: x.flags, triangles: x.triangles, held: x.held,
+                             budgetCoarsened: x.budgetCoarsened, budgetForced: x.budgetForced, clusters: Array.from(x.clusters) });
+      const page = fields(c);
+      assert.deepEqual(fields(r), page, `frame ${k}: the page drew another cut than select_cut's in node`);
+      assert.deepEqual(page, native[k].cut, `frame ${k}: the wasm module's budgeted cut differs from the native library's`);
+      if (c.budgetCoarsened > 0) assert.ok(c.triangles <= CUT_BUDGET, `frame ${k}: ${c.triangles} triangles over the budget`);
       const changed = !previous || previous.length !== c.clusters.length || previous.some((x, i) => x !== c.clusters[i]);
       assert.equal(c.rebuilt, changed, `frame ${k}: rebuilt exactly when the cut changed`);
       previous = c.clusters;
     });
-    const counts = cr.frames.map(f => f.cut.triangles);
+    const counts = cr.frames.map(f => f.cut.triangles), budgeted = cr.frames.filter(f => f.cut.budgetCoarsened > 0).length;
     assert.ok(new Set(counts).size >= 2, `the cut never changed as the gaze swept across it: ${counts[0]} triangles`);
-    console.log(`cut: ${CUT_FRAMES} frames equal to select_cut in node; triangles ${Math.min(...counts)} .. ${Math.max(...counts)} ` +
-                `(first ${counts[0]}, middle ${counts[CUT_FRAMES >> 1]}, last ${counts[CUT_FRAMES - 1]}); ` +
+    assert.ok(budgeted > 0 && budgeted < CUT_FRAMES, `the budget of ${CUT_BUDGET} triangles bound in ${budgeted} of ${CUT_FRAMES} frames (some, not all, wanted)`);
+    console.log(`cut: ${CUT_FRAMES} frames equal to select_cut in node and to the native library; triangles ${Math.min(...counts)} .. ${Math.max(...counts)} ` +
+                `(first ${counts[0]}, middle ${counts[CUT_FRAMES >> 1]}, last ${counts[CUT_FRAMES - 1]}); budget ${CUT_BUDGET} bound in ${budgeted} frames ` +
+                `(${Math.max(...cr.frames.map(f => f.cut.budgetCoarsened))} groups coarsened at most); ` +
                 `${cr.frames.filter(f => f.cut.rebuilt).length} rebuilds`);
     state.destroy();
     h.destroy();

@@ -49,9 +49,12 @@ export function readField(dir) {
 
 // scene: { config: {name: value}, profiles: [file names], profileDir, objects: {profiles, positions,
 // rotations, scales}, frames: [{ dt, eyeCount, eyes: Float64Array, moves: null | {indices: Uint32Array,
-// positions, rotations, scales} }] }. Numbers print as JS's shortest round-trip text, which strtod reads
-// back to the same double (and float32 values to the same float).
-export function sceneText(scene) {
+// positions, rotations, scales}, cut: with scene.cut, { position [3], rotation [4], scale } }],
+// cut: optional, one object drawn as a cluster cut: { clusters: Uint32Array, groups: Uint8Array (the
+// hierarchy's records), profile: a file name in profileDir, budget: triangles (0: none) } }. Numbers
+// print as JS's shortest round-trip text, which strtod reads back to the same double (and float32
+// values to the same float). cutFiles: the names runNative writes the records under.
+export function sceneText(scene, cutFiles = null) {
   const out = ['acuity-scene 1'];
   for (const [k, v] of Object.entries(scene.config || {})) out.push(`config ${k} ${v}`);
   for (const p of scene.profiles) out.push(`profile ${p}`);
@@ -59,30 +62,48 @@ export function sceneText(scene) {
   out.push(`objects ${n}`);
   const tf = (pos, rot, sc, i) => [...pos.subarray(3 * i, 3 * i + 3), ...rot.subarray(4 * i, 4 * i + 4), sc[i]].map(String).join(' ');
   for (let i = 0; i < n; ++i) out.push(`${o.profiles[i]} ${tf(o.positions, o.rotations, o.scales, i)}`);
+  if (scene.cut) out.push(`cut ${cutFiles.clusters} ${cutFiles.groups} ${scene.cut.profile} ${scene.cut.budget}`);
   out.push(`frames ${scene.frames.length}`);
   for (const f of scene.frames) {
     const moves = f.moves ? f.moves.indices.length : 0;
     out.push(`frame ${f.dt} ${f.eyeCount} ${moves}`);
     for (let e = 0; e < f.eyeCount; ++e) out.push('eye ' + Array.from(f.eyes.subarray(e * EYE_DOUBLES, (e + 1) * EYE_DOUBLES)).map(String).join(' '));
     for (let k = 0; k < moves; ++k) out.push(`move ${f.moves.indices[k]} ${tf(f.moves.positions, f.moves.rotations, f.moves.scales, k)}`);
+    if (scene.cut) out.push(`cut ${[...f.cut.position, ...f.cut.rotation, f.cut.scale].map(String).join(' ')}`);
   }
   out.push('end', '');
   return out.join('\n');
 }
 
 // Writes the scene beside copies of its profiles (the runner reads only its own folder) and runs
-// native_reference: [{ triangles, levels: Uint8Array, flags: Uint8Array }] per frame.
+// native_reference: [{ triangles, levels: Uint8Array, flags: Uint8Array }] per frame, and with a cut
+// also cut: { status, flags, triangles, held, budgetCoarsened, budgetForced, clusters: [ids] }.
 export function runNative(scene, workDir, name) {
   fs.mkdirSync(workDir, { recursive: true });
-  for (const p of scene.profiles) fs.copyFileSync(path.join(scene.profileDir, p), path.join(workDir, p));
+  const copies = scene.cut ? [...scene.profiles, scene.cut.profile] : scene.profiles;
+  for (const p of copies) fs.copyFileSync(path.join(scene.profileDir, p), path.join(workDir, p));
+  let cutFiles = null;
+  if (scene.cut) {
+    cutFiles = { clusters: `${name}.clusters`, groups: `${name}.groups` };
+    const c = scene.cut.clusters;
+    fs.writeFileSync(path.join(workDir, cutFiles.clusters), new Uint8Array(c.buffer, c.byteOffset, c.byteLength));
+    fs.writeFileSync(path.join(workDir, cutFiles.groups), scene.cut.groups);
+  }
   const file = path.join(workDir, `${name}.txt`);
-  fs.writeFileSync(file, sceneText(scene));
+  fs.writeFileSync(file, sceneText(scene, cutFiles));
   const text = execFileSync(env('ACUITY_NATIVE_REFERENCE'), [file], { encoding: 'utf8', maxBuffer: 1 << 28 });
-  const lines = text.trim().split('\n'), frames = [];
-  for (let i = 0; i < lines.length; i += 3) {
+  const lines = text.trim().split('\n'), frames = [], step = scene.cut ? 4 : 3;
+  for (let i = 0; i < lines.length; i += step) {
     const head = lines[i].split(' '), lv = lines[i + 1].split(' '), fl = lines[i + 2].split(' ');
     if (head[0] !== 'frame' || lv[0] !== 'levels' || fl[0] !== 'flags') throw new Error(`native_reference: bad output at line ${i}`);
-    frames.push({ triangles: Number(head[3]), levels: Uint8Array.from(lv.slice(1), Number), flags: Uint8Array.from(fl.slice(1), Number) });
+    const frame = { triangles: Number(head[3]), levels: Uint8Array.from(lv.slice(1), Number), flags: Uint8Array.from(fl.slice(1), Number) };
+    if (scene.cut) {
+      const c = lines[i + 3].split(' ');
+      if (c[0] !== 'cut') throw new Error(`native_reference: bad output at line ${i + 3}`);
+      const [status, flags, triangles, held, budgetCoarsened, budgetForced] = c.slice(1, 7).map(Number);
+      frame.cut = { status, flags, triangles, held, budgetCoarsened, budgetForced, clusters: c.slice(7).map(Number) };
+    }
+    frames.push(frame);
   }
   return frames;
 }
