@@ -1570,6 +1570,10 @@ struct AgainstScored {
     fast.set_transform(id, t);
     scored.set_transform(id, t);
   }
+  void set_velocity(ObjectId id, const float v[3]) {
+    fast.set_velocity(id, v);
+    scored.set_velocity(id, v);
+  }
   // Runs a frame through both; counts the levels that differ between them, and those of `scored`
   // that changed since its last frame.
   int differ = 0, changed = 0, frames = 0;
@@ -1652,8 +1656,7 @@ TEST(SchedulerTabulated, MovingImagesRememberedOverTheQuartersOfTheirCells) {
       for (int i = 0; i < objects; ++i) {
         const float swell = std::exp(0.3f * std::sin(0.25f * float(f) + phase[i]));
         const float v[3] = {swell * scene[i].v[0], swell * scene[i].v[1], swell * scene[i].v[2]};
-        pair.fast.set_velocity(ObjectId(i), v);
-        pair.scored.set_velocity(ObjectId(i), v);
+        pair.set_velocity(ObjectId(i), v);
         if (i % 4 == 0) {  // a quarter of them also turn in place: the view's axes turn under the slip
           turn_about_y(scene[i].t.rotation, 2.0f);
           pair.set_transform(ObjectId(i), scene[i].t);
@@ -1680,8 +1683,7 @@ TEST(SchedulerTabulated, MovingImagesUnderAWanderingMeasuredGaze) {
     for (int i = 0; i < objects; ++i) {
       const RandomObject o = random_object(rng, 20);
       pair.add_object(o.t, ObjectId(i));
-      pair.fast.set_velocity(ObjectId(i), o.v);
-      pair.scored.set_velocity(ObjectId(i), o.v);
+      pair.set_velocity(ObjectId(i), o.v);
     }
     Frame fr = looking_forward();
     fr.gaze[0].has_velocity = true;
@@ -1712,10 +1714,7 @@ TEST(SchedulerTabulated, HoldsSetOnlyWhileTheHeadTurnsSteadily) {
     for (int i = 0; i < objects; ++i) {
       const RandomObject o = random_object(rng, 100);
       pair.add_object(o.t, ObjectId(i));
-      if (i % 2 == 0) {
-        pair.fast.set_velocity(ObjectId(i), o.v);
-        pair.scored.set_velocity(ObjectId(i), o.v);
-      }
+      if (i % 2 == 0) { pair.set_velocity(ObjectId(i), o.v); }
     }
     Frame fr = looking_forward();
     float yaw = 0;  // [deg]
