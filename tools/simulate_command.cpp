@@ -1,10 +1,8 @@
 // `acuity simulate SCENE` and `acuity explain SCENE --frame F --object NAME`: a glTF scene along a
 // head path with a gaze trace (given or generated), four rules per frame (acuity/sim/simulation.hpp).
-#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <stdexcept>
 #include <string>
 
 #include "acuity/file.hpp"
@@ -78,13 +76,7 @@ void simulate(const SimulateOptions& o) {
   sim::LargeObjectOptions large;
   large.asset = o.large_object;
   large.profiles = o.assets.profiles;
-  if (!large.asset.empty() && std::none_of(scene->assets.begin(), scene->assets.end(),
-                                           [&](const auto& a) { return a.name == large.asset; })) {
-    std::string names;
-    for (const auto& a : scene->assets) names += (names.empty() ? "" : ", ") + a.name;
-    throw std::runtime_error("--large-object: the scene has no asset '" + large.asset + "' (it has " + names +
-                             ")");
-  }
+  if (!large.asset.empty()) sim::large_object_asset(*scene, large.asset, "--large-object");  // before the run
   run_simulation(*scene, o.sim, o.plot_hint, large.asset.empty() ? nullptr : &large);
 }
 

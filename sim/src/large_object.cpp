@@ -169,14 +169,20 @@ LargeObjectRun::Span run_span(const Simulation& sim, int asset, const lodgen::Cl
 
 }  // namespace
 
+std::size_t large_object_asset(const SceneAssets& scene, const std::string& asset, const std::string& what) {
+  std::string names;
+  for (std::size_t a = 0; a < scene.assets.size(); ++a) {
+    if (scene.assets[a].name == asset) return a;
+    names += (names.empty() ? "" : ", ") + scene.assets[a].name;
+  }
+  throw std::runtime_error(what + ": the scene has no asset '" + asset + "' (it has " + names + ")");
+}
+
 LargeObjectRun run_large_object(const Simulation& sim, const LargeObjectOptions& o,
                                 const std::function<void(const std::string&)>& progress) {
   const SceneAssets& scene = sim.scene();
-  int asset = -1;
-  for (std::size_t a = 0; a < scene.assets.size(); ++a)
-    if (scene.assets[a].name == o.asset) asset = int(a);
-  if (asset < 0) throw std::runtime_error("large object: the scene has no asset '" + o.asset + "'");
-  const Asset& a = scene.assets[std::size_t(asset)];
+  const std::size_t asset = large_object_asset(scene, o.asset, "large object");
+  const Asset& a = scene.assets[asset];
   const lodgen::ClusterHierarchy h = lodgen::build_clusters(a.chain.levels[0].mesh, o.asset);
   HierarchyProfile hp;
   profile_hierarchy(a, h, (fs::path(o.profiles) / (o.asset + "-clusters.acuity")).string(), progress, &hp);
@@ -189,7 +195,7 @@ LargeObjectRun run_large_object(const Simulation& sim, const LargeObjectOptions&
   run.groups = std::uint32_t(h.groups.size());
   run.bands = std::uint32_t(hp.loss.bands_cpod.size());
   run.frames = sim.frame_count();
-  for (double deg : o.spans_deg) run.spans.push_back(run_span(sim, asset, h, hp, o, deg));
+  for (double deg : o.spans_deg) run.spans.push_back(run_span(sim, int(asset), h, hp, o, deg));
   return run;
 }
 

@@ -51,6 +51,11 @@ struct LargeObjectRun {
 LargeObjectRun run_large_object(const Simulation& sim, const LargeObjectOptions& options,
                                 const std::function<void(const std::string&)>& progress = {});
 
+// The index of `asset` among the scene's assets. Throws std::runtime_error "<what>: the scene has no
+// asset 'NAME' (it has A, B, ...)" when none has that name: run_large_object's check, which a
+// command may make before the run.
+std::size_t large_object_asset(const SceneAssets& scene, const std::string& asset, const std::string& what);
+
 // The block the demo prints.
 std::string large_object_text(const LargeObjectRun& run, const LargeObjectOptions& options);
 
