@@ -70,6 +70,64 @@ TEST(LostContrast, GratingsAtBandCentres) {
   }
 }
 
+// A band's loss pooled over orientations as the eye pools it (the Pooled section, the area law's
+// input): energy summed per point, then its peak and extent. A grating between two orientations is
+// read whole (each channel passes cos(pi/2 d) of it, d its turn from the channel's centre in
+// spacings: cos^2 + sin^2 = 1), a Gabor patch keeps its area pi sigma^2, and two patches of other
+// orientations apart pool as the larger one, not as their energy.
+TEST(LostContrast, PooledOverOrientations) {
+  const LostContrast analyzer(N, AnalysisSettings{});
+  const auto& bands = analyzer.bands();
+  const std::size_t B = bands.size(), T = AnalysisSettings{}.orientations;
+  const Image reference = constant(0.5f);
+  std::vector<float> pooled(B), pooled_area(B), lost(T * B);
+  const int b = band_of(bands, 32);
+  {  // (31, 6) cycles across: 0.487 orientation spacings up from +x, 31.6 cycles
+    analyzer.measure(grating(31, 6, 0.2f), *analyzer.prepare(reference), lost.data(), nullptr, nullptr,
+                     nullptr, pooled.data(), pooled_area.data());
+    const double offset = std::log2(std::hypot(31.0, 6.0) / 32);
+    EXPECT_NEAR(pooled[b], 0.2 * std::cos(0.5 * kPi * offset), 0.006);
+    EXPECT_GT(pooled[b], 1.3f * std::max(lost[0 * B + b], lost[1 * B + b]));  // one channel reads 0.7 of it
+    EXPECT_NEAR(pooled_area[b], 1.0f, 0.02f);
+  }
+  auto gabor = [](Image& im, double cx, double sigma, bool vertical) {
+    for (std::uint32_t r = 0; r < N; ++r)
+      for (std::uint32_t c = 0; c < N; ++c) {
+        const double x = c + 0.5 - cx, y = r + 0.5 - N / 2.0;
+        im.pixels[std::size_t(r) * N + c] +=
+            float(0.5 * 0.01 * std::exp(-(x * x + y * y) / (2 * sigma * sigma)) *
+                  std::cos(2 * kPi * 32 * (vertical ? y : x) / N));
+      }
+  };
+  {  // one Gabor, sigma = N / 6: area pi sigma^2 / D^2, the peak its contrast
+    Image im = constant(0.5f);
+    gabor(im, N / 2.0, N / 6.0, false);
+    analyzer.measure(im, *analyzer.prepare(reference), lost.data(), nullptr, nullptr, nullptr, pooled.data(),
+                     pooled_area.data());
+    EXPECT_NEAR(pooled[b], 0.01f, 0.0005f);
+    EXPECT_NEAR(pooled_area[b], kPi / 36.0, 0.05 * kPi / 36.0);
+  }
+  {  // two Gabors, sigma = N / 12, half the image apart, at right angles: each channel's peak is one
+     // patch's, their energy would read sqrt 2 of it
+    Image im = constant(0.5f);
+    gabor(im, N / 4.0, N / 12.0, false);
+    gabor(im, 3 * N / 4.0, N / 12.0, true);
+    analyzer.measure(im, *analyzer.prepare(reference), lost.data(), nullptr, nullptr, nullptr, pooled.data(),
+                     pooled_area.data());
+    double energy = 0;
+    for (std::size_t t = 0; t < T; ++t) energy += double(lost[t * B + b]) * lost[t * B + b];
+    EXPECT_NEAR(pooled[b], 0.01f, 0.0005f);
+    EXPECT_GT(std::sqrt(energy), 1.3 * pooled[b]);
+    EXPECT_NEAR(pooled_area[b], 2 * kPi / 144.0,
+                0.08 * 2 * kPi / 144.0);  // two patches' areas (the band widens them a little)
+  }
+  {  // nothing lost: 0
+    analyzer.measure(reference, *analyzer.prepare(reference), lost.data(), nullptr, nullptr, nullptr,
+                     pooled.data(), pooled_area.data());
+    for (std::size_t i = 0; i < B; ++i) EXPECT_EQ(pooled[i] + pooled_area[i], 0.0f);
+  }
+}
+
 // The Detail a profile keeps (issue 47): a Gabor patch's loss covers pi sigma^2 (stelaCSF's area of
 // the patch) in its band, and a grating between two band centres reads its own frequency in both.
 TEST(LostContrast, AreaAndFrequencyOfTheLoss) {

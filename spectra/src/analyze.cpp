@@ -241,9 +241,25 @@ std::vector<std::vector<float>> LostContrast::contrast_maps(const Image& level, 
 }
 
 void LostContrast::measure(const Image& level, const Reference& ref, float* result, float* area,
-                           float* offset, float* turn) const {
-  const std::uint32_t B = band_count();
+                           float* offset, float* turn, float* pooled, float* pooled_area) const {
+  const std::uint32_t B = band_count(), T = settings_.orientations;
+  std::vector<double> energy_map;  // one band's sum over orientations of c^2 (pooled)
   channels(level, ref, offset || turn, [&](const Channel& c) {
+    if (pooled || pooled_area) {
+      const std::size_t count = std::size_t(c.m) * c.m;
+      if (c.orientation == 0) energy_map.assign(count, 0.0);
+      for (std::size_t i = 0; i < count; ++i) energy_map[i] += double(c.contrast[i]) * c.contrast[i];
+      if (c.orientation + 1 == T) {
+        double peak = 0, sum = 0;
+        for (const double e : energy_map) {
+          peak = std::max(peak, e);
+          sum += e;
+        }
+        if (pooled) pooled[c.band] = float(std::sqrt(peak));
+        if (pooled_area)
+          pooled_area[c.band] = peak > 0 ? float(std::min(1.0, sum / peak / double(count))) : 0.0f;
+      }
+    }
     float best = 0;
     double energy = 0;
     const std::size_t count = std::size_t(c.m) * c.m, at = std::size_t(c.orientation) * B + c.band;

@@ -59,8 +59,13 @@ class LostContrast {
   // half-way between two centres reads +-1/2 of the spacing, where the filter passes 0.71 of it.
   // turn, when given, receives the same mean of the frequency vector's angle from the orientation's
   // centre, in orientation spacings (a grating half-way between two orientations: +-1/2).
+  // pooled and pooled_area, when given ([B] each), receive each band's loss pooled over the
+  // orientations as the eye pools them (stelaCSF's detection, sim's judge): the peak over the grid of
+  // sqrt(sum_t c_t(x)^2), and that energy's extent (sum over the grid / its peak, a fraction of the
+  // image as area's; 0 where nothing is lost).
   void measure(const Image& level, const Reference& reference, float* out, float* area = nullptr,
-               float* offset = nullptr, float* turn = nullptr) const;
+               float* offset = nullptr, float* turn = nullptr, float* pooled = nullptr,
+               float* pooled_area = nullptr) const;
   // The lost contrast behind measure(), pixel by pixel: visit(channel) once per band b and
   // orientation t (bands outermost), with c(x) and the floored local mean (R * L_b)(x) of the
   // reference on band b's m x m grid (m a power of two <= pixels, the band's bandwidth: grid point
