@@ -116,6 +116,56 @@ TEST(Profile, DetailSectionIsOptionalAndChecked) {
   EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
 }
 
+// The optional Pooled section (issue 47): written only when given, read back exactly, absent for
+// older writers' profiles, and damage (a NaN loss, padding, a wrong size) rejected naming it.
+TEST(Profile, PooledSectionIsOptionalAndChecked) {
+  spectra::ProfileData d = small_profile();
+  Profile p;
+  ProfileError e;
+  const Blob without = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(without.data(), without.size, &p, &e), ProfileStatus::Ok) << e.message;
+  EXPECT_EQ(p.pooled, nullptr);
+  const std::size_t n = (d.levels.size() - 1) * d.views.size() * d.bands.size();
+  for (std::size_t i = 0; i < n; ++i)
+    d.pooled.push_back(spectra::encode_pooled(0.01f * float(i), std::ldexp(1.0f, -int(i % 20))));
+  Blob with = spectra::encode_profile(d);
+  ASSERT_EQ(open_profile(with.data(), with.size, &p, &e), ProfileStatus::Ok) << e.message;
+  ASSERT_NE(p.pooled, nullptr);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(p.pooled[i].lost, 0.01f * float(i));
+    EXPECT_EQ(std::exp2(-0.125f * p.pooled[i].area_code), std::ldexp(1.0f, -int(i % 20)));
+  }
+  EXPECT_EQ(with.size, without.size + sizeof(ProfileSectionEntry) + n * sizeof(ProfilePooled));
+  EXPECT_EQ(spectra::encode_pooled(0.5f, 0.3f).area_code, spectra::encode_detail(0.3f, 0).area_code);
+  {  // a NaN loss
+    Blob b = with;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Pooled) + 8 * 3, &nan, 4);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
+    EXPECT_NE(std::string(e.message).find("Pooled: entry 3"), std::string::npos) << e.message;
+  }
+  {  // padding that is not zero
+    Blob b = with;
+    const unsigned char one = 1;
+    std::memcpy(bytes(b) + section_offset(b, ProfileSection::Pooled) + 8 * 5 + 6, &one, 1);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadValue);
+    EXPECT_NE(std::string(e.message).find("Pooled: entry 5"), std::string::npos) << e.message;
+  }
+  {  // a section of the wrong size
+    Blob b = with;
+    set_section_size(b, ProfileSection::Pooled, n * sizeof(ProfilePooled) - 8);
+    refresh_checksum(b);
+    EXPECT_EQ(open(b, &e), ProfileStatus::BadSize);
+    EXPECT_NE(std::string(e.message).find("section Pooled"), std::string::npos) << e.message;
+  }
+  d.pooled.pop_back();  // the writer wants none or one per level, view and band
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+  d.pooled.push_back(spectra::encode_pooled(-1.0f, 0.5f));
+  EXPECT_THROW(spectra::encode_profile(d), spectra::InvalidProfile);
+}
+
 // The optional Clusters section (issue 48 item 2): written only when given, read back in place,
 // absent for older writers' profiles (and skipped by older readers: an unknown id), and any damage
 // to it rejected with a message naming it: every truncation of the section, bit flips in it with a

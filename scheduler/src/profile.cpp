@@ -16,12 +16,12 @@ namespace acuity {
 namespace {
 
 constexpr std::size_t kChecksumOffset = offsetof(ProfileHeader, checksum);
-constexpr std::uint32_t kSectionIds = 11;
+constexpr std::uint32_t kSectionIds = 12;
 constexpr std::uint32_t kRequiredSections =
-    8;  // ids 1..8; Detail (9), Clusters (10), ClusterViews (11) optional
-const char* const kSectionNames[kSectionIds + 1] = {"?",        "Meta",         "Levels",   "Views",
-                                                    "Lookup",   "Orientations", "Bands",    "Lost",
-                                                    "Features", "Detail",       "Clusters", "ClusterViews"};
+    8;  // ids 1..8; Detail (9), Clusters (10), ClusterViews (11), Pooled (12) optional
+const char* const kSectionNames[kSectionIds + 1] = {
+    "?",    "Meta",     "Levels", "Views",    "Lookup",       "Orientations", "Bands",
+    "Lost", "Features", "Detail", "Clusters", "ClusterViews", "Pooled"};
 
 ProfileStatus fail(ProfileError* error, ProfileStatus status, const char* format, ...) {
   if (error) {
@@ -103,6 +103,14 @@ ProfileStatus check_values(const Profile& p, ProfileError* error) {
       if (p.detail[i].frequency_code == -128 || p.detail[i].orientation_code == -128)
         return fail(error, ProfileStatus::BadValue, "Detail: entry %llu has a code -128 (allowed -127..127)",
                     static_cast<unsigned long long>(i));
+  if (p.pooled)
+    for (std::uint64_t i = 0; i < (K - 1) * V * B; ++i) {
+      const ProfilePooled& e = p.pooled[i];
+      if (!(std::isfinite(e.lost) && e.lost >= 0) || e.zero[0] || e.zero[1] || e.zero[2])
+        return fail(error, ProfileStatus::BadValue,
+                    "Pooled: entry %llu needs a finite loss >= 0 and zero padding",
+                    static_cast<unsigned long long>(i));
+    }
   if (p.cluster_lost) {
     const ProfileClusterMeta& c = p.clusters;
     for (std::uint32_t b = 0; b < c.band_count; ++b)
@@ -315,6 +323,9 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   const bool has_detail = found[static_cast<std::uint32_t>(ProfileSection::Detail)].id != 0;
   if (has_detail && !check_size(ProfileSection::Detail, (K - 1) * V * T * B * sizeof(ProfileDetail)))
     return error ? error->status : ProfileStatus::BadSize;
+  const bool has_pooled = found[static_cast<std::uint32_t>(ProfileSection::Pooled)].id != 0;
+  if (has_pooled && !check_size(ProfileSection::Pooled, (K - 1) * V * B * sizeof(ProfilePooled)))
+    return error ? error->status : ProfileStatus::BadSize;
 
   p.levels = reinterpret_cast<const ProfileLevel*>(at(ProfileSection::Levels));
   p.views = reinterpret_cast<const ProfileView*>(at(ProfileSection::Views));
@@ -324,6 +335,7 @@ ProfileStatus open_profile(const void* data, std::size_t size, Profile* out, Pro
   p.lost = reinterpret_cast<const float*>(at(ProfileSection::Lost));
   p.features = reinterpret_cast<const float*>(at(ProfileSection::Features));
   p.detail = has_detail ? reinterpret_cast<const ProfileDetail*>(at(ProfileSection::Detail)) : nullptr;
+  p.pooled = has_pooled ? reinterpret_cast<const ProfilePooled*>(at(ProfileSection::Pooled)) : nullptr;
   if (found[static_cast<std::uint32_t>(ProfileSection::Clusters)].id) {
     const ProfileStatus c =
         open_clusters(at(ProfileSection::Clusters),

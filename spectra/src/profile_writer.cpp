@@ -80,6 +80,10 @@ ProfileDetail encode_detail(float area, float offset_octaves, float turn) {
   return d;
 }
 
+ProfilePooled encode_pooled(float lost, float area) {
+  return {lost, encode_detail(area, 0.0f, 0.0f).area_code, {0, 0, 0}};
+}
+
 Blob encode_profile(const ProfileData& data) {
   const std::size_t K = data.levels.size(), V = data.views.size(), T = data.orientations.size(),
                     B = data.bands.size();
@@ -100,6 +104,12 @@ Blob encode_profile(const ProfileData& data) {
   for (const ProfileDetail& d : data.detail)
     require(d.frequency_code != -128 && d.orientation_code != -128,
             "detail: a code -128 is invalid (-127..127)");
+  require(data.pooled.empty() || data.pooled.size() == (K - 1) * V * B,
+          "pooled has " + std::to_string(data.pooled.size()) +
+              " entries, expected none or (K-1) V B = " + std::to_string((K - 1) * V * B));
+  for (const ProfilePooled& e : data.pooled)
+    require(std::isfinite(e.lost) && e.lost >= 0 && !e.zero[0] && !e.zero[1] && !e.zero[2],
+            "pooled: a loss is negative or not finite, or its padding is not zero");
   const ProfileClusterData& c = data.clusters;
   const std::size_t Bc = c.bands.size();
   if (!c.empty()) {
@@ -132,11 +142,11 @@ Blob encode_profile(const ProfileData& data) {
   const std::vector<std::uint16_t> lookup = build_lookup(data.views, r);
 
   // Header and table are written last, once the offsets are known.
-  const std::size_t section_count =
-      8 + (data.detail.empty() ? 0 : 1) + (c.empty() ? 0 : 1) + (views_section ? 1 : 0);
+  const std::size_t section_count = 8 + (data.detail.empty() ? 0 : 1) + (data.pooled.empty() ? 0 : 1) +
+                                    (c.empty() ? 0 : 1) + (views_section ? 1 : 0);
   const std::size_t table_end = sizeof(ProfileHeader) + section_count * sizeof(ProfileSectionEntry);
   std::vector<unsigned char> body(table_end, 0);
-  ProfileSectionEntry table[11] = {};
+  ProfileSectionEntry table[12] = {};
   std::size_t n = 0;
   auto section = [&](ProfileSection id, const auto* values, std::size_t count) {
     const std::size_t offset = body.size();
@@ -152,6 +162,7 @@ Blob encode_profile(const ProfileData& data) {
   section(ProfileSection::Lost, data.lost.data(), data.lost.size());
   section(ProfileSection::Features, data.features.data(), data.features.size());
   if (!data.detail.empty()) section(ProfileSection::Detail, data.detail.data(), data.detail.size());
+  if (!data.pooled.empty()) section(ProfileSection::Pooled, data.pooled.data(), data.pooled.size());
   if (!c.empty()) {  // header, bands and loss in one section
     const ProfileClusterMeta meta_c{static_cast<std::uint32_t>(c.lost.size() / Bc),
                                     static_cast<std::uint32_t>(Bc),

@@ -78,6 +78,7 @@ enum class ProfileSection : std::uint32_t {
   Detail = 9,     // optional: the loss's extent and frequency within each band (ProfileDetail)
   Clusters = 10,  // optional: what each group of the object's cluster hierarchy loses (ProfileClusterMeta)
   ClusterViews = 11,  // optional, with Clusters: the same per view cell (ProfileClusterViewsMeta)
+  Pooled = 12,  // optional: each band's loss pooled over the orientations, with its extent (ProfilePooled)
 };
 
 enum class ProfileStatus : std::uint8_t {
@@ -106,7 +107,8 @@ struct ProfileError {
 //   Detail (optional) ProfileDetail[(K-1) V T B],
 //   Clusters (optional) ProfileClusterMeta, then f32 bands[Bc], then f32 lost[G Bc] (no padding),
 //   ClusterViews (optional, only with Clusters) ProfileClusterViewsMeta, then f32 directions[Vc 3],
-//   then f32 lost[G Vc Bc] (no padding).
+//   then f32 lost[G Vc Bc] (no padding),
+//   Pooled (optional) ProfilePooled[(K-1) V B].
 struct ProfileLevel {
   std::uint32_t triangles;  // cost of drawing this level
   float geometric_error;    // Hausdorff distance to level 0 [object diameters]
@@ -146,6 +148,20 @@ struct ProfileDetail {
   std::int8_t orientation_code;
 };
 static_assert(sizeof(ProfileDetail) == 3, "ProfileDetail is part of the file format");
+
+// Section Pooled (optional, issue 47), one entry per level k >= 1, view and band ([(K-1) V B]): the
+// band's loss pooled over the orientations as the eye pools it (energy at each point), which the
+// area law (SchedulerConfig::area_law) reads: its peak sqrt(max_x sum_t c_t(x)^2) and that energy's
+// extent (sum / peak as a fraction of the squared diameter, coded as ProfileDetail's area_code,
+// rounded up). A cell-bounded profile stores, per entry, the largest peak L over the cell's members
+// and the largest energy c^2 a over them divided by L^2 (a bound under the area law: docs/design.md).
+struct ProfilePooled {
+  float lost;              // [contrast] finite, >= 0
+  std::uint8_t area_code;  // extent 2^(-area_code / 8) of the squared diameter
+  std::uint8_t zero[3];    // 0
+};
+static_assert(sizeof(ProfilePooled) == 8 && offsetof(ProfilePooled, area_code) == 4,
+              "ProfilePooled is part of the file format");
 // Decoded area [fraction of the diameter squared], frequency offset [octaves] and turn.
 inline float detail_area(ProfileDetail d) { return std::exp2(-0.125f * float(d.area_code)); }
 inline float detail_frequency_octaves(ProfileDetail d) { return float(d.frequency_code) / 128.0f; }
@@ -209,6 +225,7 @@ struct Profile {
   const float* lost;            // [(K-1) V T B] lost contrast of level k >= 1 against level 0
   const float* features;  // [K V T] Reddy: fundamental frequency of the smallest feature [cpod]; 0 = none
   const ProfileDetail* detail = nullptr;  // [(K-1) V T B] as lost, or nullptr (the section is optional)
+  const ProfilePooled* pooled = nullptr;  // [(K-1) V B], or nullptr (the section is optional)
   // The optional Clusters section: its header (group_count 0 when absent), band centres [Bc] and
   // per-group loss [G Bc] (ProfileClusterMeta), or nullptr.
   ProfileClusterMeta clusters = {};

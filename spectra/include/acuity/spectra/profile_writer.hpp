@@ -38,6 +38,7 @@ struct ProfileData {
   std::vector<float> lost;              // [(K-1) V T B]
   std::vector<float> features;          // [K V T]
   std::vector<ProfileDetail> detail;    // [(K-1) V T B] as lost, or empty (the optional Detail section)
+  std::vector<ProfilePooled> pooled;    // [(K-1) V B], or empty (the optional Pooled section)
   std::uint32_t lookup_resolution = 0;  // cube-map cells per face edge; 0 picks one from V
   ProfileClusterData clusters;          // empty: no Clusters section
 };
@@ -54,6 +55,10 @@ ProfileView make_view(float x, float y, float z);
 // under-states the area), a frequency offset [octaves] and a turn [orientation spacings] (each
 // rounded to 1/128 and clamped to +-127/128).
 ProfileDetail encode_detail(float area, float offset_octaves, float turn = 0.0f);
+
+// A Pooled entry from a peak [contrast] and an area [fraction of the diameter squared], the area
+// coded as encode_detail() codes it (rounded up).
+ProfilePooled encode_pooled(float lost, float area);
 
 // Encodes data as a version-kProfileVersion blob (8-byte aligned sizes, checksummed). Throws
 // InvalidProfile naming the first inconsistency; the result always passes open_profile().
