@@ -36,7 +36,7 @@ namespace {
 // the welded level after a rejected one.
 // 3: profiles carry the Detail section (what stelaCSF's area term reads) and write ClusterViews only
 // when asked (162 directions or --view-cells): caches made before lacked the one and held the other.
-constexpr const char* kCacheFormat = "acuity-bake-cache 3";
+constexpr const char* kCacheFormat = "acuity-bake-cache 4";
 constexpr const char* kInputToken = "{input}";  // stands for the asset's path in cached error messages
 
 // ---- Options ------------------------------------------------------------------------------------

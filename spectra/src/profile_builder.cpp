@@ -81,13 +81,16 @@ ViewMeasurement ProfileMeasurer::measure(const ProfileView& view, bool features)
   m.area.assign((K - 1) * T * B, 0.0f);
   m.offset.assign((K - 1) * T * B, 0.0f);
   m.turn.assign((K - 1) * T * B, 0.0f);
+  m.pooled.assign((K - 1) * B, 0.0f);
+  m.pooled_area.assign((K - 1) * B, 0.0f);
   const Image reference = render_snapshot(levels_[0].mesh, material_, view, render_);
   if (features) m.features = reddy_features(reference, analysis_);
   const auto prepared = analyzer_.prepare(reference);
   for (std::size_t k = 1; k < K; ++k) {
     const Image image = render_snapshot(levels_[k].mesh, material_, view, render_);
     analyzer_.measure(image, *prepared, &m.lost[(k - 1) * T * B], &m.area[(k - 1) * T * B],
-                      &m.offset[(k - 1) * T * B], &m.turn[(k - 1) * T * B]);
+                      &m.offset[(k - 1) * T * B], &m.turn[(k - 1) * T * B], &m.pooled[(k - 1) * B],
+                      &m.pooled_area[(k - 1) * B]);
     m.switching.push_back(switching_angle(&m.lost[(k - 1) * T * B], T, analyzer_.bands()));
     if (!features) continue;
     const std::vector<float> f = reddy_features(image, analysis_);
@@ -137,8 +140,11 @@ std::vector<ProfileView> bound_sample_views() {
   return out;
 }
 
-void max_in_frame(const float* lost, const ProfileView& from, const ProfileView& to, std::size_t orientations,
-                  std::size_t bands, float* out) {
+// Calls visit(t, i) for each orientation i of view `from` whose channel lies within orientation t of
+// view `to` (T orientations over 180 deg; the frames differ by a roll about the direction): the one
+// or two nearest, or every orientation where `to`'s up lies along `from`'s direction.
+template <class Visit>
+void in_frame(const ProfileView& from, const ProfileView& to, std::size_t T, Visit visit) {
   const float* d = from.direction;
   const float along = to.up[0] * d[0] + to.up[1] * d[1] + to.up[2] * d[2];
   const float u[3] = {to.up[0] - along * d[0], to.up[1] - along * d[1], to.up[2] - along * d[2]};
@@ -147,10 +153,9 @@ void max_in_frame(const float* lost, const ProfileView& from, const ProfileView&
                           f[0] * d[1] - f[1] * d[0]};  // -direction x up
   const double x = u[0] * right[0] + u[1] * right[1] + u[2] * right[2];
   const double y = u[0] * f[0] + u[1] * f[1] + u[2] * f[2];
-  const std::size_t T = orientations, B = bands;
-  if (x * x + y * y < 1e-6) {  // `to`'s up along `from`'s direction: no common frame, every orientation
+  if (x * x + y * y < 1e-6) {  // no common frame: every orientation
     for (std::size_t t = 0; t < T; ++t)
-      for (std::size_t i = 0; i < T * B; ++i) out[t * B + i % B] = std::max(out[t * B + i % B], lost[i]);
+      for (std::size_t i = 0; i < T; ++i) visit(t, i);
     return;
   }
   // `to`'s orientation a [deg] is `from`'s a + delta: `to`'s up (90 deg) lies at atan2(y, x) in `from`.
@@ -160,12 +165,17 @@ void max_in_frame(const float* lost, const ProfileView& from, const ProfileView&
     if (p < 0) p += double(T);
     const auto i0 = static_cast<std::size_t>(p) % T, i1 = (i0 + 1) % T;
     const double frac = p - std::floor(p);
-    for (std::size_t b = 0; b < B; ++b) {
-      const float a = lost[i0 * B + b], c = lost[i1 * B + b];
-      const float v = frac < 1e-3 ? a : frac > 1 - 1e-3 ? c : std::max(a, c);
-      out[t * B + b] = std::max(out[t * B + b], v);
-    }
+    if (frac <= 1 - 1e-3) visit(t, i0);
+    if (frac >= 1e-3) visit(t, i1);
   }
+}
+
+void max_in_frame(const float* lost, const ProfileView& from, const ProfileView& to, std::size_t orientations,
+                  std::size_t bands, float* out) {
+  const std::size_t B = bands;
+  in_frame(from, to, orientations, [&](std::size_t t, std::size_t i) {
+    for (std::size_t b = 0; b < B; ++b) out[t * B + b] = std::max(out[t * B + b], lost[i * B + b]);
+  });
 }
 
 std::size_t nearest_view(const std::vector<ProfileView>& views, const float* d) {
@@ -258,24 +268,64 @@ struct BoundState {
   std::vector<std::vector<float>> switching;      // per kept view: [K-1]
 };
 
-// The Detail entries of kept view v ([(K-1) T B]). Its own measurement's area and frequency; with
-// cell bounds the bound's loss may come from a member measured elsewhere, so the area is the largest
-// over the view and every member (each member's over all its orientations: their frames differ by a
-// roll) and the frequency and orientation are the centres' (offset and turn 0), as without the section.
-std::vector<ProfileDetail> view_detail(const std::vector<ViewMeasurement>& data, std::size_t v,
-                                       const std::vector<std::size_t>* members, std::size_t T,
-                                       std::size_t B) {
+// The Detail entries of kept view v ([(K-1) T B]): without cell bounds its own measurement's area,
+// frequency and orientation. With cell bounds the entry's loss L (`bound`) is the largest over the
+// cell's members, and its area is the largest loss energy over them (c^2 a: a member's lost contrast
+// squared times its extent, each channel in the frame of v as for the loss) over L^2. That pair
+// bounds every member under Rovamo's area law, whose squared threshold factor 1 + A_c / A is affine
+// in 1 / A: c^2 (1 + x / a) <= L^2 (1 + x / a*) for every x >= 0 when c <= L and c^2 a <= L^2 a*.
+// (The largest area over the members, as before, bounds them too but weighs a weak loss's extent
+// like the strongest's.) Frequency and orientation are the centres' (offset and turn 0).
+std::vector<ProfileDetail> view_detail(const std::vector<ProfileView>& views,
+                                       const std::vector<ViewMeasurement>& data, std::size_t v,
+                                       const std::vector<std::size_t>* members,
+                                       const std::vector<float>* bound, std::size_t T, std::size_t B) {
   const ViewMeasurement& own = data[v];
   std::vector<ProfileDetail> out(own.lost.size());
+  if (!members) {
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = encode_detail(own.area[i], own.offset[i], own.turn[i]);
+    return out;
+  }
+  std::vector<double> energy(own.lost.size());  // the largest c^2 a per entry, in v's frame
+  for (std::size_t i = 0; i < energy.size(); ++i) energy[i] = double(own.lost[i]) * own.lost[i] * own.area[i];
+  for (std::size_t s : *members) {
+    if (s == v) continue;
+    for (std::size_t k = 0; k < own.lost.size() / (T * B); ++k) {
+      const float* lost = &data[s].lost[k * T * B];
+      const float* area = &data[s].area[k * T * B];
+      double* to = &energy[k * T * B];
+      in_frame(views[s], views[v], T, [&](std::size_t t, std::size_t i) {
+        for (std::size_t b = 0; b < B; ++b)
+          to[t * B + b] =
+              std::max(to[t * B + b], double(lost[i * B + b]) * lost[i * B + b] * area[i * B + b]);
+      });
+    }
+  }
   for (std::size_t i = 0; i < out.size(); ++i) {
-    float area = own.area[i];
+    const double l = (*bound)[i];
+    out[i] = encode_detail(l > 0 ? float(std::min(1.0, energy[i] / (l * l))) : 0.0f, 0.0f, 0.0f);
+  }
+  return out;
+}
+
+// The Pooled entries of kept view v ([(K-1) B]): its own pooled loss and extent, or with cell bounds
+// (`members`) the largest pooled loss L over the cell and the largest energy c^2 a over it divided by
+// L^2 (pooled over orientations, the loss has no frame: no roll to match). That pair bounds every
+// member under the area law, as view_detail()'s does.
+std::vector<ProfilePooled> view_pooled(const std::vector<ViewMeasurement>& data, std::size_t v,
+                                       const std::vector<std::size_t>* members) {
+  const ViewMeasurement& own = data[v];
+  std::vector<ProfilePooled> out(own.pooled.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    double top = own.pooled[i], energy = double(own.pooled[i]) * own.pooled[i] * own.pooled_area[i];
     if (members)
-      for (std::size_t s : *members)
-        if (s != v) {
-          const std::size_t kb = i / (T * B) * T * B + i % B;  // level k, band b, orientation 0
-          for (std::size_t t = 0; t < T; ++t) area = std::max(area, data[s].area[kb + t * B]);
-        }
-    out[i] = members ? encode_detail(area, 0.0f, 0.0f) : encode_detail(area, own.offset[i], own.turn[i]);
+      for (std::size_t s : *members) {
+        const double l = data[s].pooled[i];
+        top = std::max(top, l);
+        energy = std::max(energy, l * l * data[s].pooled_area[i]);
+      }
+    out[i] = encode_pooled(float(top), top > 0 ? float(std::min(1.0, energy / (top * top))) : 0.0f);
   }
   return out;
 }
@@ -452,15 +502,19 @@ ProfileData build_profile(const std::vector<LevelInput>& levels, const Material&
   out.lost.resize((K - 1) * kept.size() * T * B);
   out.features.resize(K * kept.size() * T);
   out.detail.resize(out.lost.size());
+  out.pooled.resize((K - 1) * kept.size() * B);
   for (std::size_t j = 0; j < kept.size(); ++j) {
     const ViewMeasurement& m = data[kept[j]];
     const std::vector<float>& lost = settings.bound_cells ? bound.lost[j] : m.lost;
     const std::vector<ProfileDetail> detail =
-        view_detail(data, kept[j], settings.bound_cells ? &bound.members[j] : nullptr, T, B);
+        view_detail(views, data, kept[j], settings.bound_cells ? &bound.members[j] : nullptr, &lost, T, B);
+    const std::vector<ProfilePooled> pooled =
+        view_pooled(data, kept[j], settings.bound_cells ? &bound.members[j] : nullptr);
     out.views.push_back(views[kept[j]]);
     for (std::size_t k = 1; k < K; ++k) {
       std::copy_n(&lost[(k - 1) * T * B], T * B, &out.lost[((k - 1) * kept.size() + j) * T * B]);
       std::copy_n(&detail[(k - 1) * T * B], T * B, &out.detail[((k - 1) * kept.size() + j) * T * B]);
+      std::copy_n(&pooled[(k - 1) * B], B, &out.pooled[((k - 1) * kept.size() + j) * B]);
     }
     for (std::size_t k = 0; k < K; ++k)
       std::copy_n(&m.features[k * T], T, &out.features[(k * kept.size() + j) * T]);

@@ -66,13 +66,15 @@ using ProgressFn = std::function<void(const char* stage, std::size_t done, std::
 
 // One view's measurement.
 struct ViewMeasurement {
-  std::vector<float> lost;       // [(K-1) T B]
-  std::vector<float> area;       // [(K-1) T B] the loss's extent (LostContrast::measure's area)
-  std::vector<float> offset;     // [(K-1) T B] its frequency within the band [octaves] (... offset)
-  std::vector<float> turn;       // [(K-1) T B] its angle from the orientation [spacings] (... turn)
-  std::vector<float> features;   // [K T]
-  std::vector<float> switching;  // [K-1] angular diameter [deg] at which level k's loss becomes
-                                 // visible (still object, fovea, default model; 180 = never, 1e-4 = always)
+  std::vector<float> lost;         // [(K-1) T B]
+  std::vector<float> area;         // [(K-1) T B] the loss's extent (LostContrast::measure's area)
+  std::vector<float> pooled;       // [(K-1) B] each band's loss pooled over orientations (... pooled)
+  std::vector<float> pooled_area;  // [(K-1) B] its extent (... pooled_area)
+  std::vector<float> offset;       // [(K-1) T B] its frequency within the band [octaves] (... offset)
+  std::vector<float> turn;         // [(K-1) T B] its angle from the orientation [spacings] (... turn)
+  std::vector<float> features;     // [K T]
+  std::vector<float> switching;    // [K-1] angular diameter [deg] at which level k's loss becomes
+                                   // visible (still object, fovea, default model; 180 = never, 1e-4 = always)
 };
 
 // Renders and analyses a chain at any view; shared by the builder and by direct ground truth.
