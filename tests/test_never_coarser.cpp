@@ -5,6 +5,7 @@
 // synthetic ones. The full run makes over 10^6 decisions (ACUITY_QUICK_TESTS: a tenth).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -81,6 +82,25 @@ OwnedProfile synthetic_profile(unsigned seed) {
     for (std::uint32_t v = 0; v < V; ++v)
       for (std::uint32_t t = 0; t < T; ++t)
         d.features.push_back(256.0f / float(1u << k) * (1.0f + 0.1f * float(t % 3)));
+  // The area law's inputs (SchedulerConfig::area_law): every other profile a Pooled section (a
+  // band's loss pooled over orientations, between the largest channel and their energy, over a
+  // random extent), one in four only Detail (the law's bound from the channels), one in four none.
+  if (seed % 2 == 0) {
+    for (std::uint32_t kv = 0; kv < (K - 1) * V; ++kv)
+      for (std::uint32_t b = 0; b < B; ++b) {
+        float top = 0, energy = 0;
+        for (std::uint32_t t = 0; t < T; ++t) {
+          const float c = d.lost[(kv * T + t) * B + b];
+          top = std::max(top, c);
+          energy += c * c;
+        }
+        const float peak = top + r.uniform(0, 1) * (std::sqrt(energy) - top);
+        d.pooled.push_back(spectra::encode_pooled(peak, r.log_uniform(1e-5f, 1.0f)));
+      }
+  } else if (seed % 4 == 1) {
+    for (std::size_t i = 0; i < d.lost.size(); ++i)
+      d.detail.push_back(spectra::encode_detail(r.log_uniform(1e-5f, 1.0f), 0.0f, 0.0f));
+  }
   const Blob blob = spectra::encode_profile(d);
   return from_bytes(blob.data(), blob.size);
 }

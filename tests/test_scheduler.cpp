@@ -1101,9 +1101,83 @@ TEST(SchedulerExplain, NamesTheLimitingBand) {
   EXPECT_LE(ex.levels[ex.level].score, 1.0f);
 }
 
+// The area law (SchedulerConfig::area_law) on a profile's Pooled section, exactly: each band's pooled
+// loss L over q CT sqrt(1 + A_c(f) / A), A the pooled extent times the squared angular diameter, the
+// score the largest over bands; a still object and one moving across (every orientation at its own
+// speed reads L). Off, or without the section, the scores are the plain rule's; the tables never
+// choose coarser than these exact scores.
+TEST(SchedulerAreaLaw, PooledLossOverTheAreaLawsThreshold) {
+  TestProfile pooled;
+  const auto& d0 = pooled.data;
+  const std::size_t B = d0.bands.size(), n = (d0.levels.size() - 1) * d0.views.size() * B;
+  const std::size_t T0 = d0.orientations.size();
+  for (std::size_t i = 0; i < n; ++i) {  // each band's largest channel, extents 2^-4 .. 2^-12
+    float top = 0;
+    for (std::size_t t = 0; t < T0; ++t) top = std::max(top, d0.lost[(i / B * T0 + t) * B + i % B]);
+    pooled.data.pooled.push_back(spectra::encode_pooled(top, std::ldexp(1.0f, -4 - int(i % 9))));
+  }
+  pooled.blob = spectra::encode_profile(pooled.data);
+  ASSERT_EQ(open_profile(pooled.blob.data(), pooled.blob.size, &pooled.profile), ProfileStatus::Ok);
+  const TestProfile plain;
+  for (const float speed : {0.0f, 6.0f}) {
+    float scores[3][kMaxLevels];
+    ObjectExplain ex;
+    std::uint8_t level[3][2];
+    for (int variant = 0; variant < 3; ++variant) {  // law on the Pooled profile; off; on the plain profile
+      for (const Evaluation evaluation : {Evaluation::Exact, Evaluation::Tabulated}) {
+        if (variant > 0 && evaluation == Evaluation::Tabulated) continue;  // tables: the law's only
+        SchedulerConfig c;
+        c.max_objects = 2;
+        c.keep_scores = true;
+        c.gaze_uncertainty_deg = 0;
+        c.evaluation = evaluation;
+        c.area_law = variant != 1;
+        Scheduler s(c);
+        const ObjectId id =
+            s.add_object(s.add_profile(variant == 2 ? plain.profile : pooled.profile), at(1, 0, -12));
+        const float velocity[3] = {0, speed * 12 * 3.14159265f / 180, 0};
+        s.set_velocity(id, velocity);
+        Frame f = looking_forward();
+        f.eyes[0].viewport[0] = f.eyes[0].viewport[1] = 40000;  // 175 cpd: above every band
+        gaze_at(f, 0, 0, -1);
+        s.run_frame(f);
+        level[variant][evaluation == Evaluation::Tabulated] = s.level(id);
+        if (evaluation == Evaluation::Tabulated) continue;
+        std::copy_n(s.scores(id), kMaxLevels, scores[variant]);
+        if (variant == 0) { ASSERT_TRUE(s.explain(id, &ex)); }
+      }
+      if (variant == 0) {
+        EXPECT_LE(level[0][1], level[0][0]) << "speed " << speed;  // never coarser
+      }
+    }
+    const auto& pr = pooled.profile;
+    const std::uint32_t V = pr.meta.view_count;
+    const double d = ex.angular_diameter_deg;
+    for (std::uint32_t k = 1; k < pr.meta.level_count; ++k) {
+      double expected = 0;  // still (every orientation at the drift floor); moving: checked against exact
+      for (std::uint32_t b = 0; b < B; ++b) {
+        const ProfilePooled& e = pr.pooled[((k - 1) * V + ex.view) * B + b];
+        const double f = pr.bands[b] / d, area = std::exp2(-0.125 * e.area_code) * d * d;
+        const double ct = std::exp(
+            log_threshold<double>(f, ex.eccentricity_deg, 0.15, ThresholdModel::Default, ModelParams{}) +
+            stela_log_area_penalty<double>(f, area));
+        expected = std::max(expected, e.lost / ct);
+      }
+      if (speed == 0) { EXPECT_NEAR(scores[0][k] / expected, 1.0, 2e-3) << k; }
+      EXPECT_NEAR(ex.levels[k].score, scores[0][k], 1e-4f * scores[0][k]) << k;
+      EXPECT_EQ(scores[1][k], scores[2][k]) << k;  // off: as without the section
+      if (speed == 0) {  // small extents: the law lowers every still score (a moving object's rows all
+                         // read the pooled loss, which its slowest orientation may see more of)
+        EXPECT_LT(scores[0][k], scores[1][k]) << k;
+      }
+    }
+  }
+}
+
 // A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
 // and pools the channels (energy over orientations, probability summation over bands with exponent
-// kBandPooling); the other models ignore it. The display is dense enough that no band is cut.
+// kBandPooling); the other models read it through the area law's bound (without a Pooled section:
+// per band the channels' energy over the extent sum_t a c_t^2 / max_t c_t^2, SchedulerConfig::area_law). The display is dense enough that no band is cut.
 // Offset 0 takes the path that reuses the band centre's thresholds.
 // Params: frequency offset [octaves], turn [orientation spacings].
 class SchedulerDetail : public ::testing::TestWithParam<std::pair<float, float>> {};
@@ -1140,8 +1214,25 @@ TEST_P(SchedulerDetail, StelaEvaluatesEachLossAtItsFrequencyAndArea) {
       std::copy_n(s.scores(id), kMaxLevels, scores[with]);
     }
     for (int k = 1; k < 6; ++k) {
-      if (model != ThresholdModel::StelaCsf) {
-        EXPECT_EQ(scores[0][k], scores[1][k]) << k;
+      if (model != ThresholdModel::StelaCsf) {  // the area law's bound from the channels (no Pooled)
+        const double d = ex[1].angular_diameter_deg;
+        const auto& pr = detailed.profile;
+        const std::uint32_t T = pr.meta.orientation_count, B = pr.meta.band_count;
+        double expected = 0;
+        for (std::uint32_t b = 0; b < B; ++b) {
+          double energy = 0, top = 0;
+          for (std::uint32_t t = 0; t < T; ++t) {
+            const double c = pr.lost_contrast(k, ex[1].view, t, b);
+            energy += c * c;
+            top = std::max(top, c * c);
+          }
+          const double f = pr.bands[b] / d, extent = energy / top * decoded_area * d * d;
+          const double ct =
+              std::exp(log_threshold<double>(f, ex[1].eccentricity_deg, 0.15, model, ModelParams{}) +
+                       stela_log_area_penalty<double>(f, extent));
+          expected = std::max(expected, std::sqrt(energy) / ct);
+        }
+        EXPECT_NEAR(scores[1][k] / expected, 1.0, 2e-3) << k;
         continue;
       }
       // Every channel's threshold and the pooled score, computed here from the model's functions.

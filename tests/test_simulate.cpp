@@ -706,8 +706,9 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
   EXPECT_EQ(run.rules[0].name, "perceptual");
   EXPECT_FALSE(run.rules[0].sweep);
   // Each margin change counted from its levels; removing a margin never makes a decision finer, and
-  // adding one (Max3) never makes one coarser; the tables never decide coarser than exact.
-  ASSERT_EQ(run.margins.size(), 4u);
+  // adding one (Max3) never makes one coarser; the tables never decide coarser than exact. (The area
+  // law off goes either way: a moving object's rows read the pooled loss with the law.)
+  ASSERT_EQ(run.margins.size(), 5u);
   for (const SampledRun::MarginChange& m : run.margins) {
     double triangles = 0;
     std::uint32_t losses = 0;
@@ -715,7 +716,9 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
       const std::uint8_t level = m.levels[i];
       triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[level].triangles;
       losses += run.judged[i].scores[level] > 1.0f;
-      if (m.name.find("Max3") != std::string::npos) {
+      if (m.name.find("area law") != std::string::npos) {
+        continue;
+      } else if (m.name.find("Max3") != std::string::npos) {
         EXPECT_LE(level, run.levels[0][i]) << m.name << " decision " << i;
       } else {
         EXPECT_GE(level, run.levels[0][i]) << m.name << " decision " << i;

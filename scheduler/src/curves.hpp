@@ -32,6 +32,15 @@ struct Scheduler::Impl::Curves {
     float lower, upper;  // [ln deg] at the cell's lower and upper node
   };
   std::vector<Lift> still_lift, speed_lift, moving_e_lift;
+  // The area law (Rovamo's, stelaCSF's constants a0 [deg^2], f0 [cpd]) on a loss of extent a [fraction
+  // of the squared angular diameter D] in a band of centre c [cpod], seen at f = c / D: the threshold
+  // grows by sqrt(1 + A_c(f) / (a D^2)), A_c = a0 / (1 + (f / f0)^2). In u = ln f that is
+  // ln-factor 0.5 ln(1 + k w(u)), k = a0 / (a c^2) (per loss: area_k(); 0 for no area law) and
+  // w(u) = 1 / (e^(-2u) + f0^-2) (per curve sample: area_weight), rising with u: adding it keeps a
+  // curve non-decreasing, so every search below reads curve + term as it read the curve.
+  std::vector<float> area_weight;  // [kCurveSamples]
+  static float area_w(float u, float f0) { return 1.0f / (std::exp(-2.0f * u) + 1.0f / (f0 * f0)); }
+  static float area_term(float k, float w) { return k > 0.0f ? 0.5f * std::log1p(k * w) : 0.0f; }
   static float speed(std::uint32_t i, float floor) { return floor * power_of_two(i); }
   // The speed at weight w of speed cell i (speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo +
   // 2 v0), solved for v).
@@ -109,17 +118,19 @@ struct Scheduler::Impl::Curves {
   // curve's ends decided, nothing to refine).
   // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
   // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
+  // With the area law (k > 0, aw = area_weight) the curve read is curve + area_term().
   static float sampled_size(const float* curve, float y, float ln_band, int* bracket,
-                            int hint = kCurveSamples / 2) {
+                            int hint = kCurveSamples / 2, float k = 0.0f, const float* aw = nullptr) {
     *bracket = -1;
-    if (!(y > curve[0])) return ln_band - kCurveU0;
-    if (y > curve[kCurveSamples - 1]) return ln_band - kCurveU1;
-    int lo = 0, hi = kCurveSamples - 1;  // curve[lo] < y <= curve[hi]
+    const auto at = [&](int i) { return k > 0.0f ? curve[i] + area_term(k, aw[i]) : curve[i]; };
+    if (!(y > at(0))) return ln_band - kCurveU0;
+    if (y > at(kCurveSamples - 1)) return ln_band - kCurveU1;
+    int lo = 0, hi = kCurveSamples - 1;  // at(lo) < y <= at(hi)
     hint = std::clamp(hint, 1, kCurveSamples - 1);
-    if (curve[hint] >= y) {  // gallop down from the hint
+    if (at(hint) >= y) {  // gallop down from the hint
       hi = hint;
       for (int step = 1; hi - step > 0; step *= 2) {
-        if (curve[hi - step] < y) {
+        if (at(hi - step) < y) {
           lo = hi - step;
           break;
         }
@@ -128,7 +139,7 @@ struct Scheduler::Impl::Curves {
     } else {  // gallop up
       lo = hint;
       for (int step = 1; lo + step < kCurveSamples - 1; step *= 2) {
-        if (curve[lo + step] >= y) {
+        if (at(lo + step) >= y) {
           hi = lo + step;
           break;
         }
@@ -137,58 +148,66 @@ struct Scheduler::Impl::Curves {
     }
     while (hi - lo > 1) {
       const int mid = (lo + hi) / 2;
-      (curve[mid] >= y ? hi : lo) = mid;
+      (at(mid) >= y ? hi : lo) = mid;
     }
     *bracket = hi;
     return ln_band - (kCurveU0 + kCurveStep * float(hi));
   }
   static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band,
-                      float e, float v, bool moving) {
+                      float e, float v, bool moving, float k = 0.0f) {
     float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
     const VelocityTerms own = pre.own_terms(v, moving);
+    const auto f0 = static_cast<float>(c.params.stela.f0);
     for (int i = 0; i < 6; ++i) {
       const float mid = 0.5f * (ulo + uhi);
-      (pre.ln_ct(c, mid, e, v, moving, own) >= y ? uhi : ulo) = mid;
+      (pre.ln_ct(c, mid, e, v, moving, own) + area_term(k, area_w(mid, f0)) >= y ? uhi : ulo) = mid;
     }
     return ln_band - uhi;
   }
   static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving, int* hint) {
+                            float ln_band, float e, float v, bool moving, int* hint, float k = 0.0f,
+                            const float* aw = nullptr) {
     int bracket;
-    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint);
+    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint, k, aw);
     if (bracket >= 0) *hint = bracket;
-    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving);
+    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving, k);
   }
   // Whether sampled_size(curve, y, ln_band) is at least s (strict: above s), exactly as that computes
   // it but without its search: its value ln_band - (kCurveU0 + kCurveStep hi) falls as the bracket's
   // upper end hi rises (float rounding is monotone), so it is at least s where hi is at most the
   // last index c whose value is: where curve[c] >= y (hi is the first index whose sample is).
-  static bool sampled_at_least(const float* curve, float y, float ln_band, float s, bool strict) {
+  static bool sampled_at_least(const float* curve, float y, float ln_band, float s, bool strict,
+                               float k = 0.0f, const float* aw = nullptr) {
     const auto passes = [&](float v) { return strict ? v > s : v >= s; };
-    if (!(y > curve[0])) return passes(ln_band - kCurveU0);
-    if (y > curve[kCurveSamples - 1]) return passes(ln_band - kCurveU1);
+    const auto at = [&](int i) { return k > 0.0f ? curve[i] + area_term(k, aw[i]) : curve[i]; };
+    if (!(y > at(0))) return passes(ln_band - kCurveU0);
+    if (y > at(kCurveSamples - 1)) return passes(ln_band - kCurveU1);
     const auto value = [&](int i) { return ln_band - (kCurveU0 + kCurveStep * float(i)); };
     const float guess = std::floor((ln_band - s - kCurveU0) / kCurveStep);  // c, give or take a step
     int c = guess >= 0.0f ? static_cast<int>(std::min(guess, float(kCurveSamples - 1))) : -1;
     while (c + 1 < kCurveSamples && passes(value(c + 1))) ++c;
     while (c >= 0 && !passes(value(c))) --c;
-    return c >= 1 && curve[c] >= y;  // here curve[0] < y <= curve[last]: hi >= 1
+    return c >= 1 && at(c) >= y;  // here at(0) < y <= at(last): hi >= 1
   }
   // min over bands of sampled_size(): one search for the band `*lead` (in: the least band at a
   // neighbouring node, out: the least here), and for each other band one comparison at an index
   // (sampled_at_least()), searched only where it lies below. The same value as a search per band,
   // in a fraction of the work (one band is usually least over a region of the grid).
+  // k: per band, the area law's (area_k()), or null for none.
   static float least_sampled(const float* curve, const float* y, const float* ln_band, std::uint32_t bands,
-                             int* hint, std::uint32_t* lead) {
+                             int* hint, std::uint32_t* lead, const float* k = nullptr,
+                             const float* aw = nullptr) {
     if (bands == 0) return -kNever;
     int bracket;
     const std::uint32_t first = std::min(*lead, bands - 1);
     *lead = first;
-    float least = sampled_size(curve, y[first], ln_band[first], &bracket, hint[first]);
+    const auto k_of = [&](std::uint32_t b) { return k ? k[b] : 0.0f; };
+    float least = sampled_size(curve, y[first], ln_band[first], &bracket, hint[first], k_of(first), aw);
     if (bracket >= 0) hint[first] = bracket;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      if (b == first || sampled_at_least(curve, y[b], ln_band[b], least, false)) continue;
-      least = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b]);  // below the least so far
+      if (b == first || sampled_at_least(curve, y[b], ln_band[b], least, false, k_of(b), aw)) continue;
+      least =
+          sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], k_of(b), aw);  // below the least so far
       if (bracket >= 0) hint[b] = bracket;
       *lead = b;
     }
@@ -199,15 +218,17 @@ struct Scheduler::Impl::Curves {
   // searched (sampled_at_least()): they cannot be the minimum. Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
                              const float* y, const float* ln_band, std::uint32_t bands, float e, float v,
-                             bool moving, int* hint, std::uint32_t* lead) {
-    const float near = least_sampled(curve, y, ln_band, bands, hint, lead) + 1.01f * kCurveStep;
+                             bool moving, int* hint, std::uint32_t* lead, const float* k = nullptr,
+                             const float* aw = nullptr) {
+    const float near = least_sampled(curve, y, ln_band, bands, hint, lead, k, aw) + 1.01f * kCurveStep;
     float m = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      if (sampled_at_least(curve, y[b], ln_band[b], near, true)) continue;
+      const float kb = k ? k[b] : 0.0f;
+      if (sampled_at_least(curve, y[b], ln_band[b], near, true, kb, aw)) continue;
       int bracket;
-      const float sampled = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b]);
+      const float sampled = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], kb, aw);
       if (bracket >= 0) hint[b] = bracket;
-      m = std::min(m, bracket >= 0 ? refine(pre, c, bracket, y[b], ln_band[b], e, v, moving) : sampled);
+      m = std::min(m, bracket >= 0 ? refine(pre, c, bracket, y[b], ln_band[b], e, v, moving, kb) : sampled);
     }
     return m;
   }

@@ -67,8 +67,12 @@ struct Scheduler::Impl {
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
   bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
+  bool area_law(const Profile& p) const;     // SchedulerConfig::area_law applies to p's losses
+  void area_ks(ProfileCache& c) const;       // fills c.area_k, area_k_any (empty where it does not apply)
   void detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
                          const float* centre_ln_ct, std::uint32_t stride, float* ln_ct) const;
+  void area_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
+                       const float* ln_ct, std::uint32_t rows, std::uint32_t stride, float* out) const;
   void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
                        float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
                        float* row) const;
@@ -162,8 +166,8 @@ struct Scheduler::Impl {
   void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
   void build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const;
   void build_any_view(ProfileCache& c, std::uint32_t set) const;
-  void lower_speed_rows(const float* nodes, const float* ys, const float* ln_band, std::uint32_t B,
-                        std::uint32_t T, float* lowers) const;
+  void lower_speed_rows(const float* nodes, const float* ys, const float* ks, const float* ln_band,
+                        std::uint32_t B, std::uint32_t T, float* lowers) const;
   struct Need;
   struct Lowering {
     float lower, upper;  // [ln deg] at a cell's lower and upper node

@@ -121,6 +121,60 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   }
 }
 
+bool Scheduler::Impl::area_law(const Profile& p) const {
+  return config_.area_law && (p.pooled || p.detail) && config_.rule == SelectionRule::Perceptual &&
+         (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry ||
+          config_.model == ThresholdModel::KellyDaly);
+}
+
+// With the area law (area_law()) a band's loss is read as the eye pools it: the energy over the
+// orientations at each point, and that energy's extent. The Pooled section holds exactly that per
+// level, view and band (its peak L and extent A). A profile with Detail but without Pooled gives a
+// bound from each orientation channel's peak c_t and extent a_t: L = sqrt(sum_t c_t^2) is at least
+// the pooled peak sqrt(max_x sum_t c_t(x)^2), and A = sum_t a_t c_t^2 / max_t c_t^2 at least its
+// extent (the energy over its peak, which is >= max_t c_t^2), so L / sqrt(1 + A_c / A) bounds the
+// pooled band's response (it reads up to about sqrt(T) high where the orientations' peaks lie
+// apart). Every orientation of the band then reads L (a moving object's row t at its own threshold:
+// the bound at the orientation the motion blurs least), and k = a0 / (A c^2) (Curves::area_term()).
+void Scheduler::Impl::area_ks(ProfileCache& c) const {
+  c.area_k.clear();
+  c.area_k_any.clear();
+  const Profile& p = c.profile;
+  if (!area_law(p)) return;
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
+                      B = p.meta.band_count;
+  const auto a0 = static_cast<double>(config_.params.stela.a0);
+  c.area_k.resize(c.ln_lost.size());
+  c.area_k_any.assign(std::size_t(K - 1) * V * B, 0.0f);
+  for (std::size_t kv = 0; kv < std::size_t(K - 1) * V; ++kv)
+    for (std::uint32_t b = 0; b < B; ++b) {
+      double energy = 0, area = 0;  // L^2 and A
+      if (p.pooled) {
+        const ProfilePooled& e = p.pooled[kv * B + b];
+        energy = double(e.lost) * e.lost;
+        area = std::exp2(-0.125 * e.area_code);
+      } else {
+        double spread = 0, top = 0;  // sum_t a_t c_t^2, max_t c_t^2
+        for (std::uint32_t t = 0; t < T; ++t) {
+          const std::size_t i = (kv * T + t) * B + b;
+          const double e = double(p.lost[i]) * p.lost[i];
+          energy += e;
+          spread += e * detail_area(p.detail[i]);
+          top = std::max(top, e);
+        }
+        area = top > 0 ? spread / top : 0;
+      }
+      const float ln_l = energy > 0 ? float(0.5 * std::log(energy)) : -kInf;
+      const float k = energy > 0 ? float(a0 / (double(p.bands[b]) * p.bands[b] * area)) : 0.0f;
+      c.ln_lost_any[kv * B + b] = ln_l;
+      c.area_k_any[kv * B + b] = k;
+      for (std::uint32_t t = 0; t < T; ++t) {
+        c.ln_lost[(kv * T + t) * B + b] = ln_l;
+        c.area_k[(kv * T + t) * B + b] = k;
+      }
+    }
+}
+
 float Scheduler::Impl::envelope_speed(float frequency_cpd) const {
   return pre_->speed_at(std::log(frequency_cpd));
 }
@@ -141,6 +195,7 @@ int Scheduler::Impl::add_profile(const Profile& p) {
         c.ln_lost_any[kv * B + b] = std::max(c.ln_lost_any[kv * B + b], c.ln_lost[(kv * T + t) * B + b]);
   c.ln_band.resize(B);
   for (std::uint32_t b = 0; b < B; ++b) c.ln_band[b] = std::log(p.bands[b]);
+  area_ks(c);
   c.cos_t.resize(T);
   c.sin_t.resize(T);
   for (std::uint32_t t = 0; t < T; ++t) {

@@ -176,8 +176,12 @@ namespace acuity {
 
 struct Scheduler::Impl::ProfileCache {
   Profile profile{};
-  std::vector<float> ln_lost;       // [(K-1) V T B], -inf where nothing is lost
-  std::vector<float> ln_lost_any;   // [(K-1) V B]: max over orientations (all a static object needs)
+  std::vector<float> ln_lost;      // [(K-1) V T B], -inf where nothing is lost
+  std::vector<float> ln_lost_any;  // [(K-1) V B]: max over orientations (all a static object needs)
+  // The area law's k per loss (Curves::area_term(): a0 / (extent x band centre^2), from the Detail
+  // section), empty when it does not apply (area_law() false): [(K-1) V T B] beside ln_lost, and
+  // [(K-1) V B] beside ln_lost_any, the extent there bounding every orientation's (see add_profile).
+  std::vector<float> area_k, area_k_any;
   std::vector<float> ln_band;       // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;    // [V][3] snapshot right = -direction x up, object space
@@ -200,6 +204,9 @@ struct Scheduler::Impl::ProfileCache {
   // table_bias_[i] (kTableSets). One set's four side by side: an object reads one set.
   Tables sets[kTableSets];
 };
+
+// One loss's area-law k (0: none) from a ProfileCache::area_k or area_k_any.
+inline float area_k_at(const std::vector<float>& k, std::size_t i) { return k.empty() ? 0.0f : k[i]; }
 
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Impl::Probe {

@@ -8,6 +8,10 @@ namespace acuity {
 void Scheduler::Impl::build_curves() {
   const Precomputed& pre = *pre_;
   curves_ = std::make_unique<Curves>();
+  curves_->area_weight.resize(kCurveSamples);
+  for (int i = 0; i < kCurveSamples; ++i)
+    curves_->area_weight[i] =
+        Curves::area_w(kCurveU0 + kCurveStep * float(i), static_cast<float>(config_.params.stela.f0));
   curves_->still.resize(std::size_t(kStillE) * kCurveSamples);
   curves_->slow.resize(std::size_t(kStillE) * kCurveSamples);
   for (std::uint32_t j = 0; j < kStillE; ++j) {
@@ -83,6 +87,7 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   const std::size_t kv = std::size_t(k - 1) * V + w;
+  const float* aw = curves_->area_weight.data();
   std::vector<std::int16_t>& still = c.sets[set].still;
   // Still and slow: per band, then the minimum over the bands the display shows (prefix minima).
   // Where a cell's midpoint shows the interpolation above the truth (a convex kink: the CSF's
@@ -97,16 +102,17 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
       const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
       float prefix = -kNever, mid_prefix = -kNever;
       for (std::uint32_t b = 0; b < B; ++b) {
-        const float y = c.ln_lost_any[kv * B + b] - ln_q;
+        const float y = c.ln_lost_any[kv * B + b] - ln_q, kb = area_k_at(c.area_k_any, kv * B + b);
         prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
-                                                       pre.floor_velocity, slow, &hint[b]));
+                                                       pre.floor_velocity, slow, &hint[b], kb, aw));
         node[j][b] = prefix;
         if (j + 1 < kStillE && midpoints) {
           const float* centre =
               &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
-          mid_prefix = std::min(mid_prefix, Curves::largest_size(pre, config_, centre, y, c.ln_band[b],
-                                                                 Curves::still_centre_e(j),
-                                                                 pre.floor_velocity, slow, &mid_hint[b]));
+          mid_prefix =
+              std::min(mid_prefix,
+                       Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
+                                            pre.floor_velocity, slow, &mid_hint[b], kb, aw));
         }
         mid[j][b] = mid_prefix;
       }
@@ -146,25 +152,30 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * T;
   // Row r = (w L + (k - 1)) T + t: view w, level k, orientation t at its own speed, every band.
-  std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
+  std::vector<float> y(R * kMaxBands), ks(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
+  const float* aw = curves_->area_weight.data();
   std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
   std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
   for (std::uint32_t w = 0; w < V; ++w)
     for (std::uint32_t k = 1; k <= L; ++k)
       for (std::uint32_t t = 0; t < T; ++t) {
         const std::size_t r = (std::size_t(w) * L + (k - 1)) * T + t, kv = std::size_t(k - 1) * V + w;
-        for (std::uint32_t b = 0; b < B; ++b) y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
+        for (std::uint32_t b = 0; b < B; ++b) {
+          y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
+          ks[r * kMaxBands + b] = area_k_at(c.area_k, (kv * T + t) * B + b);
+        }
       }
   for (std::uint32_t i = 0; i < kMovingS; ++i)
     for (std::uint32_t j = 0; j < kMovingE; ++j) {
       const float* curve = &curves_->moving[(i * kMovingE + j) * std::size_t(kCurveSamples)];
       for (std::size_t r = 0; r < R; ++r)
-        nodes[r * N + i * kMovingE + j] = Curves::smallest_size(
-            pre, config_, curve, &y[r * kMaxBands], c.ln_band.data(), B, moving_e_node(j),
-            Curves::speed(i, pre.floor_velocity), true, &hints[r * kMaxBands], &leads[r]);
+        nodes[r * N + i * kMovingE + j] =
+            Curves::smallest_size(pre, config_, curve, &y[r * kMaxBands], c.ln_band.data(), B,
+                                  moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
+                                  &hints[r * kMaxBands], &leads[r], &ks[r * kMaxBands], aw);
     }
   if (!curves_->row_checks.empty())
-    lower_speed_rows(nodes.data(), y.data(), c.ln_band.data(), B, static_cast<std::uint32_t>(R),
+    lower_speed_rows(nodes.data(), y.data(), ks.data(), c.ln_band.data(), B, static_cast<std::uint32_t>(R),
                      lowers.data());
   // Concave along eccentricity keeps the cell's rows' blend below; where the midpoint shows the
   // bilinear surface above the truth, the cell's corners come down by the excess.
@@ -189,7 +200,7 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         const float truth = Curves::smallest_size(
             pre, config_, centre, &y[r * kMaxBands], c.ln_band.data(), B, Curves::centre_e(j),
             Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true, &hints[r * kMaxBands],
-            &leads[r]);
+            &leads[r], &ks[r * kMaxBands], aw);
         const float excess = mean - truth;
         if (excess > 0)
           for (const std::uint32_t q : corner) lower[q] = std::max(lower[q], excess);
@@ -222,9 +233,11 @@ struct Scheduler::Impl::Need {
 // stay at or below the truth at its lower end. A cell's two nodes come down by the least total that
 // does it (least_lowering()); a node shared by two cells may come down for either (which only lowers
 // the other's).
-void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, const float* ln_band,
-                                       std::uint32_t B, std::uint32_t T, float* lowers) const {
+void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, const float* ks,
+                                       const float* ln_band, std::uint32_t B, std::uint32_t T,
+                                       float* lowers) const {
   const Precomputed& pre = *pre_;
+  const float* aw = curves_->area_weight.data();
   constexpr int M = Curves::kRowChecks;
   const std::size_t N = std::size_t(kMovingS) * kMovingE;
   // Each row's and check's brackets at the previous cell.
@@ -236,6 +249,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
       for (std::uint32_t t = 0; t < T; ++t) {
         const float* node = &nodes[t * N];
         const float* y = &ys[t * kMaxBands];
+        const float* k = &ks[t * kMaxBands];
         float* lower = &lowers[t * N];
         int* hint = &hints[std::size_t(t) * M * kMaxBands];
         std::uint32_t* lead = &leads[std::size_t(t) * M];
@@ -247,7 +261,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
         truth[M] = node[at1];
         for (int m = 1; m < M; ++m)
           truth[m] = Curves::least_sampled(&curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
-                                           &hint[m * kMaxBands], &lead[m]);
+                                           &hint[m * kMaxBands], &lead[m], k, aw);
         Need needs[3 * M];  // what the row needs (only where it must come down)
         int count = 0;
         const auto gather = [&] {
@@ -277,7 +291,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
           truth[m] = Curves::smallest_size(
               pre, config_, &curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
               moving_e_node(j), Curves::speed_at(i, float(m) / M, pre.floor_velocity, pre.speed_offset), true,
-              refine_hint, &refine_lead);
+              refine_hint, &refine_lead, k, aw);
         }
         if (gather() == 0) continue;
         const Lowering d = least_lowering(needs, count);

@@ -31,12 +31,14 @@ double log_uniform(double min, double max, double u) { return min * std::pow(max
 
 // The perceptual rule's safety margins the configuration names, each changed alone: removed (the
 // gaze tracker's uncertainty, the tables' rounding and interpolation) or added (the largest loss of
-// the three nearest views instead of the nearest's).
+// the three nearest views instead of the nearest's, and the area law turned off: every loss read as
+// a full-field grating).
 struct MarginToggle {
   const char* name;
   void (*change)(SchedulerConfig*);
 };
 constexpr MarginToggle kMarginToggles[] = {
+    {"area law -> off", [](SchedulerConfig* c) { c->area_law = false; }},
     {"gaze uncertainty 1 deg -> 0", [](SchedulerConfig* c) { c->gaze_uncertainty_deg = 0; }},
     {"tables -> exact evaluation", [](SchedulerConfig* c) { c->evaluation = Evaluation::Exact; }},
     {"nearest view -> Max3 of three", [](SchedulerConfig* c) { c->view_blend = ViewBlend::Max3; }},
