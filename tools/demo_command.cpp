@@ -43,6 +43,7 @@ void run(const DemoCommand& o, const std::string& program) {
               so.seconds, so.fps, so.movers);
   sim::LargeObjectOptions large;
   large.profiles = scene.profiles;
+  large.pixels = o.demo.pixels;  // --res, as the field's profiles (the cache's stamp names it)
   const RunResult result = run_simulation(*scene.assets, so, true, o.large_object ? &large : nullptr);
   std::printf("\nacuity demo finished in %.1f s.\n", seconds());
   if (result.example.object >= 0)

@@ -76,6 +76,7 @@ void simulate(const SimulateOptions& o) {
   sim::LargeObjectOptions large;
   large.asset = o.large_object;
   large.profiles = o.assets.profiles;
+  large.pixels = o.assets.profile_pixels;
   if (!large.asset.empty()) sim::large_object_asset(*scene, large.asset, "--large-object");  // before the run
   run_simulation(*scene, o.sim, o.plot_hint, large.asset.empty() ? nullptr : &large);
 }

@@ -1,5 +1,6 @@
 // acuity.sim: the simulation from Python, through the same calls as `acuity simulate` and `acuity
-// explain` (acuity::bake::load_scene_assets, acuity::sim::simulate, summary_text, explain_frame).
+// explain` (acuity::bake::load_scene_assets, acuity::sim::simulate, summary_text, explain_frame,
+// run_large_object, large_object_text).
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -8,6 +9,7 @@
 
 #include "acuity/bake/scene.hpp"
 #include "acuity/file.hpp"
+#include "acuity/sim/large_object.hpp"
 #include "acuity/sim/run.hpp"
 #include "acuity/sim/tracks.hpp"
 #include "bindings.hpp"
@@ -21,12 +23,13 @@ namespace {
 // The options simulate and explain share, checked as the command line checks them.
 struct SceneRun {
   std::unique_ptr<bake::SceneAssets> scene;
+  bake::AssetOptions assets;
   sim::SimulationOptions options;
 };
 
-SceneRun load(const std::string& scene, const py::kwargs& kw) {
+SceneRun load(const std::string& scene, const py::dict& kw) {
   SceneRun r;
-  bake::AssetOptions assets;
+  bake::AssetOptions& assets = r.assets;
   assets.quiet = true;
   sim::SimulationOptions& o = r.options;
   for (const auto& [key, value] : kw) {
@@ -78,19 +81,51 @@ SceneRun load(const std::string& scene, const py::kwargs& kw) {
   return r;
 }
 
+// run_large_object's result as a dict, with the block `acuity simulate --large-object` prints.
+py::dict large_object_dict(const sim::LargeObjectRun& run, const sim::LargeObjectOptions& o) {
+  py::list spans;
+  for (const sim::LargeObjectRun::Span& span : run.spans) {
+    py::list judged;
+    for (const sim::LargeObjectRun::Judged& j : span.judged)
+      judged.append(py::dict("frame"_a = j.frame, "object_triangles"_a = j.object_triangles,
+                             "cut_triangles"_a = j.cut_triangles, "object_score"_a = j.object_score,
+                             "cut_score"_a = j.cut_score));
+    spans.append(py::dict("deg"_a = span.deg, "object_rule"_a = span.object_rule, "cut"_a = span.cut,
+                          "judged"_a = judged));
+  }
+  return py::dict("asset"_a = run.asset, "finest"_a = run.finest, "clusters"_a = run.clusters,
+                  "groups"_a = run.groups, "bands"_a = run.bands, "frames"_a = run.frames, "spans"_a = spans,
+                  "text"_a = sim::large_object_text(run, o));
+}
+
 }  // namespace
 
 void bind_sim(py::module_ m) {
   m.def(
       "simulate",
       [](const std::string& scene, const py::kwargs& kw) {
-        SceneRun r = load(scene, kw);
+        // large_object is simulate's own (as --large-object is the command's); the rest as explain's.
+        py::dict rest(kw);
+        sim::LargeObjectOptions large;
+        large.asset.clear();  // none unless asked (the options' default is the demo's)
+        if (rest.contains("large_object")) large.asset = rest.attr("pop")("large_object").cast<std::string>();
+        if (!large.asset.empty() &&
+            (!rest.contains("profiles") || rest["profiles"].cast<std::string>().empty()))
+          throw py::value_error("large_object needs profiles (the folder where its profile is cached)");
+        SceneRun r = load(scene, rest);
+        if (!large.asset.empty()) {
+          large.profiles = r.assets.profiles;
+          large.pixels = r.assets.profile_pixels;
+          sim::large_object_asset(*r.scene, large.asset, "large_object");  // before the run
+        }
         sim::Run run;
         std::string summary;
+        sim::LargeObjectRun large_run;
         {
           py::gil_scoped_release release;
           run = sim::simulate(*r.scene, r.options);
           summary = sim::summary_text(*run.simulation, run.results);
+          if (!large.asset.empty()) large_run = sim::run_large_object(*run.simulation, large);
         }
         const sim::Simulation& s = *run.simulation;
         const sim::Results& res = run.results;
@@ -104,10 +139,12 @@ void bind_sim(py::module_ m) {
           if (res.judged) d["visible_losses"] = res.visible_losses[i];
           rules.append(d);
         }
-        return py::dict("summary"_a = summary, "frames"_a = res.frames, "objects"_a = res.objects,
-                        "judged"_a = res.judged, "all_finest"_a = res.all_finest, "rules"_a = rules,
-                        "written"_a = run.written, "simulate_seconds"_a = run.simulate_seconds,
-                        "judge_seconds"_a = run.judge_seconds);
+        py::dict out("summary"_a = summary, "frames"_a = res.frames, "objects"_a = res.objects,
+                     "judged"_a = res.judged, "all_finest"_a = res.all_finest, "rules"_a = rules,
+                     "written"_a = run.written, "simulate_seconds"_a = run.simulate_seconds,
+                     "judge_seconds"_a = run.judge_seconds);
+        if (!large.asset.empty()) out["large_object"] = large_object_dict(large_run, large);
+        return out;
       },
       "scene"_a,
       "Run a glTF scene along a head path and gaze trace through the four LOD rules and their sweeps,\n"
@@ -115,11 +152,17 @@ void bind_sim(py::module_ m) {
       "fps, seed, movers, viewport, fov, saccade_speed, evaluation ('tabulated'/'exact'), model (the\n"
       "perceptual rule's: 'default', 'stela-csf', ...), validate (decisions judged by\n"
       "render-and-analyze), images, output (folder for CSV/JSON/PNG), head and gaze (track files),\n"
-      "profiles (folder of .acuity), res (snapshot px), asset_root.\n"
+      "profiles (folder of .acuity), res (snapshot px), asset_root; large_object (a mesh name of the\n"
+      "scene, needs profiles): that asset also drawn large under the run's gaze as a cluster hierarchy,\n"
+      "the object rule against the cluster cut, as --large-object does.\n"
       "Returns a dict: summary (the text acuity simulate prints), frames, objects, judged, all_finest\n"
       "(triangles per frame at level 0), rules (name, parameter, sweep, triangles_per_frame, switches,\n"
       "switches_outside_saccades, visible_losses when judged), written (paths), simulate_seconds,\n"
-      "judge_seconds. Raises acuity.lodgen.InputError or RuntimeError naming the file at fault.");
+      "judge_seconds; with large_object, large_object: asset, finest, clusters, groups, bands, frames,\n"
+      "spans (deg, object_rule and cut in triangles per frame, judged: frame, object_triangles,\n"
+      "cut_triangles, object_score, cut_score) and text (the block the command prints). Raises\n"
+      "acuity.lodgen.InputError or RuntimeError naming the file at fault, RuntimeError for a\n"
+      "large_object the scene lacks.");
   m.def(
       "explain",
       [](const std::string& scene, std::size_t frame, const std::string& object, const py::kwargs& kw) {

@@ -40,14 +40,19 @@ constexpr std::uint8_t kOverOne = 16;  // ... its score is above 1: coarsening i
 // maker is invisible (or that are finest), then the roots likewise.
 template <class F>
 void for_each_drawn(const ClusterView& h, const std::uint8_t* state, F&& f) {
-  for (std::size_t g = 0; g < h.groups.size(); ++g) {
+  const Cluster* const clusters = h.clusters.data();  // locals: f's stores may alias the spans
+  const ClusterGroup* const groups = h.groups.data();
+  const auto drawn = [&](std::uint32_t c) {
+    const std::uint32_t maker = clusters[c].refined;
+    return maker == kNoGroup || !(state[maker] & kVisible);
+  };
+  for (std::size_t g = 0, G = h.groups.size(); g < G; ++g) {
     if (!(state[g] & kVisible)) continue;
-    const ClusterGroup& group = h.groups[g];
-    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
-      if (h.clusters[m].refined == kNoGroup || !(state[h.clusters[m].refined] & kVisible)) f(m);
+    for (std::uint32_t m = groups[g].first_member, end = m + groups[g].member_count; m < end; ++m)
+      if (drawn(m)) f(m);
   }
   for (std::uint32_t r : h.roots)
-    if (h.clusters[r].refined == kNoGroup || !(state[h.clusters[r].refined] & kVisible)) f(r);
+    if (drawn(r)) f(r);
 }
 
 // The triangles group g's members hold less those of the clusters it made (h.made): what coarsening
@@ -193,6 +198,9 @@ std::vector<float> provisional_group_loss(const Profile& p, std::span<const Clus
 // One object as the cut sees it from each eye.
 struct Scheduler::Impl::CutObject {
   Vec3 origin[2];             // the object's origin relative to each eye [m]
+  Vec3 gaze[2];               // each eye's gaze direction, or its forward without a gaze (world)
+  float gaze_offset[2];       // the gaze's uncertainty, or the no-gaze radius [deg]
+  float half_focal[2];        // nyquist_cpd's half_focal of each eye
   float q[4];                 // object to world
   float q_inv[4];             // world to object
   const float* lost;          // [G B], the largest over the view cells
@@ -205,6 +213,7 @@ struct Scheduler::Impl::CutObject {
   float size;      // loss.diameter x scale [m]
   bool moving[2];  // its image moves on the retina of each eye
   const float* bands;
+  float top_band;  // the largest of bands
   float ln_band[kMaxBands];
   std::uint32_t B;
   float ln_q;
@@ -214,13 +223,16 @@ struct Scheduler::Impl::CutObject {
 // One eye's score of one group: ln(lost / (q CT)), the largest over bands (without explain, the
 // first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
 // the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
-float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const ClusterGroup& g,
-                                   std::size_t index, GroupExplain* explain, bool every_band) const {
+[[gnu::always_inline]] inline float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o,
+                                                                 const ClusterGroup& g, std::size_t index,
+                                                                 GroupExplain* explain, bool every_band,
+                                                                 bool* inside) const {
   const EyeCache& eye = eyes_[i];
   const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
   const float d = length(c), r = o.scale * g.radius;
   const float nearest = d - r;
-  if (!(nearest > 0.0f)) {  // the eye is inside (or on) the sphere
+  if (inside) *inside = !(nearest > 0.0f);  // as !(d > r): a difference of floats is 0 only when equal
+  if (!(nearest > 0.0f)) {                  // the eye is inside (or on) the sphere
     if (explain && !(explain->score >= kInf))
       *explain = GroupExplain{kInf, 0, std::uint8_t(i), kFlagEyeInside};
     return kInf;
@@ -246,19 +258,24 @@ float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o, const Cl
   const float* ln_lost = o.view_dirs ? o.ln_view_lost : o.ln_lost;  // given, or taken here
   if (ln_lost) ln_lost += row;
   const float radius_deg = angular_radius_deg(d, r);
-  const Vec3 gaze = eye.gaze ? eye.gaze_dir : eye.forward;
-  const float offset = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
-  const float e = nearest_eccentricity(angle_deg(u, gaze), radius_deg, offset);
-  // The Nyquist limit at the sphere's point farthest off the view axis: the largest over the sphere,
-  // so a containing sphere never cuts a band a contained one shows.
-  const float off_axis = std::min(angle_deg(u, eye.forward) + radius_deg, 90.0f);
-  const float nyquist = nyquist_cpd(0.5f * eye.focal_px * kRad, std::cos(off_axis * kRad));
+  const float e = nearest_eccentricity(angle_deg(u, o.gaze[i]), radius_deg, o.gaze_offset[i]);
   // The angle one object diameter subtends at the sphere's nearest point [deg].
   const float diameter_deg = kDeg * o.size / nearest;
+  const float inv_diam = 1.0f / diameter_deg;
+  // The Nyquist limit at the sphere's point farthest off the view axis: the largest over the sphere,
+  // so a containing sphere never cuts a band a contained one shows. It is at least half_focal (its
+  // value on the axis), so when no band's frequency (bands[b] x inv_diam, at most top_band x
+  // inv_diam) is above that, no band is cut and it need not be found (+inf cuts none either).
+  const float half_focal = o.half_focal[i];
+  float nyquist = kInf;
+  if (!(o.top_band * inv_diam <= half_focal)) {
+    const float off_axis = std::min(angle_deg(u, eye.forward) + radius_deg, 90.0f);
+    nyquist = nyquist_cpd(half_focal, std::cos(off_axis * kRad));
+  }
   const bool moving = o.moving[i];
   float ln_ct[kMaxBands];
-  band_thresholds(o.bands, o.ln_band, o.B, 1.0f / diameter_deg, std::log(diameter_deg), nyquist, e,
-                  pre_->ecc_slope * e, pre_->floor_velocity, moving, ln_ct);
+  band_thresholds(o.bands, o.ln_band, o.B, inv_diam, std::log(diameter_deg), nyquist, e, pre_->ecc_slope * e,
+                  pre_->floor_velocity, moving, ln_ct);
   float score = -kInf;
   std::uint32_t limit = 0;
   for (std::uint32_t b = 0; b < o.B; ++b) {
@@ -416,16 +433,26 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   o.size = loss.diameter * t.scale;
   o.bands = loss.bands_cpod.data();
   o.B = std::uint32_t(B);
-  for (std::size_t b = 0; b < B; ++b) o.ln_band[b] = std::log(o.bands[b]);
+  o.top_band = o.bands[0];
+  for (std::size_t b = 0; b < B; ++b) {
+    o.ln_band[b] = std::log(o.bands[b]);
+    o.top_band = std::max(o.top_band, o.bands[b]);
+  }
   o.ln_q = pre_->ln_quality;
   o.flags = 0;
-  for (std::uint32_t i = 0; i < eye_count_; ++i)
-    if (!eyes_[i].gaze) o.flags |= kFlagNoGaze;
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const EyeCache& eye = eyes_[i];
+    if (!eye.gaze) o.flags |= kFlagNoGaze;
+    o.gaze[i] = eye.gaze ? eye.gaze_dir : eye.forward;
+    o.gaze_offset[i] = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
+    o.half_focal[i] = 0.5f * eye.focal_px * kRad;
+  }
   const CoarsenTiming timing = coarsen_timing();
 
   // Top down: a group is evaluated when some group holding a cluster it made is visible (or such a
   // cluster is a root) and none is invisible; either way its makers learn which it is.
   std::uint8_t* state = scratch.data();
+  const Cluster* const clusters = h.clusters.data();
   std::fill_n(state, G, std::uint8_t(0));
   for (std::uint32_t r : h.roots)
     if (h.clusters[r].refined != kNoGroup) state[h.clusters[r].refined] |= kNeeded;
@@ -440,25 +467,37 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
       ++res.groups_evaluated;
       // Under a budget, every eye and band: the budget's harm is the largest score, kept.
       float score = -kInf;
-      for (std::uint32_t i = 0; i < eye_count_ && (budgeted || !(score > 0.0f)); ++i)
-        score = std::max(score, group_score(i, o, group, g, nullptr, budgeted));
+      std::uint32_t scored = 0;  // the eyes scored, which say whether they are inside
+      bool inside = false;
+      for (; scored < eye_count_ && (budgeted || !(score > 0.0f)); ++scored) {
+        bool in = false;
+        score = std::max(score, group_score(scored, o, group, g, nullptr, budgeted, &in));
+        inside |= in;
+      }
       if (budgeted) budget->scratch[g].harm = score;
       visible = score > 0.0f;
       if (!memory.empty())
         visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);
       if (visible) {
         state[g] |= kVisible;
-        const Vec3 c = rotate(o.q, o.scale * load(group.center));
-        for (std::uint32_t i = 0; i < eye_count_; ++i)
-          if (!(length(o.origin[i] + c) > o.scale * group.radius)) o.flags |= kFlagEyeInside;
+        if (scored < eye_count_ && !inside) {  // the eyes not scored, as group_score finds it
+          const Vec3 c = rotate(o.q, o.scale * load(group.center));
+          for (std::uint32_t i = scored; i < eye_count_; ++i)
+            inside |= !(length(o.origin[i] + c) > o.scale * group.radius);
+        }
+        if (inside) o.flags |= kFlagEyeInside;
       }
     } else if (!memory.empty()) {
       memory[g] = CutGroupMemory{0, 0, kCutKnown};  // below an invisible group: not drawn finer
     }
     if (explain) explain[g].visible = visible;
+    // Locals: the stores through state (bytes) may alias anything the loop would read again.
     const std::uint8_t mark = visible ? kNeeded : kBlocked;
-    for (std::uint32_t m = group.first_member; m < group.first_member + group.member_count; ++m)
-      if (h.clusters[m].refined != kNoGroup) state[h.clusters[m].refined] |= mark;
+    const Cluster* const members = clusters + group.first_member;
+    for (std::uint32_t m = 0, count = group.member_count; m < count; ++m) {
+      const std::uint32_t maker = members[m].refined;
+      if (maker != kNoGroup) state[maker] |= mark;
+    }
   }
   if (budgeted) {
     std::uint64_t total = 0;

@@ -81,8 +81,9 @@ struct Scheduler::Impl {
   // cells; +inf visible at once], and the cut (explain: nullable, one per group, every group scored).
   struct CutObject;
   // every_band: the largest over bands even when visible (else the first band above 0 ends it).
+  // *inside (nullable): whether the eye is inside (or on) the group's sphere.
   float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, std::size_t index,
-                    GroupExplain* explain, bool every_band = false) const;
+                    GroupExplain* explain, bool every_band = false, bool* inside = nullptr) const;
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<CutGroupMemory> memory,
                        std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn, GroupExplain* explain,

@@ -23,7 +23,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The hierarchy's profile: the cached one when it measured this hierarchy, else made and written.
+// The hierarchy's profile: the cached one when it measured this hierarchy at these snapshot pixels,
+// else made and written.
 struct HierarchyProfile {
   Blob blob;
   Profile profile{};
@@ -31,20 +32,23 @@ struct HierarchyProfile {
   std::vector<float> ln_lost;
 };
 void profile_hierarchy(const Asset& a, const lodgen::ClusterHierarchy& h, const std::string& path,
-                       const std::function<void(const std::string&)>& progress, HierarchyProfile* out) {
+                       std::uint32_t pixels, const std::function<void(const std::string&)>& progress,
+                       HierarchyProfile* out) {
   const auto measured = [&] {
     return open_profile(out->blob.data(), out->blob.size, &out->profile) == ProfileStatus::Ok &&
+           out->profile.meta.snapshot_pixels == pixels &&
            measured_group_loss(out->profile, h.clusters, h.groups, &out->loss) == GroupLossStatus::Measured;
   };
   if (fs::exists(path)) {
     out->blob = io::read_file(path);
     if (measured()) return;
   }
-  const bake::BakeOptions defaults;
+  bake::BakeOptions settings;
+  settings.pixels = pixels;
   spectra::ClusterLossReport report;
   const spectra::ProfileData data = bake::profile_clusters(
-      bake::cluster_mesh(a.chain.levels[0].mesh, h), a.material, bake::profile_settings(defaults, 0),
-      bake::cluster_loss_settings(defaults, 0), {}, nullptr, &report);
+      bake::cluster_mesh(a.chain.levels[0].mesh, h), a.material, bake::profile_settings(settings, 0),
+      bake::cluster_loss_settings(settings, 0), {}, nullptr, &report);
   spectra::write_profile(path, data);
   if (progress) {
     std::string line;
@@ -185,7 +189,8 @@ LargeObjectRun run_large_object(const Simulation& sim, const LargeObjectOptions&
   const Asset& a = scene.assets[asset];
   const lodgen::ClusterHierarchy h = lodgen::build_clusters(a.chain.levels[0].mesh, o.asset);
   HierarchyProfile hp;
-  profile_hierarchy(a, h, (fs::path(o.profiles) / (o.asset + "-clusters.acuity")).string(), progress, &hp);
+  profile_hierarchy(a, h, (fs::path(o.profiles) / (o.asset + "-clusters.acuity")).string(), o.pixels,
+                    progress, &hp);
   hp.ln_lost = loss_logs(hp.loss.lost);
   hp.loss.ln_lost = hp.ln_lost;
   LargeObjectRun run;

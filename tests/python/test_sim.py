@@ -30,11 +30,16 @@ def scene(tmp_path_factory):
 
 def test_simulate_is_the_commands_run(scene, tmp_path):
     common = dict(seconds=1, seed=3, res=64, validate=6, images=1, profiles=str(scene / "profiles"))
-    r = acuity.sim.simulate(str(scene / "elephant.glb"), output=str(tmp_path / "py"), **common)
+    r = acuity.sim.simulate(str(scene / "elephant.glb"), output=str(tmp_path / "py"), large_object="elephant",
+                            **common)
     c = cli("simulate", scene / "elephant.glb", "--seconds", 1, "--seed", 3, "--res", 64, "--validate", 6,
-            "--images", 1, "--profiles", scene / "profiles", "--no-plots", "-o", tmp_path / "cli")
+            "--images", 1, "--profiles", scene / "profiles", "--no-plots", "-o", tmp_path / "cli",
+            "--large-object", "elephant")
     assert c.returncode == 0, c.stderr
     assert r["summary"] and r["summary"] in c.stdout  # the very text the command prints
+    assert r["large_object"]["text"] in c.stdout  # and its large object's block
+    assert json.loads(cli("inspect", scene / "profiles" / "elephant-clusters.acuity", "--json").stdout)[
+        "snapshot_pixels"] == 64  # made at --res
     assert r["frames"] == 60 and r["objects"] == 1 and r["judged"] == 6
     names = [x["name"] for x in r["rules"] if not x["sweep"]]
     assert names == ["perceptual", "reddy", "distance", "screen-size", "ungated"]
@@ -51,6 +56,38 @@ def test_simulate_is_the_commands_run(scene, tmp_path):
     perceptual = next(x for x in r["rules"] if x["name"] == "perceptual" and not x["sweep"])
     assert sum(float(row[col]) for row in rows[1:]) / r["frames"] == pytest.approx(
         perceptual["triangles_per_frame"], rel=1e-6)
+
+
+def test_simulate_large_object(scene):
+    """large_object: the asset also drawn large as a cluster hierarchy under the run's gaze (as
+    `acuity simulate --large-object`, the same library call; the test above compares their text),
+    its profile made at res and cached beside the chain's (made again here: the test above cached it
+    at 64). A mesh the scene lacks, or no profiles, is refused."""
+    glb, profiles = str(scene / "elephant.glb"), scene / "profiles"
+    common = dict(seed=3, validate=0, images=0, res=32, profiles=str(profiles), large_object="elephant")
+    r = acuity.sim.simulate(glb, seconds=0.25, **common)
+    big = r["large_object"]
+    # One object in the scene: its finest triangles are the run's all-finest per frame.
+    assert big["asset"] == "elephant" and big["finest"] == r["all_finest"] and big["frames"] == r["frames"] == 15
+    assert big["clusters"] > big["groups"] >= 1 and big["bands"] >= 1
+    assert [s["deg"] for s in big["spans"]] == [40, 20]
+    for span in big["spans"]:
+        assert 0 < span["cut"] <= big["finest"] and 0 < span["object_rule"] <= big["finest"]
+        frames = [j["frame"] for j in span["judged"]]
+        assert frames == sorted(set(frames)) and len(frames) == 10 and frames[-1] < r["frames"]
+        for j in span["judged"]:
+            assert 0 < j["cut_triangles"] <= big["finest"] and j["cut_score"] >= 0 and j["object_score"] >= 0
+    text = big["text"]
+    assert text.startswith("\nA large object spanning the gaze") and text not in r["summary"]
+    assert f"elephant, {big['finest']} triangles as {big['clusters']} clusters in {big['groups']} groups" in text
+    # Its profile is the one made at this res (the scene's profiles' --res), not the default 256.
+    c = cli("inspect", profiles / "elephant-clusters.acuity", "--json")
+    assert c.returncode == 0, c.stderr
+    assert json.loads(c.stdout)["snapshot_pixels"] == 32
+    with pytest.raises(RuntimeError, match=r"large_object: the scene has no asset 'nothing' \(it has elephant\)"):
+        acuity.sim.simulate(glb, seconds=0.05, **{**common, "large_object": "nothing"})
+    with pytest.raises(ValueError, match="large_object needs profiles"):
+        acuity.sim.simulate(glb, res=64, seconds=0.05, large_object="elephant")
 
 
 def test_explain_and_tracks(scene, tmp_path):

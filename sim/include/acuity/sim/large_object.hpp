@@ -20,7 +20,9 @@ struct LargeObjectOptions {
                                              // run each [deg]
   double distance = 2;                       // from the head to the sphere's centre [m]
   std::uint32_t judged = 10;                 // frames judged, spread evenly over the run
-  std::string profiles;  // folder where the hierarchy's profile is cached (<asset>-clusters.acuity)
+  std::string profiles;        // folder where the hierarchy's profile is cached (<asset>-clusters.acuity)
+  std::uint32_t pixels = 256;  // snapshot pixels of that profile's level-0 snapshots, as the scene's
+                               // profiles take them (the demo's and simulate's --res)
 };
 
 struct LargeObjectRun {
@@ -44,9 +46,10 @@ struct LargeObjectRun {
 // The object: still, in front of a still head whose eyes look down -Z, its sphere centred on that
 // axis; the gaze each frame is the run's (its directions in the head, its confidence, its measured
 // velocity: fixations, saccades, pursuit and blinks over +-40 degrees), the head itself held still.
-// The hierarchy is built from the asset's level 0 (deterministic); its profile (level 0 and what each
-// group loses, 12 directions per group, the bake's defaults) is read from `profiles` when it measured
-// this hierarchy, else made and written there. `progress` receives a line when the profile is made.
+// The hierarchy is built from the asset's level 0 (deterministic); its profile (level 0 at
+// options.pixels and what each group loses, 12 directions per group, the bake's other defaults) is
+// read from `profiles` when it measured this hierarchy at those pixels, else made and written there.
+// `progress` receives a line when the profile is made.
 // Throws std::runtime_error naming a missing asset, io::Error when the cache cannot be written.
 LargeObjectRun run_large_object(const Simulation& sim, const LargeObjectOptions& options,
                                 const std::function<void(const std::string&)>& progress = {});
