@@ -67,6 +67,36 @@ def test_profile_detail_round_trip():
             orientations=[0], bands=[2], lost=[0.1], features=[0, 0], detail_area=[0.1, 0.2], detail_offset=[0, 0])
 
 
+def test_area_law_reads_the_extent():
+    """SchedulerConfig.area_law (on by default): with a Detail section the Default model's levels are
+    at least as coarse as with the law off (the extents here are small: every band's threshold rises),
+    and coarser somewhere; off, the section changes nothing."""
+    dirs = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1]], dtype=np.float32)
+    shape = (4, 6, 8, 8)
+    band = 2.0 * 2.0 ** np.arange(8, dtype=np.float32)
+    lost = 0.2 / (1 + np.exp(-2 * (np.arange(8)[None, None, None, :] - 8 + 1.3 * np.arange(1, 5)[:, None, None, None])))
+    data = acuity.spectra.encode_profile(
+        sphere=[0, 0, 0, 1], triangles=[10000 >> i for i in range(5)], geometric_error=[0.002 * i for i in range(5)],
+        view_directions=dirs, orientations=np.arange(8) * 22.5, bands=band,
+        lost=np.broadcast_to(lost, shape).astype(np.float32), features=np.zeros((5, 6, 8), np.float32),
+        detail_area=np.full(shape, 0.001, np.float32), detail_offset=np.zeros(shape, np.float32))
+    assert acuity.SchedulerConfig().area_law is True
+    z = -np.geomspace(2, 200, 32).astype(np.float32)
+    levels = {}
+    for law in (True, False):
+        config = acuity.SchedulerConfig()
+        config.max_objects = 64
+        config.area_law = law
+        s = acuity.Scheduler(config)
+        pid = s.add_profile(acuity.Profile.from_bytes(data))
+        pos = np.stack([np.zeros_like(z), np.zeros_like(z), z], axis=1)
+        ids = s.add_objects(np.full(len(z), pid), pos, np.tile([0, 0, 0, 1], (len(z), 1)).astype(np.float32),
+                            np.ones(len(z)))
+        s.run_frame(frame_looking_forward())
+        levels[law] = s.levels(ids)
+    assert np.all(levels[True] >= levels[False]) and np.any(levels[True] > levels[False])
+
+
 def objects_in_a_row(z):
     """A scheduler of 64 slots with one object of make_profile() at each depth z [m] straight ahead."""
     config = acuity.SchedulerConfig()
