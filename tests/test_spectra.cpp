@@ -425,6 +425,16 @@ void expect_bound_at_samples(const ProfileData& p, const char* what) {
       EXPECT_LE(switching_angle(&p.lost[((k - 1) * V + v) * T * B], T, p.bands),
                 direct[s].switching[k - 1] * 1.0001f)
           << what << ": sample " << s << " level " << k;
+      // The Pooled entry bounds the sample under the area law: its loss L at least the sample's
+      // pooled loss c, and its energy L^2 A at least c^2 a (docs/design.md section 4).
+      ASSERT_EQ(p.pooled.size(), (K - 1) * V * B);
+      for (std::size_t b = 0; b < B; ++b) {
+        const ProfilePooled& e = p.pooled[((k - 1) * V + v) * B + b];
+        const double c = direct[s].pooled[(k - 1) * B + b], a = direct[s].pooled_area[(k - 1) * B + b];
+        ASSERT_GE(e.lost, c) << what << ": sample " << s << " level " << k << " band " << b;
+        ASSERT_GE(double(e.lost) * e.lost * std::exp2(-0.125 * e.area_code), c * c * a * (1 - 1e-6))
+            << what << ": sample " << s << " level " << k << " band " << b;
+      }
     }
   }
 }

@@ -36,6 +36,7 @@ namespace {
 // the welded level after a rejected one.
 // 3: profiles carry the Detail section (what stelaCSF's area term reads) and write ClusterViews only
 // when asked (162 directions or --view-cells): caches made before lacked the one and held the other.
+// 4: profiles carry the Pooled section (what the area law reads) and bound a cell's extents by energy.
 constexpr const char* kCacheFormat = "acuity-bake-cache 4";
 constexpr const char* kInputToken = "{input}";  // stands for the asset's path in cached error messages
 
