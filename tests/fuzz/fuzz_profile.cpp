@@ -22,6 +22,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
            ++i)
         sum = sum + acuity::detail_area(p.detail[i]) + acuity::detail_frequency_octaves(p.detail[i]) +
               acuity::detail_turn(p.detail[i]);
+    if (p.pooled)  // the optional Pooled section: one entry per level, view and band
+      for (std::size_t i = 0; i < std::size_t(p.meta.level_count - 1) * p.meta.view_count * p.meta.band_count;
+           ++i)
+        sum = sum + p.pooled[i].lost + float(p.pooled[i].area_code);
     if (p.cluster_lost) {  // the optional Clusters section: every band and every group's loss
       for (std::uint32_t b = 0; b < p.clusters.band_count; ++b) sum = sum + p.cluster_bands[b];
       for (std::size_t i = 0; i < std::size_t(p.clusters.group_count) * p.clusters.band_count; ++i)
