@@ -31,6 +31,10 @@ constexpr int kWarmupFrames = 256;
 struct Library {
   std::vector<Blob> blobs;
   std::vector<Profile> profiles;
+  // Profile 0 with a Pooled section (each band's largest channel over 2^-6 of the diameter squared),
+  // as `acuity profile` writes now: what the area law reads (BM_add_profile/tabulated_pooled).
+  Blob pooled_blob;
+  Profile pooled{};
   Library() {
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> u(0, 1);
@@ -53,6 +57,17 @@ struct Library {
       for (int k = 0; k < kLevels; ++k)
         for (int v = 0; v < 14 * kOrientations; ++v) d.features.push_back(256.0f / float(1 << k));
       blobs.push_back(spectra::encode_profile(d));
+      if (i == 0) {
+        for (std::size_t kv = 0; kv < std::size_t(kLevels - 1) * 14; ++kv)
+          for (int b = 0; b < kBands; ++b) {
+            float top = 0;
+            for (int t = 0; t < kOrientations; ++t)
+              top = std::max(top, d.lost[(kv * kOrientations + t) * kBands + b]);
+            d.pooled.push_back(spectra::encode_pooled(top, 1.0f / 64));
+          }
+        pooled_blob = spectra::encode_profile(d);
+        open_profile(pooled_blob.data(), pooled_blob.size, &pooled);
+      }
       Profile p;
       open_profile(blobs.back().data(), blobs.back().size, &p);
       profiles.push_back(p);
@@ -375,15 +390,16 @@ void BM_screen_size_loop(benchmark::State& state) {
 }
 
 // add_profile for one of the library's 14-view profiles: the tabulated path builds its tables, the
-// exact path only its logarithms (the ratio is the tables' set-up cost). A fresh scheduler, made
+// exact path only its logarithms (the ratio is the tables' set-up cost); tabulated_pooled: the same
+// profile with a Pooled section, whose tables read the area law (a log1p per curve comparison). A fresh scheduler, made
 // outside the timing, whenever the current one is full.
-void BM_add_profile(benchmark::State& state, Evaluation evaluation) {
+void BM_add_profile(benchmark::State& state, Evaluation evaluation, bool pooled = false) {
   SchedulerConfig c;
   c.max_objects = 1;
   c.max_profiles = 64;
   c.evaluation = evaluation;
   auto scheduler = std::make_unique<Scheduler>(c);
-  const Profile& p = library().profiles[0];
+  const Profile& p = pooled ? library().pooled : library().profiles[0];
   for (auto _ : state) {
     int index = scheduler->add_profile(p);
     if (index < 0) {
@@ -632,5 +648,7 @@ BENCHMARK_CAPTURE(BM_scene_ready, tabulated, Evaluation::Tabulated)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 BENCHMARK_CAPTURE(BM_add_profile, tabulated, Evaluation::Tabulated)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_add_profile, tabulated_pooled, Evaluation::Tabulated, true)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_add_profile, exact, Evaluation::Exact)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

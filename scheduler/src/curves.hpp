@@ -41,6 +41,17 @@ struct Scheduler::Impl::Curves {
   std::vector<float> area_weight;  // [kCurveSamples]
   static float area_w(float u, float f0) { return 1.0f / (std::exp(-2.0f * u) + 1.0f / (f0 * f0)); }
   static float area_term(float k, float w) { return k > 0.0f ? 0.5f * std::log1p(k * w) : 0.0f; }
+  // A loss's area law as the searches read it (AreaLaw): per block of 2^kKnotShift samples the
+  // factor at the block's first (a lower bound over the block, the factor rising with u:
+  // conservative), so that a search (and refine()) costs no logarithm per comparison.
+  static constexpr int kKnotShift = 5, kKnots = kCurveSamples >> kKnotShift;
+  // The knots of k (out: kKnots values) from area_weight.
+  void area_knots(float k, float* out) const {
+    for (int j = 0; j < kKnots; ++j) out[j] = area_term(k, area_weight[std::size_t(j) << kKnotShift]);
+  }
+  static float with_law(const float* curve, int i, AreaLaw law) {
+    return law.k > 0.0f ? curve[i] + law.knots[i >> kKnotShift] : curve[i];
+  }
   static float speed(std::uint32_t i, float floor) { return floor * power_of_two(i); }
   // The speed at weight w of speed cell i (speed_cell()'s weight w = g inv_g, g = (v - lo) / (v + lo +
   // 2 v0), solved for v).
@@ -118,11 +129,11 @@ struct Scheduler::Impl::Curves {
   // curve's ends decided, nothing to refine).
   // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
   // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
-  // With the area law (k > 0, aw = area_weight) the curve read is curve + area_term().
+  // With an area law the curve read is curve + its knots (with_law()).
   static float sampled_size(const float* curve, float y, float ln_band, int* bracket,
-                            int hint = kCurveSamples / 2, float k = 0.0f, const float* aw = nullptr) {
+                            int hint = kCurveSamples / 2, AreaLaw law = {}) {
     *bracket = -1;
-    const auto at = [&](int i) { return k > 0.0f ? curve[i] + area_term(k, aw[i]) : curve[i]; };
+    const auto at = [&](int i) { return with_law(curve, i, law); };
     if (!(y > at(0))) return ln_band - kCurveU0;
     if (y > at(kCurveSamples - 1)) return ln_band - kCurveU1;
     int lo = 0, hi = kCurveSamples - 1;  // at(lo) < y <= at(hi)
@@ -154,32 +165,32 @@ struct Scheduler::Impl::Curves {
     return ln_band - (kCurveU0 + kCurveStep * float(hi));
   }
   static float refine(const Precomputed& pre, const SchedulerConfig& c, int bracket, float y, float ln_band,
-                      float e, float v, bool moving, float k = 0.0f) {
+                      float e, float v, bool moving, AreaLaw law = {}) {
     float ulo = kCurveU0 + kCurveStep * float(bracket - 1), uhi = kCurveU0 + kCurveStep * float(bracket);
     const VelocityTerms own = pre.own_terms(v, moving);
-    const auto f0 = static_cast<float>(c.params.stela.f0);
+    // The area law's lower bound over the bracket: its block's knot (the bracket's lower sample).
+    const float lift = law.k > 0.0f ? law.knots[(bracket - 1) >> kKnotShift] : 0.0f;
     for (int i = 0; i < 6; ++i) {
       const float mid = 0.5f * (ulo + uhi);
-      (pre.ln_ct(c, mid, e, v, moving, own) + area_term(k, area_w(mid, f0)) >= y ? uhi : ulo) = mid;
+      (pre.ln_ct(c, mid, e, v, moving, own) + lift >= y ? uhi : ulo) = mid;
     }
     return ln_band - uhi;
   }
   static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving, int* hint, float k = 0.0f,
-                            const float* aw = nullptr) {
+                            float ln_band, float e, float v, bool moving, int* hint, AreaLaw law = {}) {
     int bracket;
-    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint, k, aw);
+    const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint, law);
     if (bracket >= 0) *hint = bracket;
-    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving, k);
+    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving, law);
   }
   // Whether sampled_size(curve, y, ln_band) is at least s (strict: above s), exactly as that computes
   // it but without its search: its value ln_band - (kCurveU0 + kCurveStep hi) falls as the bracket's
   // upper end hi rises (float rounding is monotone), so it is at least s where hi is at most the
   // last index c whose value is: where curve[c] >= y (hi is the first index whose sample is).
   static bool sampled_at_least(const float* curve, float y, float ln_band, float s, bool strict,
-                               float k = 0.0f, const float* aw = nullptr) {
+                               AreaLaw law = {}) {
     const auto passes = [&](float v) { return strict ? v > s : v >= s; };
-    const auto at = [&](int i) { return k > 0.0f ? curve[i] + area_term(k, aw[i]) : curve[i]; };
+    const auto at = [&](int i) { return with_law(curve, i, law); };
     if (!(y > at(0))) return passes(ln_band - kCurveU0);
     if (y > at(kCurveSamples - 1)) return passes(ln_band - kCurveU1);
     const auto value = [&](int i) { return ln_band - (kCurveU0 + kCurveStep * float(i)); };
@@ -193,21 +204,19 @@ struct Scheduler::Impl::Curves {
   // neighbouring node, out: the least here), and for each other band one comparison at an index
   // (sampled_at_least()), searched only where it lies below. The same value as a search per band,
   // in a fraction of the work (one band is usually least over a region of the grid).
-  // k: per band, the area law's (area_k()), or null for none.
+  // laws: per band, or null for none.
   static float least_sampled(const float* curve, const float* y, const float* ln_band, std::uint32_t bands,
-                             int* hint, std::uint32_t* lead, const float* k = nullptr,
-                             const float* aw = nullptr) {
+                             int* hint, std::uint32_t* lead, const AreaLaw* laws = nullptr) {
     if (bands == 0) return -kNever;
     int bracket;
     const std::uint32_t first = std::min(*lead, bands - 1);
     *lead = first;
-    const auto k_of = [&](std::uint32_t b) { return k ? k[b] : 0.0f; };
-    float least = sampled_size(curve, y[first], ln_band[first], &bracket, hint[first], k_of(first), aw);
+    const auto law = [&](std::uint32_t b) { return laws ? laws[b] : AreaLaw{}; };
+    float least = sampled_size(curve, y[first], ln_band[first], &bracket, hint[first], law(first));
     if (bracket >= 0) hint[first] = bracket;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      if (b == first || sampled_at_least(curve, y[b], ln_band[b], least, false, k_of(b), aw)) continue;
-      least =
-          sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], k_of(b), aw);  // below the least so far
+      if (b == first || sampled_at_least(curve, y[b], ln_band[b], least, false, law(b))) continue;
+      least = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], law(b));  // below the least so far
       if (bracket >= 0) hint[b] = bracket;
       *lead = b;
     }
@@ -218,17 +227,16 @@ struct Scheduler::Impl::Curves {
   // searched (sampled_at_least()): they cannot be the minimum. Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,
                              const float* y, const float* ln_band, std::uint32_t bands, float e, float v,
-                             bool moving, int* hint, std::uint32_t* lead, const float* k = nullptr,
-                             const float* aw = nullptr) {
-    const float near = least_sampled(curve, y, ln_band, bands, hint, lead, k, aw) + 1.01f * kCurveStep;
+                             bool moving, int* hint, std::uint32_t* lead, const AreaLaw* laws = nullptr) {
+    const float near = least_sampled(curve, y, ln_band, bands, hint, lead, laws) + 1.01f * kCurveStep;
     float m = -kNever;
     for (std::uint32_t b = 0; b < bands; ++b) {
-      const float kb = k ? k[b] : 0.0f;
-      if (sampled_at_least(curve, y[b], ln_band[b], near, true, kb, aw)) continue;
+      const AreaLaw law = laws ? laws[b] : AreaLaw{};
+      if (sampled_at_least(curve, y[b], ln_band[b], near, true, law)) continue;
       int bracket;
-      const float sampled = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], kb, aw);
+      const float sampled = sampled_size(curve, y[b], ln_band[b], &bracket, hint[b], law);
       if (bracket >= 0) hint[b] = bracket;
-      m = std::min(m, bracket >= 0 ? refine(pre, c, bracket, y[b], ln_band[b], e, v, moving, kb) : sampled);
+      m = std::min(m, bracket >= 0 ? refine(pre, c, bracket, y[b], ln_band[b], e, v, moving, law) : sampled);
     }
     return m;
   }

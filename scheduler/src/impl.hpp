@@ -9,6 +9,9 @@
 #include <limits>
 
 namespace acuity {
+namespace internal {
+struct AreaLaw;
+}
 
 struct Scheduler::Impl {
   // The work of the public calls (scheduler.hpp documents each; Scheduler forwards to these, and
@@ -167,8 +170,8 @@ struct Scheduler::Impl {
   void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
   void build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const;
   void build_any_view(ProfileCache& c, std::uint32_t set) const;
-  void lower_speed_rows(const float* nodes, const float* ys, const float* ks, const float* ln_band,
-                        std::uint32_t B, std::uint32_t T, float* lowers) const;
+  void lower_speed_rows(const float* nodes, const float* ys, const internal::AreaLaw* laws,
+                        const float* ln_band, std::uint32_t B, std::uint32_t T, float* lowers) const;
   struct Need;
   struct Lowering {
     float lower, upper;  // [ln deg] at a cell's lower and upper node

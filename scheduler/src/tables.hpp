@@ -207,6 +207,12 @@ struct Scheduler::Impl::ProfileCache {
 
 // One loss's area-law k (0: none) from a ProfileCache::area_k or area_k_any.
 inline float area_k_at(const std::vector<float>& k, std::size_t i) { return k.empty() ? 0.0f : k[i]; }
+// One loss's area law as the tables' searches read it (Curves::with_law()): k (0: none) and the
+// factor's lower bound per block of curve samples (Curves::kKnots values, Curves::area_knots()).
+struct internal::AreaLaw {
+  float k = 0.0f;
+  const float* knots = nullptr;
+};
 
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Impl::Probe {

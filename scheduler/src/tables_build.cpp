@@ -87,7 +87,12 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   const std::size_t kv = std::size_t(k - 1) * V + w;
-  const float* aw = curves_->area_weight.data();
+  float knots[kMaxBands][Curves::kKnots];  // each band's area law (AreaLaw)
+  AreaLaw laws[kMaxBands];
+  for (std::uint32_t b = 0; b < B; ++b) {
+    laws[b] = {area_k_at(c.area_k_any, kv * B + b), knots[b]};
+    if (laws[b].k > 0.0f) curves_->area_knots(laws[b].k, knots[b]);
+  }
   std::vector<std::int16_t>& still = c.sets[set].still;
   // Still and slow: per band, then the minimum over the bands the display shows (prefix minima).
   // Where a cell's midpoint shows the interpolation above the truth (a convex kink: the CSF's
@@ -102,9 +107,9 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
       const float* curve = &(slow ? curves_->slow : curves_->still)[j * std::size_t(kCurveSamples)];
       float prefix = -kNever, mid_prefix = -kNever;
       for (std::uint32_t b = 0; b < B; ++b) {
-        const float y = c.ln_lost_any[kv * B + b] - ln_q, kb = area_k_at(c.area_k_any, kv * B + b);
+        const float y = c.ln_lost_any[kv * B + b] - ln_q;
         prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
-                                                       pre.floor_velocity, slow, &hint[b], kb, aw));
+                                                       pre.floor_velocity, slow, &hint[b], laws[b]));
         node[j][b] = prefix;
         if (j + 1 < kStillE && midpoints) {
           const float* centre =
@@ -112,7 +117,7 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
           mid_prefix =
               std::min(mid_prefix,
                        Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
-                                            pre.floor_velocity, slow, &mid_hint[b], kb, aw));
+                                            pre.floor_velocity, slow, &mid_hint[b], laws[b]));
         }
         mid[j][b] = mid_prefix;
       }
@@ -152,8 +157,10 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * T;
   // Row r = (w L + (k - 1)) T + t: view w, level k, orientation t at its own speed, every band.
-  std::vector<float> y(R * kMaxBands), ks(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
-  const float* aw = curves_->area_weight.data();
+  std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
+  // Each row's and band's area law (AreaLaw; knots only where the law applies).
+  std::vector<AreaLaw> laws(R * kMaxBands);
+  std::vector<float> knots(c.area_k.empty() ? 0 : R * B * Curves::kKnots);
   std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
   std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
   for (std::uint32_t w = 0; w < V; ++w)
@@ -162,7 +169,12 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         const std::size_t r = (std::size_t(w) * L + (k - 1)) * T + t, kv = std::size_t(k - 1) * V + w;
         for (std::uint32_t b = 0; b < B; ++b) {
           y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
-          ks[r * kMaxBands + b] = area_k_at(c.area_k, (kv * T + t) * B + b);
+          const float k_area = area_k_at(c.area_k, (kv * T + t) * B + b);
+          if (k_area > 0.0f) {
+            float* at = &knots[(r * B + b) * Curves::kKnots];
+            curves_->area_knots(k_area, at);
+            laws[r * kMaxBands + b] = {k_area, at};
+          }
         }
       }
   for (std::uint32_t i = 0; i < kMovingS; ++i)
@@ -172,10 +184,10 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         nodes[r * N + i * kMovingE + j] =
             Curves::smallest_size(pre, config_, curve, &y[r * kMaxBands], c.ln_band.data(), B,
                                   moving_e_node(j), Curves::speed(i, pre.floor_velocity), true,
-                                  &hints[r * kMaxBands], &leads[r], &ks[r * kMaxBands], aw);
+                                  &hints[r * kMaxBands], &leads[r], &laws[r * kMaxBands]);
     }
   if (!curves_->row_checks.empty())
-    lower_speed_rows(nodes.data(), y.data(), ks.data(), c.ln_band.data(), B, static_cast<std::uint32_t>(R),
+    lower_speed_rows(nodes.data(), y.data(), laws.data(), c.ln_band.data(), B, static_cast<std::uint32_t>(R),
                      lowers.data());
   // Concave along eccentricity keeps the cell's rows' blend below; where the midpoint shows the
   // bilinear surface above the truth, the cell's corners come down by the excess.
@@ -200,7 +212,7 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         const float truth = Curves::smallest_size(
             pre, config_, centre, &y[r * kMaxBands], c.ln_band.data(), B, Curves::centre_e(j),
             Curves::centre_speed(i, pre.floor_velocity, pre.speed_offset), true, &hints[r * kMaxBands],
-            &leads[r], &ks[r * kMaxBands], aw);
+            &leads[r], &laws[r * kMaxBands]);
         const float excess = mean - truth;
         if (excess > 0)
           for (const std::uint32_t q : corner) lower[q] = std::max(lower[q], excess);
@@ -233,11 +245,10 @@ struct Scheduler::Impl::Need {
 // stay at or below the truth at its lower end. A cell's two nodes come down by the least total that
 // does it (least_lowering()); a node shared by two cells may come down for either (which only lowers
 // the other's).
-void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, const float* ks,
+void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, const AreaLaw* laws,
                                        const float* ln_band, std::uint32_t B, std::uint32_t T,
                                        float* lowers) const {
   const Precomputed& pre = *pre_;
-  const float* aw = curves_->area_weight.data();
   constexpr int M = Curves::kRowChecks;
   const std::size_t N = std::size_t(kMovingS) * kMovingE;
   // Each row's and check's brackets at the previous cell.
@@ -249,7 +260,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
       for (std::uint32_t t = 0; t < T; ++t) {
         const float* node = &nodes[t * N];
         const float* y = &ys[t * kMaxBands];
-        const float* k = &ks[t * kMaxBands];
+        const AreaLaw* law = &laws[t * kMaxBands];
         float* lower = &lowers[t * N];
         int* hint = &hints[std::size_t(t) * M * kMaxBands];
         std::uint32_t* lead = &leads[std::size_t(t) * M];
@@ -261,7 +272,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
         truth[M] = node[at1];
         for (int m = 1; m < M; ++m)
           truth[m] = Curves::least_sampled(&curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
-                                           &hint[m * kMaxBands], &lead[m], k, aw);
+                                           &hint[m * kMaxBands], &lead[m], law);
         Need needs[3 * M];  // what the row needs (only where it must come down)
         int count = 0;
         const auto gather = [&] {
@@ -291,7 +302,7 @@ void Scheduler::Impl::lower_speed_rows(const float* nodes, const float* ys, cons
           truth[m] = Curves::smallest_size(
               pre, config_, &curves_->row_checks[Curves::row_check_at(i, j, m)], y, ln_band, B,
               moving_e_node(j), Curves::speed_at(i, float(m) / M, pre.floor_velocity, pre.speed_offset), true,
-              refine_hint, &refine_lead, k, aw);
+              refine_hint, &refine_lead, law);
         }
         if (gather() == 0) continue;
         const Lowering d = least_lowering(needs, count);
