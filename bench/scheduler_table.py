@@ -72,6 +72,9 @@ def main():
         (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
         print(f"\nadd_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
               f"exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
+        if "tabulated_pooled" in setup:  # the same profile with a Pooled section: the area law's tables
+            print(f"  with a Pooled section (the area law): tabulated {setup['tabulated_pooled'][0]:.1f} ms "
+                  f"({setup['tabulated_pooled'][0] / tab:.2f}× without)")
     for evaluation in ("exact", "tabulated"):
         if evaluation in scene:
             assets, t, tables, profiles = scene[evaluation]
