@@ -103,22 +103,17 @@ void Scheduler::Impl::detail_thresholds(const ProfileCache& pc, const Sight& s, 
 }
 
 // The area law (SchedulerConfig::area_law) on exact_thresholds()' rows (`rows` of them, `stride`
-// apart): ln CT per (orientation, band) [rows][B] of level k's loss seen from `view`, each raised by
-// Curves::area_term() at the band's frequency, the tables' arithmetic. A still object (one row)
-// reads the bound over the orientations (area_k_any, beside ln_lost_any).
-void Scheduler::Impl::area_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k,
-                                      std::uint32_t view, const float* ln_ct, std::uint32_t rows,
+// apart): ln CT per (orientation, band) [rows][B] of level k's loss seen from `view`, each band
+// raised by Curves::area_term() of its k at `weight` (area_weights()), the tables' arithmetic.
+void Scheduler::Impl::area_thresholds(const ProfileCache& pc, std::uint32_t k, std::uint32_t view,
+                                      const float* weight, const float* ln_ct, std::uint32_t rows,
                                       std::uint32_t stride, float* out) const {
-  const Profile& p = pc.profile;
-  const std::uint32_t V = p.meta.view_count, B = p.meta.band_count;
-  const std::size_t kv = (k - 1) * std::size_t(V) + view;
-  const float* ks = rows == 1 ? &pc.area_k_any[kv * B] : &pc.area_k[kv * rows * B];
-  const auto f0 = static_cast<float>(config_.params.stela.f0);
-  float weight[kMaxBands];
-  for (std::uint32_t b = 0; b < B; ++b) weight[b] = Curves::area_w(pc.ln_band[b] - s.ln_diam, f0);
+  const std::uint32_t V = pc.profile.meta.view_count, B = pc.profile.meta.band_count;
+  const float* ks = &pc.area_k[((k - 1) * std::size_t(V) + view) * B];
+  float lift[kMaxBands];
+  for (std::uint32_t b = 0; b < B; ++b) lift[b] = Curves::area_term(ks[b], weight[b]);
   for (std::uint32_t t = 0; t < rows; ++t)
-    for (std::uint32_t b = 0; b < B; ++b)
-      out[t * B + b] = ln_ct[t * stride + b] + Curves::area_term(ks[t * B + b], weight[b]);
+    for (std::uint32_t b = 0; b < B; ++b) out[t * B + b] = ln_ct[t * stride + b] + lift[b];
 }
 
 // ln CT of B bands (centres bands[b] [cpod], ln_band their ln) of an object of angular diameter
@@ -211,6 +206,10 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
   const std::uint32_t stride = rows == 1 ? 0 : B;  // a static object's one row serves every orientation
   const bool detail = uses_detail(p);              // StelaCsf with Detail: per level (detail_thresholds)
   const bool area = area_law(p);                   // the other models' area law: per level (area_thresholds)
+  float weight[kMaxBands];                         // its w(ln f) per band (Curves::area_w), this object's
+  if (area)
+    for (std::uint32_t b = 0; b < B; ++b)
+      weight[b] = Curves::area_w(pc.ln_band[b] - s.ln_diam, static_cast<float>(config_.params.stela.f0));
   float ln_ct_detail[kMaxOrientations * kMaxBands];
 
   // ln(score_k q) = max over (t, b) of ln lost - ln CT. Levels are scanned from the coarsest; without
@@ -247,7 +246,7 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
           continue;
         }
         if (area) {  // thresholds per level and view
-          area_thresholds(pc, s, k, w, ln_ct, t_count, stride, ln_ct_detail);
+          area_thresholds(pc, k, w, weight, ln_ct, t_count, stride, ln_ct_detail);
           m = std::max(
               m, max_excess(&lost[((k - 1) * std::size_t(V) + w) * per_view], ln_ct_detail, t_count, B, B));
           continue;
@@ -266,7 +265,7 @@ Scheduler::Impl::Choice Scheduler::Impl::choose_exact(ObjectId id, const Sight& 
       detail_thresholds(pc, s, k, view, ln_ct, stride, ln_ct_detail);
       explain_level(pc, view, k, ln_ct_detail, B, inv_diam, m - ln_q, &ex->levels[k]);
     } else if (ex && area) {
-      area_thresholds(pc, s, k, view, ln_ct, stride ? T : 1, stride, ln_ct_detail);
+      area_thresholds(pc, k, view, weight, ln_ct, stride ? T : 1, stride, ln_ct_detail);
       explain_level(pc, view, k, ln_ct_detail, stride ? B : 0, inv_diam, m - ln_q, &ex->levels[k]);
     } else if (ex) {
       explain_level(pc, view, k, ln_ct, stride, inv_diam, m - ln_q, &ex->levels[k]);

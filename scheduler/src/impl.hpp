@@ -71,10 +71,10 @@ struct Scheduler::Impl {
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
   bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
   bool area_law(const Profile& p) const;     // SchedulerConfig::area_law applies to p's losses
-  void area_ks(ProfileCache& c) const;       // fills c.area_k, area_k_any (empty where it does not apply)
+  void area_ks(ProfileCache& c) const;       // fills c.area_k (empty where it does not apply)
   void detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
                          const float* centre_ln_ct, std::uint32_t stride, float* ln_ct) const;
-  void area_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
+  void area_thresholds(const ProfileCache& pc, std::uint32_t k, std::uint32_t view, const float* weight,
                        const float* ln_ct, std::uint32_t rows, std::uint32_t stride, float* out) const;
   void band_thresholds(const float* bands, const float* ln_band, std::uint32_t B, float inv_diam,
                        float ln_diam, float nyquist_cpd, float e, float a, float v, bool moving,
@@ -83,6 +83,8 @@ struct Scheduler::Impl {
   // [ln lost / (q CT), max over bands, the loss of the view cell the eye is in when the loss has
   // cells; +inf visible at once], and the cut (explain: nullable, one per group, every group scored).
   struct CutObject;
+  bool cut_object(const ClusterLoss& loss, const ObjectTransform& t, const float velocity[3],
+                  CutObject* o) const;
   // every_band: the largest over bands even when visible (else the first band above 0 ends it).
   // *inside (nullable): whether the eye is inside (or on) the group's sphere.
   float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, std::size_t index,
@@ -167,8 +169,10 @@ struct Scheduler::Impl {
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_curves();  // at creation
   void build_tables(ProfileCache& c) const;
-  void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k) const;
-  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const;
+  // knots: the area law's per level, view and band (Curves::kKnots each), null without it.
+  void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k,
+                   const float* knots) const;
+  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const;
   void build_any_view(ProfileCache& c, std::uint32_t set) const;
   void lower_speed_rows(const float* nodes, const float* ys, const internal::AreaLaw* laws,
                         const float* ln_band, std::uint32_t B, std::uint32_t T, float* lowers) const;

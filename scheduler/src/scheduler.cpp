@@ -138,14 +138,12 @@ bool Scheduler::Impl::area_law(const Profile& p) const {
 // the bound at the orientation the motion blurs least), and k = a0 / (A c^2) (Curves::area_term()).
 void Scheduler::Impl::area_ks(ProfileCache& c) const {
   c.area_k.clear();
-  c.area_k_any.clear();
   const Profile& p = c.profile;
   if (!area_law(p)) return;
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
                       B = p.meta.band_count;
   const auto a0 = static_cast<double>(config_.params.stela.a0);
-  c.area_k.resize(c.ln_lost.size());
-  c.area_k_any.assign(std::size_t(K - 1) * V * B, 0.0f);
+  c.area_k.assign(std::size_t(K - 1) * V * B, 0.0f);
   for (std::size_t kv = 0; kv < std::size_t(K - 1) * V; ++kv)
     for (std::uint32_t b = 0; b < B; ++b) {
       double energy = 0, area = 0;  // L^2 and A
@@ -167,11 +165,8 @@ void Scheduler::Impl::area_ks(ProfileCache& c) const {
       const float ln_l = energy > 0 ? float(0.5 * std::log(energy)) : -kInf;
       const float k = energy > 0 ? float(a0 / (double(p.bands[b]) * p.bands[b] * area)) : 0.0f;
       c.ln_lost_any[kv * B + b] = ln_l;
-      c.area_k_any[kv * B + b] = k;
-      for (std::uint32_t t = 0; t < T; ++t) {
-        c.ln_lost[(kv * T + t) * B + b] = ln_l;
-        c.area_k[(kv * T + t) * B + b] = k;
-      }
+      c.area_k[kv * B + b] = k;
+      for (std::uint32_t t = 0; t < T; ++t) c.ln_lost[(kv * T + t) * B + b] = ln_l;
     }
 }
 

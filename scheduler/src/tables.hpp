@@ -178,10 +178,10 @@ struct Scheduler::Impl::ProfileCache {
   Profile profile{};
   std::vector<float> ln_lost;      // [(K-1) V T B], -inf where nothing is lost
   std::vector<float> ln_lost_any;  // [(K-1) V B]: max over orientations (all a static object needs)
-  // The area law's k per loss (Curves::area_term(): a0 / (extent x band centre^2), from the Detail
-  // section), empty when it does not apply (area_law() false): [(K-1) V T B] beside ln_lost, and
-  // [(K-1) V B] beside ln_lost_any, the extent there bounding every orientation's (see add_profile).
-  std::vector<float> area_k, area_k_any;
+      // The area law's k per level, view and band (Curves::area_term(): a0 / (extent x band centre^2),
+  // from the Pooled section or a bound from Detail's; area_ks()), [(K-1) V B], every orientation of
+  // the band reading it; empty when the law does not apply (area_law() false).
+  std::vector<float> area_k;
   std::vector<float> ln_band;       // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;    // [V][3] snapshot right = -direction x up, object space
@@ -205,8 +205,6 @@ struct Scheduler::Impl::ProfileCache {
   Tables sets[kTableSets];
 };
 
-// One loss's area-law k (0: none) from a ProfileCache::area_k or area_k_any.
-inline float area_k_at(const std::vector<float>& k, std::size_t i) { return k.empty() ? 0.0f : k[i]; }
 // One loss's area law as the tables' searches read it (Curves::with_law()): k (0: none) and the
 // factor's lower bound per block of curve samples (Curves::kKnots values, Curves::area_knots()).
 struct internal::AreaLaw {

@@ -65,6 +65,11 @@ void Scheduler::Impl::build_tables(ProfileCache& c) const {
                       B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
   const auto margins = static_cast<std::uint32_t>(margin_sets(config_));
+  // The area law's knots per level, view and band (Curves::area_knots()), once for every table set.
+  std::vector<float> knots(c.area_k.size() * Curves::kKnots);
+  for (std::size_t i = 0; i < c.area_k.size(); ++i)
+    if (c.area_k[i] > 0.0f) curves_->area_knots(c.area_k[i], &knots[i * Curves::kKnots]);
+  const float* law_knots = c.area_k.empty() ? nullptr : knots.data();
   for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set) {
     if (set % 2 >= margins) continue;
     const float ln_bias_q = pre.ln_quality_at(table_bias_[set / 2]);
@@ -73,26 +78,23 @@ void Scheduler::Impl::build_tables(ProfileCache& c) const {
     c.sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
     c.sets[set].moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
-      for (std::uint32_t k = 1; k < K; ++k) build_still(c, set, ln_q, w, k);
-    build_moving(c, set, ln_q);
+      for (std::uint32_t k = 1; k < K; ++k) build_still(c, set, ln_q, w, k, law_knots);
+    build_moving(c, set, ln_q, law_knots);
     build_any_view(c, set);
   }
 }
 
 // The still and slow tables of view w and level k in table set `set` (ln_q: its ln q).
 void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
-                                  std::uint32_t k) const {
+                                  std::uint32_t k, const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
   const std::size_t kv = std::size_t(k - 1) * V + w;
-  float knots[kMaxBands][Curves::kKnots];  // each band's area law (AreaLaw)
-  AreaLaw laws[kMaxBands];
-  for (std::uint32_t b = 0; b < B; ++b) {
-    laws[b] = {area_k_at(c.area_k_any, kv * B + b), knots[b]};
-    if (laws[b].k > 0.0f) curves_->area_knots(laws[b].k, knots[b]);
-  }
+  AreaLaw laws[kMaxBands];  // each band's area law
+  for (std::uint32_t b = 0; b < B && knots; ++b)
+    laws[b] = {c.area_k[kv * B + b], &knots[(kv * B + b) * Curves::kKnots]};
   std::vector<std::int16_t>& still = c.sets[set].still;
   // Still and slow: per band, then the minimum over the bands the display shows (prefix minima).
   // Where a cell's midpoint shows the interpolation above the truth (a convex kink: the CSF's
@@ -149,7 +151,7 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
 // and level, every curve was read again for each). Each row's entries are what they were when built
 // one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
 // lead band changes only how fast it finds its value (Curves::least_sampled()).
-void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q) const {
+void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count,
                       L = p.meta.level_count - 1;
@@ -158,9 +160,7 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
   const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * T;
   // Row r = (w L + (k - 1)) T + t: view w, level k, orientation t at its own speed, every band.
   std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
-  // Each row's and band's area law (AreaLaw; knots only where the law applies).
-  std::vector<AreaLaw> laws(R * kMaxBands);
-  std::vector<float> knots(c.area_k.empty() ? 0 : R * B * Curves::kKnots);
+  std::vector<AreaLaw> laws(R * kMaxBands);  // each row's and band's area law (its level, view and band's)
   std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
   std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
   for (std::uint32_t w = 0; w < V; ++w)
@@ -169,12 +169,7 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
         const std::size_t r = (std::size_t(w) * L + (k - 1)) * T + t, kv = std::size_t(k - 1) * V + w;
         for (std::uint32_t b = 0; b < B; ++b) {
           y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
-          const float k_area = area_k_at(c.area_k, (kv * T + t) * B + b);
-          if (k_area > 0.0f) {
-            float* at = &knots[(r * B + b) * Curves::kKnots];
-            curves_->area_knots(k_area, at);
-            laws[r * kMaxBands + b] = {k_area, at};
-          }
+          if (knots) laws[r * kMaxBands + b] = {c.area_k[kv * B + b], &knots[(kv * B + b) * Curves::kKnots]};
         }
       }
   for (std::uint32_t i = 0; i < kMovingS; ++i)
