@@ -369,6 +369,54 @@ void Scheduler::Impl::spend_cut_budget(const ClusterView& h, const CutBudget& bu
   }
 }
 
+// The object as select_cut() reads it (CutObject): its pose, scale, bands and each eye's origin,
+// motion, gaze and focal length. False where the pose, velocity or an eye is not usable.
+bool Scheduler::Impl::cut_object(const ClusterLoss& loss, const ObjectTransform& t, const float velocity[3],
+                                 CutObject* o) const {
+  const std::size_t B = loss.bands_cpod.size();
+  const Vec3 v = velocity ? load(velocity) : Vec3{0, 0, 0};
+  const float qn = quaternion_length(t.rotation);
+  bool valid = eye_count_ > 0 && finite(v) && unit_length(qn) && t.scale > 0.0f && std::isfinite(t.scale) &&
+               std::isfinite(loss.diameter * t.scale);
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const EyeCache& eye = eyes_[i];
+    o->origin[i] = Vec3{float(t.position[0] - eye.position[0]), float(t.position[1] - eye.position[1]),
+                        float(t.position[2] - eye.position[2])};
+    valid = valid && eye.valid && finite(o->origin[i]);
+    const Vec3 rel = v - eye.velocity;
+    o->moving[i] = rel.x != 0.0f || rel.y != 0.0f || rel.z != 0.0f || eye.omega.x != 0.0f ||
+                   eye.omega.y != 0.0f || eye.omega.z != 0.0f || eye.gaze_moving;
+  }
+  if (!valid) return false;
+  for (int k = 0; k < 4; ++k) o->q[k] = t.rotation[k] / qn;
+  for (int k = 0; k < 4; ++k) o->q_inv[k] = k < 3 ? -o->q[k] : o->q[k];
+  o->lost = loss.lost.data();
+  o->V = std::uint32_t(loss.view_directions.size() / 3);
+  o->view_dirs = o->V ? loss.view_directions.data() : nullptr;
+  o->view_lost = loss.view_lost.data();
+  o->ln_lost = loss.ln_lost.empty() ? nullptr : loss.ln_lost.data();
+  o->ln_view_lost = loss.ln_view_lost.empty() ? nullptr : loss.ln_view_lost.data();
+  o->scale = t.scale;
+  o->size = loss.diameter * t.scale;
+  o->bands = loss.bands_cpod.data();
+  o->B = std::uint32_t(B);
+  o->top_band = o->bands[0];
+  for (std::size_t b = 0; b < B; ++b) {
+    o->ln_band[b] = std::log(o->bands[b]);
+    o->top_band = std::max(o->top_band, o->bands[b]);
+  }
+  o->ln_q = pre_->ln_quality;
+  o->flags = 0;
+  for (std::uint32_t i = 0; i < eye_count_; ++i) {
+    const EyeCache& eye = eyes_[i];
+    if (!eye.gaze) o->flags |= kFlagNoGaze;
+    o->gaze[i] = eye.gaze ? eye.gaze_dir : eye.forward;
+    o->gaze_offset[i] = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
+    o->half_focal[i] = 0.5f * eye.focal_px * kRad;
+  }
+  return true;
+}
+
 CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& t,
                                       const float velocity[3], std::span<CutGroupMemory> memory,
                                       std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn,
@@ -403,49 +451,10 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
     return finest(CutStatus::BadHierarchy, 0);
 
   CutObject o;
-  const Vec3 v = velocity ? load(velocity) : Vec3{0, 0, 0};
-  const float qn = quaternion_length(t.rotation);
-  bool valid = eye_count_ > 0 && finite(v) && unit_length(qn) && t.scale > 0.0f && std::isfinite(t.scale) &&
-               std::isfinite(loss.diameter * t.scale);
-  for (std::uint32_t i = 0; i < eye_count_; ++i) {
-    const EyeCache& eye = eyes_[i];
-    o.origin[i] = Vec3{float(t.position[0] - eye.position[0]), float(t.position[1] - eye.position[1]),
-                       float(t.position[2] - eye.position[2])};
-    valid = valid && eye.valid && finite(o.origin[i]);
-    const Vec3 rel = v - eye.velocity;
-    o.moving[i] = rel.x != 0.0f || rel.y != 0.0f || rel.z != 0.0f || eye.omega.x != 0.0f ||
-                  eye.omega.y != 0.0f || eye.omega.z != 0.0f || eye.gaze_moving;
-  }
-  if (!valid) {  // the finest cut, remembered as every group visible: coarsening waits again
+  if (!cut_object(loss, t, velocity, &o)) {  // the finest cut, every group remembered visible
     for (CutGroupMemory& m : memory.first(memory.empty() ? 0 : G))
       m = CutGroupMemory{0, 0, kCutKnown | kCutVisible};
     return finest(CutStatus::InvalidInput, kFlagInvalidInput);
-  }
-  for (int k = 0; k < 4; ++k) o.q[k] = t.rotation[k] / qn;
-  for (int k = 0; k < 4; ++k) o.q_inv[k] = k < 3 ? -o.q[k] : o.q[k];
-  o.lost = loss.lost.data();
-  o.V = std::uint32_t(loss.view_directions.size() / 3);
-  o.view_dirs = o.V ? loss.view_directions.data() : nullptr;
-  o.view_lost = loss.view_lost.data();
-  o.ln_lost = loss.ln_lost.empty() ? nullptr : loss.ln_lost.data();
-  o.ln_view_lost = loss.ln_view_lost.empty() ? nullptr : loss.ln_view_lost.data();
-  o.scale = t.scale;
-  o.size = loss.diameter * t.scale;
-  o.bands = loss.bands_cpod.data();
-  o.B = std::uint32_t(B);
-  o.top_band = o.bands[0];
-  for (std::size_t b = 0; b < B; ++b) {
-    o.ln_band[b] = std::log(o.bands[b]);
-    o.top_band = std::max(o.top_band, o.bands[b]);
-  }
-  o.ln_q = pre_->ln_quality;
-  o.flags = 0;
-  for (std::uint32_t i = 0; i < eye_count_; ++i) {
-    const EyeCache& eye = eyes_[i];
-    if (!eye.gaze) o.flags |= kFlagNoGaze;
-    o.gaze[i] = eye.gaze ? eye.gaze_dir : eye.forward;
-    o.gaze_offset[i] = eye.gaze ? config_.gaze_uncertainty_deg : config_.no_gaze_radius_deg;
-    o.half_focal[i] = 0.5f * eye.focal_px * kRad;
   }
   const CoarsenTiming timing = coarsen_timing();
 
