@@ -1665,6 +1665,15 @@ struct AgainstScored {
     fast.set_velocity(id, v);
     scored.set_velocity(id, v);
   }
+  // Adds objects 0 .. n-1, each random_object(rng, moving_percent); every `velocity_every`-th of
+  // them (from 0) takes its velocity.
+  void add_random(Rng& rng, int n, int moving_percent, int velocity_every = 1) {
+    for (int i = 0; i < n; ++i) {
+      const RandomObject o = random_object(rng, moving_percent);
+      add_object(o.t, ObjectId(i));
+      if (i % velocity_every == 0) set_velocity(ObjectId(i), o.v);
+    }
+  }
   // Runs a frame through both; counts the levels that differ between them, and those of `scored`
   // that changed since its last frame.
   int differ = 0, changed = 0, frames = 0;
@@ -1771,11 +1780,7 @@ TEST(SchedulerTabulated, MovingImagesUnderAWanderingMeasuredGaze) {
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, six.profile);
     Rng rng(31);
-    for (int i = 0; i < objects; ++i) {
-      const RandomObject o = random_object(rng, 20);
-      pair.add_object(o.t, ObjectId(i));
-      pair.set_velocity(ObjectId(i), o.v);
-    }
+    pair.add_random(rng, objects, 20);
     Frame fr = looking_forward();
     fr.gaze[0].has_velocity = true;
     for (int f = 0; f < frames; ++f) {
@@ -1802,11 +1807,7 @@ TEST(SchedulerTabulated, HoldsSetOnlyWhileTheHeadTurnsSteadily) {
   for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
     AgainstScored pair(blend, objects, six.profile);
     Rng rng(17);
-    for (int i = 0; i < objects; ++i) {
-      const RandomObject o = random_object(rng, 100);
-      pair.add_object(o.t, ObjectId(i));
-      if (i % 2 == 0) { pair.set_velocity(ObjectId(i), o.v); }
-    }
+    pair.add_random(rng, objects, 100, 2);
     Frame fr = looking_forward();
     float yaw = 0;  // [deg]
     for (int f = 0; f < frames; ++f) {
