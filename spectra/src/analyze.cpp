@@ -240,6 +240,13 @@ std::vector<std::vector<float>> LostContrast::contrast_maps(const Image& level, 
   return out;
 }
 
+namespace {
+// A loss's extent as a fraction of the grid (`count` points): its energy over its peak's (0: none).
+float extent(double energy, double peak_energy, std::size_t count) {
+  return peak_energy > 0 ? float(std::min(1.0, energy / peak_energy / double(count))) : 0.0f;
+}
+}  // namespace
+
 void LostContrast::measure(const Image& level, const Reference& ref, float* result, float* area,
                            float* offset, float* turn, float* pooled, float* pooled_area) const {
   const std::uint32_t B = band_count(), T = settings_.orientations;
@@ -256,8 +263,7 @@ void LostContrast::measure(const Image& level, const Reference& ref, float* resu
           sum += e;
         }
         if (pooled) pooled[c.band] = float(std::sqrt(peak));
-        if (pooled_area)
-          pooled_area[c.band] = peak > 0 ? float(std::min(1.0, sum / peak / double(count))) : 0.0f;
+        if (pooled_area) pooled_area[c.band] = extent(sum, peak, count);
       }
     }
     float best = 0;
@@ -268,8 +274,7 @@ void LostContrast::measure(const Image& level, const Reference& ref, float* resu
       energy += double(c.contrast[i]) * c.contrast[i];
     }
     result[at] = best;
-    if (area)
-      area[at] = best > 0 ? float(std::min(1.0, energy / (double(best) * best) / double(count))) : 0.0f;
+    if (area) area[at] = extent(energy, double(best) * best, count);
     if (offset) offset[at] = c.offset;
     if (turn) turn[at] = c.turn;
   });
