@@ -302,7 +302,7 @@ void bind_scheduler(py::module_ m) {
       .def_readwrite("params", &SchedulerConfig::params)
       .def_readwrite("area_law", &SchedulerConfig::area_law,
                      "threshold raised by Rovamo's area law at each pooled loss's extent (Default, "
-                     "Geisler-Perry, Kelly-Daly)")
+                     "Geisler-Perry, Kelly-Daly, stela-csf)")
       .def_readwrite("view_blend", &SchedulerConfig::view_blend)
       .def_readwrite("quality", &SchedulerConfig::quality)
       .def_readwrite("fallback_level", &SchedulerConfig::fallback_level)

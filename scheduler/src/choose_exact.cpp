@@ -61,7 +61,8 @@ std::uint32_t Scheduler::Impl::exact_thresholds(const ProfileCache& pc, const Si
 }
 
 bool Scheduler::Impl::uses_detail(const Profile& p) const {
-  return p.detail && config_.rule == SelectionRule::Perceptual && config_.model == ThresholdModel::StelaCsf;
+  return p.detail && config_.rule == SelectionRule::Perceptual && config_.model == ThresholdModel::StelaCsf &&
+         !area_law(p);
 }
 
 // StelaCsf on a profile with a Detail section: ln CT per (orientation, band) [T][B] of level k's loss

@@ -124,7 +124,8 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
 bool Scheduler::Impl::area_law(const Profile& p) const {
   return config_.area_law && (p.pooled || p.detail) && config_.rule == SelectionRule::Perceptual &&
          (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry ||
-          config_.model == ThresholdModel::KellyDaly);
+          config_.model == ThresholdModel::KellyDaly ||
+          (config_.model == ThresholdModel::StelaCsf && p.pooled && std::isinf(config_.params.area)));
 }
 
 // With the area law (area_law()) a band's loss is read as the eye pools it: the energy over the

@@ -67,9 +67,11 @@ struct SchedulerConfig {
   // The area law (Rovamo et al. 1993 as stelaCSF fits it: params.stela.a0, f0): a loss of extent A
   // [deg^2] has its threshold raised by sqrt(1 + A_c(f) / A), A_c(f) = a0 / (1 + (f / f0)^2), so a
   // small patch of lost detail is judged as the eye sums it, not as a full-field grating. A is the
-  // profile's measured extent (its Detail section) times the squared angular diameter; without the
-  // section the area is unbounded (factor 1). Perceptual rule, models Default, GeislerPerry and
-  // KellyDaly (StelaCsf has it built in, params.area; Reddy has no contrast).
+  // profile's pooled extent (its Pooled section; without it a bound from its Detail section) times
+  // the squared angular diameter; with neither the area is unbounded (factor 1). Perceptual rule,
+  // models Default, GeislerPerry and KellyDaly, and StelaCsf on a profile with a Pooled section at
+  // params.area +inf (its own area term at A is exactly this factor; without Pooled it pools the
+  // Detail section's channels). Reddy has no contrast.
   bool area_law = true;
   ViewBlend view_blend = ViewBlend::Nearest;  // lowest measured error (docs/spectra.md); Max3 errs safe
   float quality = 1.0f;                       // q: invisible when lost <= q CT (q < 1 is more conservative)
