@@ -165,8 +165,9 @@ TEST(Detection, HardCasesStayFinite) {
   const double tiny_far = d.detect(speck, grey, placement(0.05, 40)).score;
   EXPECT_TRUE(std::isfinite(tiny_fovea) && std::isfinite(tiny_far));
   EXPECT_GT(tiny_fovea, tiny_far);
-  // No gaze (every point looked at: more visible than with the gaze on the centre only), a gaze along the head's up (no meridian defined), a huge object
-  // with the gaze on its centre pixel, a very fast one.
+  // No gaze and no disc (every point looked at: more visible than with the gaze on the centre only),
+  // a gaze along the head's up (no meridian defined), a huge object with the gaze on its centre
+  // pixel, a very fast one.
   Placement none = p;
   none.gazes.clear();
   EXPECT_GT(d.detect(gabor(8, 0.05), grey, none).score, d.detect(gabor(8, 0.05), grey, p).score);
@@ -180,6 +181,27 @@ TEST(Detection, HardCasesStayFinite) {
   fast.retinal_velocity = {1000, 300};
   EXPECT_TRUE(std::isfinite(d.detect(gabor(8, 0.5), grey, fast).score));
   for (double b : big.bands) EXPECT_TRUE(std::isfinite(b) && b >= 0);
+  // No gaze within a disc (the scheduler's no-gaze radius about the view centre): a point's gaze is
+  // the disc's nearest point. Radius 0: the centre, exactly the gaze there; a disc reaching past the
+  // patch: every point looked at; between: between.
+  const Placement off = placement(4, 12);
+  Placement disc = off;
+  disc.gazes.clear();
+  const Image faint = gabor(8, 0.05);
+  const double gazed = d.detect(faint, grey, off).score;
+  double previous = 0;
+  for (const double radius : {0.0, 6.0, 11.0, 20.0}) {
+    disc.no_gaze_radius_deg = radius;
+    const double score = d.detect(faint, grey, disc).score;
+    if (radius == 0) { EXPECT_DOUBLE_EQ(score, gazed); }
+    if (radius == 20) {  // the default radius (180): every point looked at
+      Placement anywhere = off;
+      anywhere.gazes.clear();
+      EXPECT_DOUBLE_EQ(score, d.detect(faint, grey, anywhere).score);
+    }
+    EXPECT_GT(score, previous) << radius;
+    previous = score;
+  }
   // Bad geometry is refused, not scored.
   Placement behind = p;
   behind.radius = 0;

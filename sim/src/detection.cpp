@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 #include <stdexcept>
 
 namespace acuity::sim {
@@ -19,18 +20,32 @@ struct Field {
   std::vector<double> eccentricity, meridian;
 };
 
+// Without a gaze, the point of the no-gaze disc (Placement) nearest to the direction d: d itself
+// inside it, else its centre turned towards d by the disc's radius.
+glm::dvec3 no_gaze_point(const Placement& pl, const glm::dvec3& d) {
+  const glm::dvec3 c = glm::normalize(pl.view_centre);
+  const double angle = std::atan2(glm::length(glm::cross(c, d)), glm::dot(c, d));
+  const double radius = std::max(pl.no_gaze_radius_deg, 0.0) / kDeg;
+  if (angle <= radius) return d;
+  glm::dvec3 across = d - glm::dot(d, c) * c;  // d is not c (angle > 0); opposite it, any side
+  if (glm::length(across) < 1e-12)
+    across = glm::cross(c, std::abs(c.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0));
+  return std::cos(radius) * c + std::sin(radius) * glm::normalize(across);
+}
+
 Field field(const Placement& pl, std::uint32_t n, std::uint32_t m) {
   Field out;
   const std::size_t count = std::size_t(m) * m;
   out.eccentricity.assign(count, 0.0);
   out.meridian.assign(count, 0.0);
-  if (pl.gazes.empty()) return out;
+  if (pl.gazes.empty() && !(pl.no_gaze_radius_deg < 180)) return out;
   for (std::uint32_t j = 0; j < m; ++j)
     for (std::uint32_t i = 0; i < m; ++i) {
       const double sx = (double(i) * n / m + 0.5) / n * 2 - 1, sy = 1 - (double(j) * n / m + 0.5) / n * 2;
       const glm::dvec3 d = glm::normalize(pl.centre + pl.radius * (sx * pl.right + sy * pl.up));
       double best = 1e300, weight = 0;
-      for (const glm::dvec3& g : pl.gazes) {
+      const glm::dvec3 disc[1] = {no_gaze_point(pl, d)};
+      for (const glm::dvec3& g : pl.gazes.empty() ? std::span<const glm::dvec3>(disc) : pl.gazes) {
         const double e = std::atan2(glm::length(glm::cross(d, g)), glm::dot(d, g)) * kDeg;
         if (e >= best) continue;
         best = e;

@@ -32,8 +32,9 @@ struct ExactScores {
 // detection model (acuity/sim/detection.hpp): stelaCSF per point of the image with the point's
 // eccentricity from the frame's gazes, the object's retinal slip (against the tracked gaze, else
 // Daly's pursuit model; a saccade counts as fixation, as the scheduler takes it), the display's white
-// at `perceptual`.params.luminance and its Nyquist frequency ppd / 2. Of `perceptual` only those and
-// the gaze's confidence floor are read: the judge is not the rule. Views are measured in parallel;
+// at `perceptual`.params.luminance and its Nyquist frequency ppd / 2; without a gaze (a blink, a
+// lost tracker) the gaze anywhere within the no-gaze disc, as the rule assumes. Of `perceptual` only
+// those, the gaze's confidence floor and the no-gaze radius are read: the judge is not the rule. Views are measured in parallel;
 // the result is in their order and does not depend on the thread count.
 std::vector<ExactScores> judge_exact_views(const SceneAssets& scene, const std::vector<ExactView>& views,
                                            const SchedulerConfig& perceptual, double ppd);

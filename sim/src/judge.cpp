@@ -85,6 +85,9 @@ Task exact_task(const SceneAssets& scene, const ExactView& v, const SchedulerCon
       gaze_velocity = er * glm::cross(gw, gd / gl) + glm::cross(vec(fr.eyes[0].angular_velocity), p.gazes[0]);
     }
   }
+  // Without a gaze, the scheduler's assumption: anywhere within its no-gaze disc about the view centre.
+  p.view_centre = head * glm::dvec3(0, 0, -1);
+  p.no_gaze_radius_deg = double(c.no_gaze_radius_deg);
   // The image's motion [deg/s] at the object's centre, and its slip on the retina by the scheduler's
   // own rule (object_retinal_slip).
   const glm::dvec3 u = -dir, rel = v.velocity - eye_velocity;

@@ -50,8 +50,12 @@ struct Placement {
   glm::dvec3 up{0.0, 1.0, 0.0};       // the image's +y (rows run down), unit
   double radius = 0.01;               // half the image's side [m] (> 0)
   // Unit gaze directions (one per eye; a point's eccentricity is the smaller). None: no gaze known,
-  // every point is looked at (eccentricity 0).
+  // the gaze anywhere within no_gaze_radius_deg of view_centre (a unit direction), as the scheduler
+  // assumes (SchedulerConfig::no_gaze_radius_deg): a point's gaze is the disc's nearest point to it;
+  // a radius of 180 or more: every point is looked at (eccentricity 0).
   std::vector<glm::dvec3> gazes;
+  glm::dvec3 view_centre{0.0, 0.0, -1.0};
+  double no_gaze_radius_deg = 180.0;
   glm::dvec3 head_up{0.0, 1.0, 0.0};  // the head's up: the visual field's vertical meridian
   glm::dvec2 retinal_velocity{0.0};   // the image on the retina, along right and up [deg/s]
 };
