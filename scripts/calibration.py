@@ -3,6 +3,7 @@
 
   PYTHONPATH=build/python python3 scripts/calibration.py            the table (markdown) on stdout
   PYTHONPATH=build/python python3 scripts/calibration.py --csv      one line per condition and path
+  PYTHONPATH=build/python python3 scripts/calibration.py --model default   the default chain's reading
 
 Each condition is a Gabor patch, contrast c exp(-r^2 / 2 sigma^2) cos(2 pi f x) on a uniform
 background, the whole object: its window of 6 sigma is the bounding sphere's diameter D (so sigma =
@@ -97,11 +98,14 @@ def one_view_profile(lost, bands, radius, detail=None):
         lost=lost.reshape(1, 1, t, b), features=np.zeros((2, 1, t), np.float32), snapshot_pixels=PIXELS, **extra))
 
 
+MODEL = "stela-csf"  # the rule's threshold model (--model)
+
+
 def chain_config(evaluation, params=None):
     config = acuity.SchedulerConfig()
     config.max_objects = 4
     config.max_profiles = 4
-    config.model = "stela-csf"
+    config.model = MODEL
     config.evaluation = evaluation
     p = params or acuity.models.ModelParams()
     p.luminance = LUMINANCE
@@ -204,9 +208,14 @@ def table(results):
 
 
 def main():
+    global MODEL
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--csv", action="store_true", help="one line per condition instead of the table")
+    p.add_argument("--model", default=MODEL,
+                   help="the rule's threshold model (default: stela-csf, the one calibrated here; 'default' "
+                        "shows how the default chain reads the same patches)")
     a = p.parse_args()
+    MODEL = a.model
     results = [measure(f, size, e, v, angle=angle) for f, size, _, angle, e, v in conditions()]
     if a.csv:
         print("f_cpd,size_deg,angle_deg,e_centre_deg,e_near_deg,v_deg_s,threshold,exact,tabulated,limiting_cpd")
@@ -218,7 +227,7 @@ def main():
     shown = [r for r in results if "exact" in r]
     print(f"Gabor patches at stelaCSF's threshold contrast (50 cd/m^2, area pi sigma^2, the nearest point's "
           f"eccentricity), level 1's score through lost_contrast -> one-view profile -> perceptual rule "
-          f"(stela-csf, q = 1, gaze uncertainty 0, {PX_PER_DEG:g} px/deg). Columns: e = the gaze's angle to the "
+          f"({MODEL}, q = 1, gaze uncertainty 0, {PX_PER_DEG:g} px/deg). Columns: e = the gaze's angle to the "
           f"patch's centre [deg], v = drift across the bars [deg/s]; a cell holds the exact path's score, and "
           f"the tabulated path's after a slash where they differ by more than 0.5%; - : threshold contrast above 1. "
           f"Band and orientation: where the carrier lies among the analysis bands and orientations.")

@@ -118,6 +118,9 @@ FIGURES = [
            measured=True),
     Figure("calibration", "spectra.md",
            lambda b: [PY, os.path.join(ROOT, "scripts", "calibration.py")], measured=False, slow=True),
+    Figure("calibration-default", "spectra.md",
+           lambda b: [PY, os.path.join(ROOT, "scripts", "calibration.py"), "--model", "default"], measured=False,
+           slow=True),
     Figure("profile-bench", "spectra.md",
            lambda b: [os.path.join(b, "bench", "bench_profile"), meshes(b), "48"], measured=True),
 ]
