@@ -20,12 +20,10 @@ struct Field {
   std::vector<double> eccentricity, meridian;
 };
 
-// Without a gaze, the point of the no-gaze disc (Placement) nearest to the direction d: d itself
-// inside it, else its centre turned towards d by the disc's radius.
-glm::dvec3 no_gaze_point(const Placement& pl, const glm::dvec3& d) {
-  const glm::dvec3 c = glm::normalize(pl.view_centre);
+// Without a gaze, the point of the no-gaze disc (Placement; centre c, unit, radius [rad]) nearest to
+// the direction d: d itself inside it, else its centre turned towards d by the radius.
+glm::dvec3 no_gaze_point(const glm::dvec3& c, double radius, const glm::dvec3& d) {
   const double angle = std::atan2(glm::length(glm::cross(c, d)), glm::dot(c, d));
-  const double radius = std::max(pl.no_gaze_radius_deg, 0.0) / kDeg;
   if (angle <= radius) return d;
   glm::dvec3 across = d - glm::dot(d, c) * c;  // d is not c (angle > 0); opposite it, any side
   if (glm::length(across) < 1e-12)
@@ -38,14 +36,22 @@ Field field(const Placement& pl, std::uint32_t n, std::uint32_t m) {
   const std::size_t count = std::size_t(m) * m;
   out.eccentricity.assign(count, 0.0);
   out.meridian.assign(count, 0.0);
-  if (pl.gazes.empty() && !(pl.no_gaze_radius_deg < 180)) return out;
+  const bool disc = pl.gazes.empty();  // no gaze: each point's own gaze on the no-gaze disc
+  if (disc && !(pl.no_gaze_radius_deg < 180)) return out;
+  const glm::dvec3 disc_centre = glm::normalize(pl.view_centre);
+  const double disc_radius = std::max(pl.no_gaze_radius_deg, 0.0) / kDeg;
   for (std::uint32_t j = 0; j < m; ++j)
     for (std::uint32_t i = 0; i < m; ++i) {
       const double sx = (double(i) * n / m + 0.5) / n * 2 - 1, sy = 1 - (double(j) * n / m + 0.5) / n * 2;
       const glm::dvec3 d = glm::normalize(pl.centre + pl.radius * (sx * pl.right + sy * pl.up));
       double best = 1e300, weight = 0;
-      const glm::dvec3 disc[1] = {no_gaze_point(pl, d)};
-      for (const glm::dvec3& g : pl.gazes.empty() ? std::span<const glm::dvec3>(disc) : pl.gazes) {
+      glm::dvec3 nearest;
+      std::span<const glm::dvec3> gazes = pl.gazes;
+      if (disc) {
+        nearest = no_gaze_point(disc_centre, disc_radius, d);
+        gazes = {&nearest, 1};
+      }
+      for (const glm::dvec3& g : gazes) {
         const double e = std::atan2(glm::length(glm::cross(d, g)), glm::dot(d, g)) * kDeg;
         if (e >= best) continue;
         best = e;
