@@ -220,24 +220,76 @@ struct Scheduler::Impl::CutObject {
   std::uint8_t flags;  // kFlagEyeInside, kFlagNoGaze found so far
 };
 
+// The geometry group_score() reads, for a run of up to kRun consecutive groups from one eye. Each
+// entry is what the scalar expressions give (the same IEEE operations, no contraction), so a run's
+// entries are the same bits whether the loop vectorises or not.
+struct Scheduler::Impl::GroupSights {
+  static constexpr std::size_t kRun = 16;
+  float x[kRun], y[kRun], z[kRun];      // the sphere's centre relative to the eye, over its distance
+  float d[kRun];                        // the distance to the centre [m]
+  float nearest[kRun];                  // to the sphere's nearest point [m]: <= 0 with the eye inside
+  float radius_deg[kRun];               // the sphere's angular radius [deg]
+  float e[kRun];                        // its nearest point's eccentricity [deg]
+  float diameter_deg[kRun];             // the angle one object diameter subtends at that point [deg]
+  float off_axis[kRun];                 // the angle of its point farthest off the view axis [deg], <= 90
+  std::size_t first = std::size_t(-1);  // the run's first group; -1 before the first run
+};
+
+// Groups [first, first + count) (count <= kRun) seen from eye i: their spheres' distance, direction,
+// angular radius, nearest eccentricity, the angle one object diameter subtends at the nearest point and
+// the angle farthest off the view axis. Entries of an eye inside a sphere are not used.
+ACUITY_SIMD_CLONES void Scheduler::Impl::group_sights(std::uint32_t i, const CutObject& o,
+                                                      const ClusterGroup* groups, std::size_t first,
+                                                      std::size_t count, GroupSights* out) const {
+  constexpr std::size_t kRun = GroupSights::kRun;
+  float cx[kRun], cy[kRun], cz[kRun], radius[kRun];
+  for (std::size_t j = 0; j < kRun; ++j) {  // a short run repeats its last group (not read)
+    const ClusterGroup& g = groups[first + std::min(j, count - 1)];
+    cx[j] = g.center[0];
+    cy[j] = g.center[1];
+    cz[j] = g.center[2];
+    radius[j] = g.radius;
+  }
+  const EyeCache& eye = eyes_[i];
+  const Vec3 origin = o.origin[i], gaze = o.gaze[i], forward = eye.forward;
+  const float scale = o.scale, offset = o.gaze_offset[i], size_deg = kDeg * o.size;
+  GroupSights& s = *out;
+  ACUITY_NO_ALIAS
+  for (std::size_t j = 0; j < kRun; ++j) {
+    const Vec3 c = origin + rotate(o.q, scale * Vec3{cx[j], cy[j], cz[j]});
+    const float d = length(c), r = scale * radius[j];
+    const float nearest = d - r;
+    const Vec3 u = (1.0f / d) * c;
+    const float radius_deg = angular_radius_deg(d, r);
+    s.x[j] = u.x;
+    s.y[j] = u.y;
+    s.z[j] = u.z;
+    s.d[j] = d;
+    s.nearest[j] = nearest;
+    s.radius_deg[j] = radius_deg;
+    s.e[j] = nearest_eccentricity(angle_deg(u, gaze), radius_deg, offset);
+    s.diameter_deg[j] = size_deg / nearest;
+    s.off_axis[j] = std::min(angle_deg(u, forward) + radius_deg, 90.0f);
+  }
+  s.first = first;
+}
+
 // One eye's score of one group: ln(lost / (q CT)), the largest over bands (without explain, the
 // first one above 0: the group is visible whatever the rest); +inf where the eye is inside (or on)
 // the sphere or a loss is NaN. Explain (nullable): filled when this eye's score exceeds its score so far.
 [[gnu::always_inline]] inline float Scheduler::Impl::group_score(std::uint32_t i, const CutObject& o,
-                                                                 const ClusterGroup& g, std::size_t index,
-                                                                 GroupExplain* explain, bool every_band,
-                                                                 bool* inside) const {
+                                                                 const GroupSights& s, std::uint32_t j,
+                                                                 std::size_t index, GroupExplain* explain,
+                                                                 bool every_band, bool* inside) const {
   const EyeCache& eye = eyes_[i];
-  const Vec3 c = o.origin[i] + rotate(o.q, o.scale * load(g.center));
-  const float d = length(c), r = o.scale * g.radius;
-  const float nearest = d - r;
+  const float nearest = s.nearest[j];
   if (inside) *inside = !(nearest > 0.0f);  // as !(d > r): a difference of floats is 0 only when equal
   if (!(nearest > 0.0f)) {                  // the eye is inside (or on) the sphere
     if (explain && !(explain->score >= kInf))
       *explain = GroupExplain{kInf, 0, std::uint8_t(i), kFlagEyeInside};
     return kInf;
   }
-  const Vec3 u = (1.0f / d) * c;
+  const Vec3 u{s.x[j], s.y[j], s.z[j]};
   // The loss seen from the eye's view cell: the cell whose direction (from the group towards the
   // eye, object space) is nearest to the eye's.
   std::size_t row = index * o.B;  // into lost (or view_lost) and their logs
@@ -257,10 +309,9 @@ struct Scheduler::Impl::CutObject {
   const float* lost = (o.view_dirs ? o.view_lost : o.lost) + row;
   const float* ln_lost = o.view_dirs ? o.ln_view_lost : o.ln_lost;  // given, or taken here
   if (ln_lost) ln_lost += row;
-  const float radius_deg = angular_radius_deg(d, r);
-  const float e = nearest_eccentricity(angle_deg(u, o.gaze[i]), radius_deg, o.gaze_offset[i]);
+  const float e = s.e[j];
   // The angle one object diameter subtends at the sphere's nearest point [deg].
-  const float diameter_deg = kDeg * o.size / nearest;
+  const float diameter_deg = s.diameter_deg[j];
   const float inv_diam = 1.0f / diameter_deg;
   // The Nyquist limit at the sphere's point farthest off the view axis: the largest over the sphere,
   // so a containing sphere never cuts a band a contained one shows. It is at least half_focal (its
@@ -268,10 +319,8 @@ struct Scheduler::Impl::CutObject {
   // inv_diam) is above that, no band is cut and it need not be found (+inf cuts none either).
   const float half_focal = o.half_focal[i];
   float nyquist = kInf;
-  if (!(o.top_band * inv_diam <= half_focal)) {
-    const float off_axis = std::min(angle_deg(u, eye.forward) + radius_deg, 90.0f);
-    nyquist = nyquist_cpd(half_focal, std::cos(off_axis * kRad));
-  }
+  if (!(o.top_band * inv_diam <= half_focal))
+    nyquist = nyquist_cpd(half_focal, std::cos(s.off_axis[j] * kRad));
   const bool moving = o.moving[i];
   float ln_ct[kMaxBands];
   band_thresholds(o.bands, o.ln_band, o.B, inv_diam, std::log(diameter_deg), nyquist, e, pre_->ecc_slope * e,
@@ -465,12 +514,21 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
   std::fill_n(state, G, std::uint8_t(0));
   for (std::uint32_t r : h.roots)
     if (h.clusters[r].refined != kNoGroup) state[h.clusters[r].refined] |= kNeeded;
+  // Each eye's sights of the run holding g, computed when the walk first scores one of its groups.
+  GroupSights sights[2];
+  const auto sight = [&](std::uint32_t i, std::size_t g) -> const GroupSights& {
+    const std::size_t first = g / GroupSights::kRun * GroupSights::kRun;
+    if (sights[i].first != first)
+      group_sights(i, o, h.groups.data(), first, std::min(GroupSights::kRun, G - first), &sights[i]);
+    return sights[i];
+  };
   for (std::size_t g = G; g-- > 0;) {
     const ClusterGroup& group = h.groups[g];
+    const auto j = static_cast<std::uint32_t>(g % GroupSights::kRun);
     bool visible = false;
     if (explain) {
       explain[g] = GroupExplain{};
-      for (std::uint32_t i = 0; i < eye_count_; ++i) group_score(i, o, group, g, &explain[g]);
+      for (std::uint32_t i = 0; i < eye_count_; ++i) group_score(i, o, sight(i, g), j, g, &explain[g]);
     }
     if (state[g] == kNeeded) {
       ++res.groups_evaluated;
@@ -480,7 +538,7 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
       bool inside = false;
       for (; scored < eye_count_ && (budgeted || !(score > 0.0f)); ++scored) {
         bool in = false;
-        score = std::max(score, group_score(scored, o, group, g, nullptr, budgeted, &in));
+        score = std::max(score, group_score(scored, o, sight(scored, g), j, g, nullptr, budgeted, &in));
         inside |= in;
       }
       if (budgeted) budget->scratch[g].harm = score;

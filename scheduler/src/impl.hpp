@@ -85,10 +85,17 @@ struct Scheduler::Impl {
   struct CutObject;
   bool cut_object(const ClusterLoss& loss, const ObjectTransform& t, const float velocity[3],
                   CutObject* o) const;
-  // every_band: the largest over bands even when visible (else the first band above 0 ends it).
-  // *inside (nullable): whether the eye is inside (or on) the group's sphere.
-  float group_score(std::uint32_t eye, const CutObject& o, const ClusterGroup& g, std::size_t index,
-                    GroupExplain* explain, bool every_band = false, bool* inside = nullptr) const;
+  // The geometry of a run of consecutive groups seen from one eye (group_sights(): a loop over the
+  // run that vectorises; the walk computes a run when it first needs one of its groups).
+  struct GroupSights;
+  void group_sights(std::uint32_t eye, const CutObject& o, const ClusterGroup* groups, std::size_t first,
+                    std::size_t count, GroupSights* out) const;
+  // One group's score from its sight `s` (entry j): every_band: the largest over bands even when
+  // visible (else the first band above 0 ends it). *inside (nullable): whether the eye is inside (or
+  // on) the group's sphere.
+  float group_score(std::uint32_t eye, const CutObject& o, const GroupSights& s, std::uint32_t j,
+                    std::size_t index, GroupExplain* explain, bool every_band = false,
+                    bool* inside = nullptr) const;
   CutResult select_cut(const ClusterView& h, const ClusterLoss& loss, const ObjectTransform& transform,
                        const float velocity[3], std::span<CutGroupMemory> memory,
                        std::span<std::uint8_t> scratch, std::span<std::uint32_t> drawn, GroupExplain* explain,
