@@ -428,18 +428,18 @@ TEST(SchedulerHardCases, UnusableTabulatedBiasesBuildNoTables) {
   odd.tabulated_biases[0] = NAN;
   odd.tabulated_biases[1] = -INFINITY;
   odd.tabulated_biases[2] = 1.0f;
-  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), Scheduler::table_bytes(tp.profile.meta, plain));
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile, odd), Scheduler::table_bytes(tp.profile, plain));
   odd.tabulated_biases[0] = INFINITY;
   odd.tabulated_biases[1] = 0.0f;
   odd.tabulated_biases[2] = -2.0f;
-  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), Scheduler::table_bytes(tp.profile.meta, plain));
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile, odd), Scheduler::table_bytes(tp.profile, plain));
   odd.tabulated_biases[0] = 4.0f;
   odd.tabulated_biases[1] = 4.0f;
-  EXPECT_EQ(Scheduler::table_bytes(tp.profile.meta, odd), 2 * Scheduler::table_bytes(tp.profile.meta, plain));
+  EXPECT_EQ(Scheduler::table_bytes(tp.profile, odd), 2 * Scheduler::table_bytes(tp.profile, plain));
   odd.max_objects = 1;
   Scheduler s(odd);
   const ObjectId id = s.add_object(s.add_profile(tp.profile), at(0, 0, -50));
-  EXPECT_EQ(s.table_bytes(0), Scheduler::table_bytes(tp.profile.meta, odd));
+  EXPECT_EQ(s.table_bytes(0), Scheduler::table_bytes(tp.profile, odd));
   for (const float bad : {NAN, INFINITY, 0.0f, -4.0f}) {
     s.set_bias(id, bad);
     s.run_frame(looking_forward());
@@ -1183,6 +1183,33 @@ TEST(SchedulerAreaLaw, PooledLossOverTheAreaLawsThreshold) {
     }
 }
 
+// Under the area law every orientation of a band reads the band's pooled loss, so the moving tables
+// keep one row per view and level, which each orientation reads at its own speed: the tables shrink
+// by T - 1 orientations' moving rows (the decisions are those of T equal rows: NeverCoarser's counts).
+TEST(SchedulerAreaLaw, OneMovingRowServesEveryOrientation) {
+  TestProfile pooled;
+  const auto& d0 = pooled.data;
+  const std::size_t B = d0.bands.size(), T = d0.orientations.size();
+  for (std::size_t i = 0; i < (d0.levels.size() - 1) * d0.views.size() * B; ++i)
+    pooled.data.pooled.push_back(spectra::encode_pooled(d0.lost[(i / B * T) * B + i % B], 1.0f / 64));
+  pooled.blob = spectra::encode_profile(pooled.data);
+  ASSERT_EQ(open_profile(pooled.blob.data(), pooled.blob.size, &pooled.profile), ProfileStatus::Ok);
+  const TestProfile plain;
+  ASSERT_GT(T, 1u);
+  for (const bool law : {true, false}) {
+    SchedulerConfig c;
+    c.max_objects = 1;
+    c.area_law = law;
+    Scheduler s(c);
+    const int p = s.add_profile(plain.profile), q = s.add_profile(pooled.profile);
+    const std::size_t V = d0.views.size(), L = d0.levels.size() - 1;
+    const std::size_t moving_row = std::size_t(13) * 16 * sizeof(std::int16_t);  // kMovingS x kMovingE
+    EXPECT_EQ(s.table_bytes(p), Scheduler::table_bytes(plain.profile, c));
+    EXPECT_EQ(s.table_bytes(q), Scheduler::table_bytes(pooled.profile, c));
+    EXPECT_EQ(s.table_bytes(p) - s.table_bytes(q), law ? V * L * (T - 1) * moving_row : 0) << "law " << law;
+  }
+}
+
 // A profile's Detail section (issue 47): stela-csf evaluates each loss at its own frequency and area
 // and pools the channels (energy over orientations, probability summation over bands with exponent
 // kBandPooling); the other models read it through the area law's bound (without a Pooled section:
@@ -1513,7 +1540,7 @@ TEST(SchedulerTabulated, ABiasDecidesThroughTheTablesOfItsQuality) {
     for (auto& one : s) one->add_profile(tp.profile);
     const Scheduler &biased = *s[0], &exact = *s[1];
     EXPECT_EQ(biased.table_bytes(0), 3 * s[2]->table_bytes(0));
-    EXPECT_EQ(biased.table_bytes(0), Scheduler::table_bytes(tp.profile.meta, biased_config));
+    EXPECT_EQ(biased.table_bytes(0), Scheduler::table_bytes(tp.profile, biased_config));
     Rng rng(margin > 0 ? 31 : 30);
     int coarser = 0, differ_listed = 0, listed = 0, differ_from_quality = 0;
     for (int f = 0; f < frames; ++f) {
@@ -2026,7 +2053,7 @@ TEST(SchedulerTabulated, ExtremeProfilesStayDefined) {
       e.evaluation = Evaluation::Exact;
       Scheduler tab(c), exact(e);
       const int pt = tab.add_profile(tp.profile), pe = exact.add_profile(tp.profile);
-      EXPECT_EQ(tab.table_bytes(pt), Scheduler::table_bytes(tp.profile.meta, c)) << x.name;
+      EXPECT_EQ(tab.table_bytes(pt), Scheduler::table_bytes(tp.profile, c)) << x.name;
       EXPECT_EQ(tab.table_bytes(pt) == 0, x.K == 1) << x.name;
       Rng rng(77);
       for (int i = 0; i < 60; ++i) {  // object 0: near, at the gaze (about 20 deg across)

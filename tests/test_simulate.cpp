@@ -490,10 +490,10 @@ TEST(Simulate, ModelReachesThePerceptualRulesOnly) {
     ASSERT_GT(eb.level_count, 1u);
     EXPECT_NE(ea.levels[1].threshold, eb.levels[1].threshold) << b.name;
   }
-  const ProfileMeta& meta = scene.assets[0].profile.meta;
-  EXPECT_EQ(perceptual_text(stela.rule("perceptual").scheduler->config(), meta),
+  const Profile& profile = scene.assets[0].profile;
+  EXPECT_EQ(perceptual_text(stela.rule("perceptual").scheduler->config(), profile),
             "model stela-csf, exact thresholds");
-  EXPECT_EQ(perceptual_text(base.rule("perceptual").scheduler->config(), meta),
+  EXPECT_EQ(perceptual_text(base.rule("perceptual").scheduler->config(), profile),
             "model default, tabulated thresholds");
   write_outputs(stela, analyse(stela, {}), {}, o.output);
   const std::string json = slurp(fs::path(o.output) / "summary.json");

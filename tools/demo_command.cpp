@@ -33,7 +33,7 @@ void run(const DemoCommand& o, const std::string& program) {
     std::printf("\nsampled decisions: %u, judged by rendering each at its exact view\n", o.sampled);
     const sim::SampledRun run = sim::run_sampled(*scene.assets, sampled);
     std::printf("the perceptual rule: %s\n",
-                sim::perceptual_text(run.perceptual, scene.assets->assets[0].profile.meta).c_str());
+                sim::perceptual_text(run.perceptual, scene.assets->assets[0].profile).c_str());
     std::printf("\n%s\nacuity demo finished in %.1f s.\n", sim::sampled_text(*scene.assets, run).c_str(),
                 seconds());
     return;

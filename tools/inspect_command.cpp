@@ -28,7 +28,7 @@ void run(const std::string& path, bool json) {
   j["sphere"] = {m.sphere[0], m.sphere[1], m.sphere[2], m.sphere[3]};
   j["snapshot_pixels"] = m.snapshot_pixels;
   j["runtime_table_bytes"] =
-      Scheduler::table_bytes(m, SchedulerConfig{});  // the tabulated path, default config
+      Scheduler::table_bytes(p, SchedulerConfig{});  // the tabulated path, default config
   j["orientations_deg"] = std::vector<float>(p.orientations, p.orientations + m.orientation_count);
   j["bands_cpod"] = std::vector<float>(p.bands, p.bands + m.band_count);
   for (std::uint32_t v = 0; v < m.view_count; ++v)
@@ -84,7 +84,7 @@ void run(const std::string& path, bool json) {
               m.sphere[2], m.sphere[3], m.snapshot_pixels);
   std::printf("views     %u (lookup %u x %u per cube face)\n", m.view_count, m.lookup_resolution,
               m.lookup_resolution);
-  const std::size_t tables = Scheduler::table_bytes(m, SchedulerConfig{});
+  const std::size_t tables = Scheduler::table_bytes(p, SchedulerConfig{});
   std::printf(
       "runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile;\n"
       "          as much again per tabulated bias, and all of it twice with a hysteresis margin\n",

@@ -100,7 +100,7 @@ RunResult run_simulation(const SceneAssets& scene, const SimulationOptions& opti
       sim.frame_count(), sim.rules().size(), run.simulate_seconds, run.judged.size(), run.judge_seconds);
   std::printf(
       "the perceptual rule: %s\n",
-      sim::perceptual_text(sim.rule("perceptual").scheduler->config(), scene.assets[0].profile.meta).c_str());
+      sim::perceptual_text(sim.rule("perceptual").scheduler->config(), scene.assets[0].profile).c_str());
   std::fputs(sim::summary_text(sim, run.results).c_str(), stdout);
   if (large) {
     // Its profile's line (made once, then cached) goes to stderr: it would land inside the summary,

@@ -24,7 +24,7 @@ struct Scheduler::Impl {
   void end_frame();
   int add_profile(const Profile& profile);
   std::size_t table_bytes(int profile) const;
-  static std::size_t table_bytes(const ProfileMeta& meta, const SchedulerConfig& config);
+  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
   float envelope_speed(float frequency_cpd) const;
   ObjectId add_object(int profile, const ObjectTransform& transform);
   void set_transform(ObjectId id, const ObjectTransform& transform);
@@ -70,8 +70,13 @@ struct Scheduler::Impl {
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
   bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
-  bool area_law(const Profile& p) const;     // SchedulerConfig::area_law applies to p's losses
-  void area_ks(ProfileCache& c) const;       // fills c.area_k (empty where it does not apply)
+  bool area_law(const Profile& p) const { return area_law(p, config_); }
+  static bool area_law(const Profile& p,
+                       const SchedulerConfig& c);  // SchedulerConfig::area_law applies to p's losses
+  // Rows per view and level of p's moving tables: 1 where every orientation reads the same loss
+  // (the area law's pooled one), else one per orientation.
+  static std::uint32_t moving_orientations(const Profile& p, const SchedulerConfig& c);
+  void area_ks(ProfileCache& c) const;  // fills c.area_k (empty where it does not apply)
   void detail_thresholds(const ProfileCache& pc, const Sight& s, std::uint32_t k, std::uint32_t view,
                          const float* centre_ln_ct, std::uint32_t stride, float* ln_ct) const;
   void area_thresholds(const ProfileCache& pc, std::uint32_t k, std::uint32_t view, const float* weight,

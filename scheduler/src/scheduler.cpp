@@ -121,11 +121,15 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
   }
 }
 
-bool Scheduler::Impl::area_law(const Profile& p) const {
-  return config_.area_law && (p.pooled || p.detail) && config_.rule == SelectionRule::Perceptual &&
-         (config_.model == ThresholdModel::Default || config_.model == ThresholdModel::GeislerPerry ||
-          config_.model == ThresholdModel::KellyDaly ||
-          (config_.model == ThresholdModel::StelaCsf && p.pooled && std::isinf(config_.params.area)));
+bool Scheduler::Impl::area_law(const Profile& p, const SchedulerConfig& c) {
+  return c.area_law && (p.pooled || p.detail) && c.rule == SelectionRule::Perceptual &&
+         (c.model == ThresholdModel::Default || c.model == ThresholdModel::GeislerPerry ||
+          c.model == ThresholdModel::KellyDaly ||
+          (c.model == ThresholdModel::StelaCsf && p.pooled && std::isinf(c.params.area)));
+}
+
+std::uint32_t Scheduler::Impl::moving_orientations(const Profile& p, const SchedulerConfig& c) {
+  return area_law(p, c) ? 1u : p.meta.orientation_count;  // area_ks() gives every orientation the band's L
 }
 
 // With the area law (area_law()) a band's loss is read as the eye pools it: the energy over the
@@ -192,6 +196,7 @@ int Scheduler::Impl::add_profile(const Profile& p) {
   c.ln_band.resize(B);
   for (std::uint32_t b = 0; b < B; ++b) c.ln_band[b] = std::log(p.bands[b]);
   area_ks(c);
+  c.moving_orientations = moving_orientations(p, config_);
   c.cos_t.resize(T);
   c.sin_t.resize(T);
   for (std::uint32_t t = 0; t < T; ++t) {
@@ -414,8 +419,8 @@ const float* Scheduler::scores(ObjectId id) const { return impl_->scores(id); }
 const FrameStats& Scheduler::stats() const { return impl_->stats_; }
 const SchedulerConfig& Scheduler::config() const { return impl_->config_; }
 std::size_t Scheduler::table_bytes(int profile) const { return impl_->table_bytes(profile); }
-std::size_t Scheduler::table_bytes(const ProfileMeta& meta, const SchedulerConfig& config) {
-  return Impl::table_bytes(meta, config);
+std::size_t Scheduler::table_bytes(const Profile& profile, const SchedulerConfig& config) {
+  return Impl::table_bytes(profile, config);
 }
 float Scheduler::envelope_speed(float frequency_cpd) const { return impl_->envelope_speed(frequency_cpd); }
 bool Scheduler::explain(ObjectId id, ObjectExplain* out) const { return impl_->explain(id, out); }

@@ -182,15 +182,18 @@ struct Scheduler::Impl::ProfileCache {
   // from the Pooled section or a bound from Detail's; area_ks()), [(K-1) V B], every orientation of
   // the band reading it; empty when the law does not apply (area_law() false).
   std::vector<float> area_k;
-  std::vector<float> ln_band;       // [B] ln of the band centre [cpod]
-  std::vector<float> cos_t, sin_t;  // [T] orientation unit vectors in the snapshot plane
-  std::vector<float> view_right;    // [V][3] snapshot right = -direction x up, object space
+  std::uint32_t moving_orientations = 1;  // Tm: rows per view and level of the moving tables
+  std::vector<float> ln_band;             // [B] ln of the band centre [cpod]
+  std::vector<float> cos_t, sin_t;        // [T] orientation unit vectors in the snapshot plane
+  std::vector<float> view_right;          // [V][3] snapshot right = -direction x up, object space
   // Tabulated path: ln of the largest invisible angular diameter [ln deg] (see scheduler.hpp).
   // Levels are innermost, so one object's reads share cache lines.
   // still and slow [V][n][kStillE][K-1]: the n = 1..B lowest bands visible on the display, a still
   // object (the floor's terms) and one moving no faster than the floor (the velocity envelope) --
   // a bound for every moving object, since thresholds never fall with speed;
-  // moving [V][T][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed.
+  // moving [V][Tm][kMovingS][kMovingE][K-1]: every band, one orientation at its own speed; Tm =
+  // moving_orientations: T, or 1 where every orientation reads the same loss (the area law's
+  // pooled L: their rows would be equal), each orientation then reading that row at its own speed.
   // Entries: encode_size(), 1/1024 ln deg, rounded down.
   // The same bounds taken over every view at each eccentricity node, so that most objects are
   // decided before their view is looked up: any_view [B][kStillE][2 (K-1) + 1], per band count
@@ -234,12 +237,14 @@ struct Scheduler::Impl::Probe {
   // Where candidate view c's rows start (profile of B bands, L coarser levels): in the still and
   // slow tables (the lower eccentricity node's levels, then the upper one's), and in the moving
   // table for orientation t (its lower speed node's two eccentricity nodes; the upper speed node's
-  // are kMovingE * L further). ProfileCache describes the layouts.
+  // are kMovingE * L further) of a table with Tm rows per view (ProfileCache::moving_orientations:
+  // T, or 1 shared by every orientation). ProfileCache describes the layouts.
   std::size_t still_row(std::uint32_t c, std::uint32_t B, std::uint32_t L) const {
     return ((std::size_t(views[c]) * B + (bands - 1)) * kStillE + ec.j) * L;
   }
-  std::size_t moving_row(std::uint32_t c, std::uint32_t t, std::uint32_t T, std::uint32_t L) const {
-    return (((std::size_t(views[c]) * T + t) * kMovingS + speed_j[t]) * kMovingE + em.j) * L;
+  std::size_t moving_row(std::uint32_t c, std::uint32_t t, std::uint32_t Tm, std::uint32_t L) const {
+    return (((std::size_t(views[c]) * Tm + std::min(t, Tm - 1)) * kMovingS + speed_j[t]) * kMovingE + em.j) *
+           L;
   }
 };
 

@@ -61,8 +61,7 @@ void Scheduler::Impl::build_curves() {
 // Fills the tabulated path's tables of one profile (see ProfileCache).
 void Scheduler::Impl::build_tables(ProfileCache& c) const {
   const Profile& p = c.profile;
-  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, T = p.meta.orientation_count,
-                      B = p.meta.band_count, L = K - 1;
+  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
   const auto margins = static_cast<std::uint32_t>(margin_sets(config_));
   // The area law's knots per level, view and band (Curves::area_knots()), once for every table set.
@@ -76,7 +75,7 @@ void Scheduler::Impl::build_tables(ProfileCache& c) const {
     const float ln_q = set % 2 ? ln_bias_q + pre.ln_margin : ln_bias_q;
     c.sets[set].still.assign(std::size_t(V) * L * B * kStillE, 0);
     c.sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
-    c.sets[set].moving.assign(std::size_t(V) * L * T * kMovingS * kMovingE, 0);
+    c.sets[set].moving.assign(std::size_t(V) * L * c.moving_orientations * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
       for (std::uint32_t k = 1; k < K; ++k) build_still(c, set, ln_q, w, k, law_knots);
     build_moving(c, set, ln_q, law_knots);
@@ -146,27 +145,27 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   }
 }
 
-// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation at once
-// (a row each): each curve is read for every row in turn while it is in the cache (built per view
+// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation row at once
+// (a row each; one per view and level where every orientation reads the same loss): each curve is read for every row in turn while it is in the cache (built per view
 // and level, every curve was read again for each). Each row's entries are what they were when built
 // one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
 // lead band changes only how fast it finds its value (Curves::least_sampled()).
 void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const {
   const Profile& p = c.profile;
-  const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, B = p.meta.band_count,
-                      L = p.meta.level_count - 1;
+  const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, Tm = c.moving_orientations,
+                      B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
-  const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * T;
-  // Row r = (w L + (k - 1)) T + t: view w, level k, orientation t at its own speed, every band.
+  const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * Tm;
+  // Row r = (w L + (k - 1)) Tm + t: view w, level k, orientation t at its own speed, every band.
   std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
   std::vector<AreaLaw> laws(R * kMaxBands);  // each row's and band's area law (its level, view and band's)
   std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
   std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
   for (std::uint32_t w = 0; w < V; ++w)
     for (std::uint32_t k = 1; k <= L; ++k)
-      for (std::uint32_t t = 0; t < T; ++t) {
-        const std::size_t r = (std::size_t(w) * L + (k - 1)) * T + t, kv = std::size_t(k - 1) * V + w;
+      for (std::uint32_t t = 0; t < Tm; ++t) {
+        const std::size_t r = (std::size_t(w) * L + (k - 1)) * Tm + t, kv = std::size_t(k - 1) * V + w;
         for (std::uint32_t b = 0; b < B; ++b) {
           y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
           if (knots) laws[r * kMaxBands + b] = {c.area_k[kv * B + b], &knots[(kv * B + b) * Curves::kKnots]};
@@ -214,10 +213,10 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
       }
     }
   std::vector<std::int16_t>& moving = c.sets[set].moving;
-  for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) T + t; entries [w][t][i][k - 1]
-    const std::size_t t = r % T, k = (r / T) % L, w = r / (std::size_t(T) * L);
+  for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) Tm + t; entries [w][t][i][k - 1]
+    const std::size_t t = r % Tm, k = (r / Tm) % L, w = r / (std::size_t(Tm) * L);
     for (std::size_t n = 0; n < N; ++n)
-      moving[((w * T + t) * N + n) * L + k] =
+      moving[((w * Tm + t) * N + n) * L + k] =
           encode_size(nodes[r * N + n] - lowers[r * N + n] - kBilinearMargin);
   }
 }
@@ -362,11 +361,12 @@ void Scheduler::Impl::build_any_view(ProfileCache& c, std::uint32_t set) const {
     }
 }
 
-std::size_t Scheduler::Impl::table_bytes(const ProfileMeta& m, const SchedulerConfig& config) {
+std::size_t Scheduler::Impl::table_bytes(const Profile& p, const SchedulerConfig& config) {
+  const ProfileMeta& m = p.meta;
   if (!tabulated(config) || m.level_count < 2) return 0;
-  const std::size_t per_set =
-      std::size_t(m.view_count) * (m.level_count - 1) *
-      (2 * std::size_t(m.band_count) * kStillE + std::size_t(m.orientation_count) * kMovingS * kMovingE);
+  const std::size_t per_set = std::size_t(m.view_count) * (m.level_count - 1) *
+                              (2 * std::size_t(m.band_count) * kStillE +
+                               std::size_t(moving_orientations(p, config)) * kMovingS * kMovingE);
   const std::size_t any_view = std::size_t(m.band_count) * kStillE * (2 * (m.level_count - 1) + 1);
   float biases[1 + kMaxTabulatedBiases];
   return (per_set + any_view) * std::size_t(margin_sets(config)) * table_biases(config, biases) *

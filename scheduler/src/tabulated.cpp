@@ -117,7 +117,7 @@ int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std
       if (o.moving && !view_least) {  // the moving bound: its least (most) over the orientations
         bool moving_least = true, moving_most = !view_most;
         for (std::uint32_t t = 0; t < T && (moving_least || moving_most); ++t) {
-          const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, T, L) + (k - 1)];
+          const std::int16_t* r0 = &tables.moving[o.moving_row(c, t, pc.moving_orientations, L) + (k - 1)];
           const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
           // Over whole cells the corners are the four entries (between() at weights 0 and 1 gives
           // them exactly): their least and most in integers, as the floats below would give them.
@@ -480,7 +480,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
       // cells (view_cell_level()), it reads them all.
       const std::uint32_t read = o.at_place ? std::min(T, 2u) : T;
       for (std::uint32_t t = 0; t < read; ++t) {
-        const std::int16_t* r0 = &pc.sets[o.tables].moving[o.moving_row(c, t, T, L)];
+        const std::int16_t* r0 = &pc.sets[o.tables].moving[o.moving_row(c, t, pc.moving_orientations, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
@@ -638,7 +638,8 @@ Scheduler::Impl::Choice Scheduler::Impl::table_choice(const ProfileCache& pc, fl
           }
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 = &pc.sets[o.tables + set].moving[o.moving_row(c, t, T, L) + (k - 1)];
+            const std::int16_t* r0 =
+                &pc.sets[o.tables + set].moving[o.moving_row(c, t, pc.moving_orientations, L) + (k - 1)];
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
             const float lo = between(r0[0], r0[L], em.w), hi = between(r1[0], r1[L], em.w);
             m = std::min(m, lo + o.speed_w[t] * (hi - lo));

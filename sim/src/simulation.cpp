@@ -32,9 +32,9 @@ void tune(SchedulerConfig* c, SelectionRule rule, double parameter) {
   if (rule == SelectionRule::Distance) c->distance_scale = float(parameter);
 }
 
-std::string perceptual_text(const SchedulerConfig& c, const ProfileMeta& meta) {
+std::string perceptual_text(const SchedulerConfig& c, const Profile& profile) {
   return std::string("model ") + to_string(c.model) + ", " +
-         (Scheduler::table_bytes(meta, c) > 0 ? "tabulated" : "exact") + " thresholds";
+         (Scheduler::table_bytes(profile, c) > 0 ? "tabulated" : "exact") + " thresholds";
 }
 
 Simulation::Simulation(const SceneAssets& scene, const SimulationOptions& o) : scene_(scene), options_(o) {

@@ -314,10 +314,10 @@ class Scheduler {
   const FrameStats& stats() const;
   const SchedulerConfig& config() const;
 
-  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated), and what a
-  // profile with this meta would take under a configuration (before adding it).
+  // Bytes of tabulated-path tables held for profile index p (0 when not tabulated), and what this
+  // profile would take under a configuration (before adding it).
   std::size_t table_bytes(int profile) const;
-  static std::size_t table_bytes(const ProfileMeta& meta, const SchedulerConfig& config);
+  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
 
   // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
   // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].

@@ -64,9 +64,9 @@ std::vector<Tuning> swept_tunings(int wider = 0);
 std::vector<Tuning> main_tunings();
 // `c` set to `rule` at tuning `parameter` (quality, pixel error or distance scale; else unused).
 void tune(SchedulerConfig* c, SelectionRule rule, double parameter);
-// How the perceptual rule of `c` decides on a profile like `meta`, as the commands print it: "model
-// stela-csf, exact thresholds" (exact also where c asks for tables the model has none of).
-std::string perceptual_text(const SchedulerConfig& c, const ProfileMeta& meta);
+// How the perceptual rule of `c` decides on a profile like `profile`, as the commands print it:
+// "model stela-csf, exact thresholds" (exact also where c asks for tables the model has none of).
+std::string perceptual_text(const SchedulerConfig& c, const Profile& profile);
 
 class Simulation {
  public:
