@@ -28,6 +28,18 @@ constexpr int kProfiles = 100, kLevels = 6, kOrientations = 8, kBands = 8;
 // stay; the first frame's cost (every decision made from nothing) is the scene-ready case's.
 constexpr int kWarmupFrames = 256;
 
+// A Pooled section for d (as `acuity profile` writes one: what the area law reads), each band's
+// largest channel over 2^-6 of the diameter squared, for `views` views.
+void add_pooled(spectra::ProfileData& d, int views) {
+  for (std::size_t kv = 0; kv < std::size_t(kLevels - 1) * views; ++kv)
+    for (int b = 0; b < kBands; ++b) {
+      float top = 0;
+      for (int t = 0; t < kOrientations; ++t)
+        top = std::max(top, d.lost[(kv * kOrientations + t) * kBands + b]);
+      d.pooled.push_back(spectra::encode_pooled(top, 1.0f / 64));
+    }
+}
+
 struct Library {
   std::vector<Blob> blobs;
   std::vector<Profile> profiles;
@@ -58,13 +70,7 @@ struct Library {
         for (int v = 0; v < 14 * kOrientations; ++v) d.features.push_back(256.0f / float(1 << k));
       blobs.push_back(spectra::encode_profile(d));
       if (i == 0) {
-        for (std::size_t kv = 0; kv < std::size_t(kLevels - 1) * 14; ++kv)
-          for (int b = 0; b < kBands; ++b) {
-            float top = 0;
-            for (int t = 0; t < kOrientations; ++t)
-              top = std::max(top, d.lost[(kv * kOrientations + t) * kBands + b]);
-            d.pooled.push_back(spectra::encode_pooled(top, 1.0f / 64));
-          }
+        add_pooled(d, 14);
         pooled_blob = spectra::encode_profile(d);
         open_profile(pooled_blob.data(), pooled_blob.size, &pooled);
       }
@@ -103,6 +109,7 @@ struct SceneAssets {
                              (1.0f + std::exp(-2.0f * (float(b) - float(kBands) + 1.3f * float(k)))));
       for (int k = 0; k < kLevels; ++k)
         for (int v = 0; v < kViews * kOrientations; ++v) d.features.push_back(256.0f / float(1 << k));
+      add_pooled(d, kViews);
       blobs.push_back(spectra::encode_profile(d));
       Profile p;
       open_profile(blobs.back().data(), blobs.back().size, &p);
@@ -413,7 +420,7 @@ void BM_add_profile(benchmark::State& state, Evaluation evaluation, bool pooled 
   state.counters["table_bytes"] = static_cast<double>(scheduler->table_bytes(0));
 }
 
-// A scene of state.range(0) distinct assets (32-view profiles) loading: a scheduler made, every
+// A scene of state.range(0) distinct assets (SceneAssets: 32-view profiles) loading: a scheduler made, every
 // profile added, one object of each placed 2-200 m ahead and the first frame run, with the
 // hysteresis margin engine settings use (0.2). Counters: the tables' memory [MiB] and the profiles'
 // own bytes [MiB] (which the host keeps).

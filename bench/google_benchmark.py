@@ -5,11 +5,14 @@ import json
 import subprocess
 
 
-def arguments(doc, program, min_time="0.3"):
-    """The table script's arguments: the path to `program` and --min-time [s per case]."""
+def arguments(doc, program, min_time="0.3", flags=()):
+    """The table script's arguments: the path to `program`, --min-time [s per case] and `flags`
+    (pairs of a flag's name and help: booleans)."""
     parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("bench", help=f"path to {program}")
     parser.add_argument("--min-time", default=min_time)
+    for name, help_text in flags:
+        parser.add_argument(name, action="store_true", help=help_text)
     return parser.parse_args()
 
 

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """Runs bench_scheduler and prints the docs/benchmarks.md table: milliseconds per frame at 1k..1M
-objects for each case, beside the plain distance loop of the same run, and the ratio to it.
+objects for each case, beside the plain distance loop of the same run, and the ratio to it; with
+--setup instead what the tables cost to build: add_profile of one profile, and a scene of distinct
+assets to its first frame.
 
-    /usr/bin/python3 bench/scheduler_table.py build/bench/bench_scheduler [--min-time 0.2]
+    /usr/bin/python3 bench/scheduler_table.py build/bench/bench_scheduler [--min-time 0.2] [--setup]
 """
 import google_benchmark
 import sys
@@ -26,9 +28,12 @@ SIZES = [1000, 10000, 100000, 1000000]
 
 
 def main():
-    args = google_benchmark.arguments(__doc__, "bench_scheduler", min_time="0.2")
-    pattern = ("^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?|BM_add_profile/.*"
-               "|BM_scene_ready/.*)$")
+    args = google_benchmark.arguments(__doc__, "bench_scheduler", min_time="0.2",
+                                      flags=[("--setup", "add_profile and the scene's first frame, not the frames")])
+    if args.setup:
+        pattern = "^(BM_add_profile/.*|BM_scene_ready/.*)$"
+    else:
+        pattern = "^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?)$"
     ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
     setup = {}  # "tabulated" / "exact" -> (CPU ms per add_profile, table bytes)
     scene = {}  # "tabulated" / "exact" -> (assets, CPU ms to the first frame, tables MiB, profiles MiB)
@@ -47,6 +52,9 @@ def main():
         scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
         t = b["real_time"] if "2threads" in case else b["cpu_time"]
         ms[(case, int(n))] = t * scale
+    if args.setup:
+        print_setup(setup, scene)
+        return 0
     print("| case | " + " | ".join(f"{n:,} objects" for n in SIZES) + " |")
     print("|---|" + "---|" * len(SIZES))
     for case, label in CASES:
@@ -68,20 +76,25 @@ def main():
             scaling.append(f"{label} " + ", ".join(at))
     if scaling:
         print("\ntwo threads' speed over one thread's (this run): " + "; ".join(scaling))
+    return 0
+
+
+def print_setup(setup, scene):
+    """The --setup lines: add_profile's time and tables, and each scene's time to its first frame."""
     if "tabulated" in setup and "exact" in setup:
         (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
-        print(f"\nadd_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
+        print(f"add_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
               f"exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
         if "tabulated_pooled" in setup:  # the same profile with a Pooled section: the area law's tables
-            print(f"  with a Pooled section (the area law): tabulated {setup['tabulated_pooled'][0]:.1f} ms "
-                  f"({setup['tabulated_pooled'][0] / tab:.2f}× without)")
+            pooled, pooled_bytes = setup["tabulated_pooled"]
+            print(f"  with a Pooled section (the area law, as `acuity profile` writes it): tabulated {pooled:.1f} ms "
+                  f"({pooled / tab:.2f}× without), {pooled_bytes / 1024:.0f} KiB of tables")
     for evaluation in ("exact", "tabulated"):
         if evaluation in scene:
             assets, t, tables, profiles = scene[evaluation]
-            print(f"\nscene ready, {assets:,} distinct 32-view assets, hysteresis margin 0.2, {evaluation}: "
-                  f"{t / 1000:.2f} s to the first frame, {tables:.1f} MiB of tables "
+            print(f"\nscene ready, {assets:,} distinct 32-view assets with a Pooled section, hysteresis margin 0.2, "
+                  f"{evaluation}: {t / 1000:.2f} s to the first frame, {tables:.1f} MiB of tables "
                   f"({tables * 1024 / assets:.0f} KiB per asset), {profiles:.1f} MiB of profiles")
-    return 0
 
 
 if __name__ == "__main__":
