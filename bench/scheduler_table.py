@@ -83,12 +83,12 @@ def print_setup(setup, scene):
     """The --setup lines: add_profile's time and tables, and each scene's time to its first frame."""
     if "tabulated" in setup and "exact" in setup:
         (tab, nbytes), (exact, _) = setup["tabulated"], setup["exact"]
-        print(f"add_profile, one 14-view profile: tabulated {tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), "
-              f"exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
-        if "tabulated_pooled" in setup:  # the same profile with a Pooled section: the area law's tables
-            pooled, pooled_bytes = setup["tabulated_pooled"]
-            print(f"  with a Pooled section (the area law, as `acuity profile` writes it): tabulated {pooled:.1f} ms "
-                  f"({pooled / tab:.2f}× without), {pooled_bytes / 1024:.0f} KiB of tables")
+        print(f"add_profile, one 14-view profile with a Pooled section (as `acuity profile` writes it): tabulated "
+              f"{tab:.1f} ms ({nbytes / 1024:.0f} KiB of tables), exact {exact:.3f} ms ({tab / exact:.0f}× the exact path's)")
+        if "tabulated_plain" in setup:  # the same profile without it: no area law, a moving row per orientation
+            plain, plain_bytes = setup["tabulated_plain"]
+            print(f"  without it (an older profile): tabulated {plain:.1f} ms ({plain / tab:.1f}× with it), "
+                  f"{plain_bytes / 1024:.0f} KiB of tables")
     for evaluation in ("exact", "tabulated"):
         if evaluation in scene:
             assets, t, tables, profiles = scene[evaluation]
