@@ -132,12 +132,14 @@ struct Scheduler::Impl::Memo {
   // Frame `frame`'s pose of an eye (nullptr: an eye not used this frame).
   void observe(std::uint32_t frame, const EyeCache* eye);
   // Remembers object id's decision (fine, coarse) where it stands, with `bands` of the profile's
-  // band centres `frequency` shown.
+  // band centres `frequency` shown. Its rest ends (a rest is set for the decision it stands with);
+  // its hold is read only under a key with kThroughView, so a memo through the view ends it (or
+  // sets it anew) as it is made, and others leave it unread (not written: a cache line less per
+  // object where many memos are made again each frame, as when the head turns).
   void remember(ObjectId id, std::uint32_t key_bits, const Stand& stand, const float* frequency,
                 std::uint32_t bands, int fine_level, int coarse_level) {
     key[id] = static_cast<std::uint16_t>(key_bits);
-    end_rest(id);  // a rest and a hold are set for the decision they stand with
-    end_hold(id);
+    end_rest(id);
     x_from[id] = static_cast<std::int16_t>(stand.lo + 1);
     x_to[id] = static_cast<std::int16_t>(stand.hi);
     w_from[id] = stand.w_from;

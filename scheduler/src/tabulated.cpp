@@ -542,7 +542,8 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
         };
         stands = stand_at_place(o.x, x_step[j], o.ec.w, lines, &stand);
       }
-      // Where it stands nowhere, the memo says so: next time at its place.
+      // Where it stands nowhere, the memo says so: next time at its place. Its hold, if any, is set below.
+      memo.end_hold(id);
       memo.remember(id, Memo::key_of(ec_j[j], still[j], bias_tables_[id]) | Memo::kThroughView, stand,
                     &band_frequency_[std::size_t(profile_of_[id]) * kMaxBands], bands[j],
                     stands ? fine : Memo::kAtPlace, stands ? coarse : Memo::kAtPlace);
