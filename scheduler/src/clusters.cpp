@@ -226,17 +226,15 @@ struct Scheduler::Impl::CutObject {
 struct Scheduler::Impl::GroupSights {
   static constexpr std::size_t kRun = 16;
   float x[kRun], y[kRun], z[kRun];      // the sphere's centre relative to the eye, over its distance
-  float d[kRun];                        // the distance to the centre [m]
   float nearest[kRun];                  // to the sphere's nearest point [m]: <= 0 with the eye inside
-  float radius_deg[kRun];               // the sphere's angular radius [deg]
   float e[kRun];                        // its nearest point's eccentricity [deg]
   float diameter_deg[kRun];             // the angle one object diameter subtends at that point [deg]
   float off_axis[kRun];                 // the angle of its point farthest off the view axis [deg], <= 90
   std::size_t first = std::size_t(-1);  // the run's first group; -1 before the first run
 };
 
-// Groups [first, first + count) (count <= kRun) seen from eye i: their spheres' distance, direction,
-// angular radius, nearest eccentricity, the angle one object diameter subtends at the nearest point and
+// Groups [first, first + count) (count <= kRun) seen from eye i: their spheres' direction, distance
+// to the nearest point, that point's eccentricity, the angle one object diameter subtends at the nearest point and
 // the angle farthest off the view axis. Entries of an eye inside a sphere are not used.
 ACUITY_SIMD_CLONES void Scheduler::Impl::group_sights(std::uint32_t i, const CutObject& o,
                                                       const ClusterGroup* groups, std::size_t first,
@@ -264,9 +262,7 @@ ACUITY_SIMD_CLONES void Scheduler::Impl::group_sights(std::uint32_t i, const Cut
     s.x[j] = u.x;
     s.y[j] = u.y;
     s.z[j] = u.z;
-    s.d[j] = d;
     s.nearest[j] = nearest;
-    s.radius_deg[j] = radius_deg;
     s.e[j] = nearest_eccentricity(angle_deg(u, gaze), radius_deg, offset);
     s.diameter_deg[j] = size_deg / nearest;
     s.off_axis[j] = std::min(angle_deg(u, forward) + radius_deg, 90.0f);
@@ -547,11 +543,8 @@ CutResult Scheduler::Impl::select_cut(const ClusterView& h, const ClusterLoss& l
         visible = remember_group(memory[g], visible, score, timing, pre_->ln_margin, &res.held);
       if (visible) {
         state[g] |= kVisible;
-        if (scored < eye_count_ && !inside) {  // the eyes not scored, as group_score finds it
-          const Vec3 c = rotate(o.q, o.scale * load(group.center));
-          for (std::uint32_t i = scored; i < eye_count_; ++i)
-            inside |= !(length(o.origin[i] + c) > o.scale * group.radius);
-        }
+        for (std::uint32_t i = scored; i < eye_count_ && !inside; ++i)  // the eyes not scored
+          inside = !(sight(i, g).nearest[j] > 0.0f);
         if (inside) o.flags |= kFlagEyeInside;
       }
     } else if (!memory.empty()) {

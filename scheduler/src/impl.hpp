@@ -70,9 +70,9 @@ struct Scheduler::Impl {
                       ObjectExplain* explain) const;  // Perceptual, Reddy
   std::uint32_t exact_thresholds(const ProfileCache& pc, const Sight& s, float* ln_ct) const;
   bool uses_detail(const Profile& p) const;  // StelaCsf's perceptual rule on a profile with Detail
+  // Whether SchedulerConfig::area_law applies to p's losses (under this scheduler's config, or c).
   bool area_law(const Profile& p) const { return area_law(p, config_); }
-  static bool area_law(const Profile& p,
-                       const SchedulerConfig& c);  // SchedulerConfig::area_law applies to p's losses
+  static bool area_law(const Profile& p, const SchedulerConfig& c);
   // Rows per view and level of p's moving tables: 1 where every orientation reads the same loss
   // (the area law's pooled one), else one per orientation.
   static std::uint32_t moving_orientations(const Profile& p, const SchedulerConfig& c);

@@ -145,9 +145,10 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   }
 }
 
-// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation row at once
-// (a row each; one per view and level where every orientation reads the same loss): each curve is read for every row in turn while it is in the cache (built per view
-// and level, every curve was read again for each). Each row's entries are what they were when built
+// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation row at
+// once (a row each; one per view and level where every orientation reads the same loss): each curve
+// is read for every row in turn while it is in the cache (built per view and level, every curve was
+// read again for each). Each row's entries are what they were when built
 // one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
 // lead band changes only how fast it finds its value (Curves::least_sampled()).
 void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const {
