@@ -239,7 +239,6 @@ void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, s
   auto& decided = tb.decided;
   auto& bands = tb.bands;
   auto& miss = tb.miss;
-  auto& miss_count = tb.miss_count;
   const float* inv_diam = tb.in.inv_diam;
   const std::uint32_t *memo_hit = tb.in.memo_hit, *view_memo = tb.in.view_memo;
   // Pass 1: the tables' x and eccentricity cell, still or moving, whether the memo stands.
@@ -265,10 +264,14 @@ void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, s
                  std::uint32_t(h.e_from <= b.e[j]) & std::uint32_t(b.e[j] <= h.e_to);
   }
   // The bands the display shows of the rest (the lowest n: the rest are invisible whatever the eye).
+  // Counted in a local: a count kept in tb would be stored and loaded again after each byte
+  // written to miss[] (bytes may alias it).
+  std::uint32_t miss_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     miss[miss_count] = static_cast<std::uint8_t>(j);
     miss_count += decided[j] ^ 1u;
   }
+  tb.miss_count = miss_count;
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
     const float* frequency = &band_frequency_[std::size_t(std::max(profile_of_[first + j], 0)) * kMaxBands];
@@ -295,10 +298,11 @@ void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, st
   // Pass 2: objects decided by their memo; of the rest, those not seen, of a bias without tables or
   // with nothing to choose; the any-view rows of the others found (per table set) and prefetched, so
   // that pass 3 decides without reading a profile.
+  const std::uint8_t *memo_fine = &memo.fine[first], *memo_coarse = &memo.coarse[first];
   for (std::uint32_t j = 0; j < n; ++j) {  // the memo's decision for every object: misses overwrite it
     standing[j] = static_cast<std::uint8_t>(decided[j]);
     todo[j] = 0;
-    out[j] = {memo.fine[first + j], memo.coarse[first + j], gaze_flag};
+    out[j] = {memo_fine[j], memo_coarse[j], gaze_flag};
   }
   for (std::uint32_t i = 0; i < miss_count; ++i) {
     const std::uint32_t j = miss[i];
@@ -403,15 +407,17 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
   const int sets = tb.sets;
   auto& cand = tb.cand;
   auto& left = tb.left;
-  auto& left_count = tb.left_count;
   auto& probe = tb.probe;
   const std::uint32_t *ec_j = tb.in.ec_j, *still = tb.in.still, *view_memo = tb.in.view_memo;
   const float* ec_w = tb.in.ec_w;
-  // The objects left for passes 4 to 6, listed without branches (which ones remain is unpredictable).
+  // The objects left for passes 4 to 6, listed without branches (which ones remain is
+  // unpredictable), counted in a local (as tabulate_memos()'s misses).
+  std::uint32_t left_count = 0;
   for (std::uint32_t j = 0; j < n; ++j) {
     left[left_count] = static_cast<std::uint8_t>(j);
     left_count += todo[j] != 0;
   }
+  tb.left_count = left_count;
   // Pass 4: the nearest view, the slip in its image axes; the objects whose memo through the view
   // stands decided, the still (or slow) rows of the others prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
@@ -674,19 +680,24 @@ void Scheduler::Impl::choose_tabulated(std::uint32_t first, std::uint32_t n, con
                    : nullptr;
   for (std::uint32_t i = 0; i < eye_count_; ++i)
     tabulate(eyes_[i], first, n, blocks[i], memos_[i], eye_choice[i], kept && i > 0 ? eye_scores : kept);
+  // Members and pointers in locals: the bytes written below may alias them, which would load them
+  // again per object.
+  const int* profile = &profile_of_[first];
+  const bool two_eyes = eye_count_ > 1;
+  std::uint8_t *fine = out->fine, *coarse = out->coarse, *flags = out->flags;
   for (std::uint32_t j = 0; j < n; ++j) {
-    const int p = profile_of_[first + j];
+    const int p = profile[j];
     if (p < 0) continue;
     Choice c = eye_choice[0][j];
-    if (eye_count_ > 1) {
+    if (two_eyes) {
       c = finer(c, eye_choice[1][j]);
       if (kept)
         for (std::uint32_t k = 0; k < level_count_[p]; ++k)
           kept[j][k] = std::max(kept[j][k], eye_scores[j][k]);
     }
-    out->fine[j] = c.fine;
-    out->coarse[j] = c.coarse;
-    out->flags[j] = c.flags;
+    fine[j] = c.fine;
+    coarse[j] = c.coarse;
+    flags[j] = c.flags;
   }
 }
 
