@@ -152,17 +152,25 @@ void Scheduler::Impl::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, con
                                 config_.view_blend == ViewBlend::Max3 ? nullptr : views);
   }
   // Wide, then narrower, but never narrower than the eye's recent moves (it would leave at once):
-  // four times them, then (the last try) half as much again.
-  float tried = 0.0f;
-  for (const float share : {1.0f / 64, 1.0f / 1024, 1.0f / (1 << 20)}) {
-    const float recent = share < 1.0f / 1024 ? 1.5f : 4.0f;
-    const float m = std::max(share * h.d, recent * memo.recent_m);
-    const float t = std::max(recent * memo.recent_deg, kDeg * m / h.d);
-    if (m == tried) continue;  // the eye's moves, not the share, set it: tried already
-    tried = m;
-    if (stands_at_rest(memo, id, h, m, t)) {
-      memo.rest_m[id] = m;
-      memo.rest_deg[id] = t;
+  // four times them, then (the last try) half as much again. Each try's m and t are at most the
+  // one's before, and stands_at_rest() fails every wider box where it fails a narrower one (each of
+  // its tests widens with m and t): where the eye has moved lately, the narrowest is tried first,
+  // and where it fails (an eye that keeps turning), no other is. A still eye's widest mostly stands.
+  constexpr float kShares[] = {1.0f / 64, 1.0f / 1024, 1.0f / (1 << 20)};
+  constexpr std::size_t kTries = std::size(kShares);
+  float m[kTries], t[kTries];
+  for (std::size_t k = 0; k < kTries; ++k) {
+    const float recent = k + 1 == kTries ? 1.5f : 4.0f;
+    m[k] = std::max(kShares[k] * h.d, recent * memo.recent_m);
+    t[k] = std::max(recent * memo.recent_deg, kDeg * m[k] / h.d);
+  }
+  const bool moved_lately = memo.recent_m > 0.0f || memo.recent_deg > 0.0f;
+  if (moved_lately && !stands_at_rest(memo, id, h, m[kTries - 1], t[kTries - 1])) return;
+  for (std::size_t k = 0; k < kTries; ++k) {
+    if (k > 0 && m[k] == m[k - 1]) continue;  // the eye's moves, not the share, set it: tried already
+    if ((moved_lately && k + 1 == kTries) || stands_at_rest(memo, id, h, m[k], t[k])) {
+      memo.rest_m[id] = m[k];
+      memo.rest_deg[id] = t[k];
       return;
     }
   }
