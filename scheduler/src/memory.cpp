@@ -275,6 +275,7 @@ void Scheduler::Impl::decide_at_rest(std::uint32_t first, std::uint32_t n, const
 void Scheduler::Impl::prefetch_holds(std::uint32_t first) const {
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Memo& m = memos_[i];
+    if (!m.any_hold) continue;
     std::uint8_t through[Block::kSize];  // listed without branches (which ones is unpredictable)
     std::uint32_t count = 0;
     for (std::uint32_t j = 0; j < Block::kSize; ++j) {
@@ -366,6 +367,7 @@ void Scheduler::Impl::hold_view(Memo& memo, ObjectId id, const ProfileCache& pc,
   h.e_from = e_from;
   h.e_to = e_to;
   h.turn = kChordOfAngle * margin;
+  memo.any_hold = true;
 }
 
 }  // namespace acuity

@@ -85,6 +85,9 @@ struct Scheduler::Impl::Memo {
     float e_from, e_to;
   };
   std::vector<Hold> hold;
+  // Whether any hold was ever set (hold_view()): until one is, none is read or prefetched (an eye
+  // never steady, as along a head track, sets none).
+  bool any_hold = false;
   // Rests: while the eye stays within rest_m [m] of where it was in frame rest_frame, and its gaze
   // and head turn at most rest_deg from where they pointed, every input the memo tests stays inside
   // its box (stands_at_rest()), so the memo decides without the object's geometry. rest_m < 0: none.

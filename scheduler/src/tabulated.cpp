@@ -252,6 +252,7 @@ void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, s
     viewed[viewed_count] = static_cast<std::uint8_t>(j);
     viewed_count += view_memo[j];
   }
+  if (!memo.any_hold) viewed_count = 0;  // no hold set: every one reads turn < 0
   for (std::uint32_t i = 0; i < viewed_count; ++i) {
     const std::uint32_t j = viewed[i];
     const Memo::Hold& h = memo.hold[first + j];
