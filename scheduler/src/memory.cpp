@@ -167,9 +167,8 @@ void Scheduler::Impl::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, con
   const bool moved_lately = memo.recent_m > 0.0f || memo.recent_deg > 0.0f;
   if (moved_lately && !stands_at_rest(memo, id, h, m[kTries - 1], t[kTries - 1])) return;
   for (std::size_t k = 0; k < kTries; ++k) {
-    const bool confirmed = moved_lately && k + 1 == kTries;  // above
-    if (!confirmed && k > 0 && m[k] == m[k - 1]) continue;   // the eye's moves set it: tried already
-    if (confirmed || stands_at_rest(memo, id, h, m[k], t[k])) {
+    if (k > 0 && m[k] == m[k - 1] && t[k] == t[k - 1]) continue;  // the box before, which failed
+    if ((moved_lately && k + 1 == kTries) || stands_at_rest(memo, id, h, m[k], t[k])) {
       memo.rest_m[id] = m[k];
       memo.rest_deg[id] = t[k];
       return;

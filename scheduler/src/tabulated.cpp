@@ -244,15 +244,16 @@ void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, s
   // Pass 1: the tables' x and eccentricity cell, still or moving, whether the memo stands.
   table_inputs(eye, first, n, b, memo, !scores, &tb.in);
   // Objects whose memo through the view stands keep its decision while the view and cells are
-  // the same, which they are within its hold (Memo::Hold; only these holds are read).
+  // the same, which they are within its hold (Memo::Hold; only these holds are read, and none
+  // before the memo has set one: until then each reads turn < 0).
   std::uint8_t viewed[kBlock];
   std::uint32_t viewed_count = 0;
-  for (std::uint32_t j = 0; j < n; ++j) {
-    decided[j] = memo_hit[j];
-    viewed[viewed_count] = static_cast<std::uint8_t>(j);
-    viewed_count += view_memo[j];
-  }
-  if (!memo.any_hold) viewed_count = 0;  // no hold set: every one reads turn < 0
+  for (std::uint32_t j = 0; j < n; ++j) decided[j] = memo_hit[j];
+  if (memo.any_hold)
+    for (std::uint32_t j = 0; j < n; ++j) {
+      viewed[viewed_count] = static_cast<std::uint8_t>(j);
+      viewed_count += view_memo[j];
+    }
   for (std::uint32_t i = 0; i < viewed_count; ++i) {
     const std::uint32_t j = viewed[i];
     const Memo::Hold& h = memo.hold[first + j];
