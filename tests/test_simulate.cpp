@@ -96,6 +96,20 @@ const SceneAssets& small_scene() {
   return *scene;
 }
 
+// small_scene()'s assets profiled without cell bounds (each view's own measurement).
+const SceneAssets& small_scene_own_views() {
+  static std::unique_ptr<SceneAssets> scene = [] {
+    small_scene();  // writes the field
+    AssetOptions o;
+    o.profiles = scratch("profiles-own-views").string();
+    o.profile_pixels = 64;
+    o.bound_cells = false;
+    o.quiet = true;
+    return load_scene_assets(scratch("field.glb").string(), o);
+  }();
+  return *scene;
+}
+
 // The sanitizer run (ACUITY_QUICK_TESTS) judges fewer decisions: the judge's rendering is most of
 // these tests' time there, and the same code runs either way.
 bool quick() { return std::getenv("ACUITY_QUICK_TESTS") != nullptr; }
@@ -636,7 +650,7 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
   o.count = 16;            // at seed 1 both still and moving ones (6 drew no moving one), in every build
   o.max_diameter_deg = 3;  // snapshots of at most 128 px: a quick judge
   o.moving = 0.5;
-  const SampledRun run = run_sampled(scene, o);
+  const SampledRun run = run_sampled(scene, o, &small_scene_own_views());
   ASSERT_EQ(run.decisions.size(), o.count);
   ASSERT_EQ(run.judged.size(), o.count);
   std::uint32_t moving = 0;
@@ -707,8 +721,11 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
   EXPECT_FALSE(run.rules[0].sweep);
   // Each margin change counted from its levels; removing a margin never makes a decision finer, and
   // adding one (Max3) never makes one coarser; the tables never decide coarser than exact. (The area
-  // law off goes either way: a moving object's rows read the pooled loss with the law.)
-  ASSERT_EQ(run.margins.size(), 5u);
+  // law off goes either way: a moving object's rows read the pooled loss with the law; so may other
+  // profiles, whose views are chosen anew.)
+  ASSERT_EQ(run.margins.size(), 7u);
+  EXPECT_EQ(run.margins[5].name, "eccentricity: nearest -> centre");
+  EXPECT_EQ(run.margins[6].name, "cell bounds -> each view's own");
   for (const SampledRun::MarginChange& m : run.margins) {
     double triangles = 0;
     std::uint32_t losses = 0;
@@ -716,7 +733,7 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
       const std::uint8_t level = m.levels[i];
       triangles += scene.assets[std::size_t(run.decisions[i].asset)].profile.levels[level].triangles;
       losses += run.judged[i].scores[level] > 1.0f;
-      if (m.name.find("area law") != std::string::npos) {
+      if (m.name.find("area law") != std::string::npos || m.name.find("cell bounds") != std::string::npos) {
         continue;
       } else if (m.name.find("-> Max3") != std::string::npos) {  // added (not "all but Max3 removed")
         EXPECT_LE(level, run.levels[0][i]) << m.name << " decision " << i;
@@ -727,6 +744,31 @@ TEST(Sampled, DecisionsStandWhereSampledAndEveryRuleIsCountedFromItsLevels) {
     EXPECT_DOUBLE_EQ(m.triangles, triangles) << m.name;
     EXPECT_EQ(m.visible, losses) << m.name;
   }
+  // The eccentricity margin's frames: the gaze turned away by the object's angular radius, so the
+  // rule's eccentricity (the sphere's nearest point, less the gaze's uncertainty) is what the
+  // centre's was less the uncertainty, where in the sampled frame it is the nearest point's.
+  for (std::uint32_t i = 0; i < o.count; ++i) {
+    const SampledDecision& d = run.decisions[i];
+    SchedulerConfig c = run.perceptual;
+    c.max_objects = 1;
+    Scheduler s(c);
+    for (const Asset& a : scene.assets) s.add_profile(a.profile);
+    const ObjectId id = s.add_object(d.asset, d.transform);
+    const float room = c.gaze_uncertainty_deg;
+    ObjectExplain at_centre, sampled;
+    s.run_frame(centre_gaze_frame(scene, run, i));
+    ASSERT_TRUE(s.explain(id, &at_centre));
+    s.run_frame(run.frame);
+    ASSERT_TRUE(s.explain(id, &sampled));
+    EXPECT_NEAR(at_centre.eccentricity_deg, std::max(0.0, d.eccentricity_deg - room), 1e-3) << i;
+    EXPECT_NEAR(sampled.eccentricity_deg, std::max(0.0, d.eccentricity_deg - 0.5 * d.diameter_deg - room),
+                1e-3)
+        << i;
+    EXPECT_EQ(at_centre.view, sampled.view) << i;  // the same view of the object
+    EXPECT_FLOAT_EQ(at_centre.angular_diameter_deg, sampled.angular_diameter_deg) << i;
+  }
+  const SceneAssets other;  // no assets: not the scene's
+  EXPECT_NE(error_of([&] { run_sampled(scene, o, &other); }).find("other assets"), std::string::npos);
   const std::string text = sampled_text(scene, run);
   EXPECT_NE(text.find("safety margins"), std::string::npos) << text;
   EXPECT_NE(text.find(std::to_string(o.count) + " decisions sampled"), std::string::npos) << text;

@@ -20,8 +20,10 @@ struct DemoCommand {
 
 void run(const DemoCommand& o, const std::string& program) {
   const auto start = std::chrono::steady_clock::now();
+  sim::DemoOptions demo = o.demo;
+  demo.own_view_profiles = o.sampled > 0;  // the sampled margins price the cell bounds with them
   const sim::DemoScene scene =
-      sim::build_demo(o.demo, [](const std::string& text) { std::fputs(text.c_str(), stdout); });
+      sim::build_demo(demo, [](const std::string& text) { std::fputs(text.c_str(), stdout); });
   auto seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
@@ -31,7 +33,7 @@ void run(const DemoCommand& o, const std::string& program) {
     sampled.seed = o.demo.sim.seed;
     sampled.model = o.demo.sim.model;
     std::printf("\nsampled decisions: %u, judged by rendering each at its exact view\n", o.sampled);
-    const sim::SampledRun run = sim::run_sampled(*scene.assets, sampled);
+    const sim::SampledRun run = sim::run_sampled(*scene.assets, sampled, scene.own_views.get());
     std::printf("the perceptual rule: %s\n",
                 sim::perceptual_text(run.perceptual, scene.assets->assets[0].profile).c_str());
     std::printf("\n%s\nacuity demo finished in %.1f s.\n", sim::sampled_text(*scene.assets, run).c_str(),

@@ -137,6 +137,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
       const std::vector<spectra::LevelInput> levels = spectra_levels(a.chain);
       spectra::ProfileSettings ps;
       ps.render.pixels = o.profile_pixels;
+      ps.bound_cells = o.bound_cells;
       spectra::ProfileReport report;
       const spectra::ProfileData data = spectra::build_profile(levels, a.material, ps, {}, &report);
       if (!file.empty()) spectra::write_profile(file, data);

@@ -13,6 +13,8 @@ namespace acuity::sim {
 namespace {
 
 namespace fs = std::filesystem;
+// The folder, under <cache>/profiles, of the profiles that keep each view's own measurement.
+constexpr const char* kOwnViews = "own-views";
 
 // lodgen's options for the demo's chains: levels down to 1/16 of level 0 at o.ratio (5 at 0.5),
 // creases at 45 degrees (or every edge, flat).
@@ -52,6 +54,7 @@ DemoScene build_demo(const DemoOptions& o, const std::function<void(const std::s
   for (const DemoMesh& m : meshes) {
     names.push_back(m.name);
     names.push_back(m.name + "-clusters");  // a large object's hierarchy profile (sim/large_object.hpp)
+    names.push_back(std::string(kOwnViews) + "/" + m.name);  // its profile without cell bounds
   }
   if (!(o.ratio > 0.0 && o.ratio < 1.0))
     throw std::runtime_error("demo: the chain's ratio must lie in (0, 1)");
@@ -80,6 +83,12 @@ DemoScene build_demo(const DemoOptions& o, const std::function<void(const std::s
   ao.profiles = out.profiles = (fs::path(o.cache) / "profiles").string();
   ao.profile_pixels = o.pixels;
   out.assets = bake::load_scene_assets(out.scene_path, ao);
+  if (o.own_view_profiles) {
+    progress("profile, each view's own measurement (no cell bounds):\n");
+    ao.profiles = (fs::path(out.profiles) / kOwnViews).string();
+    ao.bound_cells = false;
+    out.own_views = bake::load_scene_assets(out.scene_path, ao);
+  }
   return out;
 }
 

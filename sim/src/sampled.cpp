@@ -65,15 +65,62 @@ std::vector<std::uint8_t> choose(const SceneAssets& scene, const SampledRun& run
   return levels;
 }
 
+// The same, one decision at a time on a scheduler of one object, each seen in its own frame.
+template <class FrameOf>
+std::vector<std::uint8_t> choose_each(const SceneAssets& scene, const SampledRun& run, SchedulerConfig c,
+                                      const FrameOf& frame_of, double* triangles) {
+  c.max_objects = 1;
+  Scheduler s(c);
+  for (const Asset& a : scene.assets) s.add_profile(a.profile);
+  std::vector<std::uint8_t> levels;
+  *triangles = 0;
+  for (std::size_t i = 0; i < run.decisions.size(); ++i) {
+    const SampledDecision& d = run.decisions[i];
+    const ObjectId id = s.add_object(d.asset, d.transform);
+    s.set_velocity(id, d.velocity);
+    s.run_frame(frame_of(i));
+    levels.push_back(s.level(id));
+    *triangles += scene.assets[std::size_t(d.asset)].profile.levels[levels.back()].triangles;
+    s.remove_object(id);
+  }
+  return levels;
+}
+
 // Two octaves more of the perceptual rule's q (to 4) and of screen-size's pixel error (to 1/128 px)
 // than the simulation sweeps: sampled decisions are in the periphery and moving more often.
 constexpr int kWider = 8;
 
 }  // namespace
 
-SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
+Frame centre_gaze_frame(const SceneAssets& scene, const SampledRun& run, std::size_t i) {
+  const SampledDecision& d = run.decisions.at(i);
+  const float* s = scene.assets[std::size_t(d.asset)].profile.meta.sphere;
+  const ObjectTransform& t = d.transform;
+  const glm::dquat q(t.rotation[3], t.rotation[0], t.rotation[1], t.rotation[2]);
+  const glm::dvec3 centre =
+      glm::dvec3(t.position[0], t.position[1], t.position[2]) + q * glm::dvec3(s[0], s[1], s[2]);
+  // The eye at the origin, the gaze along -Z: towards the object across the gaze is centre's x, y.
+  glm::dvec3 toward(centre.x, centre.y, 0.0);
+  const double across = glm::length(toward);
+  toward = across > 0 ? toward / across : glm::dvec3(1, 0, 0);
+  const double radius = 0.5 * d.diameter_deg / kDeg;  // [rad]
+  const glm::dvec3 gaze = std::cos(radius) * glm::dvec3(0, 0, -1) - std::sin(radius) * toward;
+  Frame f = run.frame;
+  for (int k = 0; k < 3; ++k) f.gaze[0].direction[k] = float(gaze[k]);
+  return f;
+}
+
+SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o, const SceneAssets* own_views) {
   check(o);
   if (scene.assets.empty()) throw std::runtime_error("sampled decisions: the scene has no assets");
+  if (own_views) {
+    bool same = own_views->assets.size() == scene.assets.size();
+    for (std::size_t a = 0; same && a < scene.assets.size(); ++a)
+      same = own_views->assets[a].name == scene.assets[a].name &&
+             own_views->assets[a].profile.meta.level_count == scene.assets[a].profile.meta.level_count;
+    if (!same)
+      throw std::runtime_error("sampled decisions: the profiles without cell bounds are of other assets");
+  }
   SampledRun run;
   run.options = o;
   Frame& frame = run.frame;
@@ -153,6 +200,18 @@ SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& o) {
     m.change(&c);
     SampledRun::MarginChange change{m.name, {}, 0, 0};
     change.levels = choose(scene, run, c, &change.triangles);
+    run.margins.push_back(std::move(change));
+  }
+  {
+    SampledRun::MarginChange change{"eccentricity: nearest -> centre", {}, 0, 0};
+    change.levels = choose_each(
+        scene, run, perceptual, [&](std::size_t i) { return centre_gaze_frame(scene, run, i); },
+        &change.triangles);
+    run.margins.push_back(std::move(change));
+  }
+  if (own_views) {
+    SampledRun::MarginChange change{"cell bounds -> each view's own", {}, 0, 0};
+    change.levels = choose(*own_views, run, perceptual, &change.triangles);
     run.margins.push_back(std::move(change));
   }
 

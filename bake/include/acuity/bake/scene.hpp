@@ -56,6 +56,7 @@ struct AssetOptions {
   std::string profiles;    // directory of <asset>.acuity: used when they match, else built and saved
   std::uint32_t profile_pixels = 256;
   std::uint32_t lod_levels = 5;  // for meshes without MSFT_lod levels (built by lodgen)
+  bool bound_cells = true;       // profiles built: each view's loss bounded over its cell (docs/spectra.md)
   bool quiet = false;
 };
 

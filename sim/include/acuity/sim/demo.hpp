@@ -27,6 +27,9 @@ struct DemoOptions {
   // Triangles of each level over the previous, in (0, 1); the chain spans the same 1/16 of level 0's
   // triangles whatever the step (0.5: 5 levels; 0.707: 9), so that steps compare over one range.
   double ratio = 0.5;
+  // Also profiles that store each view's own measurement, not the largest loss over its cell
+  // (<cache>/profiles/own-views; `acuity demo --sampled` prices the cell bounds with them).
+  bool own_view_profiles = false;
   SimulationOptions sim;  // the run; sim.seed also lays out the field
 };
 
@@ -38,6 +41,7 @@ struct DemoScene {
   // the third-party meshes listed (SimulationOptions::third_party).
   SimulationOptions sim;
   std::unique_ptr<SceneAssets> assets;
+  std::unique_ptr<SceneAssets> own_views;  // with own_view_profiles: the same assets, views unbounded
 };
 
 // Builds (or finds in the cache) every chain, the field and the profiles. `progress` receives the

@@ -45,8 +45,12 @@ struct SampledRun {
   std::vector<std::uint32_t> visible;             // [rule] decisions judged a visible loss
   double all_finest = 0;                          // every decision at level 0
   SchedulerConfig perceptual;                     // the perceptual rule's (q = 1), whose params judge
-  // The perceptual rule (q = 1) with one safety margin changed at a time (margin_changes()), over
-  // the same judged decisions: what each margin costs in triangles and which losses it prevents.
+  // The perceptual rule (q = 1) with one safety margin changed at a time, over the same judged
+  // decisions: what each margin costs in triangles and which losses it prevents. The configuration's
+  // (the area law, the gaze's uncertainty, the tables, Max3), then the eccentricity to the sphere's
+  // nearest point (each decision seen with the gaze turned away from its object by its angular
+  // radius, centre_gaze_frame(): the nearest point where the centre was) and, given profiles without
+  // cell bounds, the cell bounds (the same decisions on those profiles).
   struct MarginChange {
     std::string name;
     std::vector<std::uint8_t> levels;  // [decision]
@@ -57,8 +61,17 @@ struct SampledRun {
 };
 
 // Samples, chooses and judges (the judging renders every decision: seconds each on 2 cores).
-// Throws std::runtime_error for a scene without assets or options out of range.
-SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& options);
+// own_views (nullable): the scene's assets, in its order, profiled without cell bounds
+// (bake::AssetOptions::bound_cells false), to price the cell bounds. Throws std::runtime_error for
+// a scene without assets, options out of range or own_views of other assets.
+SampledRun run_sampled(const SceneAssets& scene, const SampleOptions& options,
+                       const SceneAssets* own_views = nullptr);
+
+// Decision i's frame with the gaze turned away from the object by its angular radius (in the plane
+// of the gaze and the object's centre; any direction when they coincide), so that its sphere's
+// nearest point lies at the eccentricity its centre had: what the rule would decide if it judged an
+// object at its centre's eccentricity, with the same view, size and display density.
+Frame centre_gaze_frame(const SceneAssets& scene, const SampledRun& run, std::size_t i);
 
 // What `acuity demo --sampled N` prints: the main rules' triangles and visible losses, the
 // baselines and the perceptual sweep at the perceptual rule's rate and at 1%, the oracle and the
