@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <set>
+#include <thread>
 #include <vector>
 
 #include "acuity.h"
@@ -96,7 +97,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 9);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 10);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -271,6 +272,67 @@ TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
   acuity_scheduler* s = nullptr;
   EXPECT_EQ(acuity_create(&c, &s), ACUITY_INVALID_ARGUMENT);
   EXPECT_EQ(s, nullptr);
+}
+
+// Version 10: a profile loaded deferred decides as exact evaluation does until its tables, made on
+// another thread, are installed between frames; then (objects added again: new objects take their
+// level at once) as a profile loaded with its tables. Misuse is refused and leaves the tables the
+// caller's.
+TEST(CAbi, DeferredTablesDecideExactlyUntilInstalled) {
+  Fixture f;
+  const Spiral spiral(f, 3000);
+  acuity_config c;
+  acuity_config_default(&c);
+  const auto tabulated = spiral.levels(c);
+  acuity_config exact_config = c;
+  exact_config.evaluation = ACUITY_EVALUATION_EXACT;
+  const auto exact = spiral.levels(exact_config);
+  expect_finer_somewhere(tabulated, exact);
+  c.max_objects = spiral.n;
+  acuity_scheduler* s = nullptr;
+  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  int32_t p = -1;
+  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK)
+      << acuity_last_error();
+  std::vector<uint32_t> ids(spiral.n);
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  eye.gaze_valid = 1;
+  const auto levels_of_fresh_objects = [&] {
+    EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
+                                 spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
+              ACUITY_OK);
+    EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+    std::vector<uint8_t> out(spiral.n);
+    EXPECT_EQ(acuity_get_levels(s, spiral.n, ids.data(), out.data(), nullptr), ACUITY_OK);
+    EXPECT_EQ(acuity_remove_objects(s, spiral.n, ids.data()), ACUITY_OK);
+    return out;
+  };
+  acuity_tables* made = nullptr;
+  std::thread worker([&] { EXPECT_EQ(acuity_make_tables(s, p, &made), ACUITY_OK) << acuity_last_error(); });
+  EXPECT_EQ(levels_of_fresh_objects(), exact);  // while the tables are made
+  worker.join();
+  ASSERT_NE(made, nullptr);
+  acuity_tables* none = nullptr;
+  EXPECT_EQ(acuity_make_tables(s, 1, &none), ACUITY_INVALID_ARGUMENT);  // no such profile
+  EXPECT_EQ(none, nullptr);
+  EXPECT_EQ(acuity_install_tables(s, 1, made), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_begin_frame(s, &eye, 1, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_INVALID_ARGUMENT);  // inside a frame
+  EXPECT_NE(std::string(acuity_last_error()).find("begin_frame"), std::string::npos);
+  EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
+  EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_OK) << acuity_last_error();
+  EXPECT_EQ(levels_of_fresh_objects(), tabulated);
+  ASSERT_EQ(acuity_make_tables(s, p, &made), ACUITY_OK);
+  EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_INVALID_ARGUMENT);  // it has tables
+  acuity_tables_destroy(made);
+  acuity_tables_destroy(nullptr);
+  acuity_destroy(s);
+  exact_config.max_objects = 1;
+  ASSERT_EQ(acuity_create(&exact_config, &s), ACUITY_OK);
+  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK);
+  EXPECT_EQ(acuity_make_tables(s, p, &none), ACUITY_INVALID_ARGUMENT);  // exact evaluation: none
+  acuity_destroy(s);
 }
 
 // The version-4 field: objects of a tabulated bias read its tables, as a C++ scheduler configured the

@@ -12,6 +12,7 @@
 #include <memory>
 #include <new>
 #include <random>
+#include <thread>
 #include <utility>
 
 #include "acuity/scheduler.hpp"
@@ -1576,6 +1577,83 @@ TEST(SchedulerTabulated, ABiasDecidesThroughTheTablesOfItsQuality) {
     std::printf("bias, margin %.1f: %d of %d decisions at tabulated biases differ from exact (%.2f%%)\n",
                 double(margin), differ_listed, listed, 100.0 * differ_listed / listed);
   }
+}
+
+// A profile added deferred is decided exactly until its tables are installed, then as if it had been
+// added with add_profile: fresh objects each frame (new objects take their level at once) of two
+// profiles, with and without a bias, against a scheduler evaluating exactly and one that built its
+// tables at add_profile. The tables are made on two threads at once while frames run; installing
+// them for another profile, into another scheduler, twice, or over tables is refused.
+TEST(SchedulerDeferred, DecidesExactlyUntilItsTablesAreInstalled) {
+  const TestProfile first, second(4, 8, 6, 0.5f, 0.6f);
+  SchedulerConfig c;
+  c.max_objects = 400;
+  c.hysteresis_margin = 0.25f;
+  c.tabulated_biases[0] = 0.5f;
+  SchedulerConfig exact_config = c;
+  exact_config.evaluation = Evaluation::Exact;
+  Scheduler built(c), exact(exact_config), deferred(c);
+  for (const Profile* p : {&first.profile, &second.profile}) {
+    const int index = built.add_profile(*p);
+    EXPECT_EQ(exact.add_profile(*p), index);
+    EXPECT_EQ(deferred.add_profile_deferred(*p), index);
+  }
+  EXPECT_EQ(deferred.table_bytes(0) + deferred.table_bytes(1), 0u);
+  ProfileTables made[2];
+  std::thread workers[2];
+  Rng rng(46);
+  int differ_before = 0, compared_before = 0;
+  for (int f = 0; f < 12; ++f) {
+    if (f == 3)  // made while frames 3 to 5 run
+      for (int p = 0; p < 2; ++p) workers[p] = std::thread([&, p] { made[p] = deferred.make_tables(p); });
+    if (f == 6) {  // between frames: the first profile's tables go in
+      for (std::thread& w : workers) w.join();
+      EXPECT_EQ(made[0].bytes(), built.table_bytes(0));
+      EXPECT_FALSE(deferred.install_tables(1, std::move(made[0])));  // made for profile 0
+      ProfileTables elsewhere = built.make_tables(0);
+      EXPECT_TRUE(elsewhere);
+      EXPECT_FALSE(deferred.install_tables(0, std::move(elsewhere)));  // another scheduler's
+      EXPECT_TRUE(deferred.install_tables(0, std::move(made[0])));
+      EXPECT_FALSE(made[0]);
+      EXPECT_FALSE(deferred.install_tables(0, std::move(made[0])));       // empty
+      EXPECT_FALSE(deferred.install_tables(0, deferred.make_tables(0)));  // it has tables
+      EXPECT_EQ(deferred.table_bytes(0), built.table_bytes(0));
+      EXPECT_EQ(deferred.table_bytes(1), 0u);
+    }
+    if (f == 9) { EXPECT_TRUE(deferred.install_tables(1, std::move(made[1]))); }
+    std::vector<int> profile_of(c.max_objects, -1);  // ids are reused in any order (alike in all three)
+    for (int i = 0; i < int(c.max_objects); ++i) {
+      const RandomObject o = random_object(rng, 50);
+      for (Scheduler* s : {&built, &exact, &deferred}) {
+        const ObjectId id = s->add_object(i % 2, o.t);
+        s->set_velocity(id, o.v);
+        if (i % 3 == 1) s->set_bias(id, 0.5f);  // a tabulated bias
+        profile_of[id] = i % 2;
+      }
+    }
+    Frame fr = looking_forward();
+    gaze_at(fr, rng.uniform(-0.6f, 0.6f), rng.uniform(-0.4f, 0.4f), -1);
+    for (Scheduler* s : {&built, &exact, &deferred}) s->run_frame(fr);
+    for (ObjectId id = 0; id < c.max_objects; ++id) {
+      const int profile = profile_of[id];
+      const bool installed = f >= (profile == 0 ? 6 : 9);
+      EXPECT_EQ(deferred.level(id), (installed ? built : exact).level(id))
+          << "frame " << f << " object " << id << (installed ? " (installed)" : " (deferred)");
+      if (!installed) {
+        differ_before += built.level(id) != exact.level(id);
+        ++compared_before;
+      }
+    }
+    for (Scheduler* s : {&built, &exact, &deferred})
+      for (ObjectId id = 0; id < c.max_objects; ++id) s->remove_object(id);
+  }
+  EXPECT_EQ(deferred.table_bytes(1), built.table_bytes(1));
+  // Had the deferred profiles read tables, they would have differed from exact here.
+  EXPECT_GT(differ_before, 0) << "of " << compared_before;
+  // Nothing to make: a bad profile, or a scheduler evaluating exactly.
+  EXPECT_FALSE(deferred.make_tables(2));
+  EXPECT_FALSE(deferred.make_tables(-1));
+  EXPECT_FALSE(exact.make_tables(0));
 }
 
 // A decision over whole cells (over every view, or through the object's view) is remembered per object

@@ -45,8 +45,10 @@ extern "C" {
  * _destroy), acuity_cluster,
  * acuity_cluster_group, acuity_cut_memory_size, acuity_cut_result and acuity_select_cut.
  * Version 9 added acuity_select_cut_budget (a cut under a triangle budget) and appended
- * acuity_cut_result.budget_coarsened and budget_forced (ACUITY_CUT_RESULT_SIZE_V9). */
-#define ACUITY_C_API_VERSION 9
+ * acuity_cut_result.budget_coarsened and budget_forced (ACUITY_CUT_RESULT_SIZE_V9).
+ * Version 10 added deferred tables: acuity_load_profile_deferred and acuity_tables
+ * (acuity_make_tables, acuity_install_tables, acuity_tables_destroy). */
+#define ACUITY_C_API_VERSION 10
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -263,6 +265,27 @@ void acuity_destroy(acuity_scheduler* scheduler);
  * is below the 32-byte header or above 4 GiB (checked before reading, so an unchecked ftell's -1
  * fails cleanly). FULL: max_profiles reached. Nothing is kept and *index is unchanged on failure. */
 acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index);
+/* The same without building the profile's tables (acuity::Scheduler::add_profile_deferred): quick
+ * whatever the profile, and its objects are decided exactly until acuity_install_tables. A scene
+ * of many assets starts at once; a worker thread of the host makes the tables meanwhile. */
+acuity_status acuity_load_profile_deferred(acuity_scheduler* s, const void* data, size_t size,
+                                           int32_t* index);
+
+/* One profile's tables, made apart from the frame loop (acuity::ProfileTables). */
+typedef struct acuity_tables acuity_tables;
+/* Makes profile `profile`'s tables into *out (the caller's: acuity_install_tables or
+ * acuity_tables_destroy). Thread-safe: from any thread, for several profiles at once, during frames
+ * too, but not during acuity_load_profile* or acuity_install_tables on the same scheduler.
+ * INVALID_ARGUMENT: null s or out, a profile not loaded, or a scheduler with no tables (exact
+ * evaluation, or a rule without thresholds); *out is unchanged then. */
+acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out);
+/* Installs tables this scheduler made for `profile`, outside a frame: from the next frame its
+ * objects read them (deciding as if loaded with acuity_load_profile). On OK they are consumed; else
+ * they stay the caller's. INVALID_ARGUMENT: null s or tables, tables of another profile or scheduler,
+ * a profile that has tables, or a call between acuity_begin_frame and acuity_end_frame. */
+acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity_tables* tables);
+/* Frees tables not installed. Null: no-op. */
+void acuity_tables_destroy(acuity_tables* tables);
 
 /* Adds `count` objects. Arrays of `count`; strides in bytes between elements, 0 for tightly packed;
  * scales may be null (1). ids_out receives their ids (uint32).

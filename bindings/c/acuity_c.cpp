@@ -348,27 +348,73 @@ acuity_status acuity_create(const acuity_config* c, acuity_scheduler** out) {
 
 void acuity_destroy(acuity_scheduler* s) { delete s; }
 
-acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
+namespace {
+// acuity_load_profile and _deferred (`name`): the bytes validated and copied, the profile added.
+acuity_status load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index, bool deferred,
+                           const std::string& name) {
   return guarded([&] {
-    if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, "acuity_load_profile: null argument");
+    if (!s || !data || !index) return fail(ACUITY_INVALID_ARGUMENT, name + ": null argument");
     if (s->profiles.size() >= s->scheduler.config().max_profiles)
-      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles (" +
+      return fail(ACUITY_FULL, name + ": max_profiles (" +
                                    std::to_string(s->scheduler.config().max_profiles) + ") reached");
     acuity::Blob blob;
     acuity::Profile p;
-    if (const acuity_status st = copy_profile(data, size, &blob, &p, "acuity_load_profile"); st != ACUITY_OK)
+    if (const acuity_status st = copy_profile(data, size, &blob, &p, name.c_str()); st != ACUITY_OK)
       return st;
     s->profiles.push_back(std::move(blob));
     acuity::open_profile(s->profiles.back().data(), s->profiles.back().size, &p);  // point into the kept copy
-    const int i = s->scheduler.add_profile(p);
+    const int i = deferred ? s->scheduler.add_profile_deferred(p) : s->scheduler.add_profile(p);
     if (i < 0) {
       s->profiles.pop_back();
-      return fail(ACUITY_FULL, "acuity_load_profile: max_profiles reached");
+      return fail(ACUITY_FULL, name + ": max_profiles reached");
     }
     *index = i;
     return ACUITY_OK;
   });
 }
+}  // namespace
+
+acuity_status acuity_load_profile(acuity_scheduler* s, const void* data, size_t size, int32_t* index) {
+  return load_profile(s, data, size, index, false, "acuity_load_profile");
+}
+
+acuity_status acuity_load_profile_deferred(acuity_scheduler* s, const void* data, size_t size,
+                                           int32_t* index) {
+  return load_profile(s, data, size, index, true, "acuity_load_profile_deferred");
+}
+
+struct acuity_tables {
+  acuity::ProfileTables tables;
+};
+
+acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out) {
+  return guarded([&] {
+    if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_make_tables: null argument");
+    acuity::ProfileTables t = s->scheduler.make_tables(profile);
+    if (!t)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_make_tables: profile " + std::to_string(profile) +
+                                               " was not loaded, or this scheduler keeps no tables");
+    *out = new acuity_tables{std::move(t)};
+    return ACUITY_OK;
+  });
+}
+
+acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity_tables* tables) {
+  return guarded([&] {
+    if (!s || !tables) return fail(ACUITY_INVALID_ARGUMENT, "acuity_install_tables: null argument");
+    if (s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_install_tables: called between begin_frame and end_frame");
+    if (!s->scheduler.install_tables(profile, std::move(tables->tables)))
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_install_tables: tables made for another profile or "
+                  "scheduler, or profile " +
+                      std::to_string(profile) + " has tables");
+    delete tables;
+    return ACUITY_OK;
+  });
+}
+
+void acuity_tables_destroy(acuity_tables* tables) { delete tables; }
 
 acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,
                                  const double* positions, size_t ps, const float* rotations, size_t rs,

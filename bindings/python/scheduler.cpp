@@ -392,6 +392,9 @@ void bind_scheduler(py::module_ m) {
       .ACUITY_ARRAY_PROPERTY(View, extent_m, float, 4, "orthographic: left, right, top, bottom [m]")
       .ACUITY_ARRAY_PROPERTY(View, viewport, std::uint32_t, 2, "width, height [texels or px]");
 
+  py::class_<ProfileTables>(m, "ProfileTables", "One profile's tables, from Scheduler.make_tables().")
+      .def("__bool__", [](const ProfileTables& t) { return bool(t); })
+      .def_property_readonly("nbytes", &ProfileTables::bytes, "Bytes of tables held (0 once installed).");
   py::class_<PyScheduler>(
       m, "Scheduler",
       "Per-frame perceptual LOD selection. Arrays are numpy: positions (N, 3) float64 [m],\n"
@@ -399,13 +402,44 @@ void bind_scheduler(py::module_ m) {
       .def(py::init<const SchedulerConfig&>(), "config"_a = SchedulerConfig{})
       .def(
           "add_profile",
-          [](PyScheduler& s, std::shared_ptr<OwnedProfile> p) {
-            const int index = s.scheduler.add_profile(p->view);
+          [](PyScheduler& s, std::shared_ptr<OwnedProfile> p, bool deferred) {
+            const int index =
+                deferred ? s.scheduler.add_profile_deferred(p->view) : s.scheduler.add_profile(p->view);
             if (index < 0) throw py::value_error("add_profile: max_profiles reached");
             s.profiles.push_back(std::move(p));
             return index;
           },
-          "profile"_a)
+          "profile"_a, "deferred"_a = false,
+          "Registers a profile; returns its index. deferred=True: its tables are not built (quick), and\n"
+          "its objects are decided exactly until install_tables().")
+      .def(
+          "make_tables",
+          [](const PyScheduler& s, int profile) {
+            ProfileTables t;
+            {
+              py::gil_scoped_release release;  // other Python threads run meanwhile (it is thread-safe)
+              t = s.scheduler.make_tables(profile);
+            }
+            if (!t)
+              throw py::value_error("make_tables: profile " + std::to_string(profile) +
+                                    " was not added, or this scheduler keeps no tables");
+            return t;
+          },
+          "profile_id"_a,
+          "The profile's tables, as add_profile builds them (tenths of a second for 32 views). Thread-safe\n"
+          "(releases the GIL): call it from worker threads, during frames too.")
+      .def(
+          "install_tables",
+          [](PyScheduler& s, int profile, ProfileTables& tables) {
+            if (!s.scheduler.install_tables(profile, std::move(tables)))
+              throw py::value_error(
+                  "install_tables: tables made for another profile or scheduler, used, or "
+                  "profile " +
+                  std::to_string(profile) + " has tables");
+          },
+          "profile_id"_a, "tables"_a,
+          "Installs make_tables(profile_id)'s tables between frames (they are used up): from the next\n"
+          "frame the profile's objects decide as if it had been added without deferred.")
       .def(
           "table_bytes",
           [](const PyScheduler& s, int profile) {

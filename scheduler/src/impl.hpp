@@ -22,7 +22,10 @@ struct Scheduler::Impl {
   void begin_frame(const Frame& frame);
   void update(std::uint32_t first, std::uint32_t count);
   void end_frame();
-  int add_profile(const Profile& profile);
+  struct ProfileTableSets;  // a profile's tables (tables.hpp)
+  int add_profile(const Profile& profile, bool build_tables = true);
+  bool make_tables(int profile, ProfileTableSets* out) const;  // false: none to make
+  bool install_tables(int profile, ProfileTableSets* sets);    // moves them in
   std::size_t table_bytes(int profile) const;
   static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
   float envelope_speed(float frequency_cpd) const;
@@ -180,12 +183,15 @@ struct Scheduler::Impl {
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_curves();  // at creation
-  void build_tables(ProfileCache& c) const;
+  // The tables of profile c (its inputs, add_profile's) into sets (kTableSets), from curves_ and
+  // the configuration only: concurrent calls may build the tables of several profiles at once.
+  void build_tables(const ProfileCache& c, ProfileTableSets* sets) const;
   // knots: the area law's per level, view and band (Curves::kKnots each), null without it.
-  void build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w, std::uint32_t k,
-                   const float* knots) const;
-  void build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const;
-  void build_any_view(ProfileCache& c, std::uint32_t set) const;
+  void build_still(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set, float ln_q,
+                   std::uint32_t w, std::uint32_t k, const float* knots) const;
+  void build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set, float ln_q,
+                    const float* knots) const;
+  void build_any_view(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set) const;
   void lower_speed_rows(const float* nodes, const float* ys, const internal::AreaLaw* laws,
                         const float* ln_band, std::uint32_t B, std::uint32_t T, float* lowers) const;
   struct Need;
@@ -230,7 +236,8 @@ struct Scheduler::Impl {
   void set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b, std::uint32_t j) const;
   void end_rests(ObjectId id);
   void apply_budget();
-  std::uint8_t bias_tables_of(float bias) const;  // bias_tables_ of an object of this bias
+  // bias_tables_ of an object of this profile and bias (kExactBias where the profile has no tables).
+  std::uint8_t bias_tables_of(int profile, float bias) const;
 
   SchedulerConfig config_;
   std::vector<ProfileCache> profiles_;

@@ -179,7 +179,7 @@ float Scheduler::Impl::envelope_speed(float frequency_cpd) const {
   return pre_->speed_at(std::log(frequency_cpd));
 }
 
-int Scheduler::Impl::add_profile(const Profile& p) {
+int Scheduler::Impl::add_profile(const Profile& p, bool tables) {
   if (profile_count_ >= config_.max_profiles) return -1;
   ProfileCache& c = profiles_[profile_count_];
   c.profile = p;
@@ -210,7 +210,10 @@ int Scheduler::Impl::add_profile(const Profile& p) {
     c.view_right[3 * v + 1] = r.y;
     c.view_right[3 * v + 2] = r.z;
   }
-  if (curves_) build_tables(c);
+  if (curves_ && tables) {
+    build_tables(c, &c.tables);
+    c.tabulated = true;
+  }
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
   std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
   max_band_count_ = std::max(max_band_count_, B);
@@ -237,7 +240,7 @@ ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
   min_level_[id] = 0;
   max_level_[id] = static_cast<std::uint8_t>(level_count_[profile] - 1);
   bias_[id] = 1.0f;
-  bias_tables_[id] = bias_tables_of(1.0f);
+  bias_tables_[id] = bias_tables_of(profile, 1.0f);
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   drawn_triangles_ += triangles_[std::size_t(profile) * kMaxLevels + level_[id]];
@@ -300,15 +303,16 @@ void Scheduler::Impl::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8
 void Scheduler::Impl::set_bias(ObjectId id, float quality_bias) {
   if (!alive(id)) return;
   bias_[id] = quality_bias;
-  bias_tables_[id] = bias_tables_of(quality_bias);
+  bias_tables_[id] = bias_tables_of(profile_of_[id], quality_bias);
   end_rests(id);
 }
 
 // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
 // would drop what the engine asked for). The frame loop tests an object's bias here, not bias_.
-std::uint8_t Scheduler::Impl::bias_tables_of(float bias) const {
+std::uint8_t Scheduler::Impl::bias_tables_of(int profile, float bias) const {
   const float q = config_.quality * bias;
   if (!(std::isfinite(q) && q > 0.0f)) return kInvalidBias;
+  if (curves_ && !profiles_[profile].tabulated) return kExactBias;  // deferred: not yet installed
   const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, bias);
   return tabulated == table_bias_ + table_bias_count_ ? kExactBias
                                                       : static_cast<std::uint8_t>(tabulated - table_bias_);
@@ -385,6 +389,28 @@ bool parse_evaluation(const char* name, Evaluation* out) {
 Scheduler::Scheduler(const SchedulerConfig& config) : impl_(std::make_unique<Impl>(config)) {}
 Scheduler::~Scheduler() = default;
 int Scheduler::add_profile(const Profile& profile) { return impl_->add_profile(profile); }
+int Scheduler::add_profile_deferred(const Profile& profile) { return impl_->add_profile(profile, false); }
+ProfileTables Scheduler::make_tables(int profile) const {
+  ProfileTables out;
+  auto data = std::make_unique<ProfileTables::Data>();
+  if (!impl_->make_tables(profile, &data->tables)) return out;
+  data->owner = impl_.get();
+  data->profile = profile;
+  out.data_ = std::move(data);
+  return out;
+}
+bool Scheduler::install_tables(int profile, ProfileTables&& tables) {
+  if (!tables.data_ || tables.data_->owner != impl_.get() || tables.data_->profile != profile) return false;
+  if (!impl_->install_tables(profile, &tables.data_->tables)) return false;
+  tables.data_.reset();
+  return true;
+}
+
+ProfileTables::ProfileTables() = default;
+ProfileTables::~ProfileTables() = default;
+ProfileTables::ProfileTables(ProfileTables&&) noexcept = default;
+ProfileTables& ProfileTables::operator=(ProfileTables&&) noexcept = default;
+std::size_t ProfileTables::bytes() const { return data_ ? data_->tables.bytes() : 0; }
 ObjectId Scheduler::add_object(int profile, const ObjectTransform& transform) {
   return impl_->add_object(profile, transform);
 }

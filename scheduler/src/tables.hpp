@@ -174,18 +174,8 @@ bool stand_at_place(float x, std::int32_t x_step, float w, const Lines& lines, S
 
 namespace acuity {
 
-struct Scheduler::Impl::ProfileCache {
-  Profile profile{};
-  std::vector<float> ln_lost;      // [(K-1) V T B], -inf where nothing is lost
-  std::vector<float> ln_lost_any;  // [(K-1) V B]: max over orientations (all a static object needs)
-      // The area law's k per level, view and band (Curves::area_term(): a0 / (extent x band centre^2),
-  // from the Pooled section or a bound from Detail's; area_ks()), [(K-1) V B], every orientation of
-  // the band reading it; empty when the law does not apply (area_law() false).
-  std::vector<float> area_k;
-  std::uint32_t moving_orientations = 1;  // Tm: rows per view and level of the moving tables
-  std::vector<float> ln_band;             // [B] ln of the band centre [cpod]
-  std::vector<float> cos_t, sin_t;        // [T] orientation unit vectors in the snapshot plane
-  std::vector<float> view_right;          // [V][3] snapshot right = -direction x up, object space
+// A profile's tables (its ProfileCache's, or built apart from it: build_tables(), make_tables()).
+struct Scheduler::Impl::ProfileTableSets {
   // Tabulated path: ln of the largest invisible angular diameter [ln deg] (see scheduler.hpp).
   // Levels are innermost, so one object's reads share cache lines.
   // still and slow [V][n][kStillE][K-1]: the n = 1..B lowest bands visible on the display, a still
@@ -206,6 +196,36 @@ struct Scheduler::Impl::ProfileCache {
   // [2 i]: score <= 1, [2 i + 1]: score <= 1 - margin (empty when the margin is 0), at bias
   // table_bias_[i] (kTableSets). One set's four side by side: an object reads one set.
   Tables sets[kTableSets];
+  std::size_t bytes() const {
+    std::size_t n = 0;
+    for (const Tables& t : sets) n += t.still.size() + t.slow.size() + t.moving.size() + t.any_view.size();
+    return n * sizeof(std::int16_t);
+  }
+};
+
+struct Scheduler::Impl::ProfileCache {
+  Profile profile{};
+  std::vector<float> ln_lost;      // [(K-1) V T B], -inf where nothing is lost
+  std::vector<float> ln_lost_any;  // [(K-1) V B]: max over orientations (all a static object needs)
+      // The area law's k per level, view and band (Curves::area_term(): a0 / (extent x band centre^2),
+  // from the Pooled section or a bound from Detail's; area_ks()), [(K-1) V B], every orientation of
+  // the band reading it; empty when the law does not apply (area_law() false).
+  std::vector<float> area_k;
+  std::uint32_t moving_orientations = 1;  // Tm: rows per view and level of the moving tables
+  std::vector<float> ln_band;             // [B] ln of the band centre [cpod]
+  std::vector<float> cos_t, sin_t;        // [T] orientation unit vectors in the snapshot plane
+  std::vector<float> view_right;          // [V][3] snapshot right = -direction x up, object space
+  // Tabulated path: the tables (ProfileTableSets), built by add_profile or installed.
+  ProfileTableSets tables;
+  bool tabulated = false;  // sets built (add_profile) or installed (install_tables): else exact
+};
+
+// What Scheduler::make_tables() hands to install_tables(): the tables, and for which scheduler
+// and profile they were made.
+struct ProfileTables::Data {
+  const Scheduler::Impl* owner = nullptr;
+  int profile = -1;
+  Scheduler::Impl::ProfileTableSets tables;
 };
 
 // One loss's area law as the tables' searches read it (Curves::with_law()): k (0: none) and the

@@ -59,7 +59,7 @@ void Scheduler::Impl::build_curves() {
 }
 
 // Fills the tabulated path's tables of one profile (see ProfileCache).
-void Scheduler::Impl::build_tables(ProfileCache& c) const {
+void Scheduler::Impl::build_tables(const ProfileCache& c, ProfileTableSets* sets) const {
   const Profile& p = c.profile;
   const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, B = p.meta.band_count, L = K - 1;
   const Precomputed& pre = *pre_;
@@ -73,19 +73,19 @@ void Scheduler::Impl::build_tables(ProfileCache& c) const {
     if (set % 2 >= margins) continue;
     const float ln_bias_q = pre.ln_quality_at(table_bias_[set / 2]);
     const float ln_q = set % 2 ? ln_bias_q + pre.ln_margin : ln_bias_q;
-    c.sets[set].still.assign(std::size_t(V) * L * B * kStillE, 0);
-    c.sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
-    c.sets[set].moving.assign(std::size_t(V) * L * c.moving_orientations * kMovingS * kMovingE, 0);
+    sets->sets[set].still.assign(std::size_t(V) * L * B * kStillE, 0);
+    sets->sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
+    sets->sets[set].moving.assign(std::size_t(V) * L * c.moving_orientations * kMovingS * kMovingE, 0);
     for (std::uint32_t w = 0; w < V; ++w)
-      for (std::uint32_t k = 1; k < K; ++k) build_still(c, set, ln_q, w, k, law_knots);
-    build_moving(c, set, ln_q, law_knots);
-    build_any_view(c, set);
+      for (std::uint32_t k = 1; k < K; ++k) build_still(c, sets, set, ln_q, w, k, law_knots);
+    build_moving(c, sets, set, ln_q, law_knots);
+    build_any_view(c, sets, set);
   }
 }
 
 // The still and slow tables of view w and level k in table set `set` (ln_q: its ln q).
-void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q, std::uint32_t w,
-                                  std::uint32_t k, const float* knots) const {
+void Scheduler::Impl::build_still(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set,
+                                  float ln_q, std::uint32_t w, std::uint32_t k, const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
@@ -94,7 +94,7 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
   AreaLaw laws[kMaxBands];  // each band's area law
   for (std::uint32_t b = 0; b < B && knots; ++b)
     laws[b] = {c.area_k[kv * B + b], &knots[(kv * B + b) * Curves::kKnots]};
-  std::vector<std::int16_t>& still = c.sets[set].still;
+  std::vector<std::int16_t>& still = sets->sets[set].still;
   // Still and slow: per band, then the minimum over the bands the display shows (prefix minima).
   // Where a cell's midpoint shows the interpolation above the truth (a convex kink: the CSF's
   // peak, a model's eccentricity step), the cell's two nodes come down by the excess.
@@ -138,7 +138,7 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
           lower[j + 1][b] = std::max(lower[j + 1][b], excess);
         }
       }
-    std::vector<std::int16_t>& table = slow ? c.sets[set].slow : still;
+    std::vector<std::int16_t>& table = slow ? sets->sets[set].slow : still;
     for (std::uint32_t j = 0; j < kStillE; ++j)
       for (std::uint32_t b = 0; b < B; ++b)
         table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = encode_size(node[j][b] - lower[j][b]);
@@ -151,7 +151,8 @@ void Scheduler::Impl::build_still(ProfileCache& c, std::uint32_t set, float ln_q
 // read again for each). Each row's entries are what they were when built
 // one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
 // lead band changes only how fast it finds its value (Curves::least_sampled()).
-void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_q, const float* knots) const {
+void Scheduler::Impl::build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set,
+                                   float ln_q, const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, Tm = c.moving_orientations,
                       B = p.meta.band_count, L = p.meta.level_count - 1;
@@ -213,7 +214,7 @@ void Scheduler::Impl::build_moving(ProfileCache& c, std::uint32_t set, float ln_
           for (const std::uint32_t q : corner) lower[q] = std::max(lower[q], excess);
       }
     }
-  std::vector<std::int16_t>& moving = c.sets[set].moving;
+  std::vector<std::int16_t>& moving = sets->sets[set].moving;
   for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) Tm + t; entries [w][t][i][k - 1]
     const std::size_t t = r % Tm, k = (r / Tm) % L, w = r / (std::size_t(Tm) * L);
     for (std::size_t n = 0; n < N; ++n)
@@ -339,11 +340,11 @@ Scheduler::Impl::Lowering Scheduler::Impl::least_lowering(const Need* needs, int
 }
 
 // The bounds over every view of table set `set` (its still and slow tables built).
-void Scheduler::Impl::build_any_view(ProfileCache& c, std::uint32_t set) const {
+void Scheduler::Impl::build_any_view(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
-  const std::vector<std::int16_t>& still = c.sets[set].still;
-  std::vector<std::int16_t>& any = c.sets[set].any_view;
+  const std::vector<std::int16_t>& still = sets->sets[set].still;
+  std::vector<std::int16_t>& any = sets->sets[set].any_view;
   const std::size_t width = 2 * std::size_t(L) + 1;
   any.assign(L > 0 ? std::size_t(B) * kStillE * width : 0, 0);
   for (std::uint32_t n = 0; n < B && L > 0; ++n)
@@ -357,7 +358,7 @@ void Scheduler::Impl::build_any_view(ProfileCache& c, std::uint32_t set) const {
           const std::size_t at = ((std::size_t(w) * B + n) * kStillE + j) * L + k;
           row[k] = std::min(row[k], still[at]);
           row[L + k] = std::max(row[L + k], still[at]);
-          if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], c.sets[set].slow[at]});
+          if (k + 1 == L) row[2 * L] = std::min({row[2 * L], still[at], sets->sets[set].slow[at]});
         }
     }
 }
@@ -376,12 +377,24 @@ std::size_t Scheduler::Impl::table_bytes(const Profile& p, const SchedulerConfig
 
 std::size_t Scheduler::Impl::table_bytes(int profile) const {
   if (profile < 0 || profile >= static_cast<int>(profile_count_)) return 0;
-  const ProfileCache& c = profiles_[profile];
-  std::size_t n = 0;
-  for (std::uint32_t set = 0; set < kTableSets; ++set)
-    n += c.sets[set].still.size() + c.sets[set].slow.size() + c.sets[set].moving.size() +
-         c.sets[set].any_view.size();
-  return n * sizeof(std::int16_t);
+  return profiles_[profile].tables.bytes();
+}
+
+bool Scheduler::Impl::make_tables(int profile, ProfileTableSets* out) const {
+  if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_)) return false;
+  build_tables(profiles_[profile], out);
+  return true;
+}
+
+bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
+  if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_) || profiles_[profile].tabulated)
+    return false;
+  ProfileCache& c = profiles_[profile];
+  c.tables = std::move(*sets);
+  c.tabulated = true;
+  for (ObjectId id = 0; id < config_.max_objects; ++id)  // its objects read them from the next frame
+    if (profile_of_[id] == profile) bias_tables_[id] = bias_tables_of(profile, bias_[id]);
+  return true;
 }
 
 }  // namespace acuity

@@ -25,7 +25,7 @@ namespace acuity {
                                                                                 std::uint32_t L,
                                                                                 std::uint32_t bands,
                                                                                 std::uint32_t ec, int set) {
-  return &pc.sets[set].any_view[((std::size_t(bands) - 1) * kStillE + ec) * (2 * std::size_t(L) + 1)];
+  return &pc.tables.sets[set].any_view[((std::size_t(bands) - 1) * kStillE + ec) * (2 * std::size_t(L) + 1)];
 }
 // row: any_view_row()'s for a profile of L coarser levels; x: the object's ln angular diameter
 // rounded up to the tables' step [1/1024 ln deg]. Over the whole cell: each entry the least (or most)
@@ -94,7 +94,7 @@ int Scheduler::Impl::view_cell_level(const ProfileCache& pc, const Probe& o, std
                                      bool quartered, std::int32_t* lo, std::int32_t* hi) {
   const ProfileMeta& m = pc.profile.meta;
   const std::uint32_t T = m.orientation_count, B = m.band_count, L = m.level_count - 1;
-  const ProfileCache::Tables& tables = pc.sets[o.tables + set];
+  const ProfileTableSets::Tables& tables = pc.tables.sets[o.tables + set];
   const std::vector<std::int16_t>& near = o.moving ? tables.slow : tables.still;
   float ec_from, ec_to, em_from = 0.0f, em_to = 1.0f;
   weight_range(quartered, o.ec.w, &ec_from, &ec_to);
@@ -463,7 +463,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
-        const ProfileCache::Tables& ts = pc.sets[o.tables + set];
+        const ProfileTableSets::Tables& ts = pc.tables.sets[o.tables + set];
         const std::int16_t* row = &(o.moving ? ts.slow : ts.still)[o.still_row(c, B, L)];
         ACUITY_PREFETCH(row);
         ACUITY_PREFETCH(row + 2 * L - 1);
@@ -481,14 +481,15 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
                         L = pc.profile.meta.level_count - 1;
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
       const std::int16_t* slow =
-          &pc.sets[o.tables].slow[o.still_row(c, B, L) + (L - 1)];  // the coarsest level
+          &pc.tables.sets[o.tables].slow[o.still_row(c, B, L) + (L - 1)];  // the coarsest level
       if (o.x <= between(slow[0], slow[L], o.ec.w)) continue;
       if (!o.cells) speed_cells(pc, b.e[j], &o);
       // At its place, table_choice() mostly decides within the first orientations; over the whole
       // cells (view_cell_level()), it reads them all.
       const std::uint32_t read = o.at_place ? std::min(T, 2u) : T;
       for (std::uint32_t t = 0; t < read; ++t) {
-        const std::int16_t* r0 = &pc.sets[o.tables].moving[o.moving_row(c, t, pc.moving_orientations, L)];
+        const std::int16_t* r0 =
+            &pc.tables.sets[o.tables].moving[o.moving_row(c, t, pc.moving_orientations, L)];
         ACUITY_PREFETCH_L2(r0);
         ACUITY_PREFETCH_L2(r0 + std::size_t(kMovingE) * L);
       }
@@ -544,7 +545,7 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
         const auto lines = [&](const auto& line) {  // table_choice()'s: each set's, view's and level's
           for (int set = 0; set < sets; ++set)
             for (std::uint32_t c = 0; c < o.view_count; ++c) {
-              const std::int16_t* row = &pc.sets[o.tables + set].still[o.still_row(c, B, L)];
+              const std::int16_t* row = &pc.tables.sets[o.tables + set].still[o.still_row(c, B, L)];
               for (std::uint32_t k = 1; k <= L; ++k) line(row[k - 1], row[L + k - 1], 0.0f);
             }
         };
@@ -623,7 +624,7 @@ Scheduler::Impl::Choice Scheduler::Impl::table_choice(const ProfileCache& pc, fl
   float bound[2][kLookupCandidates][kMaxLevels], size[2][kMaxLevels];
   for (int set = 0; set < sets; ++set)
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      const ProfileCache::Tables& tables = pc.sets[o.tables + set];
+      const ProfileTableSets::Tables& tables = pc.tables.sets[o.tables + set];
       const std::int16_t* row = &(o.moving ? tables.slow : tables.still)[o.still_row(c, B, L)];
       for (std::uint32_t k = 1; k <= L; ++k) {
         bound[set][c][k] = between(row[k - 1], row[L + k - 1], ec.w);
@@ -647,8 +648,8 @@ Scheduler::Impl::Choice Scheduler::Impl::table_choice(const ProfileCache& pc, fl
           }
           float m = -kNever;
           for (std::uint32_t t = 0; t < T; ++t) {
-            const std::int16_t* r0 =
-                &pc.sets[o.tables + set].moving[o.moving_row(c, t, pc.moving_orientations, L) + (k - 1)];
+            const std::int16_t* r0 = &pc.tables.sets[o.tables + set]
+                                          .moving[o.moving_row(c, t, pc.moving_orientations, L) + (k - 1)];
             const std::int16_t* r1 = r0 + std::size_t(kMovingE) * L;
             const float lo = between(r0[0], r0[L], em.w), hi = between(r1[0], r1[L], em.w);
             m = std::min(m, lo + o.speed_w[t] * (hi - lo));

@@ -237,6 +237,58 @@ def test_table_bytes_per_profile():
     assert table_bytes(tabulated_biases=[2.0, 0.5, 0], hysteresis_margin=0.3) == 6 * one_set
 
 
+def test_deferred_tables_made_on_worker_threads():
+    """A profile added deferred decides as exact evaluation does until its tables, made on worker
+    threads while frames run, are installed; then as a profile added with its tables."""
+    from concurrent.futures import ThreadPoolExecutor
+    rng = np.random.default_rng(7)
+    n = 2000  # moving: a few decisions where the tables are finer than exact (4 at this seed)
+    z = -np.geomspace(1.5, 400, n)
+    pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
+    rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)
+    vel = rng.normal(0, 3, (n, 3)).astype(np.float32)
+    profiles = [acuity.Profile.from_bytes(make_profile(levels=k)) for k in (5, 4)]
+
+    def scheduler(evaluation=acuity.Evaluation.tabulated, deferred=False):
+        config = acuity.SchedulerConfig()
+        config.max_objects = n
+        config.evaluation = evaluation
+        s = acuity.Scheduler(config)
+        for p in profiles:
+            s.add_profile(p, deferred=deferred)
+        return s
+
+    def levels(s):  # fresh objects: their level at once
+        ids = s.add_objects(np.arange(n) % 2, pos, rot, np.ones(n))
+        s.set_velocities(ids, vel)
+        s.run_frame(frame_looking_forward())
+        out = s.levels(ids).astype(int)
+        s.remove_objects(ids)
+        return out
+
+    built, exact, deferred = scheduler(), scheduler(acuity.Evaluation.exact), scheduler(deferred=True)
+    want_built, want_exact = levels(built), levels(exact)
+    assert np.any(want_built != want_exact)  # the two paths tell apart here
+    assert deferred.table_bytes(0) == deferred.table_bytes(1) == 0
+    with ThreadPoolExecutor(2) as pool:
+        made = [pool.submit(deferred.make_tables, pid) for pid in (0, 1)]
+        assert np.array_equal(levels(deferred), want_exact)  # frames while the tables are made
+        made = [m.result() for m in made]
+    assert made[0] and made[0].nbytes == built.table_bytes(0)
+    with pytest.raises(ValueError, match="another profile"):
+        deferred.install_tables(1, made[0])
+    deferred.install_tables(0, made[0])
+    assert not made[0] and made[0].nbytes == 0
+    mixed = levels(deferred)
+    odd = np.arange(n) % 2 == 1
+    assert np.array_equal(mixed[~odd], want_built[~odd]) and np.array_equal(mixed[odd], want_exact[odd])
+    deferred.install_tables(1, made[1])
+    assert np.array_equal(levels(deferred), want_built)
+    assert deferred.table_bytes(1) == built.table_bytes(1)
+    with pytest.raises(ValueError, match="keeps no tables"):
+        exact.make_tables(0)
+
+
 @pytest.mark.parametrize("hz", [72, 90, 120])
 def test_hysteresis_and_wait_in_seconds_take_the_same_time_at_any_rate(hz):
     """hysteresis_seconds and max_coarsen_wait_seconds sum dt: 0.1 s + 0.3 s is 0.4 s at every rate;

@@ -261,6 +261,10 @@ struct FrameStats {
 // without their geometry (FrameStats::at_rest). keep_scores or a triangle budget make every object
 // read its tables instead. KellyDaly and StelaCsf (their thresholds fall with speed at low
 // frequencies) and objects of an unlisted bias evaluate exactly. How it works: docs/design.md section 6.
+// A scene of many assets need not wait for every profile's tables: add_profile_deferred() registers a
+// profile without them (its objects decide exactly meanwhile: Evaluation::Exact's decisions),
+// make_tables() builds them on any thread, install_tables() hands them over between frames.
+class ProfileTables;
 class Scheduler {
  public:
   explicit Scheduler(const SchedulerConfig& config);
@@ -270,6 +274,19 @@ class Scheduler {
 
   // Registers a profile (its bytes must outlive the scheduler). Returns its index, or -1 when full.
   int add_profile(const Profile& profile);
+  // The same without building its tables (the tabulated path; elsewhere as add_profile): quick
+  // whatever the profile, and until install_tables() its objects are decided exactly.
+  int add_profile_deferred(const Profile& profile);
+  // Profile p's tables, as add_profile would build them (seconds' tenths for a 32-view profile; empty
+  // when p is not a profile, or the configuration has none). Const and thread-safe: call it from any
+  // thread, for several profiles at once, during frames too, but not during add_profile* or
+  // install_tables.
+  ProfileTables make_tables(int profile) const;
+  // Installs tables made by this scheduler's make_tables(p) for p, between end_frame() and the next
+  // begin_frame(): from the next frame p's objects read them (their decisions then exactly as if p
+  // had been added with add_profile). Returns false, changing nothing, for tables made for another
+  // profile or scheduler, empty ones, or a profile that has tables.
+  bool install_tables(int profile, ProfileTables&& tables);
 
   // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
   // level; bias multiplies q for this object (see SchedulerConfig::tabulated_biases).
@@ -399,8 +416,26 @@ class Scheduler {
                         std::span<GroupExplain> out) const;
 
  private:
+  friend class ProfileTables;
   struct Impl;  // every array and pass (scheduler/src/impl.hpp)
   std::unique_ptr<Impl> impl_;
+};
+
+// One profile's tables, made by Scheduler::make_tables() for Scheduler::install_tables(): movable,
+// opaque.
+class ProfileTables {
+ public:
+  ProfileTables();
+  ~ProfileTables();
+  ProfileTables(ProfileTables&&) noexcept;
+  ProfileTables& operator=(ProfileTables&&) noexcept;
+  explicit operator bool() const { return data_ != nullptr; }
+  std::size_t bytes() const;  // what install_tables() adds to Scheduler::table_bytes()
+
+ private:
+  friend class Scheduler;
+  struct Data;  // scheduler/src/tables.hpp
+  std::unique_ptr<Data> data_;
 };
 
 }  // namespace acuity
