@@ -240,6 +240,9 @@ struct Scheduler::Impl {
   std::uint8_t bias_tables_of(int profile, float bias) const;
 
   SchedulerConfig config_;
+  // This scheduler among every one the process made (ProfileTables names the one that made them: an
+  // address could be a later scheduler's).
+  const std::uint64_t serial_;
   std::vector<ProfileCache> profiles_;
   std::uint32_t profile_count_ = 0;
   // Per profile, what every object reads, in small arrays owned here (not the profile blob):

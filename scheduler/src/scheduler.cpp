@@ -14,6 +14,8 @@
 // frame_loop.cpp; the choosers choose_*.cpp and tabulated.cpp; the memory memory.cpp.
 #include "acuity/scheduler.hpp"
 
+#include <atomic>
+
 #include "curves.hpp"
 #include "memory.hpp"
 
@@ -26,9 +28,13 @@ float timing_need(float seconds, std::uint32_t frames) {
   if (seconds > 0) return seconds * (1.0f - 1e-4f);
   return static_cast<float>(std::min<std::uint32_t>(frames, 1u << 24));
 }
+std::uint64_t next_serial() {
+  static std::atomic<std::uint64_t> made{0};
+  return ++made;
+}
 }  // namespace
 
-Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config) {
+Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config), serial_(next_serial()) {
   if (config_.triangle_budget > 0) config_.keep_scores = true;  // the budget pass needs them
   const std::size_t n = config_.max_objects;
   profiles_.resize(config_.max_profiles);
@@ -394,13 +400,14 @@ ProfileTables Scheduler::make_tables(int profile) const {
   ProfileTables out;
   auto data = std::make_unique<ProfileTables::Data>();
   if (!impl_->make_tables(profile, &data->tables)) return out;
-  data->owner = impl_.get();
+  data->scheduler = impl_->serial_;
   data->profile = profile;
   out.data_ = std::move(data);
   return out;
 }
 bool Scheduler::install_tables(int profile, ProfileTables&& tables) {
-  if (!tables.data_ || tables.data_->owner != impl_.get() || tables.data_->profile != profile) return false;
+  if (!tables.data_ || tables.data_->scheduler != impl_->serial_ || tables.data_->profile != profile)
+    return false;
   if (!impl_->install_tables(profile, &tables.data_->tables)) return false;
   tables.data_.reset();
   return true;

@@ -223,7 +223,7 @@ struct Scheduler::Impl::ProfileCache {
 // What Scheduler::make_tables() hands to install_tables(): the tables, and for which scheduler
 // and profile they were made.
 struct ProfileTables::Data {
-  const Scheduler::Impl* owner = nullptr;
+  std::uint64_t scheduler = 0;  // Scheduler::Impl::serial_
   int profile = -1;
   Scheduler::Impl::ProfileTableSets tables;
 };
