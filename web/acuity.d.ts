@@ -102,8 +102,11 @@ export interface FrameStats {
 }
 
 export class Scheduler {
-  /** A .acuity file's bytes (copied, validated); returns the profile index. */
-  loadProfile(bytes: Uint8Array): number;
+  /** A .acuity file's bytes (copied, validated); returns the profile index. deferred: no tables yet
+   *  (quick; its objects are decided exactly until buildTables). */
+  loadProfile(bytes: Uint8Array, options?: { deferred?: boolean }): number;
+  /** Builds and installs a deferred profile's tables, between frames (a tenth of a second or more). */
+  buildTables(profile: number): void;
   /** profiles n, positions 3n [m], rotations 4n (x y z w), scales n or null (1); returns the ids. */
   addObjects(profiles: Int32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): Uint32Array;
   removeObjects(ids: Uint32Array): void;

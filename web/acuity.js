@@ -219,11 +219,28 @@ export class Scheduler {
     if (array.length < length) throw new AcuityError(`${what}: ${length} values expected, got ${array.length}`, 1);
   }
 
-  loadProfile(bytes) {
+  // deferred: its tables are not built (quick whatever the profile), and its objects are decided
+  // exactly until buildTables(index).
+  loadProfile(bytes, { deferred = false } = {}) {
     this.need(bytes, Uint8Array, 0, 'loadProfile');
     const [data, index] = this.stage([bytes], [new Int32Array(1)]);
-    this.a.check(this.m._acuity_load_profile(this.s, data, bytes.length, index), 'acuity_load_profile');
+    const call = deferred ? 'acuity_load_profile_deferred' : 'acuity_load_profile';
+    this.a.check(this.m['_' + call](this.s, data, bytes.length, index), call);
     return this.m.HEAP32[index >> 2];
+  }
+
+  // Builds a deferred profile's tables and installs them: between frames (a tenth of a second or
+  // more of this thread per profile: one per idle callback keeps a page responsive).
+  buildTables(profile) {
+    const [out] = this.stage([], [new Uint32Array(1)]);
+    this.a.check(this.m._acuity_make_tables(this.s, profile, out), 'acuity_make_tables');
+    const tables = this.m.HEAPU32[out >> 2];
+    try {
+      this.a.check(this.m._acuity_install_tables(this.s, profile, tables), 'acuity_install_tables');
+    } catch (err) {
+      this.m._acuity_tables_destroy(tables);
+      throw err;
+    }
   }
 
   // profiles: Int32Array n; positions: Float64Array 3n; rotations: Float32Array 4n (x y z w);

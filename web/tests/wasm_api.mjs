@@ -134,6 +134,38 @@ for (const hz of [72, 120]) {
   assert.ok(frames / hz >= 0.4 * (1 - 1e-4) && frames / hz < 0.4 + 1 / hz, `${frames} frames at ${hz} Hz`);
   assert.equal(framesToCoarsen({ hysteresis_frames: 4, max_coarsen_wait: 6 }, hz), 10);
 }
+// Deferred tables (C ABI 10): a profile loaded deferred decides as exact evaluation does until
+// buildTables, then as one loaded with its tables (fresh objects each time: their level at once;
+// moving, so that the two evaluations differ somewhere).
+{
+  const m = 3000;
+  const p0 = new Int32Array(m), velocities = new Float32Array(3 * m);
+  for (let i = 0; i < m; ++i) velocities.set([Math.sin(i) * 3, Math.cos(3 * i) * 2, Math.sin(7 * i)], 3 * i);
+  const levelsOf = t => {
+    const made = t.addObjects(p0, positions.subarray(0, 3 * m), rotations.subarray(0, 4 * m), scales.subarray(0, m));
+    t.setVelocities(made, velocities);
+    t.frame(eyes, 1, 1 / 72);
+    const out = new Uint8Array(m);
+    t.getLevels(made, out);
+    t.removeObjects(made);
+    return out;
+  };
+  const scheduler = (options, deferred = false) => {
+    const t = acuity.createScheduler({ max_objects: m, ...options });
+    assert.equal(t.loadProfile(profile, { deferred }), 0);
+    return t;
+  };
+  const built = scheduler({}), exact = scheduler({ evaluation: 1 }), deferred = scheduler({}, true);
+  const want = levelsOf(built), wantExact = levelsOf(exact);
+  assert.ok(want.some((l, i) => l !== wantExact[i]), 'the two evaluations differ somewhere here');
+  assert.deepEqual(levelsOf(deferred), wantExact);
+  throwsAcuity(() => deferred.buildTables(1), 1, /^acuity_make_tables: profile 1/);
+  deferred.buildTables(0);
+  assert.deepEqual(levelsOf(deferred), want);
+  throwsAcuity(() => deferred.buildTables(0), 1, /^acuity_install_tables: .*has tables/);  // and freed
+  throwsAcuity(() => exact.buildTables(0), 1, /keeps no tables/);
+  for (const t of [built, exact, deferred]) t.destroy();
+}
 // Views beyond the eyes (C ABI 7): an orthographic sun over 80 m gives an object behind the eye a
 // shadow level from its texels, finer for a finer map; a class no view names: the coarsest.
 {
