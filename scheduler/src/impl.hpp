@@ -23,7 +23,7 @@ struct Scheduler::Impl {
   void update(std::uint32_t first, std::uint32_t count);
   void end_frame();
   struct ProfileTableSets;  // a profile's tables (tables.hpp)
-  int add_profile(const Profile& profile, bool build_tables = true);
+  int add_profile(const Profile& profile, bool tables = true);  // tables false: deferred
   bool make_tables(int profile, ProfileTableSets* out) const;  // false: none to make
   bool install_tables(int profile, ProfileTableSets* sets);    // moves them in
   std::size_t table_bytes(int profile) const;

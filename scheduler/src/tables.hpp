@@ -207,7 +207,8 @@ struct Scheduler::Impl::ProfileCache {
   Profile profile{};
   std::vector<float> ln_lost;      // [(K-1) V T B], -inf where nothing is lost
   std::vector<float> ln_lost_any;  // [(K-1) V B]: max over orientations (all a static object needs)
-      // The area law's k per level, view and band (Curves::area_term(): a0 / (extent x band centre^2),
+
+  // The area law's k per level, view and band (Curves::area_term(): a0 / (extent x band centre^2),
   // from the Pooled section or a bound from Detail's; area_ks()), [(K-1) V B], every orientation of
   // the band reading it; empty when the law does not apply (area_law() false).
   std::vector<float> area_k;
