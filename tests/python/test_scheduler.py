@@ -274,7 +274,7 @@ def test_deferred_tables_made_on_worker_threads():
         made = [pool.submit(deferred.make_tables, pid) for pid in (0, 1)]
         assert np.array_equal(levels(deferred), want_exact)  # frames while the tables are made
         made = [m.result() for m in made]
-    assert made[0] and made[0].nbytes == built.table_bytes(0)
+    assert isinstance(made[0], acuity.ProfileTables) and made[0].nbytes == built.table_bytes(0)
     with pytest.raises(ValueError, match="another profile"):
         deferred.install_tables(1, made[0])
     deferred.install_tables(0, made[0])

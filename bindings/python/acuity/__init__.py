@@ -30,9 +30,9 @@ clusters = _acuity.clusters
 for _name in ("models", "spectra", "lodgen", "foveation", "sim", "clusters"):
     _sys.modules[__name__ + "." + _name] = getattr(_acuity, _name)
 
-from ._acuity import (Eye, Evaluation, FileError, Frame, Gaze, Profile, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
+from ._acuity import (Eye, Evaluation, FileError, Frame, Gaze, Profile, ProfileTables, Scheduler, SchedulerConfig, SelectionRule,  # noqa: E402
                       View, ViewBlend, ViewProjection, ViewRule, FLAG_BUDGET_FORCED, FLAG_CHANGED, FLAG_EYE_INSIDE, FLAG_HELD,
                       FLAG_INVALID_INPUT, FLAG_NO_GAZE)
 
-__all__ = ["models", "spectra", "lodgen", "foveation", "sim", "clusters", "Eye", "FileError", "Frame", "Gaze", "Profile", "Scheduler", "SchedulerConfig",
+__all__ = ["models", "spectra", "lodgen", "foveation", "sim", "clusters", "Eye", "FileError", "Frame", "Gaze", "Profile", "ProfileTables", "Scheduler", "SchedulerConfig",
            "SelectionRule", "View", "ViewBlend", "ViewProjection", "ViewRule", "Evaluation", "__version__"]
