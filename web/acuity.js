@@ -224,8 +224,10 @@ export class Scheduler {
   loadProfile(bytes, { deferred = false } = {}) {
     this.need(bytes, Uint8Array, 0, 'loadProfile');
     const [data, index] = this.stage([bytes], [new Int32Array(1)]);
-    const call = deferred ? 'acuity_load_profile_deferred' : 'acuity_load_profile';
-    this.a.check(this.m['_' + call](this.s, data, bytes.length, index), call);
+    if (deferred)
+      this.a.check(this.m._acuity_load_profile_deferred(this.s, data, bytes.length, index), 'acuity_load_profile_deferred');
+    else
+      this.a.check(this.m._acuity_load_profile(this.s, data, bytes.length, index), 'acuity_load_profile');
     return this.m.HEAP32[index >> 2];
   }
 

@@ -406,8 +406,8 @@ acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity
       return fail(ACUITY_INVALID_ARGUMENT, "acuity_install_tables: called between begin_frame and end_frame");
     if (!s->scheduler.install_tables(profile, std::move(tables->tables)))
       return fail(ACUITY_INVALID_ARGUMENT,
-                  "acuity_install_tables: tables made for another profile or "
-                  "scheduler, or profile " +
+                  "acuity_install_tables: tables made for another profile or scheduler, "
+                  "or profile " +
                       std::to_string(profile) + " has tables");
     delete tables;
     return ACUITY_OK;
