@@ -22,10 +22,12 @@ struct Scheduler::Impl {
   void begin_frame(const Frame& frame);
   void update(std::uint32_t first, std::uint32_t count);
   void end_frame();
-  struct ProfileTableSets;  // a profile's tables (tables.hpp)
-  int add_profile(const Profile& profile, bool tables = true);  // tables false: deferred
-  bool make_tables(int profile, ProfileTableSets* out) const;  // false: none to make
-  bool install_tables(int profile, ProfileTableSets* sets);    // moves them in
+  // A profile's tables (tables.hpp). add_profile with tables false defers them; make_tables returns
+  // false when there are none to make; install_tables moves them in.
+  struct ProfileTableSets;
+  int add_profile(const Profile& profile, bool tables = true);
+  bool make_tables(int profile, ProfileTableSets* out) const;
+  bool install_tables(int profile, ProfileTableSets* sets);
   std::size_t table_bytes(int profile) const;
   static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
   float envelope_speed(float frequency_cpd) const;
