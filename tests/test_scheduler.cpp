@@ -1656,6 +1656,144 @@ TEST(SchedulerDeferred, DecidesExactlyUntilItsTablesAreInstalled) {
   EXPECT_FALSE(exact.make_tables(0));
 }
 
+// A deferred profile's tables made one view at a time, as wanted_tables() lists them: each frame,
+// fresh objects of two profiles, turned to a few orientations that grow in number over the frames
+// (so more views are seen as frames go), against a scheduler evaluating exactly and one that built
+// every table at add_profile. An object seen from a view without tables decides as the exact one does,
+// from one with tables as the built one does (Nearest: its view is explain()'s); every such view is
+// listed once, made on two threads and installed before the next frame; the same scene seen again
+// then decides as the built scheduler does (Max3 too). The tables held are the views' made, and with
+// every view as many bytes as add_profile builds.
+TEST(SchedulerDeferred, MakesTheTablesOfTheViewsObjectsAreSeenFrom) {
+  const TestProfile first(6, 8, 8, 0.5f, 0.6f), second(4, 8, 6, 0.5f, 0.6f);
+  for (const ViewBlend blend : {ViewBlend::Nearest, ViewBlend::Max3}) {
+    SCOPED_TRACE(blend == ViewBlend::Max3 ? "max3" : "nearest");
+    SchedulerConfig c;
+    c.max_objects = 300;
+    c.hysteresis_margin = 0.25f;
+    c.tabulated_biases[0] = 0.5f;
+    c.view_blend = blend;
+    SchedulerConfig exact_config = c;
+    exact_config.evaluation = Evaluation::Exact;
+    Scheduler built(c), exact(exact_config), lazy(c);
+    const Profile* profiles[2] = {&first.profile, &second.profile};
+    for (const Profile* p : profiles) {
+      const int index = built.add_profile(*p);
+      EXPECT_EQ(exact.add_profile(*p), index);
+      EXPECT_EQ(lazy.add_profile_deferred(*p), index);
+    }
+    const std::uint32_t V = first.profile.meta.view_count;
+    std::vector<std::uint8_t> listed(2 * V, 0);  // [profile][view]: listed by wanted_tables()
+    std::size_t view_bytes[2] = {};              // bytes of the views installed, per profile
+    Rng rng(48);
+    float turns[12][4];
+    for (auto& q : turns) rng.quaternion(q);
+    int exactly = 0, through_tables = 0, differ_exactly = 0;
+    for (int f = 0; f < 12; ++f) {
+      std::vector<RandomObject> scene;
+      for (int i = 0; i < int(c.max_objects); ++i) {
+        scene.push_back(random_object(rng, 50));
+        std::copy(turns[i % (f + 1)], turns[i % (f + 1)] + 4, scene.back().t.rotation);
+      }
+      Frame fr = looking_forward();
+      gaze_at(fr, rng.uniform(-0.6f, 0.6f), rng.uniform(-0.4f, 0.4f), -1);
+      for (int pass = 0; pass < 2; ++pass) {  // the scene, then again once its views' tables are in
+        std::vector<int> profile_of(c.max_objects, -1);  // ids are reused in any order (alike in all three)
+        for (int i = 0; i < int(c.max_objects); ++i)
+          for (Scheduler* s : {&built, &exact, &lazy}) {
+            const ObjectId id = s->add_object(i % 2, scene[i].t);
+            s->set_velocity(id, scene[i].v);
+            if (i % 3 == 1) s->set_bias(id, 0.5f);  // a tabulated bias
+            profile_of[id] = i % 2;
+          }
+        for (Scheduler* s : {&built, &exact, &lazy}) s->run_frame(fr);
+        std::vector<std::uint8_t> lacking(2 * V, 0);
+        for (ObjectId id = 0; id < c.max_objects; ++id) {
+          if (pass == 1) {
+            EXPECT_EQ(lazy.level(id), built.level(id)) << "frame " << f << " object " << id;
+            continue;
+          }
+          if (blend == ViewBlend::Max3) continue;  // which of three views decide: not known here
+          ObjectExplain ex;
+          ASSERT_TRUE(exact.explain(id, &ex));
+          const std::size_t at = profile_of[id] * V + ex.view;
+          const bool has = listed[at] == 2;  // its view's tables are in
+          lacking[at] |= !has;
+          EXPECT_EQ(lazy.level(id), (has ? built : exact).level(id))
+              << "frame " << f << " object " << id << " view " << ex.view;
+          (has ? through_tables : exactly) += 1;
+          differ_exactly += !has && built.level(id) != exact.level(id);
+        }
+        if (pass == 1) {
+          TablesWanted none[4];
+          EXPECT_EQ(lazy.wanted_tables(none), 0u) << "frame " << f;
+          for (ObjectId id = 0; id < c.max_objects; ++id)
+            for (Scheduler* s : {&built, &exact, &lazy}) s->remove_object(id);
+          continue;
+        }
+        // Between frames: the views wanted, each once, made on two threads and installed.
+        std::vector<TablesWanted> wanted(3);  // fewer than are wanted at first: the rest come next call
+        std::vector<TablesWanted> all;
+        for (std::uint32_t n; (n = lazy.wanted_tables(wanted)) > 0;)
+          all.insert(all.end(), wanted.begin(), wanted.begin() + n);
+        for (const TablesWanted& w : all) {
+          ASSERT_TRUE(w.profile == 0 || w.profile == 1);
+          ASSERT_LT(w.view, V);
+          EXPECT_EQ(listed[w.profile * V + w.view], 0) << "listed twice: " << w.profile << " " << w.view;
+          listed[w.profile * V + w.view] = 1;
+        }
+        for (std::size_t at = 0; at < lacking.size(); ++at)
+          EXPECT_TRUE(!lacking[at] || listed[at]) << "seen without tables, not listed: " << at;
+        for (ObjectId id = 0; id < c.max_objects; ++id)  // listed by objects still there
+          for (Scheduler* s : {&built, &exact, &lazy}) s->remove_object(id);
+        std::vector<ProfileTables> made(all.size());
+        std::thread workers[2];
+        for (int k = 0; k < 2; ++k)
+          workers[k] = std::thread([&, k] {
+            for (std::size_t i = k; i < all.size(); i += 2)
+              made[i] = lazy.make_tables(all[i].profile, int(all[i].view));
+          });
+        for (std::thread& w : workers) w.join();
+        for (std::size_t i = 0; i < all.size(); ++i) {
+          const int p = all[i].profile;
+          view_bytes[p] += made[i].bytes();
+          EXPECT_GT(made[i].bytes(), 0u);
+          EXPECT_TRUE(lazy.install_tables(p, std::move(made[i])));
+          listed[p * V + all[i].view] = 2;
+          if (f == 0 && i == 0) {
+            EXPECT_FALSE(lazy.install_tables(p, lazy.make_tables(p, int(all[i].view))));  // has it
+            EXPECT_FALSE(lazy.install_tables(p, lazy.make_tables(p)));  // every view: one it has
+          }
+        }
+      }
+    }
+    for (int p = 0; p < 2; ++p) {
+      int views = 0;
+      for (std::uint32_t v = 0; v < V; ++v) views += listed[p * V + v] == 2;
+      EXPECT_GT(views, 0);
+      if (views < int(V)) {
+        EXPECT_EQ(lazy.table_bytes(p), view_bytes[p]);
+        EXPECT_LT(lazy.table_bytes(p), built.table_bytes(p));
+      }
+      for (std::uint32_t v = 0; v < V; ++v)  // the rest, so that the bounds over every view are made
+        if (listed[p * V + v] != 2) { EXPECT_TRUE(lazy.install_tables(p, lazy.make_tables(p, int(v)))); }
+      EXPECT_EQ(lazy.table_bytes(p), built.table_bytes(p));
+    }
+    if (blend == ViewBlend::Nearest) {
+      EXPECT_GT(exactly, 0);
+      EXPECT_GT(through_tables, 0);
+      EXPECT_GT(differ_exactly, 0) << "had they read tables, some would have differed from exact";
+      std::printf(
+          "views made as wanted: %d decisions exact (no tables yet; %d of them differ from the "
+          "tables'), %d through tables\n",
+          exactly, differ_exactly, through_tables);
+    }
+    // A bad view makes nothing.
+    EXPECT_FALSE(lazy.make_tables(0, int(V)));
+    EXPECT_FALSE(lazy.make_tables(0, -2));
+  }
+}
+
 // A decision over whole cells (over every view, or through the object's view) is remembered per object
 // and eye with the inputs it stands under, and reused while they hold. Objects that stay, approach or
 // recede (their size and bands shown change, their velocity given as 0), drift sideways and stop,

@@ -26,8 +26,10 @@ struct Scheduler::Impl {
   // false when there are none to make; install_tables moves them in.
   struct ProfileTableSets;
   int add_profile(const Profile& profile, bool tables = true);
-  bool make_tables(int profile, ProfileTableSets* out) const;
+  bool make_tables(int profile, int view, ProfileTableSets* out) const;
   bool install_tables(int profile, ProfileTableSets* sets);
+  std::uint32_t wanted_tables(std::span<TablesWanted> out);
+  void note_want(ObjectId id);  // an object's want_ into its profile's ProfileCache::wanted
   std::size_t table_bytes(int profile) const;
   static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
   float envelope_speed(float frequency_cpd) const;
@@ -161,8 +163,9 @@ struct Scheduler::Impl {
   struct Inputs;  // tabulated path: a block's table positions and memo hits
   void table_inputs(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                     const Memo& memo, bool use_memo, Inputs* out) const;
+  // want: per object, 1 + the view whose tables it lacked (left as it was where none).
   void tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
-                Choice* out, float (*scores)[kMaxLevels]) const;
+                Choice* out, float (*scores)[kMaxLevels], std::uint16_t* want) const;
   struct Tabulation;  // tabulate()'s passes: one block's state between them
   void tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                       const Memo& memo, bool scores, Tabulation& tb) const;
@@ -170,7 +173,7 @@ struct Scheduler::Impl {
                      const Memo& memo, Choice* out, float (*scores)[kMaxLevels], Tabulation& tb) const;
   void tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out, Tabulation& tb) const;
   void tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
-                      Tabulation& tb) const;
+                      Choice* out, float (*scores)[kMaxLevels], std::uint16_t* want, Tabulation& tb) const;
   void tabulate_through_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out,
                              float (*scores)[kMaxLevels], Tabulation& tb) const;
   Choice table_choice(const ProfileCache& pc, float e, Probe& o, float* scores) const;
@@ -185,14 +188,16 @@ struct Scheduler::Impl {
                                           std::uint32_t ec, int set);
   void speed_cells(const ProfileCache& pc, float e, Probe* o) const;
   void build_curves();  // at creation
-  // The tables of profile c (its inputs, add_profile's) into sets (kTableSets), from curves_ and
-  // the configuration only: concurrent calls may build the tables of several profiles at once.
-  void build_tables(const ProfileCache& c, ProfileTableSets* sets) const;
+  // The tables of profile c (its inputs, add_profile's) for views [first, first + count) into sets
+  // (kTableSets), from curves_ and the configuration only: concurrent calls may build the tables of
+  // several profiles or views at once.
+  void build_tables(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t first,
+                    std::uint32_t count) const;
   // knots: the area law's per level, view and band (Curves::kKnots each), null without it.
   void build_still(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set, float ln_q,
-                   std::uint32_t w, std::uint32_t k, const float* knots) const;
+                   std::uint32_t w, std::uint32_t row, std::uint32_t k, const float* knots) const;
   void build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set, float ln_q,
-                    const float* knots) const;
+                    std::uint32_t first, std::uint32_t count, const float* knots) const;
   void build_any_view(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set) const;
   void lower_speed_rows(const float* nodes, const float* ys, const internal::AreaLaw* laws,
                         const float* ln_band, std::uint32_t B, std::uint32_t T, float* lowers) const;
@@ -238,8 +243,8 @@ struct Scheduler::Impl {
   void set_rest(const EyeCache& eye, Memo& memo, ObjectId id, const Block& b, std::uint32_t j) const;
   void end_rests(ObjectId id);
   void apply_budget();
-  // bias_tables_ of an object of this profile and bias (kExactBias where the profile has no tables).
-  std::uint8_t bias_tables_of(int profile, float bias) const;
+  // bias_tables_ of an object of this bias (kExactBias where it has no tables).
+  std::uint8_t bias_tables_of(float bias) const;
 
   SchedulerConfig config_;
   // This scheduler among every one the process made (ProfileTables names the one that made them: an
@@ -270,6 +275,7 @@ struct Scheduler::Impl {
   // hysteresis was met (settle()), in the units of hold_step_ and wait_step_.
   std::vector<float> calm_, wait_;
   std::vector<std::uint8_t> bias_tables_;  // index into table_bias_, kExactBias or kInvalidBias
+  std::vector<std::uint16_t> want_;        // 1 + a view whose tables it lacked (0: none), for wanted_tables()
   std::vector<float> fade_, scores_;
   std::vector<std::uint8_t> rest_;  // 1: decided at rest this frame
   std::vector<std::uint32_t> free_list_;

@@ -50,6 +50,7 @@ Scheduler::Impl::Impl(const SchedulerConfig& config) : config_(config), serial_(
   }
   bias_.assign(n, 1.0f);
   bias_tables_.assign(n, 0);
+  want_.assign(n, 0);
   table_bias_count_ = table_biases(config_, table_bias_);
   explicit_velocity_.assign(n, 0);
   fresh_.assign(n, 0);
@@ -216,9 +217,11 @@ int Scheduler::Impl::add_profile(const Profile& p, bool tables) {
     c.view_right[3 * v + 1] = r.y;
     c.view_right[3 * v + 2] = r.z;
   }
+  c.slot.assign(V, ProfileCache::kNoRow);
+  c.wanted.assign(V, 0);
   if (curves_ && tables) {
-    build_tables(c, &c.tables);
-    c.tabulated = true;
+    build_tables(c, &c.tables, 0, V);
+    for (std::uint32_t v = 0; v < V; ++v) c.slot[v] = static_cast<std::uint16_t>(v);
   }
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
   std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
@@ -246,7 +249,8 @@ ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
   min_level_[id] = 0;
   max_level_[id] = static_cast<std::uint8_t>(level_count_[profile] - 1);
   bias_[id] = 1.0f;
-  bias_tables_[id] = bias_tables_of(profile, 1.0f);
+  bias_tables_[id] = bias_tables_of(1.0f);
+  want_[id] = 0;
   level_[id] = from_level_[id] = chosen_[id] = next_[id] = std::min<std::uint8_t>(
       config_.fallback_level, static_cast<std::uint8_t>(profiles_[profile].profile.meta.level_count - 1));
   drawn_triangles_ += triangles_[std::size_t(profile) * kMaxLevels + level_[id]];
@@ -260,6 +264,7 @@ ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
 
 void Scheduler::Impl::remove_object(ObjectId id) {
   if (!alive(id)) return;
+  note_want(id);
   drawn_triangles_ -= triangles_[std::size_t(profile_of_[id]) * kMaxLevels + level_[id]];
   profile_of_[id] = -1;
   sphere_[3][id] = 0.0f;   // a free slot looks invalid to the frame loop
@@ -309,16 +314,15 @@ void Scheduler::Impl::set_clamps(ObjectId id, std::uint8_t min_level, std::uint8
 void Scheduler::Impl::set_bias(ObjectId id, float quality_bias) {
   if (!alive(id)) return;
   bias_[id] = quality_bias;
-  bias_tables_[id] = bias_tables_of(profile_of_[id], quality_bias);
+  bias_tables_[id] = bias_tables_of(quality_bias);
   end_rests(id);
 }
 
 // Its own tables, if it is a tabulated bias; else the exact path (rounding it to a tabulated bias
 // would drop what the engine asked for). The frame loop tests an object's bias here, not bias_.
-std::uint8_t Scheduler::Impl::bias_tables_of(int profile, float bias) const {
+std::uint8_t Scheduler::Impl::bias_tables_of(float bias) const {
   const float q = config_.quality * bias;
   if (!(std::isfinite(q) && q > 0.0f)) return kInvalidBias;
-  if (curves_ && !profiles_[profile].tabulated) return kExactBias;  // deferred: not yet installed
   const float* tabulated = std::find(table_bias_, table_bias_ + table_bias_count_, bias);
   return tabulated == table_bias_ + table_bias_count_ ? kExactBias
                                                       : static_cast<std::uint8_t>(tabulated - table_bias_);
@@ -396,10 +400,10 @@ Scheduler::Scheduler(const SchedulerConfig& config) : impl_(std::make_unique<Imp
 Scheduler::~Scheduler() = default;
 int Scheduler::add_profile(const Profile& profile) { return impl_->add_profile(profile); }
 int Scheduler::add_profile_deferred(const Profile& profile) { return impl_->add_profile(profile, false); }
-ProfileTables Scheduler::make_tables(int profile) const {
+ProfileTables Scheduler::make_tables(int profile, int view) const {
   ProfileTables out;
   auto data = std::make_unique<ProfileTables::Data>();
-  if (!impl_->make_tables(profile, &data->tables)) return out;
+  if (!impl_->make_tables(profile, view, &data->tables)) return out;
   data->scheduler = impl_->serial_;
   data->profile = profile;
   out.data_ = std::move(data);
@@ -418,6 +422,7 @@ ProfileTables::~ProfileTables() = default;
 ProfileTables::ProfileTables(ProfileTables&&) noexcept = default;
 ProfileTables& ProfileTables::operator=(ProfileTables&&) noexcept = default;
 std::size_t ProfileTables::bytes() const { return data_ ? data_->tables.bytes() : 0; }
+std::uint32_t Scheduler::wanted_tables(std::span<TablesWanted> out) { return impl_->wanted_tables(out); }
 ObjectId Scheduler::add_object(int profile, const ObjectTransform& transform) {
   return impl_->add_object(profile, transform);
 }

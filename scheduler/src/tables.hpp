@@ -196,6 +196,10 @@ struct Scheduler::Impl::ProfileTableSets {
   // [2 i]: score <= 1, [2 i + 1]: score <= 1 - margin (empty when the margin is 0), at bias
   // table_bias_[i] (kTableSets). One set's four side by side: an object reads one set.
   Tables sets[kTableSets];
+  // The profile's views whose tables these hold, in the order of their rows (V in the layouts above
+  // counts these): every view, or those made one at a time (make_tables(p, view)). any_view is made
+  // only with every view.
+  std::vector<std::uint16_t> views;
   std::size_t bytes() const {
     std::size_t n = 0;
     for (const Tables& t : sets) n += t.still.size() + t.slow.size() + t.moving.size() + t.any_view.size();
@@ -216,9 +220,16 @@ struct Scheduler::Impl::ProfileCache {
   std::vector<float> ln_band;             // [B] ln of the band centre [cpod]
   std::vector<float> cos_t, sin_t;        // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;          // [V][3] snapshot right = -direction x up, object space
-  // Tabulated path: the tables (ProfileTableSets), built by add_profile or installed.
+  // Tabulated path: the tables (ProfileTableSets), built by add_profile or installed a view or all
+  // at a time; slot[v]: the row of view v in them (kNoRow: not made, its objects decide exactly).
   ProfileTableSets tables;
-  bool tabulated = false;  // sets built (add_profile) or installed (install_tables): else exact
+  static constexpr std::uint16_t kNoRow = 0xffff;
+  std::vector<std::uint16_t> slot;  // [V]
+  // [V]: kWanted once an object was seen from the view without its tables, kListed once
+  // wanted_tables() has listed it.
+  static constexpr std::uint8_t kWanted = 1, kListed = 2;
+  std::vector<std::uint8_t> wanted;
+  bool every_view() const { return tables.views.size() == slot.size(); }
 };
 
 // What Scheduler::make_tables() hands to install_tables(): the tables, and for which scheduler
@@ -238,16 +249,16 @@ struct internal::AreaLaw {
 
 // One object's place in its profile's tables, seen by one eye: what the decision reads.
 struct Scheduler::Impl::Probe {
-  float x;                                 // ln angular diameter [ln deg]
-  std::uint8_t tables;                     // the object's bias's first table set (kTableSets)
-  float vx, vy;                            // retinal slip in the view's image axes [deg/s]
-  Cell ec;                                 // eccentricity cell of the still grid
-  std::uint32_t bands;                     // the lowest bands the display shows (0: none)
-  std::uint16_t views[kLookupCandidates];  // the views whose tables bound it (one, or Max3's three)
-  std::uint8_t view_count;
-  std::uint32_t where;    // the view (Max3: the lookup cell), as the memo keys it
-  std::uint32_t nearest;  // the view nearest to the eye, in whose image axes vx and vy are
-  Vec3 slip;              // retinal slip [deg/s], eye space
+  float x;                                // ln angular diameter [ln deg]
+  std::uint8_t tables;                    // the object's bias's first table set (kTableSets)
+  float vx, vy;                           // retinal slip in the view's image axes [deg/s]
+  Cell ec;                                // eccentricity cell of the still grid
+  std::uint32_t bands;                    // the lowest bands the display shows (0: none)
+  std::uint16_t rows[kLookupCandidates];  // the table rows (ProfileCache::slot) of the views whose
+  std::uint8_t view_count;                // tables bound it (one, or Max3's three)
+  std::uint32_t where;                    // the view (Max3: the lookup cell), as the memo keys it
+  std::uint32_t nearest;                  // the view nearest to the eye, in whose image axes vx and vy are
+  Vec3 slip;                              // retinal slip [deg/s], eye space
   bool moving;
   bool decided;                             // by its memo through the view (pass 4)
   bool at_place;                            // ... which says the whole cells do not decide
@@ -261,10 +272,10 @@ struct Scheduler::Impl::Probe {
   // are kMovingE * L further) of a table with Tm rows per view (ProfileCache::moving_orientations:
   // T, or 1 shared by every orientation). ProfileCache describes the layouts.
   std::size_t still_row(std::uint32_t c, std::uint32_t B, std::uint32_t L) const {
-    return ((std::size_t(views[c]) * B + (bands - 1)) * kStillE + ec.j) * L;
+    return ((std::size_t(rows[c]) * B + (bands - 1)) * kStillE + ec.j) * L;
   }
   std::size_t moving_row(std::uint32_t c, std::uint32_t t, std::uint32_t Tm, std::uint32_t L) const {
-    return (((std::size_t(views[c]) * Tm + std::min(t, Tm - 1)) * kMovingS + speed_j[t]) * kMovingE + em.j) *
+    return (((std::size_t(rows[c]) * Tm + std::min(t, Tm - 1)) * kMovingS + speed_j[t]) * kMovingE + em.j) *
            L;
   }
 };

@@ -58,16 +58,25 @@ void Scheduler::Impl::build_curves() {
   }
 }
 
-// Fills the tabulated path's tables of one profile (see ProfileCache).
-void Scheduler::Impl::build_tables(const ProfileCache& c, ProfileTableSets* sets) const {
+// Fills the tabulated path's tables of one profile (see ProfileCache): of views [first, first + count)
+// (rows 0 .. count - 1), and the bounds over every view when that is all of them.
+void Scheduler::Impl::build_tables(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t first,
+                                   std::uint32_t count) const {
   const Profile& p = c.profile;
-  const std::uint32_t K = p.meta.level_count, V = p.meta.view_count, B = p.meta.band_count, L = K - 1;
+  const std::uint32_t K = p.meta.level_count, B = p.meta.band_count, L = K - 1, V = count;
+  sets->views.resize(count);
+  for (std::uint32_t r = 0; r < count; ++r) sets->views[r] = static_cast<std::uint16_t>(first + r);
   const Precomputed& pre = *pre_;
   const auto margins = static_cast<std::uint32_t>(margin_sets(config_));
-  // The area law's knots per level, view and band (Curves::area_knots()), once for every table set.
+  // The area law's knots per level, view and band (Curves::area_knots()), once for every table set
+  // (those of the views made).
   std::vector<float> knots(c.area_k.size() * Curves::kKnots);
-  for (std::size_t i = 0; i < c.area_k.size(); ++i)
-    if (c.area_k[i] > 0.0f) curves_->area_knots(c.area_k[i], &knots[i * Curves::kKnots]);
+  const std::uint32_t all_views = p.meta.view_count;
+  for (std::size_t i = 0; i < c.area_k.size(); ++i) {
+    const std::size_t w = i / B % all_views;  // i = ((k - 1) V + w) B + b
+    if (c.area_k[i] > 0.0f && w >= first && w < first + count)
+      curves_->area_knots(c.area_k[i], &knots[i * Curves::kKnots]);
+  }
   const float* law_knots = c.area_k.empty() ? nullptr : knots.data();
   for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set) {
     if (set % 2 >= margins) continue;
@@ -76,16 +85,17 @@ void Scheduler::Impl::build_tables(const ProfileCache& c, ProfileTableSets* sets
     sets->sets[set].still.assign(std::size_t(V) * L * B * kStillE, 0);
     sets->sets[set].slow.assign(std::size_t(V) * L * B * kStillE, 0);
     sets->sets[set].moving.assign(std::size_t(V) * L * c.moving_orientations * kMovingS * kMovingE, 0);
-    for (std::uint32_t w = 0; w < V; ++w)
-      for (std::uint32_t k = 1; k < K; ++k) build_still(c, sets, set, ln_q, w, k, law_knots);
-    build_moving(c, sets, set, ln_q, law_knots);
-    build_any_view(c, sets, set);
+    for (std::uint32_t r = 0; r < V; ++r)
+      for (std::uint32_t k = 1; k < K; ++k) build_still(c, sets, set, ln_q, first + r, r, k, law_knots);
+    build_moving(c, sets, set, ln_q, first, count, law_knots);
+    if (count == p.meta.view_count) build_any_view(c, sets, set);
   }
 }
 
-// The still and slow tables of view w and level k in table set `set` (ln_q: its ln q).
+// The still and slow tables of view w (in row `row`) and level k in table set `set` (ln_q: its ln q).
 void Scheduler::Impl::build_still(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set,
-                                  float ln_q, std::uint32_t w, std::uint32_t k, const float* knots) const {
+                                  float ln_q, std::uint32_t w, std::uint32_t row, std::uint32_t k,
+                                  const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
@@ -141,33 +151,36 @@ void Scheduler::Impl::build_still(const ProfileCache& c, ProfileTableSets* sets,
     std::vector<std::int16_t>& table = slow ? sets->sets[set].slow : still;
     for (std::uint32_t j = 0; j < kStillE; ++j)
       for (std::uint32_t b = 0; b < B; ++b)
-        table[((std::size_t(w) * B + b) * kStillE + j) * L + (k - 1)] = encode_size(node[j][b] - lower[j][b]);
+        table[((std::size_t(row) * B + b) * kStillE + j) * L + (k - 1)] =
+            encode_size(node[j][b] - lower[j][b]);
   }
 }
 
-// The moving tables of table set `set` (ln_q: its ln q), every view, level and orientation row at
-// once (a row each; one per view and level where every orientation reads the same loss): each curve
+// The moving tables of table set `set` (ln_q: its ln q) for views [first, first + count), every
+// view, level and orientation row at once (a row each; one per view and level where every orientation reads the same loss): each curve
 // is read for every row in turn while it is in the cache (built per view and level, every curve was
 // read again for each). Each row's entries are what they were when built
 // one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
 // lead band changes only how fast it finds its value (Curves::least_sampled()).
 void Scheduler::Impl::build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set,
-                                   float ln_q, const float* knots) const {
+                                   float ln_q, std::uint32_t first, std::uint32_t count,
+                                   const float* knots) const {
   const Profile& p = c.profile;
   const std::uint32_t V = p.meta.view_count, T = p.meta.orientation_count, Tm = c.moving_orientations,
                       B = p.meta.band_count, L = p.meta.level_count - 1;
   const Precomputed& pre = *pre_;
   const bool midpoints = curves_->still_lift.empty();  // each cell checked at its midpoint (not Reddy)
-  const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(V) * L * Tm;
-  // Row r = (w L + (k - 1)) Tm + t: view w, level k, orientation t at its own speed, every band.
+  const std::size_t N = std::size_t(kMovingS) * kMovingE, R = std::size_t(count) * L * Tm;
+  // Row r = (w L + (k - 1)) Tm + t: view first + w, level k, orientation t at its own speed, every band.
   std::vector<float> y(R * kMaxBands), nodes(R * N), lowers(R * N, 0.0f);
   std::vector<AreaLaw> laws(R * kMaxBands);  // each row's and band's area law (its level, view and band's)
   std::vector<int> hints(R * kMaxBands, kCurveSamples / 2);  // each row's brackets at the previous node
   std::vector<std::uint32_t> leads(R, 0);                    // and its least band there
-  for (std::uint32_t w = 0; w < V; ++w)
+  for (std::uint32_t w = 0; w < count; ++w)
     for (std::uint32_t k = 1; k <= L; ++k)
       for (std::uint32_t t = 0; t < Tm; ++t) {
-        const std::size_t r = (std::size_t(w) * L + (k - 1)) * Tm + t, kv = std::size_t(k - 1) * V + w;
+        const std::size_t r = (std::size_t(w) * L + (k - 1)) * Tm + t,
+                          kv = std::size_t(k - 1) * V + first + w;
         for (std::uint32_t b = 0; b < B; ++b) {
           y[r * kMaxBands + b] = c.ln_lost[(kv * T + t) * B + b] - ln_q;
           if (knots) laws[r * kMaxBands + b] = {c.area_k[kv * B + b], &knots[(kv * B + b) * Curves::kKnots]};
@@ -215,7 +228,7 @@ void Scheduler::Impl::build_moving(const ProfileCache& c, ProfileTableSets* sets
       }
     }
   std::vector<std::int16_t>& moving = sets->sets[set].moving;
-  for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) Tm + t; entries [w][t][i][k - 1]
+  for (std::size_t r = 0; r < R; ++r) {  // r = (w L + k - 1) Tm + t; entries [w][t][i][k - 1] (row w)
     const std::size_t t = r % Tm, k = (r / Tm) % L, w = r / (std::size_t(Tm) * L);
     for (std::size_t n = 0; n < N; ++n)
       moving[((w * Tm + t) * N + n) * L + k] =
@@ -380,20 +393,67 @@ std::size_t Scheduler::Impl::table_bytes(int profile) const {
   return profiles_[profile].tables.bytes();
 }
 
-bool Scheduler::Impl::make_tables(int profile, ProfileTableSets* out) const {
+bool Scheduler::Impl::make_tables(int profile, int view, ProfileTableSets* out) const {
   if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_)) return false;
-  build_tables(profiles_[profile], out);
+  const ProfileCache& c = profiles_[profile];
+  const auto V = static_cast<int>(c.profile.meta.view_count);
+  if (view >= V || view < kAllViews) return false;
+  if (view == kAllViews)
+    build_tables(c, out, 0, static_cast<std::uint32_t>(V));
+  else
+    build_tables(c, out, static_cast<std::uint32_t>(view), 1);
   return true;
 }
 
+void Scheduler::Impl::note_want(ObjectId id) {
+  if (want_[id] == 0) return;
+  std::uint8_t& wanted = profiles_[profile_of_[id]].wanted[want_[id] - 1u];
+  wanted = std::max(wanted, ProfileCache::kWanted);
+  want_[id] = 0;
+}
+
+std::uint32_t Scheduler::Impl::wanted_tables(std::span<TablesWanted> out) {
+  for (ObjectId id = 0; id < config_.max_objects; ++id)
+    if (profile_of_[id] >= 0) note_want(id);
+  std::uint32_t n = 0;
+  for (std::uint32_t p = 0; p < profile_count_; ++p) {
+    ProfileCache& c = profiles_[p];
+    for (std::uint32_t v = 0; v < c.wanted.size() && n < out.size(); ++v)
+      if (c.wanted[v] == ProfileCache::kWanted && c.slot[v] == ProfileCache::kNoRow) {
+        c.wanted[v] = ProfileCache::kListed;
+        out[n++] = {static_cast<std::int32_t>(p), v};
+      }
+  }
+  return n;
+}
+
+// Moves in tables of views the profile has none of, after those it has (a view's rows in each table
+// are contiguous: its layout's outermost index); with the last view, the bounds over every view.
 bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
-  if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_) || profiles_[profile].tabulated)
+  if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_) || sets->views.empty())
     return false;
   ProfileCache& c = profiles_[profile];
-  c.tables = std::move(*sets);
-  c.tabulated = true;
-  for (ObjectId id = 0; id < config_.max_objects; ++id)  // its objects read them from the next frame
-    if (profile_of_[id] == profile) bias_tables_[id] = bias_tables_of(profile, bias_[id]);
+  for (const std::uint16_t v : sets->views)
+    if (v >= c.slot.size() || c.slot[v] != ProfileCache::kNoRow) return false;
+  const std::size_t had = c.tables.views.size(), added = sets->views.size();
+  if (had == 0) {
+    c.tables = std::move(*sets);
+  } else {
+    const auto append = [&](std::vector<std::int16_t>& to, const std::vector<std::int16_t>& from) {
+      to.reserve(to.size() + from.size());  // exactly: table_bytes() counts sizes
+      to.insert(to.end(), from.begin(), from.end());
+    };
+    for (std::uint32_t set = 0; set < kTableSets; ++set) {
+      append(c.tables.sets[set].still, sets->sets[set].still);
+      append(c.tables.sets[set].slow, sets->sets[set].slow);
+      append(c.tables.sets[set].moving, sets->sets[set].moving);
+    }
+    c.tables.views.insert(c.tables.views.end(), sets->views.begin(), sets->views.end());
+  }
+  for (std::size_t r = had; r < had + added; ++r) c.slot[c.tables.views[r]] = static_cast<std::uint16_t>(r);
+  if (c.every_view() && c.tables.sets[0].any_view.empty() && c.profile.meta.level_count > 1)
+    for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set)
+      if (set % 2 < static_cast<std::uint32_t>(margin_sets(config_))) build_any_view(c, &c.tables, set);
   return true;
 }
 

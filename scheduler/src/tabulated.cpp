@@ -331,9 +331,9 @@ void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, st
     }
     todo[j] = 1;
     tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
-    if (scores) continue;  // every level's score: the view's tables
-    if (view_memo[j]) {    // its memo through the view decides if the view and cells are the same
-      ACUITY_PREFETCH(&memo.view_key[id]);
+    if (scores) continue;                    // every level's score: the view's tables
+    if (view_memo[j] || !pc.every_view()) {  // its memo through the view decides if the view and
+      ACUITY_PREFETCH(&memo.view_key[id]);   // cells are the same; no bounds over every view yet
       ACUITY_PREFETCH(&memo.speed_key[id]);
       continue;
     }
@@ -401,7 +401,8 @@ void Scheduler::Impl::tabulate_any_view(std::uint32_t first, const Block& b, Mem
 }
 
 void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n,
-                                     const Block& b, Memo& memo, Tabulation& tb) const {
+                                     const Block& b, Memo& memo, Choice* out, float (*scores)[kMaxLevels],
+                                     std::uint16_t* want, Tabulation& tb) const {
   auto& bands = tb.bands;
   auto& todo = tb.todo;
   auto& tables = tb.tables;
@@ -421,7 +422,8 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
   }
   tb.left_count = left_count;
   // Pass 4: the nearest view, the slip in its image axes; the objects whose memo through the view
-  // stands decided, the still (or slow) rows of the others prefetched.
+  // stands decided, those of a view without tables yet (add_profile_deferred) decided exactly and
+  // the view wanted, the still (or slow) rows of the others prefetched.
   const bool max3 = config_.view_blend == ViewBlend::Max3;
   for (std::uint32_t i = 0; i < left_count; ++i) {
     const std::uint32_t j = left[i];
@@ -460,8 +462,22 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
         continue;
       }
     }
+    std::uint32_t lacking = 0;  // 1 + a view without tables
     for (std::uint32_t c = 0; c < o.view_count; ++c) {
-      o.views[c] = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
+      const std::uint16_t v = max3 ? cand[j][c] : static_cast<std::uint16_t>(view);
+      o.rows[c] = pc.slot[v];
+      if (o.rows[c] == ProfileCache::kNoRow) lacking = v + 1u;
+    }
+    if (lacking) {
+      want[j] = static_cast<std::uint16_t>(lacking);
+      Sight s;
+      sight(id, eye, b, j, &s);
+      aim(id, &s);
+      out[j] = evaluate(id, Look::Ok, s, scores ? scores[j] : nullptr, nullptr);
+      o.decided = true;
+      continue;
+    }
+    for (std::uint32_t c = 0; c < o.view_count; ++c) {
       for (int set = 0; set < sets; ++set) {  // the two nodes' rows, which may cross a line
         const ProfileTableSets::Tables& ts = pc.tables.sets[o.tables + set];
         const std::int16_t* row = &(o.moving ? ts.slow : ts.still)[o.still_row(c, B, L)];
@@ -571,7 +587,8 @@ void Scheduler::Impl::tabulate_through_view(std::uint32_t first, const Block& b,
 }
 
 void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                               Memo& memo, Choice* out, float (*scores)[kMaxLevels]) const {
+                               Memo& memo, Choice* out, float (*scores)[kMaxLevels],
+                               std::uint16_t* want) const {
   Tabulation tb;
   tb.gaze_flag = eye.gaze ? std::uint8_t(0) : std::uint8_t(kFlagNoGaze);
   tb.sets = margin_sets(config_);
@@ -579,7 +596,7 @@ void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::ui
   tabulate_memos(eye, first, n, b, memo, scores != nullptr, tb);
   tabulate_rows(eye, first, n, b, memo, out, scores, tb);
   tabulate_any_view(first, b, memo, out, tb);
-  tabulate_views(eye, first, n, b, memo, tb);
+  tabulate_views(eye, first, n, b, memo, out, scores, want, tb);
   tabulate_through_view(first, b, memo, out, scores, tb);
   const auto& standing = tb.standing;
   // Rests for the objects a standing memo decided, where the eye can rest (none with scores); where
@@ -682,7 +699,8 @@ void Scheduler::Impl::choose_tabulated(std::uint32_t first, std::uint32_t n, con
                    ? reinterpret_cast<float(*)[kMaxLevels]>(&scores_[std::size_t(first) * kMaxLevels])
                    : nullptr;
   for (std::uint32_t i = 0; i < eye_count_; ++i)
-    tabulate(eyes_[i], first, n, blocks[i], memos_[i], eye_choice[i], kept && i > 0 ? eye_scores : kept);
+    tabulate(eyes_[i], first, n, blocks[i], memos_[i], eye_choice[i], kept && i > 0 ? eye_scores : kept,
+             &want_[first]);
   // Members and pointers in locals: the bytes written below may alias them, which would load them
   // again per object.
   const int* profile = &profile_of_[first];

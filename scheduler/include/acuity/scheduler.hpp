@@ -261,10 +261,19 @@ struct FrameStats {
 // without their geometry (FrameStats::at_rest). keep_scores or a triangle budget make every object
 // read its tables instead. KellyDaly and StelaCsf (their thresholds fall with speed at low
 // frequencies) and objects of an unlisted bias evaluate exactly. How it works: docs/design.md section 6.
-// A scene of many assets need not wait for every profile's tables: add_profile_deferred() registers a
-// profile without them (its objects decide exactly meanwhile: Evaluation::Exact's decisions),
-// make_tables() builds them on any thread, install_tables() hands them over between frames.
+// A scene of many assets need not wait for, nor hold, every profile's tables: add_profile_deferred()
+// registers a profile without them (its objects decide exactly meanwhile: Evaluation::Exact's
+// decisions), make_tables() builds them, all or one view's, on any thread, install_tables() hands
+// them over between frames. wanted_tables() lists the views objects were seen from without tables,
+// so a host makes only those: a profile then holds the tables of the views its objects are seen
+// from (each about 1/V of the whole).
 class ProfileTables;
+// A view of a profile that an object of it was seen from, in a frame, without that view's tables
+// (the object decided exactly): one of wanted_tables()'s.
+struct TablesWanted {
+  std::int32_t profile;
+  std::uint32_t view;
+};
 class Scheduler {
  public:
   explicit Scheduler(const SchedulerConfig& config);
@@ -277,16 +286,23 @@ class Scheduler {
   // The same without building its tables (the tabulated path; elsewhere as add_profile): quick
   // whatever the profile, and until install_tables() its objects are decided exactly.
   int add_profile_deferred(const Profile& profile);
-  // Profile p's tables, as add_profile would build them (about 0.16 s of one core for a 32-view
-  // profile with a hysteresis margin; empty when p is not a profile, or the configuration has none). Const and thread-safe: call it from any
-  // thread, for several profiles at once, during frames too, but not during add_profile* or
-  // install_tables.
-  ProfileTables make_tables(int profile) const;
-  // Installs tables made by this scheduler's make_tables(p) for p, between end_frame() and the next
-  // begin_frame(): from the next frame p's objects read them (their decisions then exactly as if p
-  // had been added with add_profile). Returns false, changing nothing, for tables made for another
-  // profile or scheduler, empty ones, or a profile that has tables.
+  // Profile p's tables, as add_profile would build them: of every view (kAllViews; about 0.16 s of
+  // one core for a 32-view profile with a hysteresis margin), or of one view v in [0, V) (about 1/V
+  // of that, time and bytes). Empty when p or v is out of range, or the configuration has none.
+  // Const and thread-safe: call it from any thread, for several profiles or views at once, during
+  // frames too, but not during add_profile* or install_tables.
+  static constexpr int kAllViews = -1;
+  ProfileTables make_tables(int profile, int view = kAllViews) const;
+  // Installs tables made by this scheduler's make_tables(p, ...) for p, between end_frame() and the
+  // next begin_frame(): from the next frame p's objects seen from their views read them (their
+  // decisions then exactly as if p had been added with add_profile). Returns false, changing
+  // nothing, for tables made for another profile or scheduler, empty ones, or of a view p already
+  // has tables of.
   bool install_tables(int profile, ProfileTables&& tables);
+  // Between frames: up to out.size() views (profile, view) objects were seen from without their
+  // tables since the last call, each listed once ever; returns how many it wrote (the rest come at
+  // the next call). For a host that makes a deferred profile's tables one view at a time.
+  std::uint32_t wanted_tables(std::span<TablesWanted> out);
 
   // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
   // level; bias multiplies q for this object (see SchedulerConfig::tabulated_biases).
