@@ -335,6 +335,69 @@ TEST(CAbi, DeferredTablesDecideExactlyUntilInstalled) {
   acuity_destroy(s);
 }
 
+// A deferred profile's tables made one view at a time, those acuity_wanted_tables lists (two at a
+// call here, so the list continues across calls): after one frame's views are installed, the same
+// objects decide as with every table; nothing more is wanted then.
+TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
+  Fixture f;
+  const Spiral spiral(f, 3000);
+  acuity_config c;
+  acuity_config_default(&c);
+  const auto tabulated = spiral.levels(c);
+  c.max_objects = spiral.n;
+  acuity_scheduler* s = nullptr;
+  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
+  int32_t p = -1;
+  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK);
+  std::vector<uint32_t> ids(spiral.n);
+  acuity_eye eye;
+  acuity_eye_default(&eye);
+  eye.gaze_valid = 1;
+  std::vector<uint8_t> levels(spiral.n);
+  EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
+                               spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
+            ACUITY_OK);
+  EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+  int32_t profiles[2];
+  uint32_t views[2], count = 99, listed = 0;
+  EXPECT_EQ(acuity_begin_frame(s, &eye, 1, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_INVALID_ARGUMENT);  // in a frame
+  EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
+  EXPECT_EQ(acuity_wanted_tables(s, nullptr, views, 2, &count), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_wanted_tables(s, nullptr, nullptr, 0, &count), ACUITY_OK);
+  EXPECT_EQ(count, 0u);
+  std::vector<uint8_t> seen(256, 0);  // per view: times listed
+  for (;;) {
+    ASSERT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_OK) << acuity_last_error();
+    if (count == 0) break;
+    for (uint32_t i = 0; i < count; ++i) {
+      EXPECT_EQ(profiles[i], p);
+      ASSERT_LT(views[i], seen.size());
+      EXPECT_EQ(seen[views[i]]++, 0) << "view " << views[i] << " listed twice";
+      acuity_tables* made = nullptr;
+      ASSERT_EQ(acuity_make_view_tables(s, p, views[i], &made), ACUITY_OK) << acuity_last_error();
+      EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_OK) << acuity_last_error();
+      ++listed;
+    }
+  }
+  EXPECT_GT(listed, 0u);
+  // The same objects again, fresh (they take their level at once), now through their views' tables.
+  EXPECT_EQ(acuity_remove_objects(s, spiral.n, ids.data()), ACUITY_OK);
+  EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
+                               spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
+            ACUITY_OK);
+  EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_get_levels(s, spiral.n, ids.data(), levels.data(), nullptr), ACUITY_OK);
+  EXPECT_EQ(levels, tabulated);
+  EXPECT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_OK);
+  EXPECT_EQ(count, 0u);
+  acuity_tables* none = nullptr;
+  EXPECT_EQ(acuity_make_view_tables(s, p, 1u << 31, &none), ACUITY_INVALID_ARGUMENT);  // no such view
+  EXPECT_NE(std::string(acuity_last_error()).find("view"), std::string::npos);
+  EXPECT_EQ(none, nullptr);
+  acuity_destroy(s);
+}
+
 // The version-4 field: objects of a tabulated bias read its tables, as a C++ scheduler configured the
 // same way does (never coarser than exact, and not the exact path); a version-3 caller (struct_size
 // 168) gets no such tables, so its bias-2 objects take the exact path. Bad entries are refused.

@@ -105,8 +105,11 @@ export class Scheduler {
   /** A .acuity file's bytes (copied, validated); returns the profile index. deferred: no tables yet
    *  (quick; its objects are decided exactly until buildTables). */
   loadProfile(bytes: Uint8Array, options?: { deferred?: boolean }): number;
-  /** Builds and installs a deferred profile's tables, between frames (a tenth of a second or more). */
-  buildTables(profile: number): void;
+  /** Builds and installs a deferred profile's tables, between frames: of every view (a tenth of a
+   *  second or more), or of one view (about 1/(view count) of that). */
+  buildTables(profile: number, view?: number): void;
+  /** Between frames: the views objects were seen from without their tables, each listed once. */
+  wantedTables(capacity?: number): { profile: number; view: number }[];
   /** profiles n, positions 3n [m], rotations 4n (x y z w), scales n or null (1); returns the ids. */
   addObjects(profiles: Int32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): Uint32Array;
   removeObjects(ids: Uint32Array): void;

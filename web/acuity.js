@@ -231,11 +231,13 @@ export class Scheduler {
     return this.m.HEAP32[index >> 2];
   }
 
-  // Builds a deferred profile's tables and installs them: between frames (a tenth of a second or
-  // more of this thread per profile: one per idle callback keeps a page responsive).
-  buildTables(profile) {
+  // Builds a deferred profile's tables and installs them, between frames: of every view (a tenth of
+  // a second or more of this thread per profile: one per idle callback keeps a page responsive), or
+  // of one view (about 1/(view count) of that: the views wantedTables() lists).
+  buildTables(profile, view = -1) {
     const [out] = this.stage([], [new Uint32Array(1)]);
-    this.a.check(this.m._acuity_make_tables(this.s, profile, out), 'acuity_make_tables');
+    if (view < 0) this.a.check(this.m._acuity_make_tables(this.s, profile, out), 'acuity_make_tables');
+    else this.a.check(this.m._acuity_make_view_tables(this.s, profile, view, out), 'acuity_make_view_tables');
     const tables = this.m.HEAPU32[out >> 2];
     try {
       this.a.check(this.m._acuity_install_tables(this.s, profile, tables), 'acuity_install_tables');
@@ -243,6 +245,18 @@ export class Scheduler {
       this.m._acuity_tables_destroy(tables);
       throw err;
     }
+  }
+
+  // Between frames: the views objects were seen from without their tables since the last call, each
+  // listed once: [{ profile, view }] (up to `capacity`; the rest at the next call).
+  wantedTables(capacity = 256) {
+    const [profiles, views, count] =
+      this.stage([], [new Int32Array(capacity), new Uint32Array(capacity), new Uint32Array(1)]);
+    this.a.check(this.m._acuity_wanted_tables(this.s, profiles, views, capacity, count), 'acuity_wanted_tables');
+    const n = this.m.HEAPU32[count >> 2], out = [];
+    for (let i = 0; i < n; ++i)
+      out.push({ profile: this.m.HEAP32[(profiles >> 2) + i], view: this.m.HEAPU32[(views >> 2) + i] });
+    return out;
   }
 
   // profiles: Int32Array n; positions: Float64Array 3n; rotations: Float32Array 4n (x y z w);

@@ -47,7 +47,8 @@ extern "C" {
  * Version 9 added acuity_select_cut_budget (a cut under a triangle budget) and appended
  * acuity_cut_result.budget_coarsened and budget_forced (ACUITY_CUT_RESULT_SIZE_V9).
  * Version 10 added deferred tables: acuity_load_profile_deferred and acuity_tables
- * (acuity_make_tables, acuity_install_tables, acuity_tables_destroy). */
+ * (acuity_make_tables, acuity_make_view_tables, acuity_install_tables, acuity_tables_destroy,
+ * acuity_wanted_tables). */
 #define ACUITY_C_API_VERSION 10
 
 typedef struct acuity_scheduler acuity_scheduler;
@@ -279,11 +280,23 @@ typedef struct acuity_tables acuity_tables;
  * INVALID_ARGUMENT: null s or out, a profile not loaded, or a scheduler with no tables (exact
  * evaluation, or a rule without thresholds); *out is unchanged then. */
 acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out);
+/* The same for one view of the profile (0 to its view count - 1): about 1/(view count) of the time
+ * and bytes. INVALID_ARGUMENT also for a view out of range. */
+acuity_status acuity_make_view_tables(const acuity_scheduler* s, int32_t profile, uint32_t view,
+                                      acuity_tables** out);
 /* Installs tables this scheduler made for `profile`, outside a frame: from the next frame its
- * objects read them (deciding as if loaded with acuity_load_profile). On OK they are consumed; else
- * they stay the caller's. INVALID_ARGUMENT: null s or tables, tables of another profile or scheduler,
- * a profile that has tables, or a call between acuity_begin_frame and acuity_end_frame. */
+ * objects seen from their views read them (deciding as if loaded with acuity_load_profile). On OK
+ * they are consumed; else they stay the caller's. INVALID_ARGUMENT: null s or tables, tables of
+ * another profile or scheduler, of a view the profile has tables of, or a call between
+ * acuity_begin_frame and acuity_end_frame. */
 acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity_tables* tables);
+/* Outside a frame: up to `capacity` views that objects were seen from without their tables since
+ * the last call (each view listed once; the rest at the next call), as profiles[i], views[i]; *count
+ * receives how many. For a host that makes a deferred profile's tables one view at a time
+ * (acuity_make_view_tables). INVALID_ARGUMENT: null s or count, null arrays with capacity > 0, or a
+ * call between acuity_begin_frame and acuity_end_frame. */
+acuity_status acuity_wanted_tables(acuity_scheduler* s, int32_t* profiles, uint32_t* views, uint32_t capacity,
+                                   uint32_t* count);
 /* Frees tables not installed. Null: no-op. */
 void acuity_tables_destroy(acuity_tables* tables);
 

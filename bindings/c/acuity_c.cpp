@@ -387,14 +387,53 @@ struct acuity_tables {
   acuity::ProfileTables tables;
 };
 
-acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out) {
+namespace {
+// acuity_make_tables and _view_tables (`name`): view acuity::Scheduler::kAllViews or one.
+acuity_status make_tables(const acuity_scheduler* s, int32_t profile, int view, acuity_tables** out,
+                          const char* name) {
   return guarded([&] {
-    if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, "acuity_make_tables: null argument");
-    acuity::ProfileTables t = s->scheduler.make_tables(profile);
+    if (!s || !out) return fail(ACUITY_INVALID_ARGUMENT, std::string(name) + ": null argument");
+    acuity::ProfileTables t = s->scheduler.make_tables(profile, view);
     if (!t)
-      return fail(ACUITY_INVALID_ARGUMENT, "acuity_make_tables: profile " + std::to_string(profile) +
-                                               " was not loaded, or this scheduler keeps no tables");
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  std::string(name) + ": profile " + std::to_string(profile) +
+                      (view == acuity::Scheduler::kAllViews ? "" : " view " + std::to_string(view)) +
+                      " was not loaded, or this scheduler keeps no tables");
     *out = new acuity_tables{std::move(t)};
+    return ACUITY_OK;
+  });
+}
+}  // namespace
+
+acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out) {
+  return make_tables(s, profile, acuity::Scheduler::kAllViews, out, "acuity_make_tables");
+}
+
+acuity_status acuity_make_view_tables(const acuity_scheduler* s, int32_t profile, uint32_t view,
+                                      acuity_tables** out) {
+  const int v = view > uint32_t(INT32_MAX) ? INT32_MAX : static_cast<int>(view);  // out of range either way
+  return make_tables(s, profile, v, out, "acuity_make_view_tables");
+}
+
+acuity_status acuity_wanted_tables(acuity_scheduler* s, int32_t* profiles, uint32_t* views, uint32_t capacity,
+                                   uint32_t* count) {
+  return guarded([&] {
+    if (!s || !count || (capacity > 0 && (!profiles || !views)))
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_wanted_tables: null argument");
+    if (s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT, "acuity_wanted_tables: called between begin_frame and end_frame");
+    acuity::TablesWanted wanted[64];
+    uint32_t n = 0;
+    while (n < capacity) {
+      const uint32_t got =
+          s->scheduler.wanted_tables(std::span(wanted, std::min<uint32_t>(64, capacity - n)));
+      for (uint32_t i = 0; i < got; ++i, ++n) {
+        profiles[n] = wanted[i].profile;
+        views[n] = wanted[i].view;
+      }
+      if (got == 0) break;
+    }
+    *count = n;
     return ACUITY_OK;
   });
 }
@@ -408,7 +447,7 @@ acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity
       return fail(ACUITY_INVALID_ARGUMENT,
                   "acuity_install_tables: tables made for another profile or scheduler, "
                   "or profile " +
-                      std::to_string(profile) + " has tables");
+                      std::to_string(profile) + " has tables of their views");
     delete tables;
     return ACUITY_OK;
   });

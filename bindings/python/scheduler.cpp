@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -414,20 +415,35 @@ void bind_scheduler(py::module_ m) {
           "its objects are decided exactly until install_tables().")
       .def(
           "make_tables",
-          [](const PyScheduler& s, int profile) {
+          [](const PyScheduler& s, int profile, std::optional<std::uint32_t> view) {
             ProfileTables t;
+            const int v =
+                !view ? Scheduler::kAllViews : static_cast<int>(std::min<std::uint32_t>(*view, INT32_MAX));
             {
               py::gil_scoped_release release;  // other Python threads run meanwhile (it is thread-safe)
-              t = s.scheduler.make_tables(profile);
+              t = s.scheduler.make_tables(profile, v);
             }
             if (!t)
               throw py::value_error("make_tables: profile " + std::to_string(profile) +
+                                    (view ? " view " + std::to_string(*view) : std::string()) +
                                     " was not added, or this scheduler keeps no tables");
             return t;
           },
-          "profile_id"_a,
-          "The profile's tables, as add_profile builds them (tenths of a second for 32 views). Thread-safe\n"
-          "(releases the GIL): call it from worker threads, during frames too.")
+          "profile_id"_a, "view"_a = py::none(),
+          "The profile's tables, as add_profile builds them (tenths of a second for 32 views), or one\n"
+          "view's (about 1/(view count) of that: those wanted_tables() lists). Thread-safe (releases\n"
+          "the GIL): call it from worker threads, during frames too.")
+      .def(
+          "wanted_tables",
+          [](PyScheduler& s) {
+            std::vector<std::pair<int, std::uint32_t>> out;
+            TablesWanted wanted[64];
+            for (std::uint32_t n; (n = s.scheduler.wanted_tables(wanted)) > 0;)
+              for (std::uint32_t i = 0; i < n; ++i) out.emplace_back(wanted[i].profile, wanted[i].view);
+            return out;
+          },
+          "Between frames: [(profile_id, view)], the views objects were seen from without their tables\n"
+          "since the last call (each listed once): make_tables(profile_id, view), then install_tables.")
       .def(
           "install_tables",
           [](PyScheduler& s, int profile, ProfileTables& tables) {
@@ -435,11 +451,12 @@ void bind_scheduler(py::module_ m) {
               throw py::value_error(
                   "install_tables: tables made for another profile or scheduler, used, or "
                   "profile " +
-                  std::to_string(profile) + " has tables");
+                  std::to_string(profile) + " has tables of their views");
           },
           "profile_id"_a, "tables"_a,
-          "Installs make_tables(profile_id)'s tables between frames (they are used up): from the next\n"
-          "frame the profile's objects decide as if it had been added without deferred.")
+          "Installs make_tables(profile_id, ...)'s tables between frames (they are used up): from the\n"
+          "next frame the profile's objects seen from their views decide as if it had been added\n"
+          "without deferred.")
       .def(
           "table_bytes",
           [](const PyScheduler& s, int profile) {

@@ -289,6 +289,51 @@ def test_deferred_tables_made_on_worker_threads():
         exact.make_tables(0)
 
 
+def test_view_tables_made_as_wanted():
+    """A deferred profile's tables made one view at a time, those wanted_tables() lists: the objects
+    decide exactly until then, and as with every table after; each view is listed once, and the
+    tables held are those views' (fewer bytes than every view's)."""
+    rng = np.random.default_rng(8)
+    n = 1500
+    z = -np.geomspace(1.5, 400, n)
+    pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
+    rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)  # one orientation: a few views seen
+    vel = rng.normal(0, 3, (n, 3)).astype(np.float32)
+    profile = acuity.Profile.from_bytes(make_profile(levels=5))
+
+    def scheduler(evaluation=acuity.Evaluation.tabulated, deferred=False):
+        config = acuity.SchedulerConfig()
+        config.max_objects = n
+        config.evaluation = evaluation
+        s = acuity.Scheduler(config)
+        s.add_profile(profile, deferred=deferred)
+        return s
+
+    def levels(s):  # fresh objects: their level at once
+        ids = s.add_objects(np.zeros(n, dtype=np.int32), pos, rot, np.ones(n))
+        s.set_velocities(ids, vel)
+        s.run_frame(frame_looking_forward())
+        out = s.levels(ids).astype(int)
+        s.remove_objects(ids)
+        return out
+
+    built, exact, lazy = scheduler(), scheduler(acuity.Evaluation.exact), scheduler(deferred=True)
+    assert np.array_equal(levels(lazy), levels(exact))
+    wanted = lazy.wanted_tables()
+    assert wanted and len(set(wanted)) == len(wanted) and all(p == 0 for p, _ in wanted)
+    assert lazy.wanted_tables() == []  # each listed once
+    for p, view in wanted:
+        lazy.install_tables(p, lazy.make_tables(p, view))
+    assert np.array_equal(levels(lazy), levels(built))
+    assert lazy.wanted_tables() == []
+    one_view = lazy.make_tables(0, wanted[0][1])
+    assert 0 < lazy.table_bytes(0) == len(wanted) * one_view.nbytes < built.table_bytes(0)
+    with pytest.raises(ValueError, match="has tables of their views"):
+        lazy.install_tables(0, one_view)
+    with pytest.raises(ValueError, match="view 99"):
+        lazy.make_tables(0, 99)
+
+
 @pytest.mark.parametrize("hz", [72, 90, 120])
 def test_hysteresis_and_wait_in_seconds_take_the_same_time_at_any_rate(hz):
     """hysteresis_seconds and max_coarsen_wait_seconds sum dt: 0.1 s + 0.3 s is 0.4 s at every rate;

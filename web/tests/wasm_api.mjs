@@ -164,7 +164,23 @@ for (const hz of [72, 120]) {
   assert.deepEqual(levelsOf(deferred), want);
   throwsAcuity(() => deferred.buildTables(0), 1, /^acuity_install_tables: .*has tables/);  // and freed
   throwsAcuity(() => exact.buildTables(0), 1, /keeps no tables/);
-  for (const t of [built, exact, deferred]) t.destroy();
+  // One view at a time, those wantedTables() lists (three a call: the list goes on): then the same
+  // objects decide as with every table, and nothing more is wanted.
+  const lazy = scheduler({}, true);
+  assert.deepEqual(levelsOf(lazy), wantExact);
+  const seen = new Set();
+  for (let got; (got = lazy.wantedTables(3)).length > 0;)
+    for (const { profile: p, view } of got) {
+      assert.equal(p, 0);
+      assert.ok(!seen.has(view), `view ${view} listed twice`);
+      seen.add(view);
+      lazy.buildTables(p, view);
+    }
+  assert.ok(seen.size > 0);
+  assert.deepEqual(levelsOf(lazy), want);
+  assert.deepEqual(lazy.wantedTables(), []);
+  throwsAcuity(() => lazy.buildTables(0, 4096), 1, /^acuity_make_view_tables: profile 0 view 4096/);
+  for (const t of [built, exact, deferred, lazy]) t.destroy();
 }
 // Views beyond the eyes (C ABI 7): an orthographic sun over 80 m gives an object behind the eye a
 // shadow level from its texels, finer for a finer map; a class no view names: the coarsest.
