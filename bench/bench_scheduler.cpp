@@ -425,10 +425,15 @@ void BM_add_profile(benchmark::State& state, Evaluation evaluation, bool plain =
 // A scene of state.range(0) distinct assets (SceneAssets: 32-view profiles) loading: a scheduler made, every
 // profile added, one object of each placed 2-200 m ahead and the first frame run, with the
 // hysteresis margin engine settings use (0.2). Counters: the tables' memory [MiB] and the profiles'
-// own bytes [MiB] (which the host keeps). deferred: every profile added with add_profile_deferred
-// (the first frame decides exactly); then, outside the timing, the tables of 4 assets made and
-// installed (counter make_ms: CPU ms per asset, what a host's worker thread spends on each).
-void BM_scene_ready(benchmark::State& state, Evaluation evaluation, bool deferred = false) {
+// own bytes [MiB] (which the host keeps). Deferred: every profile added with add_profile_deferred
+// (the first frame decides exactly); then, outside the timing, every table of 4 assets made and
+// installed (counter make_ms: CPU ms per asset, what a host's worker thread spends on each). Views:
+// the same, then the tables of the views the first frame saw objects from (wanted_tables()) made
+// and installed on this thread and a second frame run, all timed: the time until every object
+// decides through tables (counters views: per asset, make_ms: CPU ms per view).
+enum class Loading { Built, Deferred, Views };
+void BM_scene_ready(benchmark::State& state, Evaluation evaluation, Loading loading = Loading::Built) {
+  const bool deferred = loading != Loading::Built;
   const auto n = static_cast<int>(state.range(0));
   const SceneAssets assets(n);
   std::size_t tables = 0, profile_bytes = 0;
@@ -456,7 +461,19 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation, bool deferre
     benchmark::DoNotOptimize(s.stats().triangles);
     tables = 0;
     for (int i = 0; i < n; ++i) tables += s.table_bytes(i);
-    if (deferred) {
+    if (loading == Loading::Views) {
+      std::vector<TablesWanted> wanted(std::size_t(n) * 4);
+      const std::uint32_t count = s.wanted_tables(wanted);
+      const std::clock_t start = std::clock();
+      for (std::uint32_t i = 0; i < count; ++i)
+        s.install_tables(wanted[i].profile, s.make_tables(wanted[i].profile, int(wanted[i].view)));
+      state.counters["make_ms"] =
+          1000.0 * double(std::clock() - start) / CLOCKS_PER_SEC / std::max(count, 1u);
+      state.counters["views"] = double(count) / n;
+      s.run_frame(f);
+      tables = 0;
+      for (int i = 0; i < n; ++i) tables += s.table_bytes(i);
+    } else if (deferred) {
       state.PauseTiming();
       const int made = std::min(n, 4);
       const std::clock_t start = std::clock();
@@ -659,7 +676,8 @@ BENCHMARK_CAPTURE(BM_scheduler, distance_rule, SelectionRule::Distance, 0.0f)->A
 BENCHMARK_CAPTURE(BM_scheduler, screen_size_rule, SelectionRule::ScreenSize, 0.0f)->Apply(sizes);
 // Time to the first frame of a scene of distinct assets. Exactly (no tables) at 2 000 assets; through
 // the tables at 20 (each asset's tables take add_profile's time: 2 000 take 100 times as long); with
-// the tables deferred at 2 000 (the first frame exact, the tables made afterwards).
+// the tables deferred at 2 000 (the first frame exact, the tables made afterwards); and with the
+// tables of the views seen made before a second frame (every object then through tables).
 BENCHMARK_CAPTURE(BM_scene_ready, exact, Evaluation::Exact)
     ->Arg(2000)
     ->Unit(benchmark::kMillisecond)
@@ -668,7 +686,11 @@ BENCHMARK_CAPTURE(BM_scene_ready, tabulated, Evaluation::Tabulated)
     ->Arg(20)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
-BENCHMARK_CAPTURE(BM_scene_ready, deferred, Evaluation::Tabulated, true)
+BENCHMARK_CAPTURE(BM_scene_ready, deferred, Evaluation::Tabulated, Loading::Deferred)
+    ->Arg(2000)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_scene_ready, views, Evaluation::Tabulated, Loading::Views)
     ->Arg(2000)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
