@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -15,6 +16,7 @@
 #include <sstream>
 
 #include "acuity/bake/scene.hpp"
+#include "acuity/file.hpp"
 #include "acuity/lodgen/gltf.hpp"
 #include "acuity/sim/frame_image.hpp"
 #include "acuity/sim/results.hpp"
@@ -126,6 +128,34 @@ SimulationOptions small_options(const std::string& output) {
 }
 
 }  // namespace
+
+// A cached profile is reused only when measured with the snapshots asked for: small_scene()'s
+// 64-pixel profiles, asked for at 32 pixels, are measured again (and written over the cache), then
+// read back from it at 32.
+TEST(SceneAssets, CachedProfilesAreMeasuredAgainAtOtherSnapshotPixels) {
+  const SceneAssets& at64 = small_scene();
+  const fs::path cache = scratch("profiles-32");
+  fs::create_directories(cache);
+  for (const auto& f : fs::directory_iterator(scratch("profiles")))
+    fs::copy_file(f.path(), cache / f.path().filename());
+  AssetOptions o;
+  o.profiles = cache.string();
+  o.profile_pixels = 32;
+  o.quiet = true;
+  const std::unique_ptr<SceneAssets> at32 = load_scene_assets(scratch("field.glb").string(), o);
+  const std::unique_ptr<SceneAssets> again = load_scene_assets(scratch("field.glb").string(), o);
+  ASSERT_EQ(at32->assets.size(), at64.assets.size());
+  ASSERT_EQ(again->assets.size(), at64.assets.size());
+  for (std::size_t i = 0; i < at64.assets.size(); ++i) {
+    EXPECT_EQ(at64.assets[i].profile.meta.snapshot_pixels, 64u);
+    EXPECT_EQ(at32->assets[i].profile.meta.snapshot_pixels, 32u) << at32->assets[i].name;
+    EXPECT_EQ(io::read_file((cache / (at32->assets[i].name + ".acuity")).string()).size,
+              at32->assets[i].blob.size);
+    EXPECT_EQ(again->assets[i].blob.size, at32->assets[i].blob.size);
+    EXPECT_EQ(
+        std::memcmp(again->assets[i].blob.data(), at32->assets[i].blob.data(), at32->assets[i].blob.size), 0);
+  }
+}
 
 TEST(Table, ReadsCsvAndJsonByColumnName) {
   write(scratch("t.csv"), "# comment\nt, x ,y\n0,1,2\n0.5,-3e-1,4\n");

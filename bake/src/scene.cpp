@@ -18,15 +18,18 @@ namespace {
 
 using Matrix = std::array<double, 16>;
 
-// Reads the cached profile into a when it describes this chain (same level count and triangles).
-bool load_matching_profile(const std::string& path, const lodgen::Chain& chain, Asset* a) {
+// Reads the cached profile into a when it describes this chain (same level count and triangles)
+// measured with these snapshots (pixels across). Whether its views bound their cells is not in the
+// file: a caller that changes bound_cells keeps those profiles in a folder of their own.
+bool load_matching_profile(const std::string& path, const lodgen::Chain& chain, std::uint32_t pixels,
+                           Asset* a) {
   if (!fs::exists(path)) return false;
   try {
     a->blob = io::read_file(path);
   } catch (const io::Error&) { return false; }  // unreadable: built and written again
   const Profile& p = a->profile;
   if (open_profile(a->blob.data(), a->blob.size, &a->profile) != ProfileStatus::Ok ||
-      p.meta.level_count != chain.levels.size())
+      p.meta.level_count != chain.levels.size() || p.meta.snapshot_pixels != pixels)
     return false;
   for (std::size_t k = 0; k < chain.levels.size(); ++k)
     if (p.levels[k].triangles != chain.levels[k].mesh.triangle_count()) return false;
@@ -133,7 +136,7 @@ std::unique_ptr<SceneAssets> load_scene_assets(const std::string& path, const As
     a.material = spectra_material(scene, a.chain.levels[0].mesh.material);
     const std::string file =
         o.profiles.empty() ? std::string() : (fs::path(o.profiles) / (a.name + ".acuity")).string();
-    if (file.empty() || !load_matching_profile(file, a.chain, &a)) {
+    if (file.empty() || !load_matching_profile(file, a.chain, o.profile_pixels, &a)) {
       const std::vector<spectra::LevelInput> levels = spectra_levels(a.chain);
       spectra::ProfileSettings ps;
       ps.render.pixels = o.profile_pixels;
