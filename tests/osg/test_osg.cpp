@@ -68,12 +68,13 @@ struct World {
   ::osg::ref_ptr<Capture> capture = new Capture;
   ::osg::ref_ptr<::osg::Uniform> debug = new ::osg::Uniform("acuity_debug", 1.0f);
 
-  World(std::uint32_t objects, float transition_seconds, bool stereo, float quad_half_size = 1) {
+  World(std::uint32_t objects, float transition_seconds, bool stereo, float quad_half_size = 1,
+        bool deferred = false) {
     EXPECT_EQ(acuity::open_profile(blob.data(), blob.size, &profile), acuity::ProfileStatus::Ok);
     config.max_objects = objects;
     config.transition_seconds = transition_seconds;
     kit = new Kit(config);
-    const int p = kit->add_profile(blob.data(), blob.size);
+    const int p = kit->add_profile(blob.data(), blob.size, deferred);
     std::vector<::osg::ref_ptr<::osg::Geometry>> levels;
     for (int k = 0; k < 4; ++k) levels.push_back(acuity::osg::make_geometry(quad(quad_half_size)));
     for (std::uint32_t i = 0; i < objects; ++i) {
@@ -272,6 +273,43 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
   EXPECT_GE(blinks, 5) << "the blink in the track reaches the scheduler as no gaze";
   EXPECT_GT(changes, 0);
   EXPECT_GT(w.kit->last_acuity_ms(), 0.0);
+}
+
+// A deferred profile: its objects decide exactly (as a scheduler evaluating exactly, given the same
+// frames) until make_wanted_tables() makes the views they were seen from, one at the first call;
+// then, once settled (a still head), as a scheduler with every table, while the kit holds only
+// those views' tables.
+TEST(Osg, ADeferredProfileGetsTheTablesOfTheViewsItsObjectsAreSeenFrom) {
+  World w(12, 0.0f, false, 1, true);
+  acuity::SchedulerConfig exact_config = w.config;
+  exact_config.evaluation = acuity::Evaluation::Exact;
+  acuity::Scheduler exact(exact_config), built(w.config);
+  for (acuity::Scheduler* s : {&exact, &built}) {
+    ASSERT_EQ(s->add_profile(w.profile), 0);
+    for (std::uint32_t i = 0; i < 12; ++i) ASSERT_EQ(s->add_object(0, w.transform(i, 0)), w.nodes[i]->id());
+  }
+  w.viewer.getCamera()->setViewMatrix(view_of(head_at(0)));
+  const int frames = 80, made_at = 10;
+  for (int f = 0; f < frames; ++f) {
+    w.viewer.frame(f / kFps);
+    exact.run_frame(w.kit->frame());
+    built.run_frame(w.kit->frame());
+    for (std::uint32_t i = 0; i < 12; ++i) {
+      const acuity::ObjectId id = w.nodes[i]->id();
+      if (f < made_at) {
+        EXPECT_EQ(w.nodes[i]->drawn().level, exact.level(id)) << "frame " << f << " object " << i;
+      }
+      if (f == frames - 1) { EXPECT_EQ(w.nodes[i]->drawn().level, built.level(id)) << "object " << i; }
+    }
+    if (f == made_at - 1) {
+      EXPECT_EQ(w.kit->scheduler().table_bytes(0), 0u);
+      EXPECT_EQ(w.kit->make_wanted_tables(1), 1u);
+      while (w.kit->make_wanted_tables(4) > 0) {}
+      EXPECT_GT(w.kit->scheduler().table_bytes(0), 0u);
+      EXPECT_LT(w.kit->scheduler().table_bytes(0), built.table_bytes(0)) << "only the views seen";
+    }
+  }
+  EXPECT_EQ(w.kit->make_wanted_tables(4), 0u);
 }
 
 TEST(Osg, TwoSlaveCamerasAreTwoEyes) {

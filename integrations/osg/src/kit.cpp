@@ -125,7 +125,7 @@ Kit::~Kit() {
   }
 }
 
-int Kit::add_profile(const void* data, std::size_t size) {
+int Kit::add_profile(const void* data, std::size_t size, bool deferred) {
   Blob blob;
   blob.size = size;
   blob.storage.assign((size + 7) / 8, 0);
@@ -138,12 +138,26 @@ int Kit::add_profile(const void* data, std::size_t size) {
   std::lock_guard<std::mutex> lock(mutex_);
   profiles_.push_back(std::move(blob));
   open_profile(profiles_.back().data(), profiles_.back().size, &p);  // point into the kept copy
-  const int index = scheduler_->add_profile(p);
+  const int index = deferred ? scheduler_->add_profile_deferred(p) : scheduler_->add_profile(p);
   if (index < 0) {
     profiles_.pop_back();
     throw std::runtime_error("acuity::osg::Kit::add_profile: max_profiles reached");
   }
   return index;
+}
+
+std::uint32_t Kit::make_wanted_tables(std::uint32_t max_views) {
+  std::lock_guard<std::mutex> lock(mutex_);  // between frames: run_frame holds it for a whole frame
+  TablesWanted listed[64];
+  for (std::uint32_t n; (n = scheduler_->wanted_tables(listed)) > 0;)
+    wanted_.insert(wanted_.end(), listed, listed + n);
+  std::uint32_t made = 0;
+  for (; made < max_views && !wanted_.empty(); ++made) {
+    const TablesWanted w = wanted_.front();
+    wanted_.pop_front();
+    scheduler_->install_tables(w.profile, scheduler_->make_tables(w.profile, static_cast<int>(w.view)));
+  }
+  return made;
 }
 
 void Kit::add(LodNode* node, int profile) {

@@ -4,6 +4,7 @@
 //
 //   osg::ref_ptr<acuity::osg::Kit> kit = new acuity::osg::Kit(config);
 //   int p = kit->add_profile(blob);                       // .acuity bytes (copied)
+//                                                         // (deferred: tables later, make_wanted_tables)
 //   auto* node = new acuity::osg::LodNode;                // addChild(level 0), addChild(level 1), ...
 //   kit->add(node, p);                                    // now an acuity object
 //   parent->addChild(node);                               // anywhere under transforms
@@ -125,7 +126,14 @@ class Kit : public ::osg::Referenced {
   explicit Kit(const SchedulerConfig& config);
 
   // Validates and keeps a copy of profile bytes; returns its index. Throws std::runtime_error.
-  int add_profile(const void* data, std::size_t size);
+  // deferred: its tables are not built (Scheduler::add_profile_deferred; quick whatever the profile),
+  // and its objects decide exactly until make_wanted_tables() makes the views they are seen from.
+  int add_profile(const void* data, std::size_t size, bool deferred = false);
+  // Between frames, on a thread of the application's choosing: makes and installs the tables of up
+  // to `max_views` of the views objects of deferred profiles were seen from without them
+  // (Scheduler::wanted_tables; several ms of CPU each: a loading screen, or one per frame). Returns
+  // how many it made; the rest wait for the next call.
+  std::uint32_t make_wanted_tables(std::uint32_t max_views);
   // Makes `node` an acuity object with `profile`; its world transform is read from its parent path
   // each frame. Throws std::runtime_error when full, for a bad profile, or when the node is taken.
   void add(LodNode* node, int profile);
@@ -189,6 +197,7 @@ class Kit : public ::osg::Referenced {
 
   std::unique_ptr<Scheduler> scheduler_;
   std::deque<Blob> profiles_;
+  std::deque<TablesWanted> wanted_;  // listed by the scheduler, not made yet
   std::vector<LodNode*> nodes_;
   std::vector<::osg::observer_ptr<::osg::Camera>> cameras_;
   std::vector<::osg::observer_ptr<::osg::Camera>> view_cameras_;
