@@ -157,11 +157,12 @@ void Scheduler::Impl::build_still(const ProfileCache& c, ProfileTableSets* sets,
 }
 
 // The moving tables of table set `set` (ln_q: its ln q) for views [first, first + count), every
-// view, level and orientation row at once (a row each; one per view and level where every orientation reads the same loss): each curve
-// is read for every row in turn while it is in the cache (built per view and level, every curve was
-// read again for each). Each row's entries are what they were when built
-// one at a time: a row's nodes, lowerings and checks come in the same order, and a search's hint or
-// lead band changes only how fast it finds its value (Curves::least_sampled()).
+// view, level and orientation row at once (a row each; one per view and level where every
+// orientation reads the same loss): each curve is read for every row in turn while it is in the
+// cache (built per view and level, every curve was read again for each). Each row's entries are
+// what they were when built one at a time: a row's nodes, lowerings and checks come in the same
+// order, and a search's hint or lead band changes only how fast it finds its value
+// (Curves::least_sampled()).
 void Scheduler::Impl::build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set,
                                    float ln_q, std::uint32_t first, std::uint32_t count,
                                    const float* knots) const {
