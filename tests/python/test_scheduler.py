@@ -237,35 +237,44 @@ def test_table_bytes_per_profile():
     assert table_bytes(tabulated_biases=[2.0, 0.5, 0], hysteresis_margin=0.3) == 6 * one_set
 
 
-def test_deferred_tables_made_on_worker_threads():
-    """A profile added deferred decides as exact evaluation does until its tables, made on worker
-    threads while frames run, are installed; then as a profile added with its tables."""
-    from concurrent.futures import ThreadPoolExecutor
-    rng = np.random.default_rng(7)
-    n = 2000  # moving: a few decisions where the tables are finer than exact (4 at this seed)
-    z = -np.geomspace(1.5, 400, n)
-    pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
-    rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)
-    vel = rng.normal(0, 3, (n, 3)).astype(np.float32)
-    profiles = [acuity.Profile.from_bytes(make_profile(levels=k)) for k in (5, 4)]
+class FreshObjects:
+    """n objects ahead (1.5-400 m, unturned, moving a little), of the profiles in turn: schedulers
+    of those profiles, and the levels the objects get in a frame where they are fresh (their level
+    at once)."""
 
-    def scheduler(evaluation=acuity.Evaluation.tabulated, deferred=False):
+    def __init__(self, seed, n, profiles):
+        rng = np.random.default_rng(seed)
+        z = -np.geomspace(1.5, 400, n)
+        self.n, self.profiles = n, profiles
+        self.pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
+        self.rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)
+        self.vel = rng.normal(0, 3, (n, 3)).astype(np.float32)
+
+    def scheduler(self, evaluation=acuity.Evaluation.tabulated, deferred=False):
         config = acuity.SchedulerConfig()
-        config.max_objects = n
+        config.max_objects = self.n
         config.evaluation = evaluation
         s = acuity.Scheduler(config)
-        for p in profiles:
+        for p in self.profiles:
             s.add_profile(p, deferred=deferred)
         return s
 
-    def levels(s):  # fresh objects: their level at once
-        ids = s.add_objects(np.arange(n) % 2, pos, rot, np.ones(n))
-        s.set_velocities(ids, vel)
+    def levels(self, s):
+        ids = s.add_objects(np.arange(self.n) % len(self.profiles), self.pos, self.rot, np.ones(self.n))
+        s.set_velocities(ids, self.vel)
         s.run_frame(frame_looking_forward())
         out = s.levels(ids).astype(int)
         s.remove_objects(ids)
         return out
 
+
+def test_deferred_tables_made_on_worker_threads():
+    """A profile added deferred decides as exact evaluation does until its tables, made on worker
+    threads while frames run, are installed; then as a profile added with its tables."""
+    from concurrent.futures import ThreadPoolExecutor
+    n = 2000  # moving: a few decisions where the tables are finer than exact (4 at this seed)
+    scene = FreshObjects(7, n, [acuity.Profile.from_bytes(make_profile(levels=k)) for k in (5, 4)])
+    scheduler, levels = scene.scheduler, scene.levels
     built, exact, deferred = scheduler(), scheduler(acuity.Evaluation.exact), scheduler(deferred=True)
     want_built, want_exact = levels(built), levels(exact)
     assert np.any(want_built != want_exact)  # the two paths tell apart here
@@ -293,30 +302,9 @@ def test_view_tables_made_as_wanted():
     """A deferred profile's tables made one view at a time, those wanted_tables() lists: the objects
     decide exactly until then, and as with every table after; each view is listed once, and the
     tables held are those views' (fewer bytes than every view's)."""
-    rng = np.random.default_rng(8)
-    n = 1500
-    z = -np.geomspace(1.5, 400, n)
-    pos = np.stack([rng.uniform(-0.6, 0.6, n) * -z, rng.uniform(-0.4, 0.4, n) * -z, z], axis=1)
-    rot = np.tile([0, 0, 0, 1], (n, 1)).astype(np.float32)  # one orientation: a few views seen
-    vel = rng.normal(0, 3, (n, 3)).astype(np.float32)
-    profile = acuity.Profile.from_bytes(make_profile(levels=5))
-
-    def scheduler(evaluation=acuity.Evaluation.tabulated, deferred=False):
-        config = acuity.SchedulerConfig()
-        config.max_objects = n
-        config.evaluation = evaluation
-        s = acuity.Scheduler(config)
-        s.add_profile(profile, deferred=deferred)
-        return s
-
-    def levels(s):  # fresh objects: their level at once
-        ids = s.add_objects(np.zeros(n, dtype=np.int32), pos, rot, np.ones(n))
-        s.set_velocities(ids, vel)
-        s.run_frame(frame_looking_forward())
-        out = s.levels(ids).astype(int)
-        s.remove_objects(ids)
-        return out
-
+    # Unturned objects ahead: a few of the profile's views are seen.
+    scene = FreshObjects(8, 1500, [acuity.Profile.from_bytes(make_profile(levels=5))])
+    scheduler, levels = scene.scheduler, scene.levels
     built, exact, lazy = scheduler(), scheduler(acuity.Evaluation.exact), scheduler(deferred=True)
     assert np.array_equal(levels(lazy), levels(exact))
     wanted = lazy.wanted_tables()
