@@ -199,6 +199,9 @@ struct Scheduler::Impl {
   void build_moving(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set, float ln_q,
                     std::uint32_t first, std::uint32_t count, const float* knots) const;
   void build_any_view(const ProfileCache& c, ProfileTableSets* sets, std::uint32_t set) const;
+  // Moves sets' tables into c's (add_profile's, or install_tables' once its checks pass): each view's
+  // rows after those c has, its slot set, and with the last view the bounds over every view.
+  void take_tables(ProfileCache& c, ProfileTableSets* sets) const;
   void lower_speed_rows(const float* nodes, const float* ys, const internal::AreaLaw* laws,
                         const float* ln_band, std::uint32_t B, std::uint32_t T, float* lowers) const;
   struct Need;

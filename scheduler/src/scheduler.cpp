@@ -220,8 +220,9 @@ int Scheduler::Impl::add_profile(const Profile& p, bool tables) {
   c.slot.assign(V, ProfileCache::kNoRow);
   c.wanted.assign(V, 0);
   if (curves_ && tables) {
-    build_tables(c, &c.tables, 0, V);
-    for (std::uint32_t v = 0; v < V; ++v) c.slot[v] = static_cast<std::uint16_t>(v);
+    ProfileTableSets sets;
+    build_tables(c, &sets, 0, V);
+    take_tables(c, &sets);
   }
   level_count_[profile_count_] = static_cast<std::uint8_t>(K);
   std::copy(p.bands, p.bands + B, &band_frequency_[std::size_t(profile_count_) * kMaxBands]);
@@ -402,11 +403,10 @@ int Scheduler::add_profile(const Profile& profile) { return impl_->add_profile(p
 int Scheduler::add_profile_deferred(const Profile& profile) { return impl_->add_profile(profile, false); }
 ProfileTables Scheduler::make_tables(int profile, int view) const {
   ProfileTables out;
-  auto data = std::make_unique<ProfileTables::Data>();
-  if (!impl_->make_tables(profile, view, &data->tables)) return out;
-  data->scheduler = impl_->serial_;
-  data->profile = profile;
-  out.data_ = std::move(data);
+  Impl::ProfileTableSets tables;
+  if (impl_->make_tables(profile, view, &tables))
+    out.data_ = std::make_unique<ProfileTables::Data>(
+        ProfileTables::Data{impl_->serial_, profile, std::move(tables)});
   return out;
 }
 bool Scheduler::install_tables(int profile, ProfileTables&& tables) {

@@ -428,14 +428,19 @@ std::uint32_t Scheduler::Impl::wanted_tables(std::span<TablesWanted> out) {
   return n;
 }
 
-// Moves in tables of views the profile has none of, after those it has (a view's rows in each table
-// are contiguous: its layout's outermost index); with the last view, the bounds over every view.
 bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
   if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_) || sets->views.empty())
     return false;
   ProfileCache& c = profiles_[profile];
   for (const std::uint16_t v : sets->views)
     if (v >= c.slot.size() || c.slot[v] != ProfileCache::kNoRow) return false;
+  take_tables(c, sets);
+  return true;
+}
+
+// Moves in tables of views the profile has none of, after those it has (a view's rows in each table
+// are contiguous: its layout's outermost index); with the last view, the bounds over every view.
+void Scheduler::Impl::take_tables(ProfileCache& c, ProfileTableSets* sets) const {
   const std::size_t had = c.tables.views.size(), added = sets->views.size();
   if (had == 0) {
     c.tables = std::move(*sets);
@@ -455,7 +460,6 @@ bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
   if (c.every_view() && c.tables.sets[0].any_view.empty() && c.profile.meta.level_count > 1)
     for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set)
       if (set % 2 < static_cast<std::uint32_t>(margin_sets(config_))) build_any_view(c, &c.tables, set);
-  return true;
 }
 
 }  // namespace acuity
