@@ -274,6 +274,36 @@ TEST(CAbi, EvaluationReachesTheSchedulerAndV2CallersGetTheDefault) {
   EXPECT_EQ(s, nullptr);
 }
 
+// A scheduler of configuration c for spiral's objects, with f's profile loaded deferred, and an
+// eye with a gaze; levels_of_fresh_objects(): the levels the spiral's objects get in a frame where
+// they are new (added, the frame run, removed: new objects take their level at once).
+struct DeferredSpiral {
+  const Spiral& spiral;
+  acuity_scheduler* s = nullptr;
+  int32_t p = -1;
+  acuity_eye eye;
+  std::vector<uint32_t> ids;
+  DeferredSpiral(const Fixture& f, const Spiral& sp, acuity_config c) : spiral(sp), ids(sp.n) {
+    c.max_objects = spiral.n;
+    EXPECT_EQ(acuity_create(&c, &s), ACUITY_OK);
+    EXPECT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK)
+        << acuity_last_error();
+    acuity_eye_default(&eye);
+    eye.gaze_valid = 1;
+  }
+  ~DeferredSpiral() { acuity_destroy(s); }
+  std::vector<uint8_t> levels_of_fresh_objects() {
+    EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
+                                 spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
+              ACUITY_OK);
+    EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+    std::vector<uint8_t> out(spiral.n);
+    EXPECT_EQ(acuity_get_levels(s, spiral.n, ids.data(), out.data(), nullptr), ACUITY_OK);
+    EXPECT_EQ(acuity_remove_objects(s, spiral.n, ids.data()), ACUITY_OK);
+    return out;
+  }
+};
+
 // Version 10: a profile loaded deferred decides as exact evaluation does until its tables, made on
 // another thread, are installed between frames; then (objects added again: new objects take their
 // level at once) as a profile loaded with its tables. Misuse is refused and leaves the tables the
@@ -288,51 +318,33 @@ TEST(CAbi, DeferredTablesDecideExactlyUntilInstalled) {
   exact_config.evaluation = ACUITY_EVALUATION_EXACT;
   const auto exact = spiral.levels(exact_config);
   expect_finer_somewhere(tabulated, exact);
-  c.max_objects = spiral.n;
-  acuity_scheduler* s = nullptr;
-  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
-  int32_t p = -1;
-  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK)
-      << acuity_last_error();
-  std::vector<uint32_t> ids(spiral.n);
-  acuity_eye eye;
-  acuity_eye_default(&eye);
-  eye.gaze_valid = 1;
-  const auto levels_of_fresh_objects = [&] {
-    EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
-                                 spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
-              ACUITY_OK);
-    EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
-    std::vector<uint8_t> out(spiral.n);
-    EXPECT_EQ(acuity_get_levels(s, spiral.n, ids.data(), out.data(), nullptr), ACUITY_OK);
-    EXPECT_EQ(acuity_remove_objects(s, spiral.n, ids.data()), ACUITY_OK);
-    return out;
-  };
+  DeferredSpiral d(f, spiral, c);
+  acuity_scheduler* s = d.s;
+  const int32_t p = d.p;
+  ASSERT_GE(p, 0);
   acuity_tables* made = nullptr;
   std::thread worker([&] { EXPECT_EQ(acuity_make_tables(s, p, &made), ACUITY_OK) << acuity_last_error(); });
-  EXPECT_EQ(levels_of_fresh_objects(), exact);  // while the tables are made
+  EXPECT_EQ(d.levels_of_fresh_objects(), exact);  // while the tables are made
   worker.join();
   ASSERT_NE(made, nullptr);
   acuity_tables* none = nullptr;
   EXPECT_EQ(acuity_make_tables(s, 1, &none), ACUITY_INVALID_ARGUMENT);  // no such profile
   EXPECT_EQ(none, nullptr);
   EXPECT_EQ(acuity_install_tables(s, 1, made), ACUITY_INVALID_ARGUMENT);
-  EXPECT_EQ(acuity_begin_frame(s, &eye, 1, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_begin_frame(s, &d.eye, 1, 1 / 90.0f), ACUITY_OK);
   EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_INVALID_ARGUMENT);  // inside a frame
   EXPECT_NE(std::string(acuity_last_error()).find("begin_frame"), std::string::npos);
   EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
   EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_OK) << acuity_last_error();
-  EXPECT_EQ(levels_of_fresh_objects(), tabulated);
+  EXPECT_EQ(d.levels_of_fresh_objects(), tabulated);
   ASSERT_EQ(acuity_make_tables(s, p, &made), ACUITY_OK);
   EXPECT_EQ(acuity_install_tables(s, p, made), ACUITY_INVALID_ARGUMENT);  // it has tables
   acuity_tables_destroy(made);
   acuity_tables_destroy(nullptr);
-  acuity_destroy(s);
-  exact_config.max_objects = 1;
-  ASSERT_EQ(acuity_create(&exact_config, &s), ACUITY_OK);
-  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK);
-  EXPECT_EQ(acuity_make_tables(s, p, &none), ACUITY_INVALID_ARGUMENT);  // exact evaluation: none
-  acuity_destroy(s);
+  const Spiral one(f, 1);
+  DeferredSpiral exactly(f, one, exact_config);
+  EXPECT_EQ(acuity_make_tables(exactly.s, exactly.p, &none),
+            ACUITY_INVALID_ARGUMENT);  // exact evaluation: none
 }
 
 // A deferred profile's tables made one view at a time, those acuity_wanted_tables lists (two at a
@@ -344,23 +356,14 @@ TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
   acuity_config c;
   acuity_config_default(&c);
   const auto tabulated = spiral.levels(c);
-  c.max_objects = spiral.n;
-  acuity_scheduler* s = nullptr;
-  ASSERT_EQ(acuity_create(&c, &s), ACUITY_OK);
-  int32_t p = -1;
-  ASSERT_EQ(acuity_load_profile_deferred(s, f.blob.data(), f.blob.size, &p), ACUITY_OK);
-  std::vector<uint32_t> ids(spiral.n);
-  acuity_eye eye;
-  acuity_eye_default(&eye);
-  eye.gaze_valid = 1;
-  std::vector<uint8_t> levels(spiral.n);
-  EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
-                               spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
-            ACUITY_OK);
-  EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
+  DeferredSpiral d(f, spiral, c);
+  acuity_scheduler* s = d.s;
+  const int32_t p = d.p;
+  ASSERT_GE(p, 0);
+  d.levels_of_fresh_objects();  // their views wanted (removed objects' wants kept)
   int32_t profiles[2];
   uint32_t views[2], count = 99, listed = 0;
-  EXPECT_EQ(acuity_begin_frame(s, &eye, 1, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_begin_frame(s, &d.eye, 1, 1 / 90.0f), ACUITY_OK);
   EXPECT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_INVALID_ARGUMENT);  // in a frame
   EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
   EXPECT_EQ(acuity_wanted_tables(s, nullptr, views, 2, &count), ACUITY_INVALID_ARGUMENT);
@@ -382,20 +385,13 @@ TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
   }
   EXPECT_GT(listed, 0u);
   // The same objects again, fresh (they take their level at once), now through their views' tables.
-  EXPECT_EQ(acuity_remove_objects(s, spiral.n, ids.data()), ACUITY_OK);
-  EXPECT_EQ(acuity_add_objects(s, spiral.n, spiral.profiles.data(), spiral.positions.data(), 0,
-                               spiral.rotations.data(), 0, spiral.scales.data(), ids.data()),
-            ACUITY_OK);
-  EXPECT_EQ(frame(s, eye, 1 / 90.0f), ACUITY_OK);
-  EXPECT_EQ(acuity_get_levels(s, spiral.n, ids.data(), levels.data(), nullptr), ACUITY_OK);
-  EXPECT_EQ(levels, tabulated);
+  EXPECT_EQ(d.levels_of_fresh_objects(), tabulated);
   EXPECT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_OK);
   EXPECT_EQ(count, 0u);
   acuity_tables* none = nullptr;
   EXPECT_EQ(acuity_make_view_tables(s, p, 1u << 31, &none), ACUITY_INVALID_ARGUMENT);  // no such view
   EXPECT_NE(std::string(acuity_last_error()).find("view"), std::string::npos);
   EXPECT_EQ(none, nullptr);
-  acuity_destroy(s);
 }
 
 // The version-4 field: objects of a tabulated bias read its tables, as a C++ scheduler configured the
