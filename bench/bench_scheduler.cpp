@@ -13,6 +13,7 @@
 #include <cmath>
 #include <ctime>
 #include <memory>
+#include <numbers>
 #include <random>
 #include <thread>
 #include <vector>
@@ -486,6 +487,66 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation, Loading load
   state.counters["profiles_MiB"] = double(profile_bytes) / (1 << 20);
 }
 
+// A walk through a scene of state.range(0) distinct assets (SceneAssets: 32-view profiles, added
+// deferred, hysteresis margin 0.2) scattered over a disc of 30 m radius: the eye walks once round a
+// circle of 15 m radius among them in 720 frames (8 s at 90 Hz), looking along its path. After each
+// frame the views wanted are made and installed on this thread, and every 90 frames (a second)
+// drop_idle_tables(90) frees the views not read in the last second. Counters per asset: views made
+// (some again, after a drop), the most KiB of tables held at once (held_KiB) and what the tables of
+// every view seen would hold, had none been dropped (seen_KiB).
+void BM_scene_walk(benchmark::State& state) {
+  const auto n = static_cast<int>(state.range(0));
+  const SceneAssets assets(n);
+  std::size_t made = 0, peak = 0, seen_bytes = 0;
+  for (auto _ : state) {
+    SchedulerConfig c;
+    c.max_objects = static_cast<std::uint32_t>(n);
+    c.max_profiles = static_cast<std::uint32_t>(n);
+    c.hysteresis_margin = 0.2f;
+    Scheduler s(c);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < n; ++i) {
+      ObjectTransform t;
+      const double r = 30 * std::sqrt(u(rng)), a = 2 * std::numbers::pi * u(rng);
+      t.position[0] = r * std::cos(a);
+      t.position[2] = r * std::sin(a);
+      s.add_object(s.add_profile_deferred(assets.profiles[std::size_t(i)]), t);
+    }
+    std::vector<std::uint8_t> seen(std::size_t(n) * 32, 0);  // [asset][view]: made at least once
+    std::vector<TablesWanted> wanted(256);
+    made = peak = seen_bytes = 0;
+    Frame f;
+    f.gaze[0].valid = true;
+    f.dt = 1.0f / 90;
+    for (int frame = 0; frame < 720; ++frame) {
+      const double a = 2 * std::numbers::pi * frame / 720, yaw = std::numbers::pi - a;
+      f.eyes[0].position[0] = 15 * std::cos(a);
+      f.eyes[0].position[1] = 1.6;
+      f.eyes[0].position[2] = 15 * std::sin(a);
+      f.eyes[0].orientation[1] = static_cast<float>(std::sin(yaw / 2));
+      f.eyes[0].orientation[3] = static_cast<float>(std::cos(yaw / 2));
+      s.run_frame(f);
+      for (std::uint32_t got; (got = s.wanted_tables(wanted)) > 0;)
+        for (std::uint32_t i = 0; i < got; ++i) {
+          ProfileTables t = s.make_tables(wanted[i].profile, int(wanted[i].view));
+          std::uint8_t& first = seen[std::size_t(wanted[i].profile) * 32 + wanted[i].view];
+          seen_bytes += first ? 0 : t.bytes();
+          first = 1;
+          s.install_tables(wanted[i].profile, std::move(t));
+          ++made;
+        }
+      if (frame % 90 == 89) s.drop_idle_tables(90);
+      std::size_t held = 0;
+      for (int i = 0; i < n; ++i) held += s.table_bytes(i);
+      peak = std::max(peak, held);
+    }
+  }
+  state.counters["views_made"] = double(made) / n;
+  state.counters["held_KiB"] = double(peak) / 1024 / n;
+  state.counters["seen_KiB"] = double(seen_bytes) / 1024 / n;
+}
+
 // Cluster cuts (Scheduler::select_cut): range(0) objects, each a made-up hierarchy of 63 groups (32
 // groups of 4 finest clusters of 64 triangles along the object's x axis, each made into 2 clusters;
 // pairs of groups grouped again, up to 2 roots), errors doubling per level, a stand-in loss growing
@@ -694,6 +755,7 @@ BENCHMARK_CAPTURE(BM_scene_ready, views, Evaluation::Tabulated, Loading::Views)
     ->Arg(2000)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
+BENCHMARK(BM_scene_walk)->Arg(200)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK_CAPTURE(BM_add_profile, tabulated, Evaluation::Tabulated)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_add_profile, tabulated_plain, Evaluation::Tabulated, true)
     ->Unit(benchmark::kMillisecond);

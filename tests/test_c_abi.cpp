@@ -97,7 +97,7 @@ TEST(CAbi, ConfigDefaultsAreTheCppDefaults) {
   EXPECT_EQ(c.params.e2, d.params.e2);
   EXPECT_EQ(c.params.csf_fit, unsigned(d.params.fit));
   EXPECT_EQ(c.reserved, 0u);
-  EXPECT_EQ(ACUITY_C_API_VERSION, 10);
+  EXPECT_EQ(ACUITY_C_API_VERSION, 11);
 }
 
 TEST(CAbi, StructSizeGrowthRule) {
@@ -349,7 +349,8 @@ TEST(CAbi, DeferredTablesDecideExactlyUntilInstalled) {
 
 // A deferred profile's tables made one view at a time, those acuity_wanted_tables lists (two at a
 // call here, so the list continues across calls): after one frame's views are installed, the same
-// objects decide as with every table; nothing more is wanted then.
+// objects decide as with every table; nothing more is wanted then. acuity_drop_idle_tables frees
+// them again (the objects decide as before, their views listed again).
 TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
   Fixture f;
   const Spiral spiral(f, 3000);
@@ -360,7 +361,7 @@ TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
   acuity_scheduler* s = d.s;
   const int32_t p = d.p;
   ASSERT_GE(p, 0);
-  d.levels_of_fresh_objects();  // their views wanted (removed objects' wants kept)
+  const auto exactly = d.levels_of_fresh_objects();  // their views wanted (removed objects' wants kept)
   int32_t profiles[2];
   uint32_t views[2], count = 99, listed = 0;
   EXPECT_EQ(acuity_begin_frame(s, &d.eye, 1, 1 / 90.0f), ACUITY_OK);
@@ -392,6 +393,25 @@ TEST(CAbi, ViewTablesMadeAsWantedDecideAsAllTables) {
   EXPECT_EQ(acuity_make_view_tables(s, p, 1u << 31, &none), ACUITY_INVALID_ARGUMENT);  // no such view
   EXPECT_NE(std::string(acuity_last_error()).find("view"), std::string::npos);
   EXPECT_EQ(none, nullptr);
+  // Every view dropped: the objects decide as before their tables, and their views are listed again.
+  size_t freed = 0;
+  EXPECT_EQ(acuity_begin_frame(s, &d.eye, 1, 1 / 90.0f), ACUITY_OK);
+  EXPECT_EQ(acuity_drop_idle_tables(s, 0, &freed), ACUITY_INVALID_ARGUMENT);  // in a frame
+  EXPECT_EQ(acuity_end_frame(s), ACUITY_OK);
+  EXPECT_EQ(acuity_drop_idle_tables(nullptr, 0, &freed), ACUITY_INVALID_ARGUMENT);
+  EXPECT_EQ(acuity_drop_idle_tables(s, 100, &freed), ACUITY_OK);  // read within 100 frames: kept
+  EXPECT_EQ(freed, 0u);
+  EXPECT_EQ(acuity_drop_idle_tables(s, 0, &freed), ACUITY_OK);
+  EXPECT_GT(freed, 0u);
+  EXPECT_EQ(acuity_drop_idle_tables(s, 0, nullptr), ACUITY_OK);
+  EXPECT_EQ(d.levels_of_fresh_objects(), exactly);
+  uint32_t again = 0;
+  for (;;) {
+    ASSERT_EQ(acuity_wanted_tables(s, profiles, views, 2, &count), ACUITY_OK);
+    if (count == 0) break;
+    again += count;
+  }
+  EXPECT_EQ(again, listed);
 }
 
 // The version-4 field: objects of a tabulated bias read its tables, as a C++ scheduler configured the

@@ -1794,6 +1794,151 @@ TEST(SchedulerDeferred, MakesTheTablesOfTheViewsObjectsAreSeenFrom) {
   }
 }
 
+// Tables of views no longer read are dropped (drop_idle_tables): fresh objects ahead of the eye, all
+// turned one way (one view seen), then the other, then back. After each frame the views wanted are
+// made and installed and those not read for 3 frames dropped: the bytes held are exactly the views a
+// model of "last read" keeps, each object decides as the built scheduler where its view is held and as
+// the exact one where not, and a dropped view seen again is listed again. Objects whose memos decide
+// without reading a table keep their view; drop_idle_tables(0) drops every view; a profile added
+// with every view keeps its bounds over every view.
+TEST(SchedulerDeferred, DropsTheTablesOfViewsNoLongerRead) {
+  const TestProfile profile(6, 8, 8, 0.5f, 0.6f);
+  SchedulerConfig c;
+  c.max_objects = 120;
+  c.hysteresis_margin = 0.25f;
+  SchedulerConfig exact_config = c;
+  exact_config.evaluation = Evaluation::Exact;
+  const std::uint32_t V = profile.profile.meta.view_count;
+  Rng rng(47);
+  const float half = std::sqrt(0.5f);
+  const float turns[2][4] = {{0, 0, 0, 1}, {0, half, 0, half}};  // the two ways: 90 deg apart about y
+  std::vector<ObjectTransform> ahead(c.max_objects);
+  for (ObjectTransform& t : ahead) {
+    const double d = rng.uniform(2.0f, 40.0f);
+    t.position[0] = d * rng.uniform(-0.3f, 0.3f);
+    t.position[1] = d * rng.uniform(-0.3f, 0.3f);
+    t.position[2] = -d;
+  }
+  const auto place = [&](Scheduler& s, int p, const float* turn, std::size_t count = SIZE_MAX) {
+    for (std::size_t i = 0; i < std::min(count, ahead.size()); ++i) {
+      ObjectTransform t = ahead[i];
+      std::copy(turn, turn + 4, t.rotation);
+      s.add_object(p, t);
+    }
+  };
+  const auto clear = [&](Scheduler& s) {
+    for (ObjectId id = 0; id < c.max_objects; ++id) s.remove_object(id);
+  };
+  Frame fr = looking_forward();
+  gaze_at(fr, 0.1, 0.0, -1);
+  {
+    SCOPED_TRACE("fresh objects");
+    Scheduler built(c), exact(exact_config), lazy(c);
+    for (Scheduler* s : {&built, &exact}) s->add_profile(profile.profile);
+    lazy.add_profile_deferred(profile.profile);
+    const std::size_t per_view = lazy.make_tables(0, 0).bytes();
+    ASSERT_GT(per_view, 0u);
+    constexpr std::uint32_t kIdle = 3;
+    std::vector<std::int64_t> last_read(V, -1);  // frame (1, 2, ...) a held view was last read; -1: not held
+    std::vector<int> listings(V, 0);
+    int exactly = 0, through_tables = 0;
+    for (std::uint32_t frame = 1; frame <= 20; ++frame) {
+      const int way = frame <= 6 || frame > 14 ? 0 : 1;
+      for (Scheduler* s : {&built, &exact, &lazy}) place(*s, 0, turns[way]);
+      for (Scheduler* s : {&built, &exact, &lazy}) s->run_frame(fr);
+      for (ObjectId id = 0; id < c.max_objects; ++id) {
+        ObjectExplain ex;
+        ASSERT_TRUE(exact.explain(id, &ex));
+        const bool held = last_read[ex.view] >= 0;
+        EXPECT_EQ(lazy.level(id), (held ? built : exact).level(id)) << "frame " << frame << " object " << id;
+        (held ? through_tables : exactly) += 1;
+        if (held) last_read[ex.view] = frame;
+      }
+      for (Scheduler* s : {&built, &exact, &lazy}) clear(*s);
+      TablesWanted wanted[4];
+      for (std::uint32_t n; (n = lazy.wanted_tables(wanted)) > 0;)
+        for (std::uint32_t i = 0; i < n; ++i) {
+          ASSERT_EQ(last_read[wanted[i].view], -1) << "listed while held: " << wanted[i].view;
+          ++listings[wanted[i].view];
+          EXPECT_TRUE(lazy.install_tables(0, lazy.make_tables(0, int(wanted[i].view))));
+          last_read[wanted[i].view] = frame;
+        }
+      std::size_t dropped = 0, held = 0;
+      for (std::int64_t& r : last_read) {
+        if (r >= 0 && frame - r >= kIdle) {
+          r = -1;
+          ++dropped;
+        }
+        held += r >= 0;
+      }
+      EXPECT_EQ(lazy.drop_idle_tables(kIdle), dropped * per_view) << "frame " << frame;
+      EXPECT_EQ(lazy.table_bytes(0), held * per_view) << "frame " << frame;
+    }
+    int listed_twice = 0, listed = 0;
+    for (std::uint32_t v = 0; v < V; ++v) {
+      listed += listings[v] > 0;
+      listed_twice += listings[v] > 1;
+    }
+    EXPECT_EQ(listed, 2) << "one view per way";
+    EXPECT_EQ(listed_twice, 1) << "the first way's view, dropped and seen again";
+    EXPECT_GT(exactly, 0);
+    EXPECT_GT(through_tables, 3 * exactly);
+  }
+  {
+    SCOPED_TRACE("objects decided by their memos");
+    Scheduler built(c), lazy(c);
+    built.add_profile(profile.profile);
+    lazy.add_profile_deferred(profile.profile);
+    place(built, 0, turns[0], 3);  // few, so that in some frames all are at rest or held
+    place(lazy, 0, turns[0], 3);
+    std::size_t per_view = 0;
+    for (int frame = 0; frame < 300; ++frame) {  // a still scene: memos held, reading no table, decide
+      built.run_frame(fr);
+      if (frame == 0) {  // the view the objects are seen from, before lazy's first frame
+        ObjectExplain ex;
+        ASSERT_TRUE(built.explain(0, &ex));
+        ASSERT_TRUE(lazy.install_tables(0, lazy.make_tables(0, int(ex.view))));
+        per_view = lazy.table_bytes(0);
+      }
+      lazy.run_frame(fr);
+      for (ObjectId id = 0; id < 3; ++id)
+        ASSERT_EQ(lazy.level(id), built.level(id)) << "frame " << frame << " object " << id;
+      ASSERT_EQ(lazy.drop_idle_tables(1), 0u) << "frame " << frame;
+    }
+    EXPECT_EQ(lazy.table_bytes(0), per_view);
+    EXPECT_EQ(lazy.drop_idle_tables(0), per_view);
+    EXPECT_EQ(lazy.table_bytes(0), 0u);
+    EXPECT_EQ(lazy.drop_idle_tables(0), 0u);
+  }
+  {
+    SCOPED_TRACE("a profile added with every view");
+    Scheduler built(c), exact(exact_config), dropped(c);
+    for (Scheduler* s : {&built, &exact, &dropped}) s->add_profile(profile.profile);
+    const std::size_t all = dropped.table_bytes(0), per_view = dropped.make_tables(0, 0).bytes();
+    const std::size_t any_view = all - V * per_view;  // the bounds over every view stay
+    ASSERT_GT(any_view, 0u);
+    EXPECT_EQ(dropped.drop_idle_tables(0), V * per_view);
+    EXPECT_EQ(dropped.table_bytes(0), any_view);
+    for (Scheduler* s : {&built, &exact, &dropped}) place(*s, 0, turns[1]);
+    for (Scheduler* s : {&built, &exact, &dropped}) s->run_frame(fr);
+    int as_built = 0;
+    for (ObjectId id = 0; id < c.max_objects; ++id) {
+      const int level = dropped.level(id);
+      EXPECT_TRUE(level == built.level(id) || level == exact.level(id)) << "object " << id;
+      as_built += level == built.level(id);
+    }
+    TablesWanted wanted[4];
+    const std::uint32_t n = dropped.wanted_tables(wanted);
+    EXPECT_LE(n, 1u);  // the view the objects are seen from, if the bounds left one undecided
+    for (std::uint32_t i = 0; i < n; ++i)
+      EXPECT_TRUE(dropped.install_tables(0, dropped.make_tables(0, int(wanted[i].view))));
+    EXPECT_EQ(dropped.table_bytes(0), any_view + n * per_view)
+        << "any_view " << any_view << " per view " << per_view << " n " << n;
+    std::printf("a profile's views dropped: %d of %u objects decided as with every view\n", as_built,
+                c.max_objects);
+  }
+}
+
 // A decision over whole cells (over every view, or through the object's view) is remembered per object
 // and eye with the inputs it stands under, and reused while they hold. Objects that stay, approach or
 // recede (their size and bands shown change, their velocity given as 0), drift sideways and stop,

@@ -108,8 +108,10 @@ export class Scheduler {
   /** Builds and installs a deferred profile's tables, between frames: of every view (a tenth of a
    *  second or more), or of one view (about 1/(view count) of that). */
   buildTables(profile: number, view?: number): void;
-  /** Between frames: the views objects were seen from without their tables, each listed once. */
+  /** Between frames: the views objects were seen from without their tables, each listed once until dropped. */
   wantedTables(capacity?: number): { profile: number; view: number }[];
+  /** Between frames: frees the tables of views no object read in the last `frames` frames (0: all); returns the bytes freed. */
+  dropIdleTables(frames: number): number;
   /** profiles n, positions 3n [m], rotations 4n (x y z w), scales n or null (1); returns the ids. */
   addObjects(profiles: Int32Array, positions: Float64Array, rotations: Float32Array, scales?: Float32Array | null): Uint32Array;
   removeObjects(ids: Uint32Array): void;

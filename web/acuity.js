@@ -259,6 +259,15 @@ export class Scheduler {
     return out;
   }
 
+  // Between frames: frees the tables of the views no object has read in the last `frames` frames
+  // (0: all); their objects decide exactly until wantedTables() lists them again. Returns the bytes
+  // freed. Every few seconds, not every frame (it reallocates what it keeps).
+  dropIdleTables(frames) {
+    const [freed] = this.stage([], [new Uint32Array(1)]);
+    this.a.check(this.m._acuity_drop_idle_tables(this.s, frames, freed), 'acuity_drop_idle_tables');
+    return this.m.HEAPU32[freed >> 2];
+  }
+
   // profiles: Int32Array n; positions: Float64Array 3n; rotations: Float32Array 4n (x y z w);
   // scales: Float32Array n or null (1). Returns the ids (Uint32Array n).
   addObjects(profiles, positions, rotations, scales = null) {

@@ -48,8 +48,9 @@ extern "C" {
  * acuity_cut_result.budget_coarsened and budget_forced (ACUITY_CUT_RESULT_SIZE_V9).
  * Version 10 added deferred tables: acuity_load_profile_deferred and acuity_tables
  * (acuity_make_tables, acuity_make_view_tables, acuity_install_tables, acuity_tables_destroy,
- * acuity_wanted_tables). */
-#define ACUITY_C_API_VERSION 10
+ * acuity_wanted_tables).
+ * Version 11 added acuity_drop_idle_tables. */
+#define ACUITY_C_API_VERSION 11
 
 typedef struct acuity_scheduler acuity_scheduler;
 
@@ -297,6 +298,13 @@ acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity
  * call between acuity_begin_frame and acuity_end_frame. */
 acuity_status acuity_wanted_tables(acuity_scheduler* s, int32_t* profiles, uint32_t* views, uint32_t capacity,
                                    uint32_t* count);
+/* Outside a frame: frees the tables of every view (any profile's) that no object has read in the
+ * last `frames` frames (its tables, or a remembered decision made from them; installing counts as a
+ * read; 0 frees all). Their objects decide exactly again, and acuity_wanted_tables lists such a view
+ * again when one is seen from it. *freed (may be null) receives the bytes freed. It reallocates the
+ * tables kept: call it every few seconds, not every frame. INVALID_ARGUMENT: null s, or a call
+ * between acuity_begin_frame and acuity_end_frame. */
+acuity_status acuity_drop_idle_tables(acuity_scheduler* s, uint32_t frames, size_t* freed);
 /* Frees tables not installed. Null: no-op. */
 void acuity_tables_destroy(acuity_tables* tables);
 

@@ -453,6 +453,18 @@ acuity_status acuity_install_tables(acuity_scheduler* s, int32_t profile, acuity
   });
 }
 
+acuity_status acuity_drop_idle_tables(acuity_scheduler* s, uint32_t frames, size_t* freed) {
+  return guarded([&] {
+    if (!s) return fail(ACUITY_INVALID_ARGUMENT, "acuity_drop_idle_tables: null scheduler");
+    if (s->in_frame)
+      return fail(ACUITY_INVALID_ARGUMENT,
+                  "acuity_drop_idle_tables: called between begin_frame and end_frame");
+    const std::size_t bytes = s->scheduler.drop_idle_tables(frames);
+    if (freed) *freed = bytes;
+    return ACUITY_OK;
+  });
+}
+
 void acuity_tables_destroy(acuity_tables* tables) { delete tables; }
 
 acuity_status acuity_add_objects(acuity_scheduler* s, uint32_t count, const int32_t* profiles,

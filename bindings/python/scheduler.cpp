@@ -443,7 +443,15 @@ void bind_scheduler(py::module_ m) {
             return out;
           },
           "Between frames: [(profile_id, view)], the views objects were seen from without their tables\n"
-          "since the last call (each listed once): make_tables(profile_id, view), then install_tables.")
+          "since the last call (each listed once until dropped): make_tables(profile_id, view), then\n"
+          "install_tables.")
+      .def(
+          "drop_idle_tables",
+          [](PyScheduler& s, std::uint32_t frames) { return s.scheduler.drop_idle_tables(frames); },
+          "frames"_a,
+          "Between frames: frees the tables of the views no object has read in the last `frames`\n"
+          "frames (0: all); their objects decide exactly until wanted_tables() lists them again.\n"
+          "Returns the bytes freed. Every few seconds, not every frame (it reallocates what it keeps).")
       .def(
           "install_tables",
           [](PyScheduler& s, int profile, ProfileTables& tables) {

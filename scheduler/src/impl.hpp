@@ -29,6 +29,7 @@ struct Scheduler::Impl {
   bool make_tables(int profile, int view, ProfileTableSets* out) const;
   bool install_tables(int profile, ProfileTableSets* sets);
   std::uint32_t wanted_tables(std::span<TablesWanted> out);
+  std::size_t drop_idle_tables(std::uint32_t frames);
   void note_want(ObjectId id);  // an object's want_ into its profile's ProfileCache::wanted
   std::size_t table_bytes(int profile) const;
   static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);

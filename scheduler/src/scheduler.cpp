@@ -219,6 +219,7 @@ int Scheduler::Impl::add_profile(const Profile& p, bool tables) {
   }
   c.slot.assign(V, ProfileCache::kNoRow);
   c.wanted.assign(V, 0);
+  c.read_frame = std::make_unique<std::atomic<std::uint32_t>[]>(V);
   if (curves_ && tables) {
     ProfileTableSets sets;
     build_tables(c, &sets, 0, V);
@@ -423,6 +424,7 @@ ProfileTables::ProfileTables(ProfileTables&&) noexcept = default;
 ProfileTables& ProfileTables::operator=(ProfileTables&&) noexcept = default;
 std::size_t ProfileTables::bytes() const { return data_ ? data_->tables.bytes() : 0; }
 std::uint32_t Scheduler::wanted_tables(std::span<TablesWanted> out) { return impl_->wanted_tables(out); }
+std::size_t Scheduler::drop_idle_tables(std::uint32_t frames) { return impl_->drop_idle_tables(frames); }
 ObjectId Scheduler::add_object(int profile, const ObjectTransform& transform) {
   return impl_->add_object(profile, transform);
 }

@@ -2,6 +2,9 @@
 // The tabulated path's tables (scheduler/src only): the grid over eccentricity and speed, the
 // entries' encoding, where a decision stands (Stand), a profile's tables (ProfileCache) and one
 // object's place in them (Probe).
+#include <atomic>
+#include <memory>
+
 #include "geometry.hpp"
 
 namespace acuity::internal {
@@ -198,7 +201,8 @@ struct Scheduler::Impl::ProfileTableSets {
   Tables sets[kTableSets];
   // The profile's views whose tables these hold, in the order of their rows (V in the layouts above
   // counts these): every view, or those made one at a time (make_tables(p, view)). any_view is made
-  // only with every view.
+  // only with every view, and kept when some are dropped (a bound over every view's tables, which
+  // never change once built).
   std::vector<std::uint16_t> views;
   std::size_t bytes() const {
     std::size_t n = 0;
@@ -221,15 +225,25 @@ struct Scheduler::Impl::ProfileCache {
   std::vector<float> cos_t, sin_t;        // [T] orientation unit vectors in the snapshot plane
   std::vector<float> view_right;          // [V][3] snapshot right = -direction x up, object space
   // Tabulated path: the tables (ProfileTableSets), built by add_profile or installed a view or all
-  // at a time; slot[v]: the row of view v in them (kNoRow: not made, its objects decide exactly).
+  // at a time, less those dropped (drop_idle_tables()); slot[v]: the row of view v in them (kNoRow:
+  // not held, its objects decide exactly).
   ProfileTableSets tables;
   static constexpr std::uint16_t kNoRow = 0xffff;
   std::vector<std::uint16_t> slot;  // [V]
   // [V]: kWanted once an object was seen from the view without its tables, kListed once
-  // wanted_tables() has listed it.
+  // wanted_tables() has listed it (0 again when its tables are dropped).
   static constexpr std::uint8_t kWanted = 1, kListed = 2;
   std::vector<std::uint8_t> wanted;
+  // [V]: the frame (Impl::frame_) in which an object last read view v's tables or a memo made from
+  // them (tabulate_views(), on any range's thread), or they were installed: drop_idle_tables()
+  // drops views not read for long.
+  std::unique_ptr<std::atomic<std::uint32_t>[]> read_frame;
+  void note_read(std::uint32_t v, std::uint32_t frame) const {
+    std::atomic<std::uint32_t>& at = read_frame[v];
+    if (at.load(std::memory_order_relaxed) != frame) at.store(frame, std::memory_order_relaxed);
+  }
   bool every_view() const { return tables.views.size() == slot.size(); }
+  bool has_any_view() const { return !tables.sets[0].any_view.empty(); }
 };
 
 // What Scheduler::make_tables() hands to install_tables(): the tables, and for which scheduler

@@ -1,5 +1,6 @@
 // Building the tabulated path's tables of one profile (add_profile) and their size.
 #include "curves.hpp"
+#include "memory.hpp"
 
 namespace acuity {
 
@@ -428,6 +429,58 @@ std::uint32_t Scheduler::Impl::wanted_tables(std::span<TablesWanted> out) {
   return n;
 }
 
+std::size_t Scheduler::Impl::drop_idle_tables(std::uint32_t frames) {
+  // A view that an object's remembered decision stands on counts as read now: in a still scene the
+  // memos and rests decide without reading a table, and would want their views again as they end.
+  for (std::uint32_t e = 0; memos_ && e < 2; ++e) {
+    const Memo& m = memos_[e];
+    for (ObjectId id = 0; id < config_.max_objects; ++id) {
+      if (profile_of_[id] < 0 || m.key[id] == Memo::kNone || !(m.key[id] & Memo::kThroughView)) continue;
+      const ProfileCache& c = profiles_[profile_of_[id]];
+      const std::uint32_t where = m.view_key[id] >> 8;  // the view (Max3: the lookup cell)
+      if (config_.view_blend == ViewBlend::Max3)
+        for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
+          c.note_read(c.profile.lookup[where * kLookupCandidates + k], frame_);
+      else
+        c.note_read(where, frame_);
+    }
+  }
+  std::size_t freed = 0;
+  for (std::uint32_t p = 0; p < profile_count_; ++p) {
+    ProfileCache& c = profiles_[p];
+    ProfileTableSets& t = c.tables;
+    const std::size_t rows = t.views.size(), before = t.bytes();
+    std::size_t kept = 0;  // rows kept so far, moved down in place over those dropped
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::uint16_t v = t.views[r];
+      if (frame_ - c.read_frame[v].load(std::memory_order_relaxed) >= frames) {
+        c.slot[v] = ProfileCache::kNoRow;
+        c.wanted[v] = 0;  // may be wanted and listed again
+        continue;
+      }
+      if (kept != r)
+        for (ProfileTableSets::Tables& set : t.sets)
+          for (std::vector<std::int16_t>* table : {&set.still, &set.slow, &set.moving}) {
+            const std::size_t row = table->size() / rows;  // a view's entries are contiguous
+            std::copy_n(table->begin() + std::ptrdiff_t(r * row), row,
+                        table->begin() + std::ptrdiff_t(kept * row));
+          }
+      t.views[kept] = v;
+      c.slot[v] = static_cast<std::uint16_t>(kept++);
+    }
+    if (kept == rows) continue;
+    for (ProfileTableSets::Tables& set : t.sets)
+      for (std::vector<std::int16_t>* table : {&set.still, &set.slow, &set.moving}) {
+        table->resize(table->size() / rows * kept);
+        table->shrink_to_fit();
+      }
+    t.views.resize(kept);
+    t.views.shrink_to_fit();
+    freed += before - t.bytes();
+  }
+  return freed;
+}
+
 bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
   if (!curves_ || profile < 0 || profile >= static_cast<int>(profile_count_) || sets->views.empty())
     return false;
@@ -442,8 +495,16 @@ bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
 // are contiguous: its layout's outermost index); with the last view, the bounds over every view.
 void Scheduler::Impl::take_tables(ProfileCache& c, ProfileTableSets* sets) const {
   const std::size_t had = c.tables.views.size(), added = sets->views.size();
-  if (had == 0) {
-    c.tables = std::move(*sets);
+  if (had == 0) {  // the bounds over every view stay if a drop left them (sets has them only with every view)
+    for (std::uint32_t set = 0; set < kTableSets; ++set) {
+      ProfileTableSets::Tables& to = c.tables.sets[set];
+      ProfileTableSets::Tables& from = sets->sets[set];
+      to.still = std::move(from.still);
+      to.slow = std::move(from.slow);
+      to.moving = std::move(from.moving);
+      if (!from.any_view.empty()) to.any_view = std::move(from.any_view);
+    }
+    c.tables.views = std::move(sets->views);
   } else {
     const auto append = [&](std::vector<std::int16_t>& to, const std::vector<std::int16_t>& from) {
       to.reserve(to.size() + from.size());  // exactly: table_bytes() counts sizes
@@ -456,7 +517,10 @@ void Scheduler::Impl::take_tables(ProfileCache& c, ProfileTableSets* sets) const
     }
     c.tables.views.insert(c.tables.views.end(), sets->views.begin(), sets->views.end());
   }
-  for (std::size_t r = had; r < had + added; ++r) c.slot[c.tables.views[r]] = static_cast<std::uint16_t>(r);
+  for (std::size_t r = had; r < had + added; ++r) {
+    c.slot[c.tables.views[r]] = static_cast<std::uint16_t>(r);
+    c.note_read(c.tables.views[r], frame_);  // installed: read from now on (not idle yet)
+  }
   if (c.every_view() && c.tables.sets[0].any_view.empty() && c.profile.meta.level_count > 1)
     for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set)
       if (set % 2 < static_cast<std::uint32_t>(margin_sets(config_))) build_any_view(c, &c.tables, set);

@@ -331,9 +331,9 @@ void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, st
     }
     todo[j] = 1;
     tables[j] = static_cast<std::uint8_t>(2 * bias_tables_[id]);
-    if (scores) continue;                    // every level's score: the view's tables
-    if (view_memo[j] || !pc.every_view()) {  // its memo through the view decides if the view and
-      ACUITY_PREFETCH(&memo.view_key[id]);   // cells are the same; no bounds over every view yet
+    if (scores) continue;                      // every level's score: the view's tables
+    if (view_memo[j] || !pc.has_any_view()) {  // its memo through the view decides if the view and
+      ACUITY_PREFETCH(&memo.view_key[id]);     // cells are the same; no bounds over every view yet
       ACUITY_PREFETCH(&memo.speed_key[id]);
       continue;
     }
@@ -445,6 +445,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
     o.where = max3 ? static_cast<std::uint32_t>((cand[j] - p.lookup) / kLookupCandidates) : view;
     o.nearest = view;
+    for (std::uint32_t c = 0; c < o.view_count; ++c) pc.note_read(max3 ? cand[j][c] : view, frame_);
     o.slip = slip;
     o.decided = o.at_place = false;
     const std::uint32_t T = p.meta.orientation_count;

@@ -278,7 +278,7 @@ TEST(Osg, DrawnLevelsAreTheSchedulersForARecordedPath) {
 // A deferred profile: its objects decide exactly (as a scheduler evaluating exactly, given the same
 // frames) until make_wanted_tables() makes the views they were seen from, one at the first call;
 // then, once settled (a still head), as a scheduler with every table, while the kit holds only
-// those views' tables.
+// those views' tables; drop_idle_tables frees them.
 TEST(Osg, ADeferredProfileGetsTheTablesOfTheViewsItsObjectsAreSeenFrom) {
   World w(12, 0.0f, false, 1, true);
   acuity::SchedulerConfig exact_config = w.config;
@@ -310,6 +310,16 @@ TEST(Osg, ADeferredProfileGetsTheTablesOfTheViewsItsObjectsAreSeenFrom) {
     }
   }
   EXPECT_EQ(w.kit->make_wanted_tables(4), 0u);
+  // Dropped: kept while read lately; with 0 every view goes, and the settled objects' remembered
+  // decisions (made from those tables) still stand.
+  const std::size_t held = w.kit->scheduler().table_bytes(0);
+  EXPECT_EQ(w.kit->drop_idle_tables(1000), 0u);
+  EXPECT_EQ(w.kit->drop_idle_tables(0), held);
+  EXPECT_EQ(w.kit->scheduler().table_bytes(0), 0u);
+  w.viewer.frame(frames / kFps);
+  built.run_frame(w.kit->frame());
+  for (std::uint32_t i = 0; i < 12; ++i)
+    EXPECT_EQ(w.nodes[i]->drawn().level, built.level(w.nodes[i]->id())) << "object " << i;
 }
 
 TEST(Osg, TwoSlaveCamerasAreTwoEyes) {

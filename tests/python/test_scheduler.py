@@ -301,7 +301,7 @@ def test_deferred_tables_made_on_worker_threads():
 def test_view_tables_made_as_wanted():
     """A deferred profile's tables made one view at a time, those wanted_tables() lists: the objects
     decide exactly until then, and as with every table after; each view is listed once, and the
-    tables held are those views' (fewer bytes than every view's)."""
+    tables held are those views' (fewer bytes than every view's). drop_idle_tables frees them."""
     # Unturned objects ahead: a few of the profile's views are seen.
     scene = FreshObjects(8, 1500, [acuity.Profile.from_bytes(make_profile(levels=5))])
     scheduler, levels = scene.scheduler, scene.levels
@@ -320,6 +320,13 @@ def test_view_tables_made_as_wanted():
         lazy.install_tables(0, one_view)
     with pytest.raises(ValueError, match="view 99"):
         lazy.make_tables(0, 99)
+    # Dropped when idle: kept while read within the frames given; with 0 all go, the objects decide
+    # exactly again and their views are listed again.
+    held = lazy.table_bytes(0)
+    assert lazy.drop_idle_tables(1000) == 0 and lazy.table_bytes(0) == held
+    assert lazy.drop_idle_tables(0) == held and lazy.table_bytes(0) == 0
+    assert np.array_equal(levels(lazy), levels(exact))
+    assert sorted(lazy.wanted_tables()) == sorted(wanted)
 
 
 @pytest.mark.parametrize("hz", [72, 90, 120])

@@ -180,6 +180,12 @@ for (const hz of [72, 120]) {
   assert.deepEqual(levelsOf(lazy), want);
   assert.deepEqual(lazy.wantedTables(), []);
   throwsAcuity(() => lazy.buildTables(0, 4096), 1, /^acuity_make_view_tables: profile 0 view 4096/);
+  // Dropped when idle (C ABI 11): kept while read lately; with 0 all go, the objects decide exactly
+  // again and their views are listed again.
+  assert.equal(lazy.dropIdleTables(1000), 0);
+  assert.ok(lazy.dropIdleTables(0) > 0);
+  assert.deepEqual(levelsOf(lazy), wantExact);
+  assert.deepEqual(new Set(lazy.wantedTables().map(w => w.view)), seen);
   for (const t of [built, exact, deferred, lazy]) t.destroy();
 }
 // Views beyond the eyes (C ABI 7): an orthographic sun over 80 m gives an object behind the eye a

@@ -160,6 +160,11 @@ std::uint32_t Kit::make_wanted_tables(std::uint32_t max_views) {
   return made;
 }
 
+std::size_t Kit::drop_idle_tables(std::uint32_t frames) {
+  std::lock_guard<std::mutex> lock(mutex_);  // between frames, as make_wanted_tables
+  return scheduler_->drop_idle_tables(frames);
+}
+
 void Kit::add(LodNode* node, int profile) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!node || node->id_ != kInvalidObject)

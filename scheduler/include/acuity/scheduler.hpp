@@ -266,7 +266,7 @@ struct FrameStats {
 // decisions), make_tables() builds them, all or one view's, on any thread, install_tables() hands
 // them over between frames. wanted_tables() lists the views objects were seen from without tables,
 // so a host makes only those: a profile then holds the tables of the views its objects are seen
-// from (each about 1/V of the whole).
+// from (each about 1/V of the whole), and drop_idle_tables() frees those no longer seen.
 class ProfileTables;
 // A view of a profile that an object of it was seen from, in a frame, without that view's tables
 // (the object decided exactly): one of wanted_tables()'s.
@@ -290,7 +290,7 @@ class Scheduler {
   // one core for a 32-view profile with a hysteresis margin), or of one view v in [0, V) (about 1/V
   // of that, time and bytes). Empty when p or v is out of range, or the configuration has none.
   // Const and thread-safe: call it from any thread, for several profiles or views at once, during
-  // frames too, but not during add_profile* or install_tables.
+  // frames too, but not during add_profile*, install_tables or drop_idle_tables.
   static constexpr int kAllViews = -1;
   ProfileTables make_tables(int profile, int view = kAllViews) const;
   // Installs tables made by this scheduler's make_tables(p, ...) for p, between end_frame() and the
@@ -300,9 +300,16 @@ class Scheduler {
   // has tables of.
   bool install_tables(int profile, ProfileTables&& tables);
   // Between frames: up to out.size() views (profile, view) objects were seen from without their
-  // tables since the last call, each listed once ever; returns how many it wrote (the rest come at
-  // the next call). For a host that makes a deferred profile's tables one view at a time.
+  // tables since the last call, each listed once until its tables are dropped; returns how many it
+  // wrote (the rest come at the next call). For a host that makes a deferred profile's tables one
+  // view at a time.
   std::uint32_t wanted_tables(std::span<TablesWanted> out);
+  // Between frames: frees the tables of every view (any profile's, deferred or not) that no object
+  // has read in the last `frames` frames (its tables, or a memo made from them; installing counts
+  // as a read; 0 drops all). Their objects then decide exactly, and wanted_tables() lists the view
+  // again when one is seen from it. Returns the bytes freed. It reallocates the tables it keeps (not
+  // per frame: every few seconds, or when table_bytes() says a budget is passed).
+  std::size_t drop_idle_tables(std::uint32_t frames);
 
   // Objects. add returns kInvalidObject when full or the profile index is bad. min/max clamp the
   // level; bias multiplies q for this object (see SchedulerConfig::tabulated_biases).

@@ -134,6 +134,9 @@ class Kit : public ::osg::Referenced {
   // (Scheduler::wanted_tables; several ms of CPU each: a loading screen, or one per frame). Returns
   // how many it made; the rest wait for the next call.
   std::uint32_t make_wanted_tables(std::uint32_t max_views);
+  // Between frames: frees the tables of the views no object has read in the last `frames` frames
+  // (Scheduler::drop_idle_tables; every few seconds, not every frame). Returns the bytes freed.
+  std::size_t drop_idle_tables(std::uint32_t frames);
   // Makes `node` an acuity object with `profile`; its world transform is read from its parent path
   // each frame. Throws std::runtime_error when full, for a bad profile, or when the node is taken.
   void add(LodNode* node, int profile);
