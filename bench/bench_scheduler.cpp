@@ -492,12 +492,13 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation, Loading load
 // circle of 15 m radius among them in 720 frames (8 s at 90 Hz), looking along its path. After each
 // frame the views wanted are made and installed on this thread, and every 90 frames (a second)
 // drop_idle_tables(90) frees the views not read in the last second. Counters per asset: views made
-// (some again, after a drop), the most KiB of tables held at once (held_KiB) and what the tables of
-// every view seen would hold, had none been dropped (seen_KiB).
+// (some again, after a drop), the most KiB of tables all held at once (held_KiB, per asset), the most
+// one asset held (most_KiB) and what the tables of every view seen would hold, had none been
+// dropped (seen_KiB, per asset).
 void BM_scene_walk(benchmark::State& state) {
   const auto n = static_cast<int>(state.range(0));
   const SceneAssets assets(n);
-  std::size_t made = 0, peak = 0, seen_bytes = 0;
+  std::size_t made = 0, peak = 0, most = 0, seen_bytes = 0;
   for (auto _ : state) {
     SchedulerConfig c;
     c.max_objects = static_cast<std::uint32_t>(n);
@@ -515,7 +516,7 @@ void BM_scene_walk(benchmark::State& state) {
     }
     std::vector<std::uint8_t> seen(std::size_t(n) * 32, 0);  // [asset][view]: made at least once
     std::vector<TablesWanted> wanted(256);
-    made = peak = seen_bytes = 0;
+    made = peak = most = seen_bytes = 0;
     Frame f;
     f.gaze[0].valid = true;
     f.dt = 1.0f / 90;
@@ -538,12 +539,16 @@ void BM_scene_walk(benchmark::State& state) {
         }
       if (frame % 90 == 89) s.drop_idle_tables(90);
       std::size_t held = 0;
-      for (int i = 0; i < n; ++i) held += s.table_bytes(i);
+      for (int i = 0; i < n; ++i) {
+        held += s.table_bytes(i);
+        most = std::max(most, s.table_bytes(i));
+      }
       peak = std::max(peak, held);
     }
   }
   state.counters["views_made"] = double(made) / n;
   state.counters["held_KiB"] = double(peak) / 1024 / n;
+  state.counters["most_KiB"] = double(most) / 1024;
   state.counters["seen_KiB"] = double(seen_bytes) / 1024 / n;
 }
 

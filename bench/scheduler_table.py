@@ -31,7 +31,7 @@ def main():
     args = google_benchmark.arguments(__doc__, "bench_scheduler", min_time="0.2",
                                       flags=[("--setup", "add_profile and the scene's first frame, not the frames")])
     if args.setup:
-        pattern = "^(BM_add_profile/.*|BM_scene_ready/.*)$"
+        pattern = "^(BM_add_profile/.*|BM_scene_ready/.*|BM_scene_walk/.*)$"
     else:
         pattern = "^((" + "|".join(name for name, _ in CASES) + ")/[0-9]+(/real_time)?)$"
     ms = {}  # (case, n) -> ms per frame (real time for the threaded cases, CPU time otherwise)
@@ -42,6 +42,10 @@ def main():
         if name.startswith("BM_add_profile/"):
             scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
             setup[name.split("/")[1]] = (b["cpu_time"] * scale, b.get("table_bytes", 0))
+            continue
+        if name.startswith("BM_scene_walk/"):
+            scene["walk"] = (int(name.split("/")[1]), b["cpu_time"] * {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]],
+                             b["views_made"], b["held_KiB"], b["seen_KiB"], b["most_KiB"])
             continue
         if name.startswith("BM_scene_ready/"):
             scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6}[b["time_unit"]]
@@ -107,6 +111,12 @@ def print_setup(setup, scene):
         if make_ms:
             print(f"  then make_tables + install_tables: {make_ms:.0f} ms CPU per asset, on whichever threads "
                   f"the host gives it ({assets * make_ms / 1000 / 60:.1f} min of CPU for all {assets:,})")
+    if "walk" in scene:
+        assets, t, made, held, seen, most = scene["walk"]
+        print(f"\na walk, {assets} distinct 32-view assets over a 30 m disc, the eye once round a 15 m circle in 720 "
+              f"frames, the views wanted made after each frame on one thread, drop_idle_tables(90) every 90: "
+              f"at most {held:.1f} KiB of tables per asset held at once (one asset at most {most:.1f} KiB), "
+              f"against {seen:.1f} KiB for every view seen; {made:.1f} views made per asset (some again after a drop), {t / 1000:.1f} s CPU in all")
 
 
 if __name__ == "__main__":
