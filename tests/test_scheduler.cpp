@@ -1838,6 +1838,8 @@ TEST(SchedulerDeferred, DropsTheTablesOfViewsNoLongerRead) {
     lazy.add_profile_deferred(profile.profile);
     const std::size_t per_view = lazy.make_tables(0, 0).bytes();
     ASSERT_GT(per_view, 0u);
+    EXPECT_EQ(Scheduler::table_bytes(profile.profile, c, 0), per_view);
+    EXPECT_EQ(Scheduler::table_bytes(profile.profile, c, int(V)), 0u);  // no such view
     constexpr std::uint32_t kIdle = 3;
     std::vector<std::int64_t> last_read(V, -1);  // frame (1, 2, ...) a held view was last read; -1: not held
     std::vector<int> listings(V, 0);
@@ -1917,6 +1919,7 @@ TEST(SchedulerDeferred, DropsTheTablesOfViewsNoLongerRead) {
     const std::size_t all = dropped.table_bytes(0), per_view = dropped.make_tables(0, 0).bytes();
     const std::size_t any_view = all - V * per_view;  // the bounds over every view stay
     ASSERT_GT(any_view, 0u);
+    EXPECT_EQ(Scheduler::table_bytes(profile.profile, c), all);
     EXPECT_EQ(dropped.drop_idle_tables(0), V * per_view);
     EXPECT_EQ(dropped.table_bytes(0), any_view);
     for (Scheduler* s : {&built, &exact, &dropped}) place(*s, 0, turns[1]);

@@ -29,6 +29,7 @@ void run(const std::string& path, bool json) {
   j["snapshot_pixels"] = m.snapshot_pixels;
   j["runtime_table_bytes"] =
       Scheduler::table_bytes(p, SchedulerConfig{});  // the tabulated path, default config
+  j["runtime_view_table_bytes"] = Scheduler::table_bytes(p, SchedulerConfig{}, 0);  // one view's
   j["orientations_deg"] = std::vector<float>(p.orientations, p.orientations + m.orientation_count);
   j["bands_cpod"] = std::vector<float>(p.bands, p.bands + m.band_count);
   for (std::uint32_t v = 0; v < m.view_count; ++v)
@@ -87,8 +88,9 @@ void run(const std::string& path, bool json) {
   const std::size_t tables = Scheduler::table_bytes(p, SchedulerConfig{});
   std::printf(
       "runtime   %zu bytes of tables (tabulated path, default config); %zu with the profile;\n"
-      "          as much again per tabulated bias, and all of it twice with a hysteresis margin\n",
-      tables, tables + blob.size);
+      "          as much again per tabulated bias, and all of it twice with a hysteresis margin;\n"
+      "          %zu bytes per view, where only the views seen are made (add_profile_deferred)\n",
+      tables, tables + blob.size, Scheduler::table_bytes(p, SchedulerConfig{}, 0));
   std::printf("spectra   %u orientations x %u bands:", m.orientation_count, m.band_count);
   for (std::uint32_t b = 0; b < m.band_count; ++b) std::printf(" %g", p.bands[b]);
   std::printf(" cycles per diameter\n\nlevel  triangles  geom.error  largest loss per band\n");

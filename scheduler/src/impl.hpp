@@ -32,7 +32,7 @@ struct Scheduler::Impl {
   std::size_t drop_idle_tables(std::uint32_t frames);
   void note_want(ObjectId id);  // an object's want_ into its profile's ProfileCache::wanted
   std::size_t table_bytes(int profile) const;
-  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
+  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config, int view);
   float envelope_speed(float frequency_cpd) const;
   ObjectId add_object(int profile, const ObjectTransform& transform);
   void set_transform(ObjectId id, const ObjectTransform& transform);

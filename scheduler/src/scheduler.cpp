@@ -459,8 +459,8 @@ const float* Scheduler::scores(ObjectId id) const { return impl_->scores(id); }
 const FrameStats& Scheduler::stats() const { return impl_->stats_; }
 const SchedulerConfig& Scheduler::config() const { return impl_->config_; }
 std::size_t Scheduler::table_bytes(int profile) const { return impl_->table_bytes(profile); }
-std::size_t Scheduler::table_bytes(const Profile& profile, const SchedulerConfig& config) {
-  return Impl::table_bytes(profile, config);
+std::size_t Scheduler::table_bytes(const Profile& profile, const SchedulerConfig& config, int view) {
+  return Impl::table_bytes(profile, config, view);
 }
 float Scheduler::envelope_speed(float frequency_cpd) const { return impl_->envelope_speed(frequency_cpd); }
 bool Scheduler::explain(ObjectId id, ObjectExplain* out) const { return impl_->explain(id, out); }

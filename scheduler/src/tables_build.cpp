@@ -378,13 +378,16 @@ void Scheduler::Impl::build_any_view(const ProfileCache& c, ProfileTableSets* se
     }
 }
 
-std::size_t Scheduler::Impl::table_bytes(const Profile& p, const SchedulerConfig& config) {
+std::size_t Scheduler::Impl::table_bytes(const Profile& p, const SchedulerConfig& config, int view) {
   const ProfileMeta& m = p.meta;
-  if (!tabulated(config) || m.level_count < 2) return 0;
-  const std::size_t per_set = std::size_t(m.view_count) * (m.level_count - 1) *
+  if (!tabulated(config) || m.level_count < 2 || view < kAllViews || view >= static_cast<int>(m.view_count))
+    return 0;
+  const std::size_t views = view == kAllViews ? m.view_count : 1;
+  const std::size_t per_set = views * (m.level_count - 1) *
                               (2 * std::size_t(m.band_count) * kStillE +
                                std::size_t(moving_orientations(p, config)) * kMovingS * kMovingE);
-  const std::size_t any_view = std::size_t(m.band_count) * kStillE * (2 * (m.level_count - 1) + 1);
+  const std::size_t any_view =
+      view == kAllViews ? std::size_t(m.band_count) * kStillE * (2 * (m.level_count - 1) + 1) : 0;
   float biases[1 + kMaxTabulatedBiases];
   return (per_set + any_view) * std::size_t(margin_sets(config)) * table_biases(config, biases) *
          sizeof(std::int16_t);

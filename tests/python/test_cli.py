@@ -160,6 +160,7 @@ def test_profile_then_inspect(tmp_path):
     assert r.returncode == 0, r.stderr
     j = json.loads(run("inspect", prof, "--json").stdout)
     assert len(j["views"]) == 4 and len(j["levels"]) == 2
+    assert 0 < 4 * j["runtime_view_table_bytes"] < j["runtime_table_bytes"]  # and the bounds over all four
     assert max(j["levels"][1]["max_lost_contrast_per_band"]) == 0.0  # a level compared with itself
     bad = tmp_path / "bad.acuity"
     bad.write_bytes(prof.read_bytes()[:-10])

@@ -355,9 +355,10 @@ class Scheduler {
   const SchedulerConfig& config() const;
 
   // Bytes of tabulated-path tables held for profile index p (0 when not tabulated), and what this
-  // profile would take under a configuration (before adding it).
+  // profile would take under a configuration (before adding it): every view's with the bounds over
+  // them (kAllViews, add_profile's), or one view's (make_tables(p, view)'s; 0 for a view out of range).
   std::size_t table_bytes(int profile) const;
-  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config);
+  static std::size_t table_bytes(const Profile& profile, const SchedulerConfig& config, int view = kAllViews);
 
   // The speed at which a moving component of frequency f [cpd] is evaluated at least (the velocity
   // envelope of the Default model; 0 where the CSF already falls with speed) [deg/s].
