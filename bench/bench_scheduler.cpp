@@ -432,6 +432,16 @@ void BM_add_profile(benchmark::State& state, Evaluation evaluation, bool plain =
 // the same, then the tables of the views the first frame saw objects from (wanted_tables()) made
 // and installed on this thread and a second frame run, all timed: the time until every object
 // decides through tables (counters views: per asset, make_ms: CPU ms per view).
+// A scene of n assets, one object each, with the hysteresis margin engine settings use (0.2).
+SchedulerConfig scene_config(int n, Evaluation evaluation) {
+  SchedulerConfig c;
+  c.max_objects = static_cast<std::uint32_t>(n);
+  c.max_profiles = static_cast<std::uint32_t>(n);
+  c.evaluation = evaluation;
+  c.hysteresis_margin = 0.2f;
+  return c;
+}
+
 enum class Loading { Built, Deferred, Views };
 void BM_scene_ready(benchmark::State& state, Evaluation evaluation, Loading loading = Loading::Built) {
   const bool deferred = loading != Loading::Built;
@@ -440,12 +450,7 @@ void BM_scene_ready(benchmark::State& state, Evaluation evaluation, Loading load
   std::size_t tables = 0, profile_bytes = 0;
   for (const Blob& b : assets.blobs) profile_bytes += b.size;
   for (auto _ : state) {
-    SchedulerConfig c;
-    c.max_objects = static_cast<std::uint32_t>(n);
-    c.max_profiles = static_cast<std::uint32_t>(n);
-    c.evaluation = evaluation;
-    c.hysteresis_margin = 0.2f;
-    Scheduler s(c);
+    Scheduler s(scene_config(n, evaluation));
     std::mt19937 rng(2);
     std::uniform_real_distribution<double> u(0, 1);
     for (int i = 0; i < n; ++i) {
@@ -500,11 +505,7 @@ void BM_scene_walk(benchmark::State& state) {
   const SceneAssets assets(n);
   std::size_t made = 0, peak = 0, most = 0, seen_bytes = 0;
   for (auto _ : state) {
-    SchedulerConfig c;
-    c.max_objects = static_cast<std::uint32_t>(n);
-    c.max_profiles = static_cast<std::uint32_t>(n);
-    c.hysteresis_margin = 0.2f;
-    Scheduler s(c);
+    Scheduler s(scene_config(n, Evaluation::Tabulated));
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(0, 1);
     for (int i = 0; i < n; ++i) {
