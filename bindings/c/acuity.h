@@ -277,7 +277,8 @@ acuity_status acuity_load_profile_deferred(acuity_scheduler* s, const void* data
 typedef struct acuity_tables acuity_tables;
 /* Makes profile `profile`'s tables into *out (the caller's: acuity_install_tables or
  * acuity_tables_destroy). Thread-safe: from any thread, for several profiles at once, during frames
- * too, but not during acuity_load_profile* or acuity_install_tables on the same scheduler.
+ * too, but not during acuity_load_profile*, acuity_install_tables or acuity_drop_idle_tables on
+ * the same scheduler.
  * INVALID_ARGUMENT: null s or out, a profile not loaded, or a scheduler with no tables (exact
  * evaluation, or a rule without thresholds); *out is unchanged then. */
 acuity_status acuity_make_tables(const acuity_scheduler* s, int32_t profile, acuity_tables** out);
