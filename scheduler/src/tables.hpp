@@ -238,9 +238,16 @@ struct Scheduler::Impl::ProfileCache {
   // them (tabulate_views(), on any range's thread), or they were installed: drop_idle_tables()
   // drops views not read for long.
   std::unique_ptr<std::atomic<std::uint32_t>[]> read_frame;
-  void note_read(std::uint32_t v, std::uint32_t frame) const {
+  void note_read_view(std::uint32_t v, std::uint32_t frame) const {
     std::atomic<std::uint32_t>& at = read_frame[v];
     if (at.load(std::memory_order_relaxed) != frame) at.store(frame, std::memory_order_relaxed);
+  }
+  // The views an object read at `where` (as Probe::where and the memo's view_key hold it: the view,
+  // or with Max3 the lookup cell, whose candidates are the views).
+  void note_read(std::uint32_t where, bool max3, std::uint32_t frame) const {
+    if (!max3) return note_read_view(where, frame);
+    for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
+      note_read_view(profile.lookup[std::size_t(where) * kLookupCandidates + k], frame);
   }
   bool every_view() const { return tables.views.size() == slot.size(); }
   bool has_any_view() const { return !tables.sets[0].any_view.empty(); }

@@ -433,20 +433,17 @@ std::uint32_t Scheduler::Impl::wanted_tables(std::span<TablesWanted> out) {
 }
 
 std::size_t Scheduler::Impl::drop_idle_tables(std::uint32_t frames) {
+  bool held = false;  // any view's tables (else nothing to drop, nor to look for)
+  for (std::uint32_t p = 0; p < profile_count_; ++p) held = held || !profiles_[p].tables.views.empty();
+  if (!held) return 0;
   // A view that an object's remembered decision stands on counts as read now: in a still scene the
   // memos and rests decide without reading a table, and would want their views again as they end.
-  for (std::uint32_t e = 0; memos_ && e < 2; ++e) {
+  const bool max3 = config_.view_blend == ViewBlend::Max3;
+  for (std::uint32_t e = 0; memos_ && frames > 0 && e < 2; ++e) {
     const Memo& m = memos_[e];
-    for (ObjectId id = 0; id < config_.max_objects; ++id) {
-      if (profile_of_[id] < 0 || m.key[id] == Memo::kNone || !(m.key[id] & Memo::kThroughView)) continue;
-      const ProfileCache& c = profiles_[profile_of_[id]];
-      const std::uint32_t where = m.view_key[id] >> 8;  // the view (Max3: the lookup cell)
-      if (config_.view_blend == ViewBlend::Max3)
-        for (std::uint32_t k = 0; k < kLookupCandidates; ++k)
-          c.note_read(c.profile.lookup[where * kLookupCandidates + k], frame_);
-      else
-        c.note_read(where, frame_);
-    }
+    for (ObjectId id = 0; id < config_.max_objects; ++id)
+      if (profile_of_[id] >= 0 && m.key[id] != Memo::kNone && (m.key[id] & Memo::kThroughView))
+        profiles_[profile_of_[id]].note_read(m.view_key[id] >> 8, max3, frame_);  // where << 8
   }
   std::size_t freed = 0;
   for (std::uint32_t p = 0; p < profile_count_; ++p) {
@@ -498,16 +495,11 @@ bool Scheduler::Impl::install_tables(int profile, ProfileTableSets* sets) {
 // are contiguous: its layout's outermost index); with the last view, the bounds over every view.
 void Scheduler::Impl::take_tables(ProfileCache& c, ProfileTableSets* sets) const {
   const std::size_t had = c.tables.views.size(), added = sets->views.size();
-  if (had == 0) {  // the bounds over every view stay if a drop left them (sets has them only with every view)
-    for (std::uint32_t set = 0; set < kTableSets; ++set) {
-      ProfileTableSets::Tables& to = c.tables.sets[set];
-      ProfileTableSets::Tables& from = sets->sets[set];
-      to.still = std::move(from.still);
-      to.slow = std::move(from.slow);
-      to.moving = std::move(from.moving);
-      if (!from.any_view.empty()) to.any_view = std::move(from.any_view);
-    }
-    c.tables.views = std::move(sets->views);
+  if (had == 0) {
+    // Bounds over every view that a drop left stay (sets has its own only when made with every view).
+    for (std::uint32_t set = 0; set < kTableSets; ++set)
+      if (sets->sets[set].any_view.empty()) sets->sets[set].any_view = std::move(c.tables.sets[set].any_view);
+    c.tables = std::move(*sets);
   } else {
     const auto append = [&](std::vector<std::int16_t>& to, const std::vector<std::int16_t>& from) {
       to.reserve(to.size() + from.size());  // exactly: table_bytes() counts sizes
@@ -522,7 +514,7 @@ void Scheduler::Impl::take_tables(ProfileCache& c, ProfileTableSets* sets) const
   }
   for (std::size_t r = had; r < had + added; ++r) {
     c.slot[c.tables.views[r]] = static_cast<std::uint16_t>(r);
-    c.note_read(c.tables.views[r], frame_);  // installed: read from now on (not idle yet)
+    c.note_read_view(c.tables.views[r], frame_);  // installed: read from now on (not idle yet)
   }
   if (c.every_view() && c.tables.sets[0].any_view.empty() && c.profile.meta.level_count > 1)
     for (std::uint32_t set = 0; set < 2 * table_bias_count_; ++set)

@@ -445,7 +445,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
     o.view_count = max3 ? std::uint8_t(kLookupCandidates) : std::uint8_t(1);
     o.where = max3 ? static_cast<std::uint32_t>((cand[j] - p.lookup) / kLookupCandidates) : view;
     o.nearest = view;
-    for (std::uint32_t c = 0; c < o.view_count; ++c) pc.note_read(max3 ? cand[j][c] : view, frame_);
+    pc.note_read(o.where, max3, frame_);
     o.slip = slip;
     o.decided = o.at_place = false;
     const std::uint32_t T = p.meta.orientation_count;
