@@ -12,6 +12,8 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
   saccade_ = false;
   const std::size_t alive = config_.max_objects - free_list_.size();
   many_at_rest_ = stats_.at_rest > 0 && stats_.at_rest >= alive / 8;  // last frame's stats
+  const bool looked = looking_for_rest_;
+  const std::uint32_t found = stats_.at_rest;
   stats_ = FrameStats{};
   for (std::uint32_t i = 0; i < eye_count_; ++i) {
     const Gaze& g = frame.gaze[i];
@@ -51,12 +53,37 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
   if (!views_.empty()) begin_views(frame);
   ++frame_;
   resting_ = memos_ != nullptr && !config_.keep_scores;
+  for (std::uint32_t i = 0; memos_ && i < 2; ++i)
+    memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
+  pause_rests(looked, found);
   // Objects are looked for at rest where an eighth were last frame, and every eighth frame.
   looking_for_rest_ = resting_ && (many_at_rest_ || frame_ % 8 == 0);
-  for (std::uint32_t i = 0; memos_ && i < 2; ++i) {
-    memos_[i].observe(frame_, i < eye_count_ ? &eyes_[i] : nullptr);
-    if (i < eye_count_) resting_ = resting_ && memos_[i].usable;
+  for (std::uint32_t i = 0; memos_ && i < eye_count_; ++i) resting_ = resting_ && memos_[i].usable;
+}
+
+// Rests pay only where a later look finds objects at rest. An eye that keeps turning (a head sweeping
+// with the gaze fixed in it) leaves each rest before the look after it (every eighth frame), so they
+// cost a frame loop up to a fifth of its time for nothing: after a look (last frame: `looked`) that
+// finds none at rest (`found`), none is set or looked for during a pause of kFirstRestPause frames,
+// doubling with each such look up to kLongestRestPause. A look that finds some, or an eye that stands
+// still (whose rests mostly last), ends the pause, and lets objects whose rests failed while it
+// moved try again at once (still_since_). Rests decide as memos do, so this changes no decision,
+// only the cost; it depends on the frames alone, so it stays deterministic.
+void Scheduler::Impl::pause_rests(bool looked, std::uint32_t found) {
+  bool still = memos_ != nullptr;
+  for (std::uint32_t i = 0; memos_ && i < eye_count_; ++i) still = still && memos_[i].still();
+  if (still && !eyes_still_) still_since_ = frame_;
+  eyes_still_ = still;
+  if (found > 0 || still) {
+    rest_pause_ = next_rest_pause_ = 0;
+  } else if (looked) {
+    next_rest_pause_ =
+        std::min(next_rest_pause_ > 0 ? 2 * next_rest_pause_ : kFirstRestPause, kLongestRestPause);
+    rest_pause_ = next_rest_pause_;
+  } else if (rest_pause_ > 0) {
+    --rest_pause_;
   }
+  resting_ = resting_ && rest_pause_ == 0;
 }
 
 // An eye's pose, projection and validity as the frame reads them (its gaze is begin_frame's).

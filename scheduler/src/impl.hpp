@@ -64,6 +64,7 @@ struct Scheduler::Impl {
   bool perceptual() const {
     return config_.rule == SelectionRule::Perceptual || config_.rule == SelectionRule::Reddy;
   }
+  void pause_rests(bool looked, std::uint32_t found);
   void look_block(const EyeCache& eye, std::uint32_t first, std::uint32_t count, Block* out) const;
   Look sight(ObjectId id, const EyeCache& eye, const Block& block, std::uint32_t j, Sight* out) const;
   void prefetch_views(ObjectId id, const Sight& s) const;
@@ -307,6 +308,14 @@ struct Scheduler::Impl {
   bool resting_ = false;           // rests may be set this frame (a still eye)
   bool many_at_rest_ = false;      // an eighth of the objects were last frame
   bool looking_for_rest_ = false;  // objects are looked for at rest this frame
+  // Rests no look finds cost without paying (pause_rests()): frames left before they are tried again,
+  // and the pause after the next look that finds none.
+  std::uint32_t rest_pause_ = 0, next_rest_pause_ = 0;
+  // Every eye has stood still since frame still_since_ (eyes_still_): rests tried before it, which
+  // failed for an eye that moved, are tried again at once rather than after Memo::kRetry frames.
+  std::uint32_t still_since_ = 0;
+  bool eyes_still_ = false;
+  static constexpr std::uint32_t kFirstRestPause = 8, kLongestRestPause = 64;  // [frames]
   FrameStats stats_;
 };
 

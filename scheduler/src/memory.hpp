@@ -111,6 +111,8 @@ struct Scheduler::Impl::Memo {
   float moved[kPoses], turned[kPoses];
   float recent_m = 0, recent_deg = 0;  // the most moved and turned over the last 4 frames that could rest
   bool usable = false;                 // this frame's pose can rest
+  // The eye has neither moved nor turned over the last 4 frames (each turn has kRoomPose added).
+  bool still() const { return usable && recent_m == 0.0f && recent_deg <= float(kRoomPose); }
   void end_rest(ObjectId id) { rest_m[id] = -1.0f; }
   void end_hold(ObjectId id) { hold[id].turn = -1.0f; }
   explicit Memo(std::size_t n = 0)

@@ -604,10 +604,12 @@ void Scheduler::Impl::tabulate(const EyeCache& eye, std::uint32_t first, std::ui
   // few objects were at rest last frame, in one block of eight each frame (an eye that keeps moving
   // leaves them at once: little is spent on them).
   if (resting_ && !scores && (many_at_rest_ || (first / kBlock + frame_) % 8 == 0))
-    for (std::uint32_t j = 0; j < n; ++j)
-      if (standing[j] && frame_ - memo.rest_frame[first + j] >=
-                             (memo.rest_m[first + j] >= 0 ? Memo::kLeftRetry : Memo::kRetry))
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const std::uint32_t since = frame_ - memo.rest_frame[first + j];  // its last try
+      if (standing[j] && (since >= (memo.rest_m[first + j] >= 0 ? Memo::kLeftRetry : Memo::kRetry) ||
+                          (eyes_still_ && since > frame_ - still_since_)))
         set_rest(eye, memo, first + j, b, j);
+    }
 }
 
 // A moving object's cells on the moving grid: eccentricity e [deg], each orientation's speed.
