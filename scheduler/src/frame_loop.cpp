@@ -63,7 +63,7 @@ void Scheduler::Impl::begin_frame(const Frame& frame) {
 
 // Rests pay only where a later look finds objects at rest. An eye that keeps turning (a head sweeping
 // with the gaze fixed in it) leaves each rest before the look after it (every eighth frame), so they
-// cost a frame loop up to a fifth of its time for nothing: after a look (last frame: `looked`) that
+// cost a frame loop about a sixth of its time for nothing: after a look (last frame: `looked`) that
 // finds none at rest (`found`), none is set or looked for during a pause of kFirstRestPause frames,
 // doubling with each such look up to kLongestRestPause. A look that finds some, or an eye that stands
 // still (whose rests mostly last), ends the pause, and lets objects whose rests failed while it

@@ -164,7 +164,7 @@ void Scheduler::Impl::set_rest(const EyeCache& eye, Memo& memo, ObjectId id, con
     m[k] = std::max(kShares[k] * h.d, recent * memo.recent_m);
     t[k] = std::max(recent * memo.recent_deg, kDeg * m[k] / h.d);
   }
-  const bool moved_lately = memo.recent_m > 0.0f || memo.recent_deg > 0.0f;
+  const bool moved_lately = !memo.still();  // every turn has kRoomPose added: still() compares with it
   if (moved_lately && !stands_at_rest(memo, id, h, m[kTries - 1], t[kTries - 1])) return;
   for (std::size_t k = 0; k < kTries; ++k) {
     if (k > 0 && m[k] == m[k - 1] && t[k] == t[k - 1]) continue;  // the box before, which failed
