@@ -125,7 +125,7 @@ struct Scheduler::Impl::Curves {
   // smallest ln f above which the curve stays >= y. Bisection on the model itself refines the sampled
   // bracket; the upper end is kept, so the result errs small (conservative).
   // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
-  // sample step below largest_size(). `bracket` receives the sample index of that upper end (-1: the
+  // sample step below the largest size (refined: refine()). `bracket` receives the sample index of that upper end (-1: the
   // curve's ends decided, nothing to refine).
   // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
   // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
@@ -176,12 +176,20 @@ struct Scheduler::Impl::Curves {
     }
     return ln_band - uhi;
   }
-  static float largest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve, float y,
-                            float ln_band, float e, float v, bool moving, int* hint, AreaLaw law = {}) {
+  // min(bound, the largest size), the largest size being sampled_size() refined by refine() where
+  // the samples leave a bracket: searched only where the samples leave the size possibly below bound
+  // (sampled_at_least()), and refined only where they put it below (refine() raises a sampled value
+  // by less than a step, never lowers it), so the same value for a fraction of the work. *hint as
+  // sampled_size() leaves it where it searches (a hint changes only how fast a search is).
+  static float largest_size_within(float bound, const Precomputed& pre, const SchedulerConfig& c,
+                                   const float* curve, float y, float ln_band, float e, float v, bool moving,
+                                   int* hint, AreaLaw law = {}) {
+    if (sampled_at_least(curve, y, ln_band, bound, false, law)) return bound;
     int bracket;
     const float sampled = sampled_size(curve, y, ln_band, &bracket, *hint, law);
     if (bracket >= 0) *hint = bracket;
-    return bracket < 0 ? sampled : refine(pre, c, bracket, y, ln_band, e, v, moving, law);
+    if (bracket < 0 || sampled >= bound) return std::min(bound, sampled);
+    return std::min(bound, refine(pre, c, bracket, y, ln_band, e, v, moving, law));
   }
   // Whether sampled_size(curve, y, ln_band) is at least s (strict: above s), exactly as that computes
   // it but without its search: its value ln_band - (kCurveU0 + kCurveStep hi) falls as the bracket's
@@ -222,7 +230,7 @@ struct Scheduler::Impl::Curves {
     }
     return least;
   }
-  // min over bands of largest_size(): sampled for every band, refined only where it can be the minimum
+  // min over bands of the largest size: sampled for every band, refined only where it can be the minimum
   // (a refinement raises a value by less than one sample step); the bands above that are not
   // searched (sampled_at_least()): they cannot be the minimum. Same result, a fraction of the work.
   static float smallest_size(const Precomputed& pre, const SchedulerConfig& c, const float* curve,

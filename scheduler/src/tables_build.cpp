@@ -120,16 +120,15 @@ void Scheduler::Impl::build_still(const ProfileCache& c, ProfileTableSets* sets,
       float prefix = -kNever, mid_prefix = -kNever;
       for (std::uint32_t b = 0; b < B; ++b) {
         const float y = c.ln_lost_any[kv * B + b] - ln_q;
-        prefix = std::min(prefix, Curves::largest_size(pre, config_, curve, y, c.ln_band[b], still_e_node(j),
-                                                       pre.floor_velocity, slow, &hint[b], laws[b]));
+        prefix = Curves::largest_size_within(prefix, pre, config_, curve, y, c.ln_band[b], still_e_node(j),
+                                             pre.floor_velocity, slow, &hint[b], laws[b]);
         node[j][b] = prefix;
         if (j + 1 < kStillE && midpoints) {
           const float* centre =
               &(slow ? curves_->slow_centre : curves_->still_centre)[j * std::size_t(kCurveSamples)];
-          mid_prefix =
-              std::min(mid_prefix,
-                       Curves::largest_size(pre, config_, centre, y, c.ln_band[b], Curves::still_centre_e(j),
-                                            pre.floor_velocity, slow, &mid_hint[b], laws[b]));
+          mid_prefix = Curves::largest_size_within(mid_prefix, pre, config_, centre, y, c.ln_band[b],
+                                                   Curves::still_centre_e(j), pre.floor_velocity, slow,
+                                                   &mid_hint[b], laws[b]);
         }
         mid[j][b] = mid_prefix;
       }
