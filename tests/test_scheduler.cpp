@@ -1799,8 +1799,9 @@ TEST(SchedulerDeferred, MakesTheTablesOfTheViewsObjectsAreSeenFrom) {
 // made and installed and those not read for 3 frames dropped: the bytes held are exactly the views a
 // model of "last read" keeps, each object decides as the built scheduler where its view is held and as
 // the exact one where not, and a dropped view seen again is listed again. Objects whose memos decide
-// without reading a table keep their view; drop_idle_tables(0) drops every view; a profile added
-// with every view keeps its bounds over every view.
+// without reading a table keep their view, and those decided without it (exactly) do not;
+// drop_idle_tables(0) drops every view; a profile added with every view keeps its bounds over every
+// view.
 TEST(SchedulerDeferred, DropsTheTablesOfViewsNoLongerRead) {
   const TestProfile profile(6, 8, 8, 0.5f, 0.6f);
   SchedulerConfig c;
@@ -1911,6 +1912,38 @@ TEST(SchedulerDeferred, DropsTheTablesOfViewsNoLongerRead) {
     EXPECT_EQ(lazy.drop_idle_tables(0), per_view);
     EXPECT_EQ(lazy.table_bytes(0), 0u);
     EXPECT_EQ(lazy.drop_idle_tables(0), 0u);
+  }
+  {
+    // Objects that stay, decided through their view's tables (memos made from them), then turned so
+    // that the eye sees them from a view with no tables (decided exactly): their old view is no
+    // longer read, and its tables go kIdle frames later (a memo kept from it kept them before).
+    SCOPED_TRACE("objects turned to a view without tables");
+    Scheduler lazy(c);
+    lazy.add_profile_deferred(profile.profile);
+    place(lazy, 0, turns[0]);
+    constexpr std::uint32_t kIdle = 3;
+    for (int frame = 1; frame <= 8; ++frame) {  // the view made after the first frame, then read
+      lazy.run_frame(fr);
+      TablesWanted wanted[4];
+      for (std::uint32_t n; (n = lazy.wanted_tables(wanted)) > 0;)
+        for (std::uint32_t i = 0; i < n; ++i)
+          ASSERT_TRUE(lazy.install_tables(0, lazy.make_tables(0, int(wanted[i].view))));
+      ASSERT_EQ(lazy.drop_idle_tables(kIdle), 0u) << "frame " << frame;
+    }
+    const std::size_t held = lazy.table_bytes(0);
+    ASSERT_GT(held, 0u);
+    for (ObjectId id = 0; id < c.max_objects; ++id) {
+      ObjectTransform t = ahead[id];
+      std::copy(turns[1], turns[1] + 4, t.rotation);
+      lazy.set_transform(id, t);
+    }
+    std::size_t freed = 0;
+    for (std::uint32_t frame = 1; frame <= kIdle + 1; ++frame) {
+      lazy.run_frame(fr);  // no tables made now
+      freed += lazy.drop_idle_tables(kIdle);
+    }
+    EXPECT_EQ(freed, held);
+    EXPECT_EQ(lazy.table_bytes(0), 0u);
   }
   {
     SCOPED_TRACE("a profile added with every view");

@@ -171,8 +171,8 @@ struct Scheduler::Impl {
   struct Tabulation;  // tabulate()'s passes: one block's state between them
   void tabulate_memos(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
                       const Memo& memo, bool scores, Tabulation& tb) const;
-  void tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                     const Memo& memo, Choice* out, float (*scores)[kMaxLevels], Tabulation& tb) const;
+  void tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
+                     Choice* out, float (*scores)[kMaxLevels], Tabulation& tb) const;
   void tabulate_any_view(std::uint32_t first, const Block& b, Memo& memo, Choice* out, Tabulation& tb) const;
   void tabulate_views(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b, Memo& memo,
                       Choice* out, float (*scores)[kMaxLevels], std::uint16_t* want, Tabulation& tb) const;

@@ -114,6 +114,14 @@ struct Scheduler::Impl::Memo {
   // The eye has neither moved nor turned over the last 4 frames (each turn has kRoomPose added).
   bool still() const { return usable && recent_m == 0.0f && recent_deg <= float(kRoomPose); }
   void end_rest(ObjectId id) { rest_m[id] = -1.0f; }
+  // Forgets object id's memo (and so its rest and hold): for a decision made without it (exactly, or
+  // with nothing to read), after which it stands on nothing and keeps no view's tables from being
+  // dropped (drop_idle_tables() counts the views that memos through a view stand on as read).
+  void forget(ObjectId id) {
+    if (key[id] == kNone) return;
+    key[id] = kNone;
+    end_rest(id);
+  }
   void end_hold(ObjectId id) { hold[id].turn = -1.0f; }
   explicit Memo(std::size_t n = 0)
       : key(n, kNone),

@@ -259,7 +259,7 @@ ObjectId Scheduler::Impl::add_object(int profile, const ObjectTransform& t) {
   flags_[id] = 0;
   calm_[id] = wait_[id] = 0.0f;
   fade_[id] = 1.0f;
-  if (memos_) memos_[0].key[id] = memos_[1].key[id] = Memo::kNone;  // another profile's, maybe
+  for (std::uint32_t e = 0; memos_ && e < 2; ++e) memos_[e].forget(id);  // another profile's, maybe
   end_rests(id);
   return id;
 }

@@ -284,7 +284,7 @@ void Scheduler::Impl::tabulate_memos(const EyeCache& eye, std::uint32_t first, s
 }
 
 void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, std::uint32_t n, const Block& b,
-                                    const Memo& memo, Choice* out, float (*scores)[kMaxLevels],
+                                    Memo& memo, Choice* out, float (*scores)[kMaxLevels],
                                     Tabulation& tb) const {
   auto& decided = tb.decided;
   auto& bands = tb.bands;
@@ -319,11 +319,13 @@ void Scheduler::Impl::tabulate_rows(const EyeCache& eye, std::uint32_t first, st
         aim(id, &s);
       }
       out[j] = evaluate(id, look, s, scores ? scores[j] : nullptr, nullptr);
+      memo.forget(id);
       continue;
     }
     const ProfileCache& pc = profiles_[p];
     const std::uint32_t L = pc.profile.meta.level_count - 1;
     if (L == 0 || bands[j] == 0) {  // one level, or none of it shown: no tables to read
+      memo.forget(id);
       const auto top = static_cast<std::uint8_t>(bands[j] == 0 ? L : 0);
       out[j] = {top, top, gaze_flag};
       if (scores) std::fill(scores[j], scores[j] + L + 1, 0.0f);
@@ -475,6 +477,7 @@ void Scheduler::Impl::tabulate_views(const EyeCache& eye, std::uint32_t first, s
       sight(id, eye, b, j, &s);
       aim(id, &s);
       out[j] = evaluate(id, Look::Ok, s, scores ? scores[j] : nullptr, nullptr);
+      memo.forget(id);
       o.decided = true;
       continue;
     }
