@@ -63,7 +63,9 @@ def row(build, step):
     oracle = number(r"the perceptual rule draws ([\d.]+x) the oracle's", text, "oracle line")
     screen = number(r"^\s+screen-size\s+\d+ triangles = ([\d.]+x) the perceptual rule's at 1%", text,
                     "screen-size at 1%")
-    profiles = sorted(glob.glob(os.path.join(cache, "profiles", "*.acuity")))
+    # The chains' profiles (not the cluster hierarchy's the demo may have made beside them).
+    profiles = sorted(f for f in glob.glob(os.path.join(cache, "profiles", "*.acuity"))
+                      if not f.endswith("-clusters.acuity"))
     size = sum(os.path.getsize(f) for f in profiles)
     plain, margin = tables(profiles)
     timing = ("%.0f" % lodgen if lodgen else "cached") + " / " + ("%.0f" % profile_s if built else "cached")

@@ -125,8 +125,8 @@ struct Scheduler::Impl::Curves {
   // smallest ln f above which the curve stays >= y. Bisection on the model itself refines the sampled
   // bracket; the upper end is kept, so the result errs small (conservative).
   // The same from the samples alone: ln_band - (the upper end of the sampled bracket), at most one
-  // sample step below the largest size (refined: refine()). `bracket` receives the sample index of that upper end (-1: the
-  // curve's ends decided, nothing to refine).
+  // sample step below the largest size (that refined by refine()). `bracket` receives the sample
+  // index of that upper end (-1: the curve's ends decided, nothing to refine).
   // `hint` (a sample index, e.g. the bracket at the neighbouring grid node) starts a galloping search
   // there: the same bracket in a few steps where neighbouring nodes' answers lie close.
   // With an area law the curve read is curve + its knots (with_law()).
