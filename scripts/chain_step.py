@@ -11,7 +11,6 @@ afresh, except where its cache already holds them; times are wall seconds on a s
 Run: python3 scripts/chain_step.py build [STEP ...]   (docs/lodgen.md holds its output:
 scripts/regenerate_docs.py --only chain-step). Runs programs with argument vectors, never a shell.
 """
-import glob
 import os
 import re
 import subprocess
@@ -54,7 +53,9 @@ def tables(profiles):
 
 def row(build, step):
     cache, text = demo(build, step)
-    levels = sorted({int(m) for m in re.findall(r"^\s+\S+\s+(\d+) levels, \d+ -> \d+ triangles", text, re.M)})
+    # One line per chain as the scene loads it: its name (its profile's, in <cache>/profiles) and levels.
+    chains = dict(re.findall(r"^\s+(\S+)\s+(\d+) levels, \d+ -> \d+ triangles", text, re.M))
+    levels = sorted({int(n) for n in chains.values()})
     lodgen = sum(float(s) for s in re.findall(r"lodgen: .* levels, ([\d.]+) s$", text, re.M))
     built = re.findall(r"^\s+\S+\s+\d+ levels, .*: profile \(\d+ views\), ([\d.]+) s$", text, re.M)
     profile_s = sum(float(s) for s in built)
@@ -63,9 +64,7 @@ def row(build, step):
     oracle = number(r"the perceptual rule draws ([\d.]+x) the oracle's", text, "oracle line")
     screen = number(r"^\s+screen-size\s+\d+ triangles = ([\d.]+x) the perceptual rule's at 1%", text,
                     "screen-size at 1%")
-    # The chains' profiles (not the cluster hierarchy's the demo may have made beside them).
-    profiles = sorted(f for f in glob.glob(os.path.join(cache, "profiles", "*.acuity"))
-                      if not f.endswith("-clusters.acuity"))
+    profiles = sorted(os.path.join(cache, "profiles", name + ".acuity") for name in chains)
     size = sum(os.path.getsize(f) for f in profiles)
     plain, margin = tables(profiles)
     timing = ("%.0f" % lodgen if lodgen else "cached") + " / " + ("%.0f" % profile_s if built else "cached")
